@@ -1,0 +1,152 @@
+"""The ``navcli`` command line (typer).
+
+Heavy modules (numpy, pymunk, foxglove, pandas, matplotlib) are imported inside the commands so
+that ``navcli --help`` answers at once. Exit codes: 0 success (mission reached its target),
+1 an internal error (the log is still closed and marked ``error``), 2 bad input (a refused
+scenario, a bad option), 3 the mission ended without reaching its target (timeout, blocked),
+130 interrupted by Ctrl-C (the log is closed and marked ``interrupted``).
+"""
+
+from __future__ import annotations
+
+import sys
+from enum import Enum
+from pathlib import Path
+from typing import Annotated, Optional
+
+import typer
+
+from .params import PILOT_NAMES
+
+app = typer.Typer(
+    help="Run, record and measure missions of the bidding Pilot/Vision/Navigation robot.",
+    no_args_is_help=True,
+    add_completion=False,
+    pretty_exceptions_enable=False,
+)
+
+PilotName = Enum("PilotName", {n.replace("-", "_"): n for n in PILOT_NAMES}, type=str)
+EXIT_BAD_INPUT, EXIT_FAILED_MISSION, EXIT_INTERRUPTED = 2, 3, 130
+
+
+def _err(msg: str) -> None:
+    typer.echo(msg, err=True)
+
+
+def _load(path: Path):
+    """Load a scenario or exit 2 with the loader's message (file:line: field: problem)."""
+    from .scenario import ScenarioError, load_scenario
+
+    try:
+        return load_scenario(path)
+    except ScenarioError as e:
+        _err(f"error: scenario refused\n{e}")
+        raise typer.Exit(EXIT_BAD_INPUT) from None
+
+
+class _Progress:
+    """A progress bar on a terminal, shown only once a run has lasted more than half a second."""
+
+    def __init__(self, limit: float, label: str):
+        import time
+
+        self.limit, self.label, self.t0, self.bar, self.task = limit, label, time.perf_counter(), None, None
+        self._now = time.perf_counter
+        self.enabled = sys.stderr.isatty()
+
+    def __call__(self, mission, tick) -> None:
+        if not self.enabled or tick.index % 10:
+            return
+        if self.bar is None:
+            if self._now() - self.t0 < 0.5:
+                return
+            from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+
+            self.bar = Progress(TextColumn("{task.description}"), BarColumn(),
+                                TextColumn("{task.completed:.0f}/{task.total:.0f} sim s"), TimeElapsedColumn(),
+                                transient=True)
+            self.bar.start()
+            self.task = self.bar.add_task(self.label, total=self.limit)
+        self.bar.update(self.task, completed=mission.time)
+
+    def close(self) -> None:
+        if self.bar is not None:
+            self.bar.stop()
+
+
+@app.command()
+def run(
+    scenario: Annotated[Path, typer.Argument(help="Scenario YAML file (see scenarios/).")],
+    seed: Annotated[Optional[int], typer.Option(min=0, help="Random seed (default: the scenario's mission.seed).")] = None,
+    pilot: Annotated[Optional[PilotName], typer.Option(help="Pilot (default: the scenario's mission.pilot).")] = None,
+    out: Annotated[Optional[Path], typer.Option(help="Log file (default: logs/<scenario>/<pilot>-seed<N>.mcap).")] = None,
+    time_limit: Annotated[Optional[float], typer.Option(min=0.1, help="Simulated seconds before the run is declared failed.")] = None,
+    live: Annotated[bool, typer.Option(help="Also serve the run to Foxglove (ws://localhost:PORT), paced to real time.")] = False,
+    port: Annotated[int, typer.Option(min=0, max=65535, help="WebSocket port for --live (0: any free port).")] = 8765,
+) -> None:
+    """Run one mission, record it to an MCAP log and print how it ended."""
+    sc = _load(scenario)
+    from .runner import run_mission
+
+    limit = time_limit or sc.mission.time_limit
+    progress = _Progress(limit, f"{sc.name}")
+    if live:
+        _err(f"serving the run live on ws://127.0.0.1:{port} (open it in Foxglove: Open connection)")
+    try:
+        res = run_mission(sc, seed=seed, pilot=pilot.value if pilot else None, time_limit=time_limit,
+                          out=out, live=live, port=port, on_tick=progress)
+    except KeyboardInterrupt:
+        progress.close()
+        _err("interrupted: the log is closed and marked 'interrupted'")
+        raise typer.Exit(EXIT_INTERRUPTED) from None
+    except OSError as e:
+        progress.close()
+        _err(f"error: {e.strerror or e} ({e.filename or ''})")
+        raise typer.Exit(1) from None
+    progress.close()
+    s = res.summary
+    typer.echo(f"outcome      {s['outcome']} ({s['reason']})")
+    typer.echo(f"sim time     {s['time_s']:.1f} s  ({res.realtime_factor:.0f}x real time)")
+    typer.echo(f"path length  {s['path_length_m']:.2f} m")
+    typer.echo(f"collisions   {s['collisions']}")
+    typer.echo(f"log          {res.log}")
+    if s["outcome"] != "reached":
+        raise typer.Exit(EXIT_FAILED_MISSION)
+
+
+@app.command()
+def validate(files: Annotated[list[Path], typer.Argument(help="Scenario files to check.")]) -> None:
+    """Check scenario files without running them."""
+    from .scenario import ScenarioError, load_scenario
+
+    bad = 0
+    for f in files:
+        try:
+            sc = load_scenario(f)
+        except ScenarioError as e:
+            bad += 1
+            _err(str(e))
+            continue
+        typer.echo(f"{f}: ok ({sc.name}: {sc.arena.width:g} m x {sc.arena.height:g} m, "
+                   f"{len(sc.obstacles)} obstacles, {len(sc.landmarks)} landmarks)")
+    if bad:
+        _err(f"{bad} of {len(files)} files refused")
+        raise typer.Exit(EXIT_BAD_INPUT)
+
+
+@app.command()
+def bench(
+    scenario: Annotated[Path, typer.Argument(help="Scenario to time.")] = Path("scenarios/paper-8x8.yaml"),
+    repeat: Annotated[int, typer.Option(min=1, help="Runs per configuration; the median is reported.")] = 5,
+    pilot: Annotated[Optional[PilotName], typer.Option(help="Pilot (default: the scenario's).")] = None,
+    seed: Annotated[Optional[int], typer.Option(min=0)] = None,
+) -> None:
+    """Real-time factor (simulated s per wall s) of a full mission, with logging on and off."""
+    sc = _load(scenario)
+    from .bench import benchmark
+
+    benchmark(sc, repeat=repeat, pilot=pilot.value if pilot else None, seed=seed, echo=typer.echo)
+
+
+def main() -> None:
+    app()

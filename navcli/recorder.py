@@ -1,0 +1,266 @@
+"""The recorder: the only writer of navcli's log format (shared/spec/log-format.md).
+
+One MCAP file per run, written with Foxglove's SDK so Foxglove's 3D, Plot and Log panels read it
+by schema name. Log time is simulation time (integer nanoseconds from the start); no wall clock
+reaches the file. The file is written under ``<name>.partial`` and renamed when closed, so a
+finished name is always a complete file; a run ended by Ctrl-C or an error still closes its file
+properly, with a summary whose outcome says ``interrupted`` or ``error`` and why.
+
+With ``live`` the same Foxglove context also feeds a WebSocket server on localhost.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import foxglove
+from foxglove.channels import FrameTransformsChannel, LogChannel, PoseInFrameChannel, SceneUpdateChannel
+from foxglove.messages import (
+    ArrowPrimitive,
+    Color,
+    CubePrimitive,
+    CylinderPrimitive,
+    FrameTransform,
+    FrameTransforms,
+    LinePrimitive,
+    LinePrimitiveLineType,
+    Log,
+    LogLevel,
+    Point3,
+    Pose as FxPose,
+    PoseInFrame,
+    Quaternion,
+    SceneEntity,
+    SceneUpdate,
+    TextPrimitive,
+    Timestamp,
+    Vector3,
+)
+
+from .bidding import RESOURCES
+from .scenario import Circle, Scenario
+
+if TYPE_CHECKING:
+    from .geometry import Pose
+    from .mission import Event, Mission, Tick
+
+SYSTEMS = ("pilot", "navigation")  # the bidders at the robot-level auction, always in /bids
+HEIGHT = 0.5  # m: drawn height of walls, obstacles and landmarks
+_LEVEL = {"info": LogLevel.Info, "warning": LogLevel.Warning, "error": LogLevel.Error}
+_GREY, _RED, _BLUE, _GREEN = (Color(r=0.55, g=0.55, b=0.6, a=1.0), Color(r=0.85, g=0.3, b=0.25, a=1.0),
+                              Color(r=0.2, g=0.45, b=0.9, a=1.0), Color(r=0.2, g=0.75, b=0.3, a=0.6))
+_ROBOT, _ARROW = Color(r=0.95, g=0.75, b=0.1, a=0.8), Color(r=0.9, g=0.2, b=0.8, a=1.0)
+
+PILOT_SCHEMA = {
+    "title": "navcli.Pilot",
+    "description": "The Pilot's decision this tick: turn angle, speed, bid and the forces behind them.",
+    "type": "object",
+    "properties": {
+        "mode": {"type": "string"},
+        "turn_deg": {"type": "number"},
+        "bid": {"type": "number"},
+        "in_distress": {"type": "boolean"},
+        "command": {"type": "object", "properties": {"v": {"type": "number"}, "omega_deg": {"type": "number"}}},
+    },
+}
+BIDS_SCHEMA = {
+    "title": "navcli.Bids",
+    "description": "Per resource: every system's bid (0 when it did not bid), the winner and its action; "
+                   "'agents' holds the Navigation agents' bids to their Communicator.",
+    "type": "object",
+    "properties": {r: {"type": "object"} for r in RESOURCES} | {"agents": {"type": "object"}},
+}
+SUMMARY_SCHEMA = {
+    "title": "navcli.MissionSummary",
+    "description": "How the mission ended.",
+    "type": "object",
+    "properties": {
+        "scenario": {"type": "string"}, "seed": {"type": "integer"}, "pilot": {"type": "string"},
+        "outcome": {"type": "string", "enum": ["reached", "timeout", "blocked", "interrupted", "error"]},
+        "reason": {"type": "string"}, "time_s": {"type": "number"}, "path_length_m": {"type": "number"},
+        "collisions": {"type": "integer"}, "camera_looks": {"type": "integer"}, "ticks": {"type": "integer"},
+    },
+    "required": ["scenario", "seed", "pilot", "outcome", "time_s", "path_length_m", "collisions",
+                 "camera_looks", "ticks"],
+}
+
+
+def _ts(ns: int) -> Timestamp:
+    return Timestamp(ns // 1_000_000_000, ns % 1_000_000_000)
+
+
+def _yaw(theta: float) -> Quaternion:
+    return Quaternion(x=0.0, y=0.0, z=math.sin(theta / 2), w=math.cos(theta / 2))
+
+
+def _pose(x: float, y: float, theta: float = 0.0, z: float = 0.0) -> FxPose:
+    return FxPose(position=Vector3(x=x, y=y, z=z), orientation=_yaw(theta))
+
+
+def _json(msg: dict) -> bytes:
+    """Compact JSON; refuses NaN and infinity (Foxglove cannot plot them and they hide bugs)."""
+    return json.dumps(msg, allow_nan=False, separators=(",", ":")).encode()
+
+
+class Recorder:
+    """Writes one run to ``path`` (see module docstring). Use :meth:`start`, :meth:`tick` per
+    control tick, then :meth:`finish` exactly once, also after an interruption."""
+
+    def __init__(self, path: str | Path, *, live: bool = False, port: int = 8765):
+        self.path = Path(path)
+        self.partial = self.path.with_name(self.path.name + ".partial")
+        self.path.parent.mkdir(parents=True, exist_ok=True)
+        if self.partial.exists():
+            self.partial.unlink()  # the remains of a run that was killed outright
+        ctx = foxglove.Context()
+        self.ctx = ctx
+        self.writer = foxglove.open_mcap(self.partial, context=ctx)
+        self.server = foxglove.start_server(name="navcli", port=port, context=ctx) if live else None
+        self.tf = FrameTransformsChannel("/tf", context=ctx)
+        self.pose = PoseInFrameChannel("/robot/pose", context=ctx)
+        self.odom = PoseInFrameChannel("/robot/odometry", context=ctx)
+        self.world_scene = SceneUpdateChannel("/world/scene", context=ctx)
+        self.robot_scene = SceneUpdateChannel("/robot/scene", context=ctx)
+        self.events = LogChannel("/events", context=ctx)
+        self.pilot = foxglove.Channel("/pilot", schema=PILOT_SCHEMA, context=ctx)
+        self.bids = foxglove.Channel("/bids", schema=BIDS_SCHEMA, context=ctx)
+        self.summary = foxglove.Channel("/mission/summary", schema=SUMMARY_SCHEMA, context=ctx)
+        self._closed = False
+
+    @property
+    def port(self) -> int | None:
+        return self.server.port if self.server else None
+
+    # -- the run
+    def start(self, mission: Mission) -> None:
+        """Metadata ``run``, the scenario attached, the arena and the robot's body."""
+        sc = mission.scenario
+        self.writer.write_metadata("run", mission.run_metadata())
+        self.writer.attach(log_time=0, create_time=0, name=Path(sc.source).name or f"{sc.name}.yaml",
+                           media_type="application/yaml", data=sc.text.encode())
+        self.world_scene.log(SceneUpdate(entities=_arena_entities(sc)), log_time=0)
+        r = sc.robot.radius
+        body = SceneEntity(
+            timestamp=_ts(0), frame_id="base_link", id="robot", frame_locked=True,
+            cylinders=[CylinderPrimitive(pose=_pose(0, 0, z=0.15), size=Vector3(x=2 * r, y=2 * r, z=0.3),
+                                         bottom_scale=1.0, top_scale=1.0, color=_ROBOT)],
+            arrows=[ArrowPrimitive(pose=_pose(0, 0, z=0.32), shaft_length=r, shaft_diameter=0.04,
+                                   head_length=0.1, head_diameter=0.1, color=_ROBOT)])
+        self.robot_scene.log(SceneUpdate(entities=[body]), log_time=0)
+        self._pose_msgs(mission.world.pose, mission.world.odometry.pose, 0)
+
+    def _pose_msgs(self, truth: Pose, odom: Pose, ns: int) -> None:
+        ts = _ts(ns)
+        q = _yaw(truth.theta)
+        self.tf.log(FrameTransforms(transforms=[FrameTransform(
+            timestamp=ts, parent_frame_id="world", child_frame_id="base_link",
+            translation=Vector3(x=truth.x, y=truth.y, z=0.0), rotation=q)]), log_time=ns)
+        self.pose.log(PoseInFrame(timestamp=ts, frame_id="world", pose=FxPose(
+            position=Vector3(x=truth.x, y=truth.y, z=0.0), orientation=q)), log_time=ns)
+        self.odom.log(PoseInFrame(timestamp=ts, frame_id="world", pose=_pose(odom.x, odom.y, odom.theta)),
+                      log_time=ns)
+
+    def tick(self, t: Tick) -> None:
+        ns = t.time_ns
+        self._pose_msgs(t.pose, t.odometry, ns)
+        v, w = t.command
+        self.pilot.log(_json(t.pilot.info | {"command": {"v": v, "omega_deg": math.degrees(w)}}), log_time=ns)
+        self.bids.log(_json(bids_record(t)), log_time=ns)
+        if t.pilot.arrows:
+            self.robot_scene.log(SceneUpdate(entities=[_force_arrows(t.pilot.arrows, ns)]), log_time=ns)
+        for e in t.events:
+            self.event(e, ns)
+
+    def event(self, e: Event, ns: int) -> None:
+        self.events.log(Log(timestamp=_ts(ns), level=_LEVEL[e.level], message=e.message, name=e.source),
+                        log_time=ns)
+
+    def finish(self, summary: dict, ns: int) -> Path:
+        """Write the summary, close the file and give it its final name. Idempotent."""
+        if self._closed:
+            return self.path
+        self._closed = True
+        try:
+            self.summary.log(_json(summary), log_time=ns)
+        finally:
+            self.writer.close()
+            if self.server is not None:
+                self.server.stop()
+            os.replace(self.partial, self.path)
+        return self.path
+
+
+def bids_record(t: Tick) -> dict:
+    """The ``/bids`` message: fixed keys per resource so every value is plottable in Foxglove."""
+    out: dict = {}
+    for r in RESOURCES:
+        rec: dict = {s: 0.0 for s in SYSTEMS}
+        actions = {}
+        for b in t.bids:
+            if b.resource == r:
+                rec[b.bidder] = b.value
+                actions[b.bidder] = b.action.as_json()
+        win = t.winners[r]
+        rec["winner"] = win.bidder if win else None
+        rec["actions"] = actions
+        out[r] = rec
+    agents: dict = {}
+    for b in t.agent_bids:
+        agents.setdefault(b.bidder, {})[b.resource] = b.value
+    out["agents"] = agents
+    return out
+
+
+def _force_arrows(arrows: list[tuple[str, float, float]], ns: int) -> SceneEntity:
+    """Egocentric force vectors as arrows in ``base_link`` (length scaled: 100 force units = 1 m)."""
+    prims = []
+    for _name, fx, fy in arrows:
+        mag = math.hypot(fx, fy)
+        if mag < 1e-9:
+            continue
+        L = min(mag / 100.0, 1.5)
+        prims.append(ArrowPrimitive(pose=_pose(0, 0, math.atan2(fy, fx), z=0.35), shaft_length=max(L - 0.08, 0.01),
+                                    shaft_diameter=0.025, head_length=0.08, head_diameter=0.07, color=_ARROW))
+    return SceneEntity(timestamp=_ts(ns), frame_id="base_link", id="forces", frame_locked=True, arrows=prims)
+
+
+def _arena_entities(sc: Scenario) -> list[SceneEntity]:
+    W, H, t = sc.arena.width, sc.arena.height, 0.1
+    ts = _ts(0)
+    walls = [CubePrimitive(pose=_pose(x, y, z=HEIGHT / 2), size=Vector3(x=sx, y=sy, z=HEIGHT), color=_GREY)
+             for x, y, sx, sy in ((W / 2, -t / 2, W + 2 * t, t), (W / 2, H + t / 2, W + 2 * t, t),
+                                  (-t / 2, H / 2, t, H), (W + t / 2, H / 2, t, H))]
+    ents = [SceneEntity(timestamp=ts, frame_id="world", id="walls", cubes=walls)]
+    for i, o in enumerate(sc.obstacles):
+        if isinstance(o, Circle):
+            prim = {"cylinders": [CylinderPrimitive(pose=_pose(*o.center, z=HEIGHT / 2),
+                                                    size=Vector3(x=2 * o.radius, y=2 * o.radius, z=HEIGHT),
+                                                    bottom_scale=1.0, top_scale=1.0, color=_RED)]}
+        else:
+            (ax, ay), (bx, by) = o.start, o.end
+            prim = {"cubes": [CubePrimitive(pose=_pose(*o.center, math.atan2(by - ay, bx - ax), z=HEIGHT / 2),
+                                            size=Vector3(x=math.hypot(bx - ax, by - ay), y=o.thickness, z=HEIGHT),
+                                            color=_RED)]}
+        ents.append(SceneEntity(timestamp=ts, frame_id="world", id=f"obstacle-{i}", **prim))
+    for lm in sc.landmarks:
+        ents.append(SceneEntity(
+            timestamp=ts, frame_id="world", id=f"landmark-{lm.id}",
+            cylinders=[CylinderPrimitive(pose=_pose(*lm.at, z=HEIGHT / 2), size=Vector3(x=2 * lm.radius, y=2 * lm.radius, z=HEIGHT),
+                                         bottom_scale=1.0, top_scale=1.0, color=_BLUE)],
+            texts=[TextPrimitive(pose=_pose(*lm.at, z=HEIGHT + 0.15), billboard=True, font_size=14.0,
+                                 scale_invariant=True, color=_BLUE, text=lm.id)]))
+    tg = sc.target
+    if tg.kind == "line":
+        (ax, ay), (bx, by) = tg.line
+        target = {"lines": [LinePrimitive(type=LinePrimitiveLineType.LineStrip, thickness=0.05, color=_GREEN,
+                                          points=[Point3(x=ax, y=ay, z=0.01), Point3(x=bx, y=by, z=0.01)])]}
+    else:
+        r = tg.tolerance
+        target = {"cylinders": [CylinderPrimitive(pose=_pose(*tg.point, z=0.01), size=Vector3(x=2 * r, y=2 * r, z=0.02),
+                                                  bottom_scale=1.0, top_scale=1.0, color=_GREEN)]}
+    ents.append(SceneEntity(timestamp=ts, frame_id="world", id="target", **target))
+    return ents

@@ -1,0 +1,87 @@
+"""Run one mission to its end, recording it: the engine behind ``navcli run``, the benchmark and
+(later) ``navcli compare``.
+
+It owns the lifetime of a log: whatever ends the run (the target, the time limit, Ctrl-C, an
+exception) the recorder is finished with a summary that says so, and the file gets its final name.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Callable
+
+from .mission import Event, Mission, Tick
+from .scenario import Scenario
+
+LOG_ROOT = Path("logs")
+
+
+def default_log_path(scenario: Scenario, pilot: str, seed: int, root: Path = LOG_ROOT) -> Path:
+    """``logs/<scenario>/<pilot>-seed<N>.mcap``."""
+    return root / scenario.name / f"{pilot}-seed{seed}.mcap"
+
+
+@dataclass(frozen=True)
+class RunResult:
+    summary: dict
+    log: Path | None
+    wall_s: float
+
+    @property
+    def realtime_factor(self) -> float:
+        """Simulated seconds per wall-clock second."""
+        return self.summary["time_s"] / self.wall_s if self.wall_s > 0 else float("inf")
+
+
+def run_mission(scenario: Scenario, *, seed: int | None = None, pilot: str | None = None,
+                time_limit: float | None = None, out: Path | None = None, record: bool = True,
+                live: bool = False, port: int = 8765,
+                on_tick: Callable[[Mission, Tick], None] | None = None) -> RunResult:
+    """Run ``scenario`` to its end and return its summary.
+
+    ``record=False`` runs without a log (the benchmark's baseline). ``live`` serves the run to
+    Foxglove on ``ws://localhost:<port>`` and paces it to real time. ``on_tick`` is called after
+    every tick (progress display; tests use it to interrupt a run). A ``KeyboardInterrupt`` ends
+    the run as ``interrupted`` and is re-raised after the log is closed; any other exception ends
+    it as ``error`` and is re-raised likewise.
+    """
+    from .recorder import Recorder  # foxglove is imported only when a log is written
+
+    mission = Mission(scenario, seed=seed, pilot=pilot, time_limit=time_limit)
+    path = None
+    recorder = None
+    if record or live:
+        path = out or default_log_path(scenario, mission.pilot_name, mission.seed)
+        recorder = Recorder(path, live=live, port=port)
+    t0 = time.perf_counter()
+    try:
+        if recorder:
+            recorder.start(mission)
+            for e in mission.drain_events():
+                recorder.event(e, 0)
+        while mission.outcome is None:
+            tick = mission.step()
+            if recorder:
+                recorder.tick(tick)
+            if on_tick:
+                on_tick(mission, tick)
+            if live:
+                lag = mission.time - (time.perf_counter() - t0)
+                if lag > 0:
+                    time.sleep(lag)
+    except BaseException as e:
+        if isinstance(e, KeyboardInterrupt):
+            mission.abort("interrupted", "stopped by the user (Ctrl-C)")
+        else:
+            mission.abort("error", f"{type(e).__name__}: {e}")
+        if recorder:
+            ns = mission.world.time_ns
+            recorder.event(Event(mission.time, "mission", "error", mission.reason), ns)
+            recorder.finish(mission.summary(), ns)
+        raise
+    wall = time.perf_counter() - t0
+    if recorder:
+        recorder.finish(mission.summary(), mission.world.time_ns)
+    return RunResult(mission.summary(), path if record or live else None, wall)

@@ -1,0 +1,194 @@
+"""The physical world: the only module that imports pymunk.
+
+A static arena (four walls, circle and segment obstacles, landmarks as cylinders) and the robot,
+a dynamic disc driven like a differential-drive base: each control tick it is commanded a forward
+speed ``v`` (m/s) and a turn rate ``omega`` (rad/s), limited in speed, acceleration and turn rate.
+The wheels are modelled as a velocity servo inside pymunk's step (``velocity_func``), so contacts
+are solved *after* the command is applied and the robot cannot push into or tunnel through a
+wall. Bumper contacts come out as :class:`Bump` events; the robot's own belief of where it is
+comes from :class:`Odometry`, which sees the true motion through the scenario's noise.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import pymunk
+
+from .geometry import Point, Pose, wrap_angle
+from .params import PHYSICS_DT, PHYSICS_DT_NS, PHYSICS_SUBSTEPS, ROBOT, RobotDefaults
+from .scenario import Circle, Scenario
+
+WALL_THICKNESS = 0.10  # m; walls sit outside the arena, their inner face on the border
+BUMP_REARM = 1.0  # s without touching a thing before touching it again counts as a new bump
+ROBOT_MASS = 20.0  # kg
+
+
+@dataclass(frozen=True)
+class Bump:
+    """A bumper contact that began during a tick.
+
+    ``what`` names the thing hit (``wall``, ``obstacle 3``, ``landmark A``); ``point`` is the
+    contact point in the world; ``bearing`` is its direction in the robot frame (rad, 0 = ahead).
+    """
+
+    time: float
+    what: str
+    point: Point
+    bearing: float
+
+
+class Odometry:
+    """Dead reckoning from the wheels: the pose the robot believes it has.
+
+    Each tick the true forward distance and turned angle are measured with a relative error made
+    of a per-run calibration error (drawn once: the systematic drift of real odometry) and a
+    per-tick random error, both with standard deviation ``noise`` (scenario ``noise.odometry``).
+    Zero noise gives exact dead reckoning.
+    """
+
+    def __init__(self, start: Pose, noise: float, rng: np.random.Generator):
+        self.pose = start
+        self.noise = noise
+        self.rng = rng
+        self.scale_d, self.scale_a = (1.0, 1.0)
+        if noise > 0:
+            self.scale_d, self.scale_a = (1.0 + noise * rng.standard_normal(2)).tolist()
+
+    def update(self, ds: float, dtheta: float) -> Pose:
+        """Integrate one tick of true motion (ds along the heading, m; dtheta, rad)."""
+        if self.noise > 0 and (ds != 0.0 or dtheta != 0.0):
+            ed, ea = (self.noise * self.rng.standard_normal(2)).tolist()
+            ds *= self.scale_d + ed
+            dtheta *= self.scale_a + ea
+        p = self.pose
+        mid = p.theta + dtheta / 2
+        self.pose = Pose(p.x + ds * math.cos(mid), p.y + ds * math.sin(mid), wrap_angle(p.theta + dtheta))
+        return self.pose
+
+
+class World:
+    """The pymunk arena of one scenario, stepped one control tick at a time."""
+
+    def __init__(self, scenario: Scenario, rng: np.random.Generator, limits: RobotDefaults = ROBOT):
+        self.scenario = scenario
+        self.limits = limits
+        self.max_speed = scenario.robot.max_speed
+        self._substeps = 0
+        self.path_length = 0.0
+        self.bumps = 0
+        self._v = 0.0  # the drive's current (commanded, rate-limited) speed, m/s
+        self._w = 0.0  # and turn rate, rad/s
+        self._last_touch: dict[pymunk.Shape, float] = {}
+
+        space = pymunk.Space()
+        space.collision_slop = 0.001  # m: pymunk's default (0.1) is in pixels
+        self.space = space
+        self._names: dict[pymunk.Shape, str] = {}
+        self._add_walls()
+        for i, o in enumerate(scenario.obstacles):
+            if isinstance(o, Circle):
+                shape = pymunk.Circle(space.static_body, o.radius, o.center)
+            else:
+                shape = pymunk.Segment(space.static_body, o.start, o.end, o.thickness / 2)
+            self._add_static(shape, f"obstacle {i}")
+        for lm in scenario.landmarks:
+            self._add_static(pymunk.Circle(space.static_body, lm.radius, lm.at), f"landmark {lm.id}")
+
+        r = scenario.robot.radius
+        body = pymunk.Body(ROBOT_MASS, pymunk.moment_for_circle(ROBOT_MASS, 0, r))
+        body.position = scenario.robot.start
+        body.angle = scenario.robot.heading
+        body.velocity_func = self._drive
+        shape = pymunk.Circle(body, r)
+        shape.friction = 0.3
+        space.add(body, shape)
+        self.body = body
+        self.odometry = Odometry(self.pose, scenario.noise.odometry, rng)
+
+    def _add_walls(self) -> None:
+        W, H = self.scenario.arena.width, self.scenario.arena.height
+        h = WALL_THICKNESS / 2
+        corners = [(-h, -h), (W + h, -h), (W + h, H + h), (-h, H + h)]
+        for a, b in zip(corners, corners[1:] + corners[:1]):
+            self._add_static(pymunk.Segment(self.space.static_body, a, b, h), "wall")
+
+    def _add_static(self, shape: pymunk.Shape, name: str) -> None:
+        shape.friction = 0.3
+        self.space.add(shape)
+        self._names[shape] = name
+
+    def _drive(self, body: pymunk.Body, gravity, damping, dt) -> None:
+        """The wheels' velocity servo, called by pymunk before it solves the contacts."""
+        c, s = math.cos(body.angle), math.sin(body.angle)
+        body.velocity = (self._v * c, self._v * s)
+        body.angular_velocity = self._w
+
+    @property
+    def time(self) -> float:
+        """Simulated seconds since the start (a whole number of physics steps)."""
+        return self.time_ns / 1e9
+
+    @property
+    def time_ns(self) -> int:
+        """Simulated time in integer nanoseconds (the log's clock: exact, no float drift)."""
+        return self._substeps * PHYSICS_DT_NS
+
+    @property
+    def pose(self) -> Pose:
+        """Ground-truth pose of the robot."""
+        p = self.body.position
+        return Pose(p.x, p.y, wrap_angle(self.body.angle))
+
+    @property
+    def speed(self) -> tuple[float, float]:
+        """The drive's current (v, omega)."""
+        return self._v, self._w
+
+    def step(self, v: float, omega: float) -> list[Bump]:
+        """Advance one control tick (CONTROL_DT) with the command (v m/s, omega rad/s); return new bumps.
+
+        The command is clipped to the robot's limits and reached at bounded acceleration.
+        """
+        lim = self.limits
+        v = min(max(v, -self.max_speed), self.max_speed)
+        omega = min(max(omega, -lim.max_turn_rate), lim.max_turn_rate)
+        dt = PHYSICS_DT
+        dv, dw = lim.max_accel * dt, lim.max_turn_accel * dt
+        start = self.pose
+        bumps: list[Bump] = []
+        for _ in range(PHYSICS_SUBSTEPS):
+            self._v += min(max(v - self._v, -dv), dv)
+            self._w += min(max(omega - self._w, -dw), dw)
+            before = self.body.position
+            self.space.step(dt)
+            self._substeps += 1
+            self.path_length += (self.body.position - before).length
+            self.body.each_arbiter(self._touch, bumps)
+        end = self.pose
+        ds = (end.x - start.x) * math.cos((start.theta + end.theta) / 2) + \
+             (end.y - start.y) * math.sin((start.theta + end.theta) / 2)
+        self.odometry.update(ds, wrap_angle(end.theta - start.theta))
+        return bumps
+
+    def _touch(self, arbiter: pymunk.Arbiter, bumps: list[Bump]) -> None:
+        other = arbiter.shapes[1] if arbiter.shapes[0].body is self.body else arbiter.shapes[0]
+        last = self._last_touch.get(other)
+        self._last_touch[other] = self.time
+        if last is not None and self.time - last < BUMP_REARM:
+            return
+        pts = arbiter.contact_point_set.points
+        if not pts:
+            return
+        q = pts[0].point_a if arbiter.shapes[0].body is self.body else pts[0].point_b
+        pose = self.pose
+        bearing = wrap_angle(math.atan2(q.y - pose.y, q.x - pose.x) - pose.theta)
+        self.bumps += 1
+        bumps.append(Bump(self.time, self._names[other], (q.x, q.y), bearing))
+
+    def stop(self) -> None:
+        """Halt the drive at once (used by reflexes and at the end of a mission)."""
+        self._v = self._w = 0.0
+
