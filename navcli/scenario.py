@@ -301,11 +301,11 @@ class _Reader:
 
     # -- the blocks
     def scenario(self, d: Any, text: str) -> Scenario:
-        top = self.mapping(d, (), ("version", "name", "arena", "robot", "target"),
-                           ("description", "obstacles", "landmarks", "mission", "noise", "camera", "pilot")) \
-            if isinstance(d, dict) else None
-        if top is None:
-            raise ScenarioError([Problem(self.source, 1, "", "expected a mapping of scenario fields")])
+        try:
+            top = self.mapping(d, (), ("version", "name", "arena", "robot", "target"),
+                               ("description", "obstacles", "landmarks", "mission", "noise", "camera", "pilot"))
+        except _Invalid:
+            raise ScenarioError(self.problems) from None
         g = self.guard
         version = g(self.version, top["version"])
         name = g(self.name, top["name"])

@@ -168,9 +168,10 @@ class World:
             self.path_length += (self.body.position - before).length
             self.body.each_arbiter(self._touch, bumps)
         end = self.pose
-        ds = (end.x - start.x) * math.cos((start.theta + end.theta) / 2) + \
-             (end.y - start.y) * math.sin((start.theta + end.theta) / 2)
-        self.odometry.update(ds, wrap_angle(end.theta - start.theta))
+        dtheta = wrap_angle(end.theta - start.theta)
+        mid = start.theta + dtheta / 2
+        ds = (end.x - start.x) * math.cos(mid) + (end.y - start.y) * math.sin(mid)  # wheel travel
+        self.odometry.update(ds, dtheta)
         return bumps
 
     def _touch(self, arbiter: pymunk.Arbiter, bumps: list[Bump]) -> None:

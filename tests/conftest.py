@@ -1,0 +1,48 @@
+"""Shared helpers: small scenarios written on the fly, so each test states the arena it needs."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+import yaml
+
+ROOT = Path(__file__).resolve().parent.parent
+SCENARIOS = ROOT / "scenarios"
+
+
+def scenario_dict(**over) -> dict:
+    """A valid open-room scenario; keyword arguments replace top-level blocks."""
+    d = {
+        "version": 1,
+        "name": "test-room",
+        "arena": {"width": 6.0, "height": 4.0},
+        "robot": {"start": [1.0, 2.0], "heading_deg": 0},
+        "target": {"at": [5.0, 2.0]},
+        "mission": {"time_limit": 60, "seed": 7},
+    }
+    d.update(over)
+    return {k: v for k, v in d.items() if v is not None}
+
+
+@pytest.fixture
+def write_scenario(tmp_path):
+    """Write a scenario (dict or raw text) to a file and return its path."""
+
+    def write(content, name: str = "scenario.yaml") -> Path:
+        p = tmp_path / name
+        p.write_text(content if isinstance(content, str) else yaml.safe_dump(content, sort_keys=False))
+        return p
+
+    return write
+
+
+@pytest.fixture
+def make_scenario(write_scenario):
+    """Load a scenario built from :func:`scenario_dict` overrides."""
+    from navcli.scenario import load_scenario
+
+    def make(**over):
+        return load_scenario(write_scenario(scenario_dict(**over)))
+
+    return make

@@ -1,0 +1,30 @@
+"""The arbiter gives each resource to its highest bid, with a deterministic tie rule."""
+
+from __future__ import annotations
+
+import pytest
+
+from navcli.bidding import Bid, Look, Move, arbitrate
+
+
+def test_highest_bid_wins_each_resource():
+    bids = [Bid("pilot", "motion", Move(0.5, 0.2), 0.3), Bid("navigation", "motion", Move(0.0, 0.3), 0.6),
+            Bid("pilot", "camera", Look(0.0), 0.7), Bid("navigation", "camera", Look(1.0), 0.2)]
+    w = arbitrate(bids)
+    assert w["motion"].bidder == "navigation" and w["camera"].bidder == "pilot"
+
+
+def test_ties_go_to_the_bid_offered_first():
+    a, b = Bid("pilot", "motion", Move(0.1, 0.1), 0.5), Bid("navigation", "motion", Move(0.0, 0.3), 0.5)
+    assert arbitrate([a, b])["motion"] is a
+    assert arbitrate([b, a])["motion"] is b
+
+
+def test_a_resource_nobody_bids_for_has_no_winner():
+    assert arbitrate([Bid("navigation", "motion", Move(0, 0), 0.0)])["camera"] is None
+
+
+@pytest.mark.parametrize("value", [-0.01, 1.01, float("nan")])
+def test_bids_outside_unit_interval_are_refused(value):
+    with pytest.raises(ValueError):
+        Bid("pilot", "motion", Move(0, 0), value)

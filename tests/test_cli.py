@@ -1,0 +1,119 @@
+"""``navcli`` end to end through typer's runner, and as a real process for Ctrl-C."""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import time
+
+import pytest
+from typer.testing import CliRunner
+
+from analysis import read_log
+from conftest import ROOT, SCENARIOS, scenario_dict
+from navcli.cli import app
+
+runner = CliRunner()
+
+
+def invoke(*args):
+    return runner.invoke(app, [str(a) for a in args])
+
+
+def test_run_reaches_the_target_and_prints_the_result(tmp_path):
+    out = tmp_path / "run.mcap"
+    r = invoke("run", SCENARIOS / "open-arena.yaml", "--seed", 2, "--out", out)
+    assert r.exit_code == 0, r.output
+    for word in ("outcome      reached", "sim time", "path length", "collisions   0", f"log          {out}"):
+        assert word in r.output
+    assert read_log(out).summary["seed"] == 2
+
+
+def test_run_writes_the_default_log_path(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    r = invoke("run", SCENARIOS / "open-arena.yaml", "--pilot", "geometric", "--seed", 4)
+    assert r.exit_code == 0, r.output
+    assert (tmp_path / "logs" / "open-arena" / "geometric-seed4.mcap").exists()
+
+
+def test_a_mission_that_runs_out_of_time_exits_3(tmp_path):
+    r = invoke("run", SCENARIOS / "open-arena.yaml", "--time-limit", 1, "--out", tmp_path / "t.mcap")
+    assert r.exit_code == 3 and "outcome      timeout" in r.output
+
+
+def test_refused_scenario_exits_2_with_the_reason_and_no_traceback(write_scenario, tmp_path):
+    bad = write_scenario(scenario_dict(target={"at": [9, 9]}))
+    r = invoke("run", bad, "--out", tmp_path / "never.mcap")
+    assert r.exit_code == 2
+    assert f"{bad}:" in r.output and "target.at" in r.output and "outside" in r.output
+    assert "Traceback" not in r.output
+    assert not (tmp_path / "never.mcap").exists()
+
+
+def test_missing_scenario_file_exits_2(tmp_path):
+    r = invoke("run", tmp_path / "nope.yaml")
+    assert r.exit_code == 2 and "no such file" in r.output
+
+
+def test_bad_options_exit_2_without_traceback():
+    for args in (["run", SCENARIOS / "open-arena.yaml", "--pilot", "autopilot"],
+                 ["run", SCENARIOS / "open-arena.yaml", "--seed", "-1"],
+                 ["run", SCENARIOS / "open-arena.yaml", "--time-limit", "0"]):
+        r = invoke(*args)
+        assert r.exit_code == 2, (args, r.output)
+        assert "Traceback" not in r.output
+
+
+def test_unwritable_log_path_is_a_clear_error(tmp_path):
+    blocker = tmp_path / "file"
+    blocker.write_text("")
+    r = invoke("run", SCENARIOS / "open-arena.yaml", "--out", blocker / "run.mcap")
+    assert r.exit_code == 1 and "error:" in r.output and "Traceback" not in r.output
+
+
+def test_validate_reports_each_file(write_scenario):
+    good = SCENARIOS / "paper-8x8.yaml"
+    bad = write_scenario(scenario_dict(landmarks=[{"id": "A", "at": [3, 1]}, {"id": "A", "at": [3, 2]}]))
+    r = invoke("validate", good)
+    assert r.exit_code == 0 and "paper-8x8.yaml: ok" in r.output
+    r = invoke("validate", good, bad)
+    assert r.exit_code == 2
+    assert "paper-8x8.yaml: ok" in r.output and "landmarks[1].id" in r.output and "1 of 2 files refused" in r.output
+
+
+def test_help_lists_the_commands():
+    r = invoke("--help")
+    assert r.exit_code == 0
+    for cmd in ("run", "validate", "bench"):
+        assert cmd in r.output
+
+
+def test_cli_module_imports_no_heavy_library():
+    code = ("import sys, navcli.cli; heavy = [m for m in ('numpy', 'pymunk', 'foxglove', 'pandas', 'matplotlib')"
+            " if m in sys.modules]; print(heavy); sys.exit(1 if heavy else 0)")
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert r.returncode == 0, r.stdout + r.stderr
+
+
+@pytest.mark.skipif(sys.platform == "win32", reason="POSIX signals")
+def test_ctrl_c_on_a_live_run_leaves_a_log_marked_interrupted(tmp_path):
+    """A real process, paced to real time by --live, stopped with SIGINT as a terminal would."""
+    out = tmp_path / "live.mcap"
+    proc = subprocess.Popen([sys.executable, "-m", "navcli", "run", str(SCENARIOS / "open-arena.yaml"), "--live",
+                             "--port", "0", "--out", str(out)], cwd=ROOT, stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True)
+    partial = out.with_name(out.name + ".partial")
+    deadline = time.monotonic() + 20
+    while not partial.exists() and time.monotonic() < deadline:
+        time.sleep(0.05)
+    time.sleep(1.0)  # about a second of simulated time
+    proc.send_signal(signal.SIGINT)
+    stdout, stderr = proc.communicate(timeout=20)
+    assert proc.returncode == 130, stderr
+    assert "interrupted" in stderr and "Traceback" not in stderr
+    log = read_log(out)
+    assert log.summary["outcome"] == "interrupted"
+    assert 0 < log.summary["time_s"] < 10
+    assert not partial.exists()

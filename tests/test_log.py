@@ -1,0 +1,130 @@
+"""A run's MCAP log: every topic, simulation time as log time, a summary that agrees with the
+poses, the scenario attached, determinism, and a readable file after an interruption."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from analysis import path_length, read_log
+from conftest import SCENARIOS
+from navcli.params import CONTROL_DT
+from navcli.runner import run_mission
+from navcli.scenario import load_scenario
+
+TOPICS = {"/tf", "/robot/pose", "/robot/odometry", "/world/scene", "/robot/scene", "/pilot", "/bids",
+          "/events", "/mission/summary"}
+
+
+@pytest.fixture(scope="module")
+def open_run(tmp_path_factory):
+    sc = load_scenario(SCENARIOS / "open-arena.yaml")
+    out = tmp_path_factory.mktemp("logs") / "run.mcap"
+    res = run_mission(sc, seed=3, out=out)
+    return sc, res, read_log(out)
+
+
+def test_every_topic_is_present(open_run):
+    _, _, log = open_run
+    assert TOPICS <= set(log.topics)
+
+
+def test_log_time_is_simulation_time(open_run):
+    _, res, log = open_run
+    poses = log["/robot/pose"]
+    t = poses["log_time_ns"].to_numpy()
+    assert t[0] == 0 and (t[1:] > t[:-1]).all()  # strictly increasing from the start
+    step = round(CONTROL_DT * 1e9)
+    assert (t == step * poses.index.to_numpy()).all()  # one pose per control tick, exactly
+    assert t[-1] / 1e9 == pytest.approx(res.summary["time_s"])
+    assert log["/mission/summary"]["log_time_ns"].iloc[0] == t[-1]
+
+
+def test_summary_agrees_with_the_poses(open_run):
+    sc, res, log = open_run
+    s = log.summary
+    assert s == res.summary
+    assert s["outcome"] == "reached" and s["scenario"] == sc.name and s["seed"] == 3
+    assert s["path_length_m"] == pytest.approx(path_length(log["/robot/pose"]), rel=0.01)
+    last = log["/robot/pose"].iloc[-1]
+    assert math.dist((last.x, last.y), sc.target.point) <= sc.target.tolerance
+    assert s["ticks"] == len(log["/bids"])
+
+
+def test_metadata_and_attachment_reproduce_the_run(open_run):
+    sc, _, log = open_run
+    run = log.metadata["run"]
+    assert run["scenario"] == sc.name and run["seed"] == "3" and run["scenario_sha256"] == sc.sha256
+    assert log.attachments["open-arena.yaml"].decode() == sc.text
+
+
+def test_bids_show_every_system_and_the_winner(open_run):
+    _, _, log = open_run
+    bids = log["/bids"]
+    assert {"motion.pilot", "motion.navigation", "motion.winner", "camera.pilot", "camera.navigation"} <= set(bids)
+    assert bids["motion.navigation"].between(0, 1).all()
+    won = bids["motion.winner"] == "navigation"
+    assert (bids.loc[won, "motion.navigation"] >= bids.loc[won, "motion.pilot"]).all()
+
+
+def test_same_seed_same_run_other_seed_other_noise(tmp_path):
+    sc = load_scenario(SCENARIOS / "open-arena.yaml")
+    logs = {}
+    for name, seed in (("a", 5), ("b", 5), ("c", 6)):
+        run_mission(sc, seed=seed, out=tmp_path / f"{name}.mcap")
+        logs[name] = read_log(tmp_path / f"{name}.mcap")
+    cols = ["log_time_ns", "x", "y", "theta"]
+    assert logs["a"]["/robot/pose"][cols].equals(logs["b"]["/robot/pose"][cols])
+    assert logs["a"]["/robot/odometry"][cols].equals(logs["b"]["/robot/odometry"][cols])
+    odo_a, odo_c = logs["a"]["/robot/odometry"], logs["c"]["/robot/odometry"]
+    n = min(len(odo_a), len(odo_c))
+    assert not odo_a[["x", "y"]].iloc[:n].equals(odo_c[["x", "y"]].iloc[:n])
+
+
+def test_interrupted_run_leaves_a_readable_log_marked_interrupted(tmp_path):
+    sc = load_scenario(SCENARIOS / "open-arena.yaml")
+    out = tmp_path / "cut.mcap"
+
+    def ctrl_c(mission, tick):
+        if tick.index == 40:
+            raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        run_mission(sc, out=out, on_tick=ctrl_c)
+    assert out.exists() and not out.with_name("cut.mcap.partial").exists()
+    log = read_log(out)
+    assert log.summary["outcome"] == "interrupted" and log.summary["ticks"] == 40
+    assert len(log["/robot/pose"]) == 41
+    assert "stopped by the user" in log["/events"]["message"].iloc[-1]
+
+
+def test_error_in_a_run_leaves_a_log_marked_error(tmp_path):
+    sc = load_scenario(SCENARIOS / "open-arena.yaml")
+    out = tmp_path / "err.mcap"
+
+    def boom(mission, tick):
+        if tick.index == 5:
+            raise RuntimeError("sensor on fire")
+
+    with pytest.raises(RuntimeError):
+        run_mission(sc, out=out, on_tick=boom)
+    s = read_log(out).summary
+    assert s["outcome"] == "error" and "sensor on fire" in s["reason"]
+
+
+def test_time_limit_ends_the_run_as_timeout(tmp_path):
+    sc = load_scenario(SCENARIOS / "open-arena.yaml")
+    res = run_mission(sc, out=tmp_path / "t.mcap", time_limit=2.0)
+    assert res.summary["outcome"] == "timeout" and res.summary["time_s"] == pytest.approx(2.0)
+    assert res.summary["ticks"] == 20
+
+
+def test_analysis_does_not_import_the_simulator():
+    import subprocess
+    import sys
+
+    code = ("import sys, analysis; bad = [m for m in sys.modules if m.split('.')[0] in ('navcli', 'pymunk', 'foxglove')];"
+            "print(bad); sys.exit(1 if bad else 0)")
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert r.returncode == 0, r.stdout + r.stderr

@@ -1,0 +1,113 @@
+"""The pymunk world: walls and obstacles stop the robot, contacts become bumps, odometry drifts."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from conftest import scenario_dict
+from navcli.params import CONTROL_DT, ROBOT
+from navcli.world import World
+
+
+def world_for(make_scenario, speed=0.3, noise=0.0, **over) -> World:
+    sc = make_scenario(robot={"start": [1.0, 2.0], "heading_deg": 0, "max_speed": speed},
+                       noise={"odometry": noise}, **over)
+    return World(sc, np.random.default_rng(0))
+
+
+def drive(world: World, v: float, omega: float, seconds: float):
+    bumps = []
+    for _ in range(round(seconds / CONTROL_DT)):
+        bumps += world.step(v, omega)
+    return bumps
+
+
+@pytest.mark.parametrize("speed", [0.3, 2.0])
+def test_wall_stops_the_robot_at_top_speed(make_scenario, speed):
+    w = world_for(make_scenario, speed=speed)
+    drive(w, speed, 0.0, 20.0)
+    r = w.scenario.robot.radius
+    assert w.pose.x + r <= 6.0 + 0.01  # no more than slop into the wall, never through it
+    assert w.pose.x + r >= 6.0 - 0.01  # and it did drive all the way to it
+    assert w.speed[0] == pytest.approx(speed)  # the wheels kept pushing the whole time
+
+
+@pytest.mark.parametrize("speed", [0.3, 2.0])
+@pytest.mark.parametrize("obstacle", [
+    {"circle": {"center": [3.0, 2.0], "radius": 0.15}},
+    {"segment": {"from": [3.0, 0.5], "to": [3.0, 3.5], "thickness": 0.02}},
+], ids=["circle", "thin-segment"])
+def test_obstacle_stops_the_robot(make_scenario, speed, obstacle):
+    w = world_for(make_scenario, speed=speed, obstacles=[obstacle])
+    bumps = drive(w, speed, 0.0, 8.0)
+    r = w.scenario.robot.radius
+    half = obstacle["circle"]["radius"] if "circle" in obstacle else 0.01
+    assert w.pose.x <= 3.0 - half - r + 0.01
+    assert w.pose.x >= 3.0 - half - r - 0.02
+    assert [b.what for b in bumps] == ["obstacle 0"]
+
+
+def test_bump_event_reports_what_where_and_bearing(make_scenario):
+    w = world_for(make_scenario, obstacles=[{"circle": {"center": [2.0, 2.0], "radius": 0.15}}])
+    bumps = drive(w, 0.3, 0.0, 6.0)
+    assert len(bumps) == 1 and w.bumps == 1
+    (b,) = bumps
+    assert b.what == "obstacle 0"
+    assert b.point[0] == pytest.approx(2.0 - 0.15, abs=0.01) and b.point[1] == pytest.approx(2.0, abs=0.01)
+    assert b.bearing == pytest.approx(0.0, abs=0.05)  # dead ahead
+    assert 1.0 < b.time < 3.0  # 0.35 m gap... at 0.3 m/s after the ramp-up
+
+
+def test_a_new_contact_counts_again_only_after_letting_go(make_scenario):
+    w = world_for(make_scenario, obstacles=[{"circle": {"center": [2.0, 2.0], "radius": 0.15}}])
+    assert len(drive(w, 0.3, 0.0, 6.0)) == 1  # pushing on counts once
+    drive(w, -0.3, 0.0, 3.0)
+    assert len(drive(w, 0.3, 0.0, 6.0)) == 1  # backing off and driving in again: a new bump
+    assert w.bumps == 2
+
+
+def test_limits_on_speed_acceleration_and_turn_rate(make_scenario):
+    w = world_for(make_scenario, speed=0.3)
+    w.step(5.0, 10.0)
+    v, omega = w.speed
+    assert v == pytest.approx(min(0.3, ROBOT.max_accel * CONTROL_DT))
+    assert omega == pytest.approx(min(ROBOT.max_turn_rate, ROBOT.max_turn_accel * CONTROL_DT))
+    drive(w, 5.0, 10.0, 3.0)
+    assert w.speed == pytest.approx((0.3, ROBOT.max_turn_rate))
+
+
+def test_drives_like_a_differential_base(make_scenario):
+    w = world_for(make_scenario)
+    drive(w, 0.0, math.radians(45), 2.5)  # turn in place
+    drive(w, 0.0, 0.0, 1.0)  # and come to rest
+    assert abs(w.pose.x - 1.0) < 1e-6 and abs(w.pose.y - 2.0) < 1e-6
+    assert w.path_length < 1e-6
+    theta = w.pose.theta
+    drive(w, 0.2, 0.0, 3.0)
+    dx, dy = w.pose.x - 1.0, w.pose.y - 2.0
+    assert math.atan2(dy, dx) == pytest.approx(theta, abs=1e-3)  # no sideways slip
+    assert w.path_length == pytest.approx(math.hypot(dx, dy), rel=1e-6)
+
+
+def test_odometry_is_exact_without_noise(make_scenario):
+    w = world_for(make_scenario, noise=0.0)
+    drive(w, 0.3, 0.6, 10.0)  # a 0.5 m circle, across the +-pi wrap, clear of the walls
+    o, t = w.odometry.pose, w.pose
+    assert math.hypot(o.x - t.x, o.y - t.y) < 0.01 * w.path_length  # dead reckoning at 10 Hz
+    assert abs(o.theta - t.theta) < 1e-9
+
+
+def test_odometry_distance_error_has_the_scenario_relative_spread(make_scenario):
+    sc = make_scenario(robot={"start": [1.0, 2.0], "heading_deg": 0}, noise={"odometry": 0.05})
+    rel = []
+    for seed in range(40):
+        w = World(sc, np.random.default_rng(seed))
+        drive(w, 0.3, 0.0, 10.0)
+        believed = math.hypot(w.odometry.pose.x - 1.0, w.odometry.pose.y - 2.0)
+        rel.append(believed / w.path_length - 1.0)
+    # per-run calibration error (sd 0.05) dominates the averaged per-tick error (sd 0.05/sqrt(100))
+    assert 0.03 < float(np.std(rel)) < 0.08
+    assert abs(float(np.mean(rel))) < 0.03  # unbiased
