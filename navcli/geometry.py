@@ -26,6 +26,11 @@ class Pose:
         c, s = math.cos(self.theta), math.sin(self.theta)
         return (c * dx + s * dy, -s * dx + c * dy)
 
+    def to_world(self, q: Point) -> Point:
+        """The inverse of :meth:`to_local`: an egocentric point back in this pose's parent frame."""
+        c, s = math.cos(self.theta), math.sin(self.theta)
+        return (self.x + c * q[0] - s * q[1], self.y + s * q[0] + c * q[1])
+
 
 def wrap_angle(a: float) -> float:
     """Wrap an angle to (-pi, pi]."""
@@ -70,3 +75,11 @@ def segments_intersect(p1: Point, p2: Point, q1: Point, q2: Point) -> bool:
         return d == 0 and min(a[0], b[0]) <= c[0] <= max(a[0], b[0]) and min(a[1], b[1]) <= c[1] <= max(a[1], b[1])
 
     return on(q1, q2, p1, d1) or on(q1, q2, p2, d2) or on(p1, p2, q1, d3) or on(p1, p2, q2, d4)
+
+
+def segment_distance(p1: Point, p2: Point, q1: Point, q2: Point) -> float:
+    """Shortest distance between the closed segments ``p1p2`` and ``q1q2`` (0 if they cross)."""
+    if segments_intersect(p1, p2, q1, q2):
+        return 0.0
+    return min(distance_to_segment(p1, q1, q2), distance_to_segment(p2, q1, q2),
+               distance_to_segment(q1, p1, p2), distance_to_segment(q2, p1, p2))

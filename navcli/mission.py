@@ -17,7 +17,7 @@ from . import __version__
 from .bidding import Bid, Resource, arbitrate
 from .geometry import Pose, segments_intersect
 from .navigation import NavigationSystem
-from .params import CONTROL_DT, PHYSICS_DT
+from .params import CONTROL_DT, LOOK_TIME, PHYSICS_DT
 from .perception import RangePerception
 from .pilot import PilotOutput
 from .pilots import make_pilot
@@ -65,12 +65,13 @@ class Mission:
         self.rng = np.random.default_rng(self.seed)
         self.world = World(scenario, self.rng)
         self.perception = RangePerception(scenario)
-        self.pilot = make_pilot(self.pilot_name, scenario.pilot)
+        self.pilot = make_pilot(self.pilot_name, scenario.pilot, scenario.robot.max_speed)
         self.navigation = NavigationSystem(scenario.robot.max_speed)
         self.ticks = 0
         self.outcome: str | None = None
         self.reason = ""
         self.camera_looks = 0
+        self._camera_free_at = 0.0
         self._pending: list[Event] = [Event(0.0, "mission", "info", self._start_message())]
 
     def _start_message(self) -> str:
@@ -109,18 +110,21 @@ class Mission:
         world = self.world
         before = world.pose
         beliefs = self.perception.observe(world.time, before, world.odometry.pose)
-        pilot_out = self.pilot.decide(beliefs)
         nav_bids = self.navigation.bid(beliefs)
+        request = next((b.action for b in nav_bids if b.resource == "motion"), None)
+        pilot_out = self.pilot.decide(beliefs, request)
         bids = tuple(pilot_out.bids) + tuple(nav_bids)  # the Pilot is consulted first (ties)
         winners = arbitrate(bids)
         v, omega = self.pilot.execute(winners["motion"])
+        self._look(winners["camera"])
         bumps = world.step(v, omega)
         self.ticks += 1
         events = self.drain_events()
+        events += [Event(world.time, "pilot", "info", m) for m in pilot_out.events]
         for b in bumps:
             events.append(Event(b.time, "pilot", "warning",
                                 f"bumper contact with {b.what} at bearing {math.degrees(b.bearing):.0f} deg"))
-        self.pilot.on_bumps(bumps)
+        self.pilot.on_bumps(bumps, world.odometry.pose)
         after = world.pose
         if self._reached(before, after):
             self._end("reached", f"target reached after {world.time:.1f} s")
@@ -130,6 +134,17 @@ class Mission:
             events.append(Event(world.time, "mission", "info" if self.outcome == "reached" else "warning", self.reason))
         return Tick(self.ticks, world.time_ns, after, world.odometry.pose, (v, omega),
                     bids, tuple(self.navigation.last_agent_bids), winners, pilot_out, tuple(events))
+
+    def _look(self, winner: Bid | None) -> None:
+        """Carry out the winning look when the camera is free (it is busy LOOK_TIME per look).
+
+        Until the Vision system lands a look changes no belief; it is counted and reported to
+        the pilot (eq. 1 resets its distance since the last look ahead)."""
+        if winner is None or self.world.time < self._camera_free_at - 1e-9:
+            return
+        self.camera_looks += 1
+        self._camera_free_at = self.world.time + LOOK_TIME
+        self.pilot.on_look(winner.action.pan)
 
     def drain_events(self) -> list[Event]:
         """Events raised outside a step (the mission's start) and not yet handed out."""

@@ -27,14 +27,13 @@ class TargetTracker:
     """
 
     params: NavigationParams = NAVIGATION
-    alpha: float = 1.731  # notes, Table 5.2 (C1)
     name: str = "target-tracker"
 
     def bid(self, beliefs: Beliefs, max_speed: float, imprecision: float = 0.0) -> list[Bid]:
         if beliefs.target is None:
             return []
         x, y = beliefs.target
-        value = self.params.kappa1 * (1.0 - imprecision) ** self.alpha
+        value = self.params.kappa1 * (1.0 - imprecision) ** self.params.alpha
         return [Bid(self.name, "motion", Move(math.atan2(y, x), max_speed), value)]
 
 

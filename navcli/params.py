@@ -15,6 +15,8 @@ PILOT_NAMES = ("potential-field", "geometric")
 
 # --- Timing: both rates in one place --------------------------------------------------------
 CONTROL_DT = 0.1
+LOOK_TIME = 0.5
+"""Seconds the camera is busy with one look (pan and image processing)."""
 """Seconds between two decisions of the agents (10 Hz), and between two log records."""
 PHYSICS_SUBSTEPS = 5
 """Physics steps per control tick: the world steps at CONTROL_DT / PHYSICS_SUBSTEPS (50 Hz)."""
@@ -43,13 +45,29 @@ class PilotParams:
     bid_cap: float = 0.9  # eq. 9: the Pilot never bids above this
     heading_gain: float = 1.5  # 1/s: turn rate per radian of heading error
     turn_in_place: float = math.radians(45.0)  # above this heading error the robot stops to turn
+    distress_gain: float = 1.5  # section 5: the offending obstacle's force x 1.5 when IN_DISTRESS
+    corridor_margin: float = 0.40  # m: section 3.3, the safe corridor keeps this far from the line's ends
+    # Section 3.5: reflexes and backward motion
+    backward_turn: float = math.radians(160.0)  # turns larger than this are driven backwards...
+    max_backward: float = 0.6  # m: ...while the distance driven backwards stays under this
+    reflex_stop_s: float = 0.5  # s standing still after a bump
+    reflex_look_pans_deg: tuple[float, ...] = (-60.0, 0.0, 60.0)  # looks around after a bump
+    backup_distance: float = 0.30  # m backed up after a bump
+    backup_speed: float = 0.15  # m/s
+    bump_obstacle_radius: float = 0.05  # m: a bumped, unseen obstacle is remembered as a point this big
+    # Section 2, eq. 1: the look-ahead camera bid (d_l / d_m) ** s
+    look_d_max: float = 1.0  # m: d_m, the longest drive without looking ahead
+    look_exponent: float = 2.0  # s
+    # Geometric pilot (the baseline of Table 1)
+    geometric_lookahead: float = 1.0  # m beyond the grown obstacle at which it starts to steer
 
 
 @dataclass(frozen=True)
 class NavigationParams:
     """Parameters of the Navigation system's agents."""
 
-    kappa1: float = 0.5  # Target Tracker: move bid with a perfectly known target (notes, section 2)
+    kappa1: float = 0.314  # Target Tracker: move bid with a precisely known target (notes, Table 5.2, C1)
+    alpha: float = 1.731  # Target Tracker: how fast that bid falls with the target's imprecision (C1)
 
 
 @dataclass(frozen=True)

@@ -2,13 +2,15 @@
 
 The agents never see the world; they see :class:`Beliefs`. Until the Vision system and its
 visual memory land, :class:`RangePerception` stands in for them: it reports the obstacles and
-landmarks within camera range (without field-of-view or occlusion limits, and without noise), and
-the target relative to the pose the robot *believes* it has (its odometry), as a robot told the
+landmarks within camera range (without field-of-view or occlusion limits, and without noise), the
+arena's walls as linear obstacles, and the target: exactly when it is within camera range,
+otherwise relative to the pose the robot *believes* it has (its odometry), as a robot told the
 target's coordinates would. It is a seam: Vision replaces it without the agents changing.
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 from .geometry import Point, Pose, distance_to_segment
@@ -58,6 +60,10 @@ class RangePerception:
                 self._objects.append((f"o{i}", o.start, o.end, o.thickness / 2))
         for lm in scenario.landmarks:
             self._objects.append((f"L{lm.id}", lm.at, lm.at, lm.radius))
+        W, H = scenario.arena.width, scenario.arena.height  # the walls are linear obstacles too
+        for key, a, b in (("wall-s", (0.0, 0.0), (W, 0.0)), ("wall-e", (W, 0.0), (W, H)),
+                          ("wall-n", (W, H), (0.0, H)), ("wall-w", (0.0, H), (0.0, 0.0))):
+            self._objects.append((key, a, b, 0.0))
 
     def observe(self, time: float, truth: Pose, odometry: Pose) -> Beliefs:
         rng = self.range
@@ -67,5 +73,7 @@ class RangePerception:
             if distance_to_segment((0.0, 0.0), la, lb) <= rng:
                 seen.append(KnownObstacle(key, la, lb, r))
         t = self.scenario.target
-        line = (odometry.to_local(t.line[0]), odometry.to_local(t.line[1])) if t.line else None
-        return Beliefs(time, odometry, odometry.to_local(t.point), line, tuple(seen))
+        # the target is seen like any object within range; beyond it, it is dead-reckoned
+        ref = truth if math.dist((truth.x, truth.y), t.point) <= rng else odometry
+        line = (ref.to_local(t.line[0]), ref.to_local(t.line[1])) if t.line else None
+        return Beliefs(time, odometry, ref.to_local(t.point), line, tuple(seen))

@@ -2,12 +2,17 @@
 
 from __future__ import annotations
 
-from .params import PILOT, PILOT_NAMES, PilotParams
+from .geometric import GeometricPilot
+from .params import PILOT, PILOT_NAMES, ROBOT, PilotParams
 from .pilot import Pilot
+from .potential_field import PotentialFieldPilot
+
+PILOTS: dict[str, type[Pilot]] = {"potential-field": PotentialFieldPilot, "geometric": GeometricPilot}
+assert tuple(PILOTS) == PILOT_NAMES
 
 
-def make_pilot(name: str, params: PilotParams = PILOT) -> Pilot:
+def make_pilot(name: str, params: PilotParams = PILOT, max_speed: float = ROBOT.max_speed) -> Pilot:
     """A fresh pilot of the named kind (raises ``ValueError`` for an unknown name)."""
-    if name not in PILOT_NAMES:
+    if name not in PILOTS:
         raise ValueError(f"unknown pilot {name!r} (expected one of: {', '.join(PILOT_NAMES)})")
-    return Pilot(params)
+    return PILOTS[name](params, max_speed)

@@ -1,0 +1,104 @@
+"""The geometric pilot: the nearest-obstacle avoidance the potential-field pilot replaced.
+
+The pilot paper (section 6) names it only as "simple ... a nearest obstacle avoidance (using
+geometric principles) algorithm"; the thesis (notes, section 2, Pilot) adds that obstacles are
+grown (points to circles, lines to rounded rectangles) and that "if about to enter a forbidden
+area, [it] bid[s] to move tangentially to the grown obstacle". Our rules, in full:
+
+1. Grow every known obstacle by ``R_min``: a circle around a point obstacle, a rounded rectangle
+   (capsule) around a linear one. Take the **nearest** grown obstacle (smallest clearance).
+2. If the robot is inside it, move straight away from it (from its nearest point), bid 0.9.
+3. Otherwise, if the motion the Navigation system asks for (its requested heading) would enter
+   that grown obstacle within ``geometric_lookahead`` metres, steer along the tangent of the grown
+   obstacle on the side nearer the requested heading, and bid 0.9 (the Pilot's cap, which beats
+   any Navigation bid) while that holds. The side is chosen when the obstacle starts blocking and
+   kept until it no longer does (without this the robot dithers in front of a long obstacle
+   seen square on, where both sides are equally near).
+4. Otherwise propose nothing: the Navigation system's request is safe.
+
+Reflexes, backward turns and the look-ahead bid are the shared ones of :class:`navcli.pilot.Pilot`.
+"""
+
+from __future__ import annotations
+
+import math
+
+from .bidding import Move
+from .geometry import Point, closest_on_segment, segment_distance, wrap_angle
+from .perception import Beliefs, KnownObstacle
+from .pilot import Avoidance, Pilot
+
+ORIGIN = (0.0, 0.0)
+
+
+def ray_enters(h: float, o: KnownObstacle, R: float, reach: float) -> bool:
+    """Does driving ``reach`` metres from the origin along heading ``h`` enter ``o`` grown by ``R``?"""
+    end = (math.cos(h) * reach, math.sin(h) * reach)
+    return segment_distance(ORIGIN, end, o.a, o.b) < R
+
+
+def _tangents(c: Point, R: float) -> tuple[float, float]:
+    """The two headings tangent to the circle (c, R) seen from the origin (outside it)."""
+    d = math.hypot(c[0], c[1])
+    bearing = math.atan2(c[1], c[0])
+    half = math.asin(min(1.0, R / d))
+    return wrap_angle(bearing - half), wrap_angle(bearing + half)
+
+
+def blocked_interval(o: KnownObstacle, R: float) -> tuple[float, float]:
+    """The headings (right edge, left edge) that lead into obstacle ``o`` grown by ``R``.
+
+    For a capsule, the union of the tangent cones of its two end circles (the straight sides lie
+    between them)."""
+    r1, l1 = _tangents(o.a, R)
+    if o.is_point:
+        return r1, l1
+    r2, l2 = _tangents(o.b, R)
+    mid = math.atan2(*reversed(_mid(o)))
+    # measure the edges relative to the direction of the capsule's middle, to take min and max
+    rights = [wrap_angle(r - mid) for r in (r1, r2)]
+    lefts = [wrap_angle(left - mid) for left in (l1, l2)]
+    return wrap_angle(mid + min(rights)), wrap_angle(mid + max(lefts))
+
+
+def _mid(o: KnownObstacle) -> Point:
+    return ((o.a[0] + o.b[0]) / 2, (o.a[1] + o.b[1]) / 2)
+
+
+class GeometricPilot(Pilot):
+    """``--pilot geometric``: the baseline of Table 1 (rules in the module docstring)."""
+
+    name = "pilot"
+    kind = "geometric"
+
+    def __init__(self, *args, **kw):
+        super().__init__(*args, **kw)
+        self._side: dict[str, str] = {}  # the side chosen to pass the obstacle being avoided
+
+    def avoid(self, beliefs: Beliefs, obstacles: list[KnownObstacle], request: Move | None) -> Avoidance:
+        R = self.params.R_min
+        best, clearance = None, math.inf
+        for o in obstacles:
+            q = o.a if o.is_point else closest_on_segment(ORIGIN, o.a, o.b)
+            c = math.hypot(q[0], q[1]) - R
+            if c < clearance:
+                best, clearance, nearest = o, c, q
+        info: dict = {"nearest": best.key if best else None, "clearance": clearance if best else None}
+        if best is None:
+            return Avoidance(None, 0.0, info)
+        cap = self.params.bid_cap
+        if clearance <= 0.0:  # rule 2: inside the grown obstacle
+            away = math.atan2(-nearest[1], -nearest[0])
+            return Avoidance(Move(away, self.max_speed), cap, info | {"rule": "escape", "turn_deg": math.degrees(away)})
+        h = request.heading if request is not None else 0.0
+        if request is None or clearance > self.params.geometric_lookahead or \
+                not ray_enters(h, best, R, clearance + R + self.params.geometric_lookahead):
+            self._side = {}
+            return Avoidance(None, 0.0, info | {"rule": "clear"})
+        right, left = blocked_interval(best, R)  # rule 3: steer along the nearer tangent...
+        side = self._side.get(best.key)
+        if side is None:  # ...chosen once per obstacle, so the robot does not dither between sides
+            side = "right" if abs(wrap_angle(h - right)) <= abs(wrap_angle(h - left)) else "left"
+            self._side = {best.key: side}
+        turn = right if side == "right" else left
+        return Avoidance(Move(turn, self.max_speed), cap, info | {"rule": "tangent", "turn_deg": math.degrees(turn)})

@@ -1,0 +1,243 @@
+"""The potential-field Pilot of Mohan, Busquets, López de Màntaras and Sierra (2004).
+
+Everything is egocentric, as in the paper (section 3.4): the robot is at the origin, x ahead,
+y to the left; obstacles and the target are positions relative to it, in metres. Forces are in
+the paper's units (K = 18, A_t = 50: a force of 50 is the target's pull).
+
+Section by section:
+- 3.1 point obstacles: ``point_force`` (equations 2-4), the target: ``target_force`` (eq. 5);
+- 3.2 linear obstacles: ``linear_force`` (magnitude from the nearest point, direction from the centre);
+- 3.3 diverting targets: ``line_target_force`` (the safe corridor);
+- 3.4 net force and turn angle: ``field`` (eq. 6, 7);
+- 4 the bid: ``pilot_bid`` (eq. 9);
+- 5 the fixes: occlusion (``facing``), IN_DISTRESS (x1.5, target ignored), passed obstacles
+  (repulsion dropped when it points within 90 degrees of the attraction), and the averaging of
+  the turn angle (in :class:`PotentialFieldPilot`).
+
+The loops are plain Python on purpose: with the dozen obstacles of the paper's rooms a per-obstacle
+loop costs less than numpy's call overhead (see the issue note for the measurement).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from .bidding import Move
+from .geometry import Point, closest_on_segment, segments_intersect, wrap_angle
+from .params import PilotParams
+from .perception import Beliefs, KnownObstacle
+from .pilot import Avoidance, Pilot
+
+ORIGIN = (0.0, 0.0)
+
+
+def point_force(o: Point, K: float, R_min: float) -> tuple[float, float, float, bool]:
+    """Force of a point obstacle at ``o`` on the robot at the origin: (fx, fy, |F|, in_distress).
+
+    Eq. 2 with Q = q_o = 1: ``F = K / d**2 * u``, ``u`` the unit vector from the obstacle to the
+    robot; eq. 3-4: inside the grown circle (``d <= R_min``) the constant ``F_max = K / R_min**2``.
+    """
+    d = math.hypot(o[0], o[1])
+    if d < 1e-12:
+        return 0.0, 0.0, K / (R_min * R_min), True  # on top of it: no direction to flee in
+    distress = d <= R_min
+    mag = K / (R_min * R_min) if distress else K / (d * d)  # eq. 3 / eq. 2
+    return -o[0] / d * mag, -o[1] / d * mag, mag, distress
+
+
+def linear_force(a: Point, b: Point, K: float, R_min: float) -> tuple[float, float, float, bool]:
+    """Force of a linear obstacle ``ab`` (section 3.2): the magnitude of eq. 4 taken at the
+    segment's nearest point, the direction from the segment's centre (Figure 6)."""
+    q = closest_on_segment(ORIGIN, a, b)
+    d = math.hypot(q[0], q[1])
+    distress = d <= R_min
+    mag = K / (R_min * R_min) if distress else K / (d * d)
+    cx, cy = (a[0] + b[0]) / 2, (a[1] + b[1]) / 2
+    dc = math.hypot(cx, cy)
+    if dc < 1e-12:  # the robot sits on the centre: flee along the segment's normal, away from q
+        nx, ny = -(b[1] - a[1]), b[0] - a[0]
+        n = math.hypot(nx, ny)
+        ux, uy = nx / n, ny / n
+        if ux * q[0] + uy * q[1] > 0:
+            ux, uy = -ux, -uy
+        return ux * mag, uy * mag, mag, distress
+    return -cx / dc * mag, -cy / dc * mag, mag, distress
+
+
+def obstacle_force(o: KnownObstacle, p: PilotParams) -> tuple[float, float, float, bool]:
+    """Eq. 4 for a point obstacle, section 3.2 for a linear one."""
+    if o.is_point:
+        return point_force(o.a, p.K, p.R_min)
+    return linear_force(o.a, o.b, p.K, p.R_min)
+
+
+def target_force(t: Point, A_t: float) -> tuple[float, float]:
+    """Eq. 5: a constant pull of ``A_t`` toward the target (attractive, whatever the distance)."""
+    d = math.hypot(t[0], t[1])
+    if d < 1e-12:
+        return 0.0, 0.0
+    return t[0] / d * A_t, t[1] / d * A_t
+
+
+def line_target_force(a: Point, b: Point, A_t: float, margin: float) -> tuple[float, float, bool]:
+    """Section 3.3, a diverting target line ``ab`` to cross: (fx, fy, in_corridor).
+
+    The safe corridor is the band perpendicular to the line over its middle part, ``margin`` away
+    from both ends (the landmarks at the ends). Inside it the pull is perpendicular to the line,
+    toward it; outside, toward the line's centre (Figure 8).
+    """
+    dx, dy = b[0] - a[0], b[1] - a[1]
+    L = math.hypot(dx, dy)
+    t = -(a[0] * dx + a[1] * dy) / (L * L)  # where the robot projects on the line, 0..1 inside
+    if margin / L <= t <= 1.0 - margin / L:
+        px, py = a[0] + t * dx, a[1] + t * dy  # the foot of the perpendicular
+        fx, fy = target_force((px, py), A_t)
+        return fx, fy, True
+    fx, fy = target_force(((a[0] + b[0]) / 2, (a[1] + b[1]) / 2), A_t)
+    return fx, fy, False
+
+
+def _reference(o: KnownObstacle) -> Point:
+    """The point an obstacle's force comes from: its centre (a segment's middle)."""
+    return o.a if o.is_point else ((o.a[0] + o.b[0]) / 2, (o.a[1] + o.b[1]) / 2)
+
+
+def facing(obstacles: tuple[KnownObstacle, ...] | list[KnownObstacle]) -> list[bool]:
+    """Section 5, 'more than one obstacle in the same direction': an obstacle contributes only
+    if the line from its centre to the robot crosses no other obstacle (a point obstacle by its
+    body, a linear one by its segment)."""
+    out = []
+    for i, o in enumerate(obstacles):
+        c = _reference(o)
+        free = True
+        for j, other in enumerate(obstacles):
+            if j == i:
+                continue
+            if other.is_point:
+                q = closest_on_segment(other.a, c, ORIGIN)
+                if math.hypot(q[0] - other.a[0], q[1] - other.a[1]) < other.radius:
+                    free = False
+                    break
+            elif segments_intersect(c, ORIGIN, other.a, other.b):
+                free = False
+                break
+        out.append(free)
+    return out
+
+
+def pilot_bid(g_max: float, p: PilotParams) -> float:
+    """Eq. 9: ``0.9 * G_max / |F_max|``, G_max the strongest single repulsion; in [0, 0.9]."""
+    f_max = p.K / (p.R_min * p.R_min)  # eq. 3
+    return p.bid_cap * min(g_max / f_max, 1.0)
+
+
+@dataclass(frozen=True)
+class ObstacleForce:
+    key: str
+    fx: float
+    fy: float
+    magnitude: float
+    facing: bool
+    in_distress: bool
+
+
+@dataclass(frozen=True)
+class Field:
+    """The net-force computation at one spot (section 3.4 with the section 5 fixes)."""
+
+    forces: tuple[ObstacleForce, ...]
+    target: tuple[float, float]
+    repulsion: tuple[float, float]
+    net: tuple[float, float]
+    turn: float  # rad, eq. 7 (egocentric heading of the net force)
+    in_distress: bool
+    passed: bool  # repulsion dropped: obstacles already passed
+    in_corridor: bool | None  # for a line target: inside the safe corridor
+    g_max: float
+    bid: float
+
+
+def field(beliefs_target: Point | None, target_line: tuple[Point, Point] | None,
+          obstacles: tuple[KnownObstacle, ...] | list[KnownObstacle], p: PilotParams) -> Field:
+    """Net force, turn angle and bid for the robot at the origin (eq. 4-7 and 9, section 5)."""
+    face = facing(obstacles)
+    forces = []
+    rx = ry = 0.0
+    g_max = 0.0
+    worst: ObstacleForce | None = None
+    for o, f in zip(obstacles, face):
+        fx, fy, mag, distress = obstacle_force(o, p)
+        of = ObstacleForce(o.key, fx, fy, mag, f, distress and f)
+        forces.append(of)
+        if not f:
+            continue
+        rx += fx
+        ry += fy
+        if mag > g_max:
+            g_max, worst = mag, of
+    in_corridor = None
+    if target_line is not None:
+        tx, ty, in_corridor = line_target_force(*target_line, p.A_t, p.corridor_margin)
+    elif beliefs_target is not None:
+        tx, ty = target_force(beliefs_target, p.A_t)
+    else:
+        tx = ty = 0.0
+    in_distress = worst is not None and worst.in_distress
+    passed = False
+    if in_distress:
+        # Section 5: the offending obstacle weighs 1.5 times; the target is ignored.
+        k = p.distress_gain - 1.0
+        rx += k * worst.fx
+        ry += k * worst.fy
+        nx, ny = rx, ry
+    else:
+        if rx * tx + ry * ty > 0.0 and (rx or ry):
+            # Section 5: repulsion within 90 degrees of the attraction comes from obstacles behind.
+            passed = True
+            rx = ry = 0.0
+        nx, ny = rx + tx, ry + ty  # eq. 6
+    turn = math.atan2(ny, nx) if (nx or ny) else 0.0  # eq. 7
+    return Field(tuple(forces), (tx, ty), (rx, ry), (nx, ny), turn, in_distress, passed, in_corridor,
+                 g_max, pilot_bid(g_max, p))
+
+
+class PotentialFieldPilot(Pilot):
+    """``--pilot potential-field``: steers along the net virtual force and bids eq. 9.
+
+    The turn angle is averaged with the previous one (section 5, 'abrupt turns'), except when
+    IN_DISTRESS. The previous angle is carried into the present frame through odometry, so the
+    average is taken between two headings of the same frame.
+    """
+
+    name = "pilot"
+    kind = "potential-field"
+
+    def __init__(self, params: PilotParams, max_speed: float, **kw):
+        super().__init__(params, max_speed, **kw)
+        self._prev_heading: float | None = None  # previous turn as an odometry-frame heading
+
+    def avoid(self, beliefs: Beliefs, obstacles: list[KnownObstacle], request: Move | None) -> Avoidance:
+        f = field(beliefs.target, beliefs.target_line, obstacles, self.params)
+        theta = beliefs.odometry.theta
+        turn = f.turn
+        if self._prev_heading is not None and not f.in_distress:
+            prev = wrap_angle(self._prev_heading - theta)
+            turn = wrap_angle(prev + wrap_angle(turn - prev) / 2)  # section 5: average with the previous
+        self._prev_heading = theta + turn
+        info = {
+            "turn_deg": math.degrees(turn),
+            "raw_turn_deg": math.degrees(f.turn),
+            "in_distress": f.in_distress,
+            "passed": f.passed,
+            "g_max": f.g_max,
+            "net": {"x": f.net[0], "y": f.net[1]},
+            "target": {"x": f.target[0], "y": f.target[1]},
+            "repulsive": {"x": f.repulsion[0], "y": f.repulsion[1]},
+            "obstacles": {o.key: {"x": o.fx, "y": o.fy, "mag": o.magnitude, "facing": o.facing}
+                          for o in f.forces},
+        }
+        if f.in_corridor is not None:
+            info["in_corridor"] = f.in_corridor
+        arrows = [("net", *f.net), ("target", *f.target)] + [(o.key, o.fx, o.fy) for o in f.forces if o.facing]
+        return Avoidance(Move(turn, self.max_speed), f.bid, info, arrows)
