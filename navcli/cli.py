@@ -148,5 +148,43 @@ def bench(
     benchmark(sc, repeat=repeat, pilot=pilot.value if pilot else None, seed=seed, echo=typer.echo)
 
 
+plot_app = typer.Typer(help="Figures of the pilot paper for a scenario, as PNG files.", no_args_is_help=True)
+app.add_typer(plot_app, name="plot")
+
+
+def _plot(kind: str, scenario: Path, out: Optional[Path], step: Optional[float]) -> None:
+    sc = _load(scenario)
+    from . import plots
+
+    out = out or Path("logs") / sc.name / f"{kind}.png"
+    fn = plots.plot_field if kind == "field" else plots.plot_bids
+    try:
+        path = fn(sc, out, step) if step else fn(sc, out)
+    except OSError as e:
+        _err(f"error: cannot write {out}: {e.strerror or e}")
+        raise typer.Exit(1) from None
+    typer.echo(f"wrote {path}")
+
+
+@plot_app.command("field")
+def plot_field(
+    scenario: Annotated[Path, typer.Argument(help="Scenario YAML file.")],
+    out: Annotated[Optional[Path], typer.Option(help="PNG file (default: logs/<scenario>/field.png).")] = None,
+    step: Annotated[Optional[float], typer.Option(min=0.02, help="Grid spacing in metres (default 0.2).")] = None,
+) -> None:
+    """Direction of the net virtual force over the arena (pilot paper, Figure 9)."""
+    _plot("field", scenario, out, step)
+
+
+@plot_app.command("bids")
+def plot_bids(
+    scenario: Annotated[Path, typer.Argument(help="Scenario YAML file.")],
+    out: Annotated[Optional[Path], typer.Option(help="PNG file (default: logs/<scenario>/bids.png).")] = None,
+    step: Annotated[Optional[float], typer.Option(min=0.02, help="Grid spacing in metres (default 0.05).")] = None,
+) -> None:
+    """The pilot's bid (eq. 9) over the arena (pilot paper, Figure 10)."""
+    _plot("bids", scenario, out, step)
+
+
 def main() -> None:
     app()

@@ -83,3 +83,18 @@ def segment_distance(p1: Point, p2: Point, q1: Point, q2: Point) -> float:
         return 0.0
     return min(distance_to_segment(p1, q1, q2), distance_to_segment(p2, q1, q2),
                distance_to_segment(q1, p1, p2), distance_to_segment(q2, p1, p2))
+
+
+def corridor_aim(a: Point, b: Point, margin: float, p: Point = (0.0, 0.0)) -> tuple[Point, bool]:
+    """Where to head to cross the line ``ab`` from ``p`` (pilot paper, section 3.3, Figure 8).
+
+    The safe corridor is the band perpendicular to the line over its middle part, ``margin``
+    away from both ends. Inside it: the foot of the perpendicular (cross straight over);
+    outside it: the line's centre. Returns (aim point, inside the corridor).
+    """
+    dx, dy = b[0] - a[0], b[1] - a[1]
+    L = math.hypot(dx, dy)
+    t = ((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / (L * L)
+    if margin / L <= t <= 1.0 - margin / L:
+        return (a[0] + t * dx, a[1] + t * dy), True
+    return ((a[0] + b[0]) / 2, (a[1] + b[1]) / 2), False

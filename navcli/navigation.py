@@ -13,7 +13,8 @@ import math
 from dataclasses import dataclass
 
 from .bidding import Bid, Move, arbitrate
-from .params import NAVIGATION, NavigationParams
+from .geometry import corridor_aim
+from .params import NAVIGATION, PILOT, NavigationParams
 from .perception import Beliefs
 
 
@@ -33,6 +34,8 @@ class TargetTracker:
         if beliefs.target is None:
             return []
         x, y = beliefs.target
+        if beliefs.target_line is not None:  # a line to cross: through the safe corridor
+            (x, y), _ = corridor_aim(*beliefs.target_line, PILOT.corridor_margin)
         value = self.params.kappa1 * (1.0 - imprecision) ** self.params.alpha
         return [Bid(self.name, "motion", Move(math.atan2(y, x), max_speed), value)]
 

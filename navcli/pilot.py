@@ -49,6 +49,7 @@ class PilotOutput:
     info: dict
     arrows: list[tuple[str, float, float]] = field(default_factory=list)
     events: list[str] = field(default_factory=list)
+    obstacles: tuple[KnownObstacle, ...] = ()  # what the pilot avoided this tick, egocentric
 
 
 class Pilot:
@@ -90,13 +91,13 @@ class Pilot:
         obstacles = self.known_obstacles(beliefs)
         look = self.look_bid()
         if self._reflex:
-            return self._reflex_output(look, events)
+            return self._reflex_output(look, events, obstacles)
         a = self.avoid(beliefs, obstacles, request)
         bids = [Bid(self.name, "camera", Look(0.0), look)] if look > 0 else []
         info = {"mode": "avoid" if a.move is not None else "idle", "bid": a.bid, "look_bid": look} | a.info
         if a.move is not None:
             bids.insert(0, Bid(self.name, "motion", a.move, a.bid))
-        return PilotOutput(bids, info, a.arrows, events)
+        return PilotOutput(bids, info, a.arrows, events, tuple(obstacles))
 
     def look_bid(self) -> float:
         """Eq. 1: ``(d_l / d_m) ** s``, never above the Pilot's cap of 0.9."""
@@ -127,7 +128,8 @@ class Pilot:
                 self.backward = 0.0  # a good stretch forwards: backing up is allowed again
         if self._reflex:
             phase = self._reflex[0][0]
-            self._reflex_progress += -ds if phase == "backup" else CONTROL_DT if phase == "stop" else 0.0
+            if phase == "backup":
+                self._reflex_progress += -ds
 
     # -- reflexes (section 3.5)
     def on_bumps(self, bumps: list, odometry: Pose) -> None:
@@ -145,22 +147,26 @@ class Pilot:
         self._events.append(f"reflex: bumper hit at bearing {math.degrees(bumps[0].bearing):.0f} deg; "
                             "stopping, looking around, backing up")
 
-    def _reflex_output(self, look: float, events: list[str]) -> PilotOutput:
+    def _reflex_output(self, look: float, events: list[str], obstacles: list[KnownObstacle]) -> PilotOutput:
         p = self.params
         while self._reflex and self._reflex_progress >= self._reflex[0][1] - 1e-9:
             self._reflex.pop(0)
             self._reflex_progress = 0.0
         if not self._reflex:
             events.append("reflex done: recomputing with the obstacle that was hit")
-            return PilotOutput([], {"mode": "reflex", "phase": "done", "bid": 0.0, "look_bid": look}, [], events)
+            return PilotOutput([], {"mode": "reflex", "phase": "done", "bid": 0.0, "look_bid": look}, [], events,
+                               tuple(obstacles))
         phase = self._reflex[0][0]
+        if phase == "stop":
+            self._reflex_progress += CONTROL_DT  # this tick is spent standing still
         bids = [Bid(self.name, "motion", Move(0.0, -p.backup_speed if phase == "backup" else 0.0), p.bid_cap)]
         if phase == "look":
             pan = math.radians(p.reflex_look_pans_deg[int(self._reflex_progress)])
             bids.append(Bid(self.name, "camera", Look(pan), p.bid_cap))
         elif look > 0:
             bids.append(Bid(self.name, "camera", Look(0.0), look))
-        return PilotOutput(bids, {"mode": "reflex", "phase": phase, "bid": p.bid_cap, "look_bid": look}, [], events)
+        return PilotOutput(bids, {"mode": "reflex", "phase": phase, "bid": p.bid_cap, "look_bid": look}, [], events,
+                           tuple(obstacles))
 
     # -- execution
     def execute(self, winner: Bid | None) -> tuple[float, float]:

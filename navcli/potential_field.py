@@ -24,7 +24,7 @@ import math
 from dataclasses import dataclass
 
 from .bidding import Move
-from .geometry import Point, closest_on_segment, segments_intersect, wrap_angle
+from .geometry import Point, closest_on_segment, corridor_aim, wrap_angle
 from .params import PilotParams
 from .perception import Beliefs, KnownObstacle
 from .pilot import Avoidance, Pilot
@@ -83,19 +83,12 @@ def target_force(t: Point, A_t: float) -> tuple[float, float]:
 def line_target_force(a: Point, b: Point, A_t: float, margin: float) -> tuple[float, float, bool]:
     """Section 3.3, a diverting target line ``ab`` to cross: (fx, fy, in_corridor).
 
-    The safe corridor is the band perpendicular to the line over its middle part, ``margin`` away
-    from both ends (the landmarks at the ends). Inside it the pull is perpendicular to the line,
-    toward it; outside, toward the line's centre (Figure 8).
+    Inside the safe corridor the pull (eq. 5) is perpendicular to the line, toward it; outside,
+    toward the line's centre (Figure 8; the corridor is :func:`navcli.geometry.corridor_aim`).
     """
-    dx, dy = b[0] - a[0], b[1] - a[1]
-    L = math.hypot(dx, dy)
-    t = -(a[0] * dx + a[1] * dy) / (L * L)  # where the robot projects on the line, 0..1 inside
-    if margin / L <= t <= 1.0 - margin / L:
-        px, py = a[0] + t * dx, a[1] + t * dy  # the foot of the perpendicular
-        fx, fy = target_force((px, py), A_t)
-        return fx, fy, True
-    fx, fy = target_force(((a[0] + b[0]) / 2, (a[1] + b[1]) / 2), A_t)
-    return fx, fy, False
+    aim, inside = corridor_aim(a, b, margin)
+    fx, fy = target_force(aim, A_t)
+    return fx, fy, inside
 
 
 def _reference(o: KnownObstacle) -> Point:
@@ -106,22 +99,44 @@ def _reference(o: KnownObstacle) -> Point:
 def facing(obstacles: tuple[KnownObstacle, ...] | list[KnownObstacle]) -> list[bool]:
     """Section 5, 'more than one obstacle in the same direction': an obstacle contributes only
     if the line from its centre to the robot crosses no other obstacle (a point obstacle by its
-    body, a linear one by its segment)."""
+    body, a linear one by its segment).
+
+    The hot spot of a tick (n x n tests), so the geometry is inlined: a point ``p`` of radius
+    ``r`` blocks the sight line ``0 -> c`` when its distance to that segment is under ``r``; a
+    segment ``ab`` blocks it when the two segments cross properly (touching does not count).
+    """
+    points = [(j, o.a[0], o.a[1], o.radius * o.radius) for j, o in enumerate(obstacles) if o.a == o.b]
+    lines = [(j, o.a[0], o.a[1], o.b[0], o.b[1]) for j, o in enumerate(obstacles) if o.a != o.b]
     out = []
     for i, o in enumerate(obstacles):
-        c = _reference(o)
+        cx, cy = _reference(o)
+        L2 = cx * cx + cy * cy
         free = True
-        for j, other in enumerate(obstacles):
-            if j == i:
-                continue
-            if other.is_point:
-                q = closest_on_segment(other.a, c, ORIGIN)
-                if math.hypot(q[0] - other.a[0], q[1] - other.a[1]) < other.radius:
+        if L2 > 0.0:
+            for j, px, py, r2 in points:
+                if j == i:
+                    continue
+                t = (px * cx + py * cy) / L2
+                if t <= 0.0 or t >= 1.0:
+                    continue  # beside the sight line's ends: the robot or the obstacle itself is nearer
+                dx, dy = px - t * cx, py - t * cy
+                if dx * dx + dy * dy < r2:
                     free = False
                     break
-            elif segments_intersect(c, ORIGIN, other.a, other.b):
-                free = False
-                break
+            if free:
+                for j, ax, ay, bx, by in lines:
+                    if j == i:
+                        continue
+                    d3 = cx * ay - cy * ax  # sides of a and b relative to the sight line
+                    d4 = cx * by - cy * bx
+                    if (d3 > 0.0) == (d4 > 0.0) or d3 == 0.0 or d4 == 0.0:
+                        continue
+                    ex, ey = bx - ax, by - ay  # sides of the robot and c relative to ab
+                    d1 = ex * -ay - ey * -ax
+                    d2 = ex * (cy - ay) - ey * (cx - ax)
+                    if (d1 > 0.0) != (d2 > 0.0) and d1 != 0.0 and d2 != 0.0:
+                        free = False
+                        break
         out.append(free)
     return out
 

@@ -48,12 +48,15 @@ if TYPE_CHECKING:
     from .geometry import Pose
     from .mission import Event, Mission, Tick
 
+GROWN_REFRESH_NS = 1_000_000_000  # grown obstacles are redrawn on change, or every simulated second
+ARROW_MIN = 2.0  # force units: weaker forces are not drawn (2 cm at 100 units per metre)
 SYSTEMS = ("pilot", "navigation")  # the bidders at the robot-level auction, always in /bids
 HEIGHT = 0.5  # m: drawn height of walls, obstacles and landmarks
 _LEVEL = {"info": LogLevel.Info, "warning": LogLevel.Warning, "error": LogLevel.Error}
 _GREY, _RED, _BLUE, _GREEN = (Color(r=0.55, g=0.55, b=0.6, a=1.0), Color(r=0.85, g=0.3, b=0.25, a=1.0),
                               Color(r=0.2, g=0.45, b=0.9, a=1.0), Color(r=0.2, g=0.75, b=0.3, a=0.6))
 _ROBOT, _ARROW = Color(r=0.95, g=0.75, b=0.1, a=0.8), Color(r=0.9, g=0.2, b=0.8, a=1.0)
+_GROWN = Color(r=0.95, g=0.5, b=0.1, a=0.25)
 
 PILOT_SCHEMA = {
     "title": "navcli.Pilot",
@@ -130,6 +133,9 @@ class Recorder:
         self.bids = foxglove.Channel("/bids", schema=BIDS_SCHEMA, context=ctx)
         self.summary = foxglove.Channel("/mission/summary", schema=SUMMARY_SCHEMA, context=ctx)
         self._closed = False
+        self._grown_keys: tuple = ()
+        self._grown_ns = 0
+        self._R_min = 0.0
 
     @property
     def port(self) -> int | None:
@@ -139,6 +145,7 @@ class Recorder:
     def start(self, mission: Mission) -> None:
         """Metadata ``run``, the scenario attached, the arena and the robot's body."""
         sc = mission.scenario
+        self._R_min = sc.pilot.R_min
         self.writer.write_metadata("run", mission.run_metadata())
         self.writer.attach(log_time=0, create_time=0, name=Path(sc.source).name or f"{sc.name}.yaml",
                            media_type="application/yaml", data=sc.text.encode())
@@ -170,8 +177,13 @@ class Recorder:
         v, w = t.command
         self.pilot.log(_json(t.pilot.info | {"command": {"v": v, "omega_deg": math.degrees(w)}}), log_time=ns)
         self.bids.log(_json(bids_record(t)), log_time=ns)
-        if t.pilot.arrows:
-            self.robot_scene.log(SceneUpdate(entities=[_force_arrows(t.pilot.arrows, ns)]), log_time=ns)
+        ents = [_force_arrows(t.pilot.arrows, ns)] if t.pilot.arrows else []
+        keys = tuple(o.key for o in t.pilot.obstacles)
+        if keys != self._grown_keys or ns - self._grown_ns >= GROWN_REFRESH_NS:
+            ents.append(_grown(t.pilot.obstacles, t.pose, self._R_min, ns))
+            self._grown_keys, self._grown_ns = keys, ns
+        if ents:
+            self.robot_scene.log(SceneUpdate(entities=ents), log_time=ns)
         for e in t.events:
             self.event(e, ns)
 
@@ -220,12 +232,30 @@ def _force_arrows(arrows: list[tuple[str, float, float]], ns: int) -> SceneEntit
     prims = []
     for _name, fx, fy in arrows:
         mag = math.hypot(fx, fy)
-        if mag < 1e-9:
+        if mag < ARROW_MIN:
             continue
         L = min(mag / 100.0, 1.5)
         prims.append(ArrowPrimitive(pose=_pose(0, 0, math.atan2(fy, fx), z=0.35), shaft_length=max(L - 0.08, 0.01),
                                     shaft_diameter=0.025, head_length=0.08, head_diameter=0.07, color=_ARROW))
     return SceneEntity(timestamp=_ts(ns), frame_id="base_link", id="forces", frame_locked=True, arrows=prims)
+
+
+def _grown(obstacles, pose: Pose, R: float, ns: int) -> SceneEntity:
+    """The pilot's prohibited areas (section 3.1): known obstacles grown by R_min, drawn flat in
+    ``world`` where the robot perceives them (egocentric positions placed with the true pose)."""
+    cyl, cubes = [], []
+    size = Vector3(x=2 * R, y=2 * R, z=0.01)
+    for o in obstacles:
+        a = pose.to_world(o.a)
+        cyl.append(CylinderPrimitive(pose=_pose(*a, z=0.005), size=size, bottom_scale=1.0, top_scale=1.0, color=_GROWN))
+        if o.a != o.b:
+            b = pose.to_world(o.b)
+            cyl.append(CylinderPrimitive(pose=_pose(*b, z=0.005), size=size, bottom_scale=1.0, top_scale=1.0,
+                                         color=_GROWN))
+            cubes.append(CubePrimitive(pose=_pose((a[0] + b[0]) / 2, (a[1] + b[1]) / 2, math.atan2(b[1] - a[1], b[0] - a[0]),
+                                                  z=0.005),
+                                       size=Vector3(x=math.dist(a, b), y=2 * R, z=0.01), color=_GROWN))
+    return SceneEntity(timestamp=_ts(ns), frame_id="world", id="grown-obstacles", cylinders=cyl, cubes=cubes)
 
 
 def _arena_entities(sc: Scenario) -> list[SceneEntity]:

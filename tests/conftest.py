@@ -11,6 +11,11 @@ ROOT = Path(__file__).resolve().parent.parent
 SCENARIOS = ROOT / "scenarios"
 
 
+def pytest_addoption(parser):
+    parser.addoption("--update-goldens", action="store_true", default=False,
+                     help="rewrite tests/golden/*.json from fresh runs instead of comparing to them")
+
+
 def scenario_dict(**over) -> dict:
     """A valid open-room scenario; keyword arguments replace top-level blocks."""
     d = {

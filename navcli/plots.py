@@ -1,0 +1,120 @@
+"""Figures 9 and 10 of the pilot paper, for any scenario: the direction of the net virtual force
+over the arena, and the pilot's bid (eq. 9) over the arena.
+
+Each grid point is evaluated as the pilot would see it there: the robot placed at that point
+facing +x, perceiving what perception reports from there (the obstacles and landmarks within
+camera range, the walls, the target), and the potential field computed by
+:func:`navcli.potential_field.field`. Points inside an obstacle's body are left blank. These
+plots read the simulator's pilot, not a log, so they live here rather than in ``analysis``.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+
+from .geometry import Pose, distance_to_segment
+from .perception import RangePerception
+from .potential_field import field
+from .scenario import Circle, Scenario
+
+
+def _inside_body(sc: Scenario, x: float, y: float) -> bool:
+    for o in sc.obstacles:
+        if isinstance(o, Circle):
+            if math.dist((x, y), o.center) <= o.radius:
+                return True
+        elif distance_to_segment((x, y), o.start, o.end) <= o.thickness / 2:
+            return True
+    return any(math.dist((x, y), lm.at) <= lm.radius for lm in sc.landmarks)
+
+
+def field_grid(sc: Scenario, step: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """X, Y (m), the unit net-force direction (U, V) and the bid on a grid of ``step`` metres.
+
+    Blank points (inside bodies) are NaN."""
+    xs = np.arange(step / 2, sc.arena.width, step)
+    ys = np.arange(step / 2, sc.arena.height, step)
+    X, Y = np.meshgrid(xs, ys)
+    U, V, B = (np.full(X.shape, np.nan) for _ in range(3))
+    perception = RangePerception(sc)
+    for idx in np.ndindex(X.shape):
+        x, y = float(X[idx]), float(Y[idx])
+        if _inside_body(sc, x, y):
+            continue
+        pose = Pose(x, y, 0.0)
+        b = perception.observe(0.0, pose, pose)
+        f = field(b.target, b.target_line, b.obstacles, sc.pilot)
+        U[idx], V[idx] = math.cos(f.turn), math.sin(f.turn)
+        B[idx] = f.bid
+    return X, Y, U, V, B
+
+
+def _arena(ax, sc: Scenario) -> None:
+    import matplotlib.patches as mp
+
+    for o in sc.obstacles:
+        if isinstance(o, Circle):
+            ax.add_patch(mp.Circle(o.center, o.radius, color="tab:red", zorder=3))
+            ax.add_patch(mp.Circle(o.center, sc.pilot.R_min, fill=False, ls="--", color="tab:red", lw=0.8, zorder=3))
+        else:
+            ax.plot([o.start[0], o.end[0]], [o.start[1], o.end[1]], color="tab:red", lw=3, zorder=3)
+    for lm in sc.landmarks:
+        ax.add_patch(mp.Circle(lm.at, lm.radius, color="tab:blue", zorder=3))
+        ax.annotate(lm.id, lm.at, xytext=(4, 4), textcoords="offset points", color="tab:blue")
+    t = sc.target
+    if t.kind == "line":
+        ax.plot([t.line[0][0], t.line[1][0]], [t.line[0][1], t.line[1][1]], color="tab:green", lw=2, zorder=3)
+    else:
+        ax.plot(*t.point, marker="*", ms=16, color="tab:green", zorder=4)
+    ax.plot(*sc.robot.start, marker="o", ms=8, color="k", zorder=4)
+    ax.set_xlim(0, sc.arena.width)
+    ax.set_ylim(0, sc.arena.height)
+    ax.set_aspect("equal")
+    ax.set_xlabel("x (m)")
+    ax.set_ylabel("y (m)")
+
+
+def plot_field(sc: Scenario, out: Path, step: float = 0.2) -> Path:
+    """Figure 9: arrows along the net force (eq. 6-7), over the arena."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    X, Y, U, V, _ = field_grid(sc, step)
+    fig, ax = plt.subplots(figsize=(7, 7 * sc.arena.height / sc.arena.width + 0.5))
+    ax.quiver(X, Y, U, V, angles="xy", scale_units="xy", scale=1 / (0.8 * step), width=0.003, color="0.25")
+    _arena(ax, sc)
+    ax.set_title(f"{sc.name}: direction of the net force (K={sc.pilot.K:g}, A_t={sc.pilot.A_t:g}, "
+                 f"R_min={sc.pilot.R_min:g} m)")
+    return _save(fig, out)
+
+
+def plot_bids(sc: Scenario, out: Path, step: float = 0.05) -> Path:
+    """Figure 10: the pilot's motion bid (eq. 9) over the arena."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    X, Y, _, _, B = field_grid(sc, step)
+    fig, ax = plt.subplots(figsize=(7.8, 7 * sc.arena.height / sc.arena.width + 0.5))
+    im = ax.pcolormesh(X, Y, B, shading="nearest", cmap="viridis", vmin=0.0, vmax=sc.pilot.bid_cap)
+    fig.colorbar(im, ax=ax, label="pilot bid (eq. 9)")
+    _arena(ax, sc)
+    ax.set_title(f"{sc.name}: the pilot's bid 0.9 G_max / F_max")
+    return _save(fig, out)
+
+
+def _save(fig, out: Path) -> Path:
+    out = Path(out)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    fig.tight_layout()
+    fig.savefig(out, dpi=110)
+    import matplotlib.pyplot as plt
+
+    plt.close(fig)
+    return out

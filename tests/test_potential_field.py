@@ -1,0 +1,155 @@
+"""The potential-field pilot, equation by equation, against numbers worked out by hand."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from navcli.params import PILOT
+from navcli.perception import KnownObstacle
+from navcli.potential_field import (
+    facing,
+    field,
+    line_target_force,
+    linear_force,
+    pilot_bid,
+    point_force,
+    target_force,
+)
+
+K, A_t, R = 18.0, 50.0, 0.40
+F_MAX = K / R**2  # 112.5, eq. 3
+
+
+def pt(key, x, y, r=0.15):
+    return KnownObstacle(key, (x, y), (x, y), r)
+
+
+def seg(key, a, b):
+    return KnownObstacle(key, a, b, 0.025)
+
+
+def test_eq2_point_force_falls_with_the_square_of_distance_away_from_the_obstacle():
+    fx, fy, mag, distress = point_force((1.0, 0.0), K, R)
+    assert (fx, fy, mag, distress) == pytest.approx((-18.0, 0.0, 18.0, False))
+    fx, fy, mag, distress = point_force((0.3, 0.4), K, R)  # d = 0.5: 18 / 0.25 = 72, along -(0.6, 0.8)
+    assert (fx, fy, mag) == pytest.approx((-43.2, -57.6, 72.0)) and not distress
+
+
+def test_eq3_4_inside_the_grown_circle_the_force_is_the_constant_f_max():
+    for o in ((0.2, 0.0), (0.0, -0.4), (0.1, 0.1)):
+        fx, fy, mag, distress = point_force(o, K, R)
+        assert mag == pytest.approx(F_MAX) and distress
+        assert math.hypot(fx, fy) == pytest.approx(F_MAX)
+        assert fx * o[0] + fy * o[1] < 0  # pointing away from the obstacle
+
+
+def test_section_3_2_linear_force_magnitude_from_nearest_point_direction_from_centre():
+    fx, fy, mag, distress = linear_force((1.0, -1.0), (1.0, 3.0), K, R)
+    # nearest point (1, 0): |F| = 18 / 1**2; centre (1, 1): direction -(1, 1)/sqrt(2)
+    assert mag == pytest.approx(18.0) and not distress
+    assert (fx, fy) == pytest.approx((-18 / math.sqrt(2), -18 / math.sqrt(2)))
+
+
+def test_eq5_target_force_is_constant_whatever_the_distance():
+    assert target_force((3.0, 4.0), A_t) == pytest.approx((30.0, 40.0))
+    assert target_force((300.0, 400.0), A_t) == pytest.approx((30.0, 40.0))
+
+
+def test_section_3_3_corridor_pull_is_perpendicular_inside_and_to_the_centre_outside():
+    fx, fy, inside = line_target_force((2.0, -3.0), (2.0, 3.0), A_t, 0.4)
+    assert inside and (fx, fy) == pytest.approx((50.0, 0.0))  # straight at the line
+    fx, fy, inside = line_target_force((2.0, -0.5), (2.0, 5.0), A_t, 0.4)  # projects 0.5 m from an end
+    assert inside and (fx, fy) == pytest.approx((50.0, 0.0))
+    fx, fy, inside = line_target_force((2.0, 1.0), (2.0, 5.0), A_t, 0.4)  # projects beyond the end
+    assert not inside and (fx, fy) == pytest.approx((2 / math.sqrt(13) * 50, 3 / math.sqrt(13) * 50))
+    fx, fy, inside = line_target_force((2.0, -0.3), (2.0, 5.0), A_t, 0.4)  # within the margin of an end
+    assert not inside and fy > 0
+
+
+def test_eq6_7_net_force_and_turn_angle():
+    f = field((5.0, 0.0), None, [pt("o", 1.0, 0.5)], PILOT)
+    # d^2 = 1.25: |F| = 14.4 along -(1, 0.5)/sqrt(1.25)
+    fo = (-14.4 / math.sqrt(1.25), -7.2 / math.sqrt(1.25))
+    assert f.net == pytest.approx((50 + fo[0], fo[1]))
+    assert f.turn == pytest.approx(math.atan2(fo[1], 50 + fo[0]))
+    assert not f.in_distress and not f.passed
+
+
+def test_eq9_bid_is_0_9_times_the_strongest_single_repulsion_over_f_max():
+    f = field((5.0, 0.0), None, [pt("near", 1.0, 0.5), pt("far", 2.0, -1.5)], PILOT)
+    assert f.g_max == pytest.approx(14.4)
+    assert f.bid == pytest.approx(0.9 * 14.4 / 112.5)
+    assert pilot_bid(F_MAX, PILOT) == pytest.approx(0.9) and pilot_bid(2 * F_MAX, PILOT) == pytest.approx(0.9)
+    assert field((5.0, 0.0), None, [], PILOT).bid == 0.0
+
+
+def test_section_5_in_distress_the_offender_weighs_1_5_and_the_target_is_ignored():
+    f = field((5.0, 1.0), None, [pt("hit", 0.2, 0.2), pt("other", 0.0, 2.0)], PILOT)
+    assert f.in_distress
+    u = -1 / math.sqrt(2)
+    hit = (1.5 * F_MAX * u, 1.5 * F_MAX * u)
+    other = (0.0, -18 / 4)
+    assert f.net == pytest.approx((hit[0] + other[0], hit[1] + other[1]))
+    assert f.bid == pytest.approx(0.9)
+
+
+def test_section_5_repulsion_from_passed_obstacles_is_dropped():
+    f = field((5.0, 0.0), None, [pt("behind", -1.0, 0.2)], PILOT)  # repulsion points at the target
+    assert f.passed and f.repulsion == (0.0, 0.0) and f.net == pytest.approx((50.0, 0.0)) and f.turn == 0.0
+    assert f.bid > 0  # the bid still says an obstacle is near
+    f = field((5.0, 0.0), None, [pt("ahead", 1.0, 0.2)], PILOT)
+    assert not f.passed and f.repulsion != (0.0, 0.0)
+
+
+def test_section_5_only_obstacles_directly_facing_the_robot_contribute():
+    wall = seg("A", (1.0, -1.0), (1.0, 1.0))
+    hidden, beside = pt("B", 2.0, 0.3), pt("C", 2.0, 3.0)
+    assert facing([wall, hidden, beside]) == [True, False, True]
+    # Figure 13: points behind a linear obstacle are hidden; one behind another point obstacle too
+    assert facing([pt("near", 1.0, 0.0), pt("far", 2.0, 0.05)]) == [True, False]
+    assert facing([pt("near", 1.0, 0.0), pt("far", 2.0, 0.6)]) == [True, True]
+    f = field((5.0, 0.0), None, [wall, hidden], PILOT)
+    assert [o.facing for o in f.forces] == [True, False]
+    only_wall = field((5.0, 0.0), None, [wall], PILOT)
+    assert f.net == pytest.approx(only_wall.net)
+
+
+def test_a_segment_crossing_the_sight_line_of_its_own_neighbour_hides_it_but_not_itself():
+    a = seg("A", (1.0, -1.0), (1.0, 1.0))
+    b = seg("B", (3.0, -1.0), (3.0, 1.0))
+    assert facing([a, b]) == [True, False]
+
+
+coords = st.floats(-6.0, 6.0, allow_nan=False)
+
+
+@st.composite
+def layouts(draw):
+    n = draw(st.integers(0, 12))
+    obs = []
+    for i in range(n):
+        x, y = draw(coords), draw(coords)
+        if draw(st.booleans()):
+            obs.append(pt(f"p{i}", x, y, draw(st.floats(0.01, 0.3))))
+        else:
+            x2, y2 = draw(coords), draw(coords)
+            if math.hypot(x2 - x, y2 - y) > 1e-3:
+                obs.append(seg(f"s{i}", (x, y), (x2, y2)))
+    return obs
+
+
+@settings(max_examples=300, deadline=None)
+@given(layouts(), coords, coords)
+def test_bid_stays_in_0_0_9_and_forces_stay_bounded_for_any_layout(obstacles, tx, ty):
+    f = field((tx, ty), None, obstacles, PILOT)
+    assert 0.0 <= f.bid <= 0.9
+    for o in f.forces:
+        assert 0.0 <= o.magnitude <= F_MAX + 1e-9
+        assert math.hypot(o.fx, o.fy) <= F_MAX + 1e-9
+    bound = 1.5 * F_MAX + len(obstacles) * F_MAX + A_t
+    assert math.hypot(*f.net) <= bound
+    assert -math.pi <= f.turn <= math.pi and math.isfinite(f.turn)
