@@ -32,3 +32,24 @@ def benchmark(sc: Scenario, *, repeat: int = 5, pilot: str | None = None, seed: 
                  f"({s['pilot']}, {s['outcome']} after {s['time_s']:.1f} s sim, {s['ticks']} ticks, median of {repeat})")
             results[label.split()[1]] = rtf
     return results
+
+
+def occlusion_benchmark(sizes=(12, 18, 32, 50, 100, 200), echo: Callable[[str], None] = print) -> None:
+    """Time the section 5 occlusion test (n x n) as a Python loop and with numpy, on random
+    layouts of point and linear obstacles: the measurement behind ``NUMPY_FROM``."""
+    import random
+    import timeit
+
+    from .perception import KnownObstacle
+    from .potential_field import NUMPY_FROM, facing_loop, facing_numpy
+
+    rnd = random.Random(1)
+    echo(f"{'obstacles':>9} {'loop us':>9} {'numpy us':>9}   (best of 5 x 200 calls; numpy used from {NUMPY_FROM} on)")
+    for n in sizes:
+        obs = []
+        for i in range(n):
+            x, y = rnd.uniform(-4, 4), rnd.uniform(-4, 4)
+            b = (x + rnd.uniform(-1, 1), y + rnd.uniform(-1, 1)) if i % 4 == 3 else (x, y)
+            obs.append(KnownObstacle(f"o{i}", (x, y), b, 0.02 if i % 4 == 3 else 0.15))
+        t = [min(timeit.repeat(lambda f=f: f(obs), number=200, repeat=5)) / 200 * 1e6 for f in (facing_loop, facing_numpy)]
+        echo(f"{n:>9} {t[0]:>9.0f} {t[1]:>9.0f}")

@@ -140,8 +140,14 @@ def bench(
     repeat: Annotated[int, typer.Option(min=1, help="Runs per configuration; the median is reported.")] = 5,
     pilot: Annotated[Optional[PilotName], typer.Option(help="Pilot (default: the scenario's).")] = None,
     seed: Annotated[Optional[int], typer.Option(min=0)] = None,
+    occlusion: Annotated[bool, typer.Option(help="Instead: time the pilot's occlusion test, loop vs numpy.")] = False,
 ) -> None:
     """Real-time factor (simulated s per wall s) of a full mission, with logging on and off."""
+    if occlusion:
+        from .bench import occlusion_benchmark
+
+        occlusion_benchmark(echo=typer.echo)
+        return
     sc = _load(scenario)
     from .bench import benchmark
 

@@ -12,6 +12,8 @@ from navcli.params import PILOT
 from navcli.perception import KnownObstacle
 from navcli.potential_field import (
     facing,
+    facing_loop,
+    facing_numpy,
     field,
     line_target_force,
     linear_force,
@@ -153,3 +155,9 @@ def test_bid_stays_in_0_0_9_and_forces_stay_bounded_for_any_layout(obstacles, tx
     bound = 1.5 * F_MAX + len(obstacles) * F_MAX + A_t
     assert math.hypot(*f.net) <= bound
     assert -math.pi <= f.turn <= math.pi and math.isfinite(f.turn)
+
+
+@settings(max_examples=200, deadline=None)
+@given(layouts())
+def test_numpy_and_loop_occlusion_agree(obstacles):
+    assert facing_numpy(obstacles) == facing_loop(obstacles)
