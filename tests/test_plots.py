@@ -1,0 +1,39 @@
+"""Figures 9 and 10 for a scenario: the grids behind them and the PNG files."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from typer.testing import CliRunner
+
+from conftest import SCENARIOS
+from navcli.cli import app
+from navcli.plots import field_grid
+
+PNG = b"\x89PNG\r\n\x1a\n"
+
+
+def test_field_points_to_the_target_in_open_space_and_away_from_obstacles(make_scenario):
+    sc = make_scenario(obstacles=[{"circle": {"center": [3.0, 2.0], "radius": 0.2}}])
+    X, Y, U, V, B = field_grid(sc, 0.25)
+    near = lambda x, y: np.unravel_index(np.hypot(X - x, Y - y).argmin(), X.shape)  # noqa: E731
+    i = near(1.625, 2.875)  # far from the obstacle and the walls: straight at the target (5, 2)
+    want = math.atan2(2 - Y[i], 5 - X[i])
+    # walls and obstacle are all > 1.1 m away: each pulls at most 18 / 1.1**2 = 15 against A_t = 50
+    assert abs(math.atan2(V[i], U[i]) - want) < math.atan(2 * 15 / 50)
+    j = near(2.625, 2.125)  # inside the grown circle (IN_DISTRESS): away from the obstacle centre
+    assert U[j] * (X[j] - 3.0) + V[j] * (Y[j] - 2.0) > 0
+    assert B[j] == np.float64(0.9)
+    assert np.nanmax(B) <= 0.9 and np.nanmin(B) >= 0.0
+    k = near(3.125, 2.125)  # inside the obstacle's body: left blank
+    assert np.isnan(B[k])
+
+
+def test_plot_commands_write_png_files(tmp_path):
+    runner = CliRunner()
+    for kind in ("field", "bids"):
+        out = tmp_path / f"{kind}.png"
+        r = runner.invoke(app, ["plot", kind, str(SCENARIOS / "paper-fig9.yaml"), "--out", str(out), "--step", "0.3"])
+        assert r.exit_code == 0, r.output
+        assert out.read_bytes()[:8] == PNG and out.stat().st_size > 10_000
