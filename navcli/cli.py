@@ -88,6 +88,12 @@ def run(
     sc = _load(scenario)
     from .runner import run_mission
 
+    import signal
+
+    def _terminate(signum, frame):  # a kill from a scheduler ends the run like Ctrl-C: log closed, marked
+        raise KeyboardInterrupt
+
+    signal.signal(signal.SIGTERM, _terminate)
     limit = time_limit or sc.mission.time_limit
     progress = _Progress(limit, f"{sc.name}")
     if live:

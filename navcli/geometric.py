@@ -83,7 +83,8 @@ class GeometricPilot(Pilot):
             c = math.hypot(q[0], q[1]) - R
             if c < clearance:
                 best, clearance, nearest = o, c, q
-        info: dict = {"nearest": best.key if best else None, "clearance": clearance if best else None}
+        info: dict = {"nearest": best.key if best else None, "clearance": clearance if best else None,
+                      "in_distress": clearance <= 0.0}
         if best is None:
             return Avoidance(None, 0.0, info)
         cap = self.params.bid_cap
