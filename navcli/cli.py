@@ -33,15 +33,37 @@ def _err(msg: str) -> None:
     typer.echo(msg, err=True)
 
 
-def _load(path: Path):
-    """Load a scenario or exit 2 with the loader's message (file:line: field: problem)."""
+PARAMS = ("K", "A_t", "R_min")  # the pilot parameters a scenario's `pilot:` block and --param may set
+ParamOption = Annotated[list[str], typer.Option(
+    "--param", metavar="NAME=VALUE",
+    help=f"Override a pilot parameter of the scenario ({', '.join(PARAMS)}); repeatable, e.g. --param K=20.")]
+
+
+def _load(path: Path, params: list[str] | None = None):
+    """Load a scenario (with --param overrides) or exit 2 naming what is wrong."""
+    import dataclasses
+
     from .scenario import ScenarioError, load_scenario
 
     try:
-        return load_scenario(path)
+        sc = load_scenario(path)
     except ScenarioError as e:
         _err(f"error: scenario refused\n{e}")
         raise typer.Exit(EXIT_BAD_INPUT) from None
+    over = {}
+    for item in params or []:
+        name, _, value = item.partition("=")
+        if name not in PARAMS:
+            _err(f"error: --param {item!r}: unknown pilot parameter {name!r} (expected one of: {', '.join(PARAMS)})")
+            raise typer.Exit(EXIT_BAD_INPUT)
+        try:
+            over[name] = float(value)
+        except ValueError:
+            over[name] = float("nan")
+        if not over[name] > 0 or over[name] == float("inf"):
+            _err(f"error: --param {item!r}: expected {name}=<a number greater than zero>")
+            raise typer.Exit(EXIT_BAD_INPUT)
+    return dataclasses.replace(sc, pilot=dataclasses.replace(sc.pilot, **over)) if over else sc
 
 
 class _Progress:
@@ -83,9 +105,10 @@ def run(
     time_limit: Annotated[Optional[float], typer.Option(min=0.1, help="Simulated seconds before the run is declared failed.")] = None,
     live: Annotated[bool, typer.Option(help="Also serve the run to Foxglove (ws://localhost:PORT), paced to real time.")] = False,
     port: Annotated[int, typer.Option(min=0, max=65535, help="WebSocket port for --live (0: any free port).")] = 8765,
+    param: ParamOption = [],
 ) -> None:
     """Run one mission, record it to an MCAP log and print how it ended."""
-    sc = _load(scenario)
+    sc = _load(scenario, param)
     from .runner import run_mission
 
     import signal
@@ -147,6 +170,7 @@ def bench(
     pilot: Annotated[Optional[PilotName], typer.Option(help="Pilot (default: the scenario's).")] = None,
     seed: Annotated[Optional[int], typer.Option(min=0)] = None,
     occlusion: Annotated[bool, typer.Option(help="Instead: time the pilot's occlusion test, loop vs numpy.")] = False,
+    param: ParamOption = [],
 ) -> None:
     """Real-time factor (simulated s per wall s) of a full mission, with logging on and off."""
     if occlusion:
@@ -154,7 +178,7 @@ def bench(
 
         occlusion_benchmark(echo=typer.echo)
         return
-    sc = _load(scenario)
+    sc = _load(scenario, param)
     from .bench import benchmark
 
     benchmark(sc, repeat=repeat, pilot=pilot.value if pilot else None, seed=seed, echo=typer.echo)
@@ -164,8 +188,8 @@ plot_app = typer.Typer(help="Figures of the pilot paper for a scenario, as PNG f
 app.add_typer(plot_app, name="plot")
 
 
-def _plot(kind: str, scenario: Path, out: Optional[Path], step: Optional[float]) -> None:
-    sc = _load(scenario)
+def _plot(kind: str, scenario: Path, out: Optional[Path], step: Optional[float], param: list[str]) -> None:
+    sc = _load(scenario, param)
     from . import plots
 
     out = out or Path("logs") / sc.name / f"{kind}.png"
@@ -183,9 +207,10 @@ def plot_field(
     scenario: Annotated[Path, typer.Argument(help="Scenario YAML file.")],
     out: Annotated[Optional[Path], typer.Option(help="PNG file (default: logs/<scenario>/field.png).")] = None,
     step: Annotated[Optional[float], typer.Option(min=0.02, help="Grid spacing in metres (default 0.2).")] = None,
+    param: ParamOption = [],
 ) -> None:
     """Direction of the net virtual force over the arena (pilot paper, Figure 9)."""
-    _plot("field", scenario, out, step)
+    _plot("field", scenario, out, step, param)
 
 
 @plot_app.command("bids")
@@ -193,9 +218,10 @@ def plot_bids(
     scenario: Annotated[Path, typer.Argument(help="Scenario YAML file.")],
     out: Annotated[Optional[Path], typer.Option(help="PNG file (default: logs/<scenario>/bids.png).")] = None,
     step: Annotated[Optional[float], typer.Option(min=0.02, help="Grid spacing in metres (default 0.05).")] = None,
+    param: ParamOption = [],
 ) -> None:
     """The pilot's bid (eq. 9) over the arena (pilot paper, Figure 10)."""
-    _plot("bids", scenario, out, step)
+    _plot("bids", scenario, out, step, param)
 
 
 def main() -> None:

@@ -117,3 +117,18 @@ def test_ctrl_c_on_a_live_run_leaves_a_log_marked_interrupted(tmp_path):
     assert log.summary["outcome"] == "interrupted"
     assert 0 < log.summary["time_s"] < 10
     assert not partial.exists()
+
+
+def test_param_overrides_the_pilot_parameters_and_is_recorded(tmp_path):
+    out = tmp_path / "k.mcap"
+    r = invoke("run", SCENARIOS / "open-arena.yaml", "--param", "K=30", "--param", "A_t=40", "--out", out)
+    assert r.exit_code == 0, r.output
+    params = read_log(out).metadata["run"]["pilot_params"]
+    assert "K=30.0" in params and "A_t=40.0" in params and "R_min=0.4" in params
+
+
+def test_bad_param_exits_2_naming_it():
+    for bad, words in (("Q=1", "unknown pilot parameter 'Q'"), ("K=abc", "number greater than zero"),
+                       ("R_min=0", "number greater than zero"), ("K", "number greater than zero")):
+        r = invoke("run", SCENARIOS / "open-arena.yaml", "--param", bad)
+        assert r.exit_code == 2 and words in r.output, (bad, r.output)
