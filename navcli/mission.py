@@ -17,11 +17,12 @@ from . import __version__
 from .bidding import Bid, Resource, arbitrate
 from .geometry import Pose, segments_intersect
 from .navigation import NavigationSystem
-from .params import CONTROL_DT, LOOK_TIME, PHYSICS_DT
-from .perception import RangePerception
+from .params import CONTROL_DT, PHYSICS_DT
+from .perception import make_perception
 from .pilot import PilotOutput
 from .pilots import make_pilot
 from .scenario import Scenario
+from .vision import Detection
 from .world import World
 
 OUTCOMES = ("reached", "timeout", "blocked", "interrupted", "error")
@@ -51,27 +52,29 @@ class Tick:
     winners: dict[Resource, Bid | None]
     pilot: PilotOutput
     events: tuple[Event, ...]
+    camera: tuple[float, str]  # pan (rad, relative to the heading) and state: idle | panning | processing
+    detections: tuple[Detection, ...] | None  # what the image taken this tick showed, if one was
 
 
 class Mission:
     """A scenario being run with one seed and one pilot."""
 
     def __init__(self, scenario: Scenario, seed: int | None = None, pilot: str | None = None,
-                 time_limit: float | None = None):
+                 time_limit: float | None = None, perception: str | None = None):
         self.scenario = scenario
         self.seed = scenario.mission.seed if seed is None else seed
         self.pilot_name = pilot or scenario.mission.pilot
         self.time_limit = scenario.mission.time_limit if time_limit is None else time_limit
         self.rng = np.random.default_rng(self.seed)
         self.world = World(scenario, self.rng)
-        self.perception = RangePerception(scenario)
+        self.perception_name = perception or scenario.mission.perception
+        self.perception = make_perception(self.perception_name, scenario, self.rng)
         self.pilot = make_pilot(self.pilot_name, scenario.pilot, scenario.robot.max_speed)
         self.navigation = NavigationSystem(scenario.robot.max_speed)
         self.ticks = 0
         self.outcome: str | None = None
         self.reason = ""
         self.camera_looks = 0
-        self._camera_free_at = 0.0
         self._pending: list[Event] = [Event(0.0, "mission", "info", self._start_message())]
 
     def _start_message(self) -> str:
@@ -94,6 +97,7 @@ class Mission:
             "scenario_sha256": sc.sha256,
             "seed": str(self.seed),
             "pilot": self.pilot_name,
+            "perception": self.perception_name,
             "navcli_version": __version__,
             "time_limit_s": repr(self.time_limit),
             "control_dt_s": repr(CONTROL_DT),
@@ -116,15 +120,21 @@ class Mission:
         bids = tuple(pilot_out.bids) + tuple(nav_bids)  # the Pilot is consulted first (ties)
         winners = arbitrate(bids)
         v, omega = self.pilot.execute(winners["motion"])
-        self._look(winners["camera"])
+        look = winners["camera"].action if winners["camera"] is not None else None
+        detections = self.perception.look(world.time, before, look)
+        if detections is not None:  # an image was taken
+            self.camera_looks += 1
+            self.pilot.on_look(self.perception.camera.pan)
+        odom_before = world.odometry.pose
         bumps = world.step(v, omega)
+        self.perception.moved(odom_before, world.odometry.pose, bumps)
         self.ticks += 1
         events = self.drain_events()
         events += [Event(world.time, "pilot", "info", m) for m in pilot_out.events]
         for b in bumps:
             events.append(Event(b.time, "pilot", "warning",
                                 f"bumper contact with {b.what} at bearing {math.degrees(b.bearing):.0f} deg"))
-        self.pilot.on_bumps(bumps, world.odometry.pose)
+        self.pilot.on_bumps(bumps)
         after = world.pose
         if self._reached(before, after):
             self._end("reached", f"target reached after {world.time:.1f} s")
@@ -132,19 +142,10 @@ class Mission:
             self._end("timeout", f"time limit of {self.time_limit:g} s reached")
         if self.outcome is not None:
             events.append(Event(world.time, "mission", "info" if self.outcome == "reached" else "warning", self.reason))
+        cam = self.perception.camera
         return Tick(self.ticks, world.time_ns, after, world.odometry.pose, (v, omega),
-                    bids, tuple(self.navigation.last_agent_bids), winners, pilot_out, tuple(events))
-
-    def _look(self, winner: Bid | None) -> None:
-        """Carry out the winning look when the camera is free (it is busy LOOK_TIME per look).
-
-        Until the Vision system lands a look changes no belief; it is counted and reported to
-        the pilot (eq. 1 resets its distance since the last look ahead)."""
-        if winner is None or self.world.time < self._camera_free_at - 1e-9:
-            return
-        self.camera_looks += 1
-        self._camera_free_at = self.world.time + LOOK_TIME
-        self.pilot.on_look(winner.action.pan)
+                    bids, tuple(self.navigation.last_agent_bids), winners, pilot_out, tuple(events),
+                    (cam.pan, cam.state), tuple(detections) if detections is not None else None)
 
     def drain_events(self) -> list[Event]:
         """Events raised outside a step (the mission's start) and not yet handed out."""

@@ -15,8 +15,6 @@ PILOT_NAMES = ("potential-field", "geometric")
 
 # --- Timing: both rates in one place --------------------------------------------------------
 CONTROL_DT = 0.1
-LOOK_TIME = 0.5
-"""Seconds the camera is busy with one look (pan and image processing)."""
 """Seconds between two decisions of the agents (10 Hz), and between two log records."""
 PHYSICS_SUBSTEPS = 5
 """Physics steps per control tick: the world steps at CONTROL_DT / PHYSICS_SUBSTEPS (50 Hz)."""
@@ -54,7 +52,6 @@ class PilotParams:
     reflex_look_pans_deg: tuple[float, ...] = (-60.0, 0.0, 60.0)  # looks around after a bump
     backup_distance: float = 0.30  # m backed up after a bump
     backup_speed: float = 0.15  # m/s
-    bump_obstacle_radius: float = 0.05  # m: a bumped, unseen obstacle is remembered as a point this big
     # Section 2, eq. 1: the look-ahead camera bid (d_l / d_m) ** s
     look_d_max: float = 1.0  # m: d_m, the longest drive without looking ahead
     look_exponent: float = 2.0  # s
@@ -66,8 +63,12 @@ class PilotParams:
 class NavigationParams:
     """Parameters of the Navigation system's agents."""
 
-    kappa1: float = 0.314  # Target Tracker: move bid with a precisely known target (notes, Table 5.2, C1)
-    alpha: float = 1.731  # Target Tracker: how fast that bid falls with the target's imprecision (C1)
+    # Target Tracker (notes, section 2, with the thesis' GA-tuned values for cluster C1, Table 5.2)
+    kappa1: float = 0.314  # move bid with a precisely known target
+    alpha: float = 1.731  # how fast that bid falls with the target's imprecision I_a
+    kappa2: float = 0.493  # the look bid's peak
+    beta: float = 2.03  # I_a = (eps / 2 pi) ** beta, eps the width of the heading's 70 % cut
+    I_a_bar: float = 0.386  # I_a at which the look bid peaks (the Rescuer's threshold)
 
 
 @dataclass(frozen=True)
@@ -86,9 +87,31 @@ class Defaults:
     vision_distance: float = 0.05
     camera_fov_deg: float = 60.0
     camera_range: float = 6.0
+    camera_pan_limit_deg: float = 100.0  # the pan unit turns this far either side of ahead
+    camera_pan_speed_deg: float = 90.0  # deg/s
+    camera_look_time: float = 0.3  # s of image processing per look, the camera busy meanwhile
+    perception: str = "vision"  # vision | oracle (ground truth, for experiments isolating the pilot)
+
+
+PERCEPTIONS = ("vision", "oracle")
+
+
+@dataclass(frozen=True)
+class VisionParams:
+    """The camera's measurement model and the visual memory (notes, sections 1 and 3)."""
+
+    noise_bound: float = 3.0  # sensor errors are bounded at this many standard deviations
+    heading_floor: float = math.radians(0.5)  # rad: the fuzzy heading's least half-spread (a pixel or so)
+    distance_floor: float = 0.02  # m: the fuzzy distance's least half-spread
+    odometry_floor: float = 0.01  # relative: odometry error the memory allows for even without noise
+    bump_slip: float = 0.10  # m: how far a collision may shove the robot unmeasured
+    bump_radius: float = 0.10  # m: support radius of an obstacle found by the bumpers
+    forget_above: float = 0.35  # I(l) above which an object is forgotten
+    draw_every: int = 5  # ticks between two /memory/scene updates
 
 
 ROBOT = RobotDefaults()
 PILOT = PilotParams()
 NAVIGATION = NavigationParams()
+VISION = VisionParams()
 DEFAULTS = Defaults()

@@ -1,11 +1,14 @@
 """Beliefs: what the agents know of the world, egocentric, and where it comes from.
 
-The agents never see the world; they see :class:`Beliefs`. Until the Vision system and its
-visual memory land, :class:`RangePerception` stands in for them: it reports the obstacles and
-landmarks within camera range (without field-of-view or occlusion limits, and without noise), the
-arena's walls as linear obstacles, and the target: exactly when it is within camera range,
-otherwise relative to the pose the robot *believes* it has (its odometry), as a robot told the
-target's coordinates would. It is a seam: Vision replaces it without the agents changing.
+The agents never see the world; they see :class:`Beliefs`, made each tick by a perception:
+
+- :class:`VisionPerception` (the default): the camera (:mod:`navcli.vision`) and the visual memory
+  (:mod:`navcli.visual_memory`). The robot knows what it has seen, where its memory and odometry
+  put it, and what it was told at the start: the target's position and the arena's walls.
+- :class:`OraclePerception` (``--perception oracle``): ground truth of every obstacle, landmark,
+  wall and the target; for experiments that isolate the pilot from vision. Never the default.
+
+Both own the camera, so looks are arbitrated, timed and counted the same way.
 """
 
 from __future__ import annotations
@@ -13,8 +16,14 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from .geometry import Point, Pose, distance_to_segment
+import numpy as np
+
+from .bidding import Look
+from .geometry import Point, Pose, wrap_angle
+from .params import CONTROL_DT, VISION, VisionParams
 from .scenario import Circle, Scenario
+from .vision import Camera, Detection
+from .visual_memory import VisualMemory
 
 
 @dataclass(frozen=True)
@@ -37,21 +46,33 @@ class KnownObstacle:
 
 @dataclass(frozen=True)
 class Beliefs:
-    """Everything an agent may use at one tick. Positions are egocentric, in metres."""
+    """Everything an agent may use at one tick. Positions are egocentric, in metres.
+
+    ``target_spread`` is the width (rad) of the 70 % cut of the target's fuzzy heading: 0 when
+    it is known exactly, 2 pi when it is lost."""
 
     time: float
     odometry: Pose  # where the robot believes it is, in the arena frame
     target: Point | None  # egocentric target point (the line's centre for a line target)
     target_line: tuple[Point, Point] | None  # egocentric diverting-target line, if any
     obstacles: tuple[KnownObstacle, ...]
+    target_spread: float = 0.0
 
 
-class RangePerception:
-    """The stand-in for Vision: everything within camera range, exact (see module docstring)."""
+def _walls(scenario: Scenario) -> list[tuple[str, Point, Point]]:
+    W, H = scenario.arena.width, scenario.arena.height
+    return [("wall-s", (0.0, 0.0), (W, 0.0)), ("wall-e", (W, 0.0), (W, H)),
+            ("wall-n", (W, H), (0.0, H)), ("wall-w", (0.0, H), (0.0, 0.0))]
 
-    def __init__(self, scenario: Scenario):
+
+class OraclePerception:
+    """Ground truth for the agents (see the module docstring)."""
+
+    name = "oracle"
+
+    def __init__(self, scenario: Scenario, rng: np.random.Generator, params: VisionParams = VISION):
         self.scenario = scenario
-        self.range = scenario.camera.range
+        self.camera = Camera(scenario, rng, params)
         self._objects: list[tuple[str, Point, Point, float]] = []
         for i, o in enumerate(scenario.obstacles):
             if isinstance(o, Circle):
@@ -60,20 +81,98 @@ class RangePerception:
                 self._objects.append((f"o{i}", o.start, o.end, o.thickness / 2))
         for lm in scenario.landmarks:
             self._objects.append((f"L{lm.id}", lm.at, lm.at, lm.radius))
-        W, H = scenario.arena.width, scenario.arena.height  # the walls are linear obstacles too
-        for key, a, b in (("wall-s", (0.0, 0.0), (W, 0.0)), ("wall-e", (W, 0.0), (W, H)),
-                          ("wall-n", (W, H), (0.0, H)), ("wall-w", (0.0, H), (0.0, 0.0))):
-            self._objects.append((key, a, b, 0.0))
+        self._objects += [(k, a, b, 0.0) for k, a, b in _walls(scenario)]
 
     def observe(self, time: float, truth: Pose, odometry: Pose) -> Beliefs:
-        rng = self.range
-        seen = []
-        for key, a, b, r in self._objects:
-            la, lb = truth.to_local(a), truth.to_local(b)
-            if distance_to_segment((0.0, 0.0), la, lb) <= rng:
-                seen.append(KnownObstacle(key, la, lb, r))
+        seen = tuple(KnownObstacle(k, truth.to_local(a), truth.to_local(b), r) for k, a, b, r in self._objects)
         t = self.scenario.target
-        # the target is seen like any object within range; beyond it, it is dead-reckoned
-        ref = truth if math.dist((truth.x, truth.y), t.point) <= rng else odometry
-        line = (ref.to_local(t.line[0]), ref.to_local(t.line[1])) if t.line else None
-        return Beliefs(time, odometry, ref.to_local(t.point), line, tuple(seen))
+        line = (truth.to_local(t.line[0]), truth.to_local(t.line[1])) if t.line else None
+        return Beliefs(time, odometry, truth.to_local(t.point), line, seen, 0.0)
+
+    def look(self, time: float, truth: Pose, request: Look | None) -> list[Detection] | None:
+        return self.camera.step(time, truth, request, CONTROL_DT)
+
+    def moved(self, before: Pose, after: Pose, bumps: list) -> None:
+        """The oracle needs no memory."""
+
+
+class VisionPerception:
+    """The camera and the visual memory (see the module docstring)."""
+
+    name = "vision"
+
+    def __init__(self, scenario: Scenario, rng: np.random.Generator, params: VisionParams = VISION):
+        self.scenario = scenario
+        self.params = params
+        self.camera = Camera(scenario, rng, params)
+        self.memory = VisualMemory(scenario.noise.odometry, params)
+        start = Pose(*scenario.robot.start, scenario.robot.heading)
+        told = params.distance_floor  # what the robot is told is precise to a couple of cm
+        t = scenario.target
+        if t.kind == "line":
+            self.memory.add("target-a", "target", [start.to_local(t.line[0])], 0.0, told, prior=True)
+            self.memory.add("target-b", "target", [start.to_local(t.line[1])], 0.0, told, prior=True)
+        else:
+            self.memory.add("target", "target", [start.to_local(t.point)], 0.0, told, prior=True)
+        for key, a, b in _walls(scenario):
+            self.memory.add(key, "wall", [start.to_local(a), start.to_local(b)], 0.0, told, prior=True)
+        self._target_key = t.landmark if t.kind == "landmark" else "target"
+
+    def observe(self, time: float, truth: Pose, odometry: Pose) -> Beliefs:
+        """Beliefs from the memory alone: crisp centres for the pilot (as the paper computes its
+        forces), the target's heading spread for the Target Tracker."""
+        items = self.memory.items
+        obstacles = []
+        for m in items.values():
+            if m.kind == "target":
+                continue
+            a = (m.spots[0].x, m.spots[0].y)
+            b = (m.spots[1].x, m.spots[1].y) if len(m.spots) == 2 else a
+            obstacles.append(KnownObstacle(m.key if m.kind != "landmark" else f"L{m.key}", a, b, m.radius))
+        line = None
+        if self.scenario.target.kind == "line":
+            a, b = items["target-a"].spots[0], items["target-b"].spots[0]
+            line = ((a.x, a.y), (b.x, b.y))
+            target = ((a.x + b.x) / 2, (a.y + b.y) / 2)
+            spread = max(a.heading().width(), b.heading().width())
+        else:
+            m = items.get(self._target_key) or items["target"]
+            s = m.spots[0]
+            target, spread = (s.x, s.y), s.heading().width()
+        return Beliefs(time, odometry, target, line, tuple(obstacles), spread)
+
+    def look(self, time: float, truth: Pose, request: Look | None) -> list[Detection] | None:
+        """Carry out the winning look; fold an image's detections into the memory."""
+        dets = self.camera.step(time, truth, request, CONTROL_DT)
+        if dets:
+            self.memory.observe(dets, time)
+        return dets
+
+    def moved(self, before: Pose, after: Pose, bumps: list) -> None:
+        """Odometry says the robot went from ``before`` to ``after``: move the memory; add what
+        the bumpers found (at the robot's rim, in the direction of the contact); forget."""
+        dtheta = wrap_angle(after.theta - before.theta)
+        mid = before.theta + dtheta / 2
+        ds = (after.x - before.x) * math.cos(mid) + (after.y - before.y) * math.sin(mid)
+        mem = self.memory
+        mem.move(ds, dtheta)
+        if bumps:
+            mem.shove()
+            r = self.scenario.robot.radius + self.params.bump_radius
+            for b in bumps:
+                mem._n += 1
+                mem.add(f"bump-{mem._n}", "bump", [(r * math.cos(b.bearing), r * math.sin(b.bearing))],
+                        self.params.bump_radius / 2, self.params.bump_radius)
+        mem.forget()
+
+
+Perception = OraclePerception | VisionPerception
+
+
+def make_perception(name: str, scenario: Scenario, rng: np.random.Generator) -> Perception:
+    if name == "oracle":
+        return OraclePerception(scenario, rng)
+    if name == "vision":
+        return VisionPerception(scenario, rng)
+    raise ValueError(f"unknown perception {name!r} (expected vision or oracle)")
+

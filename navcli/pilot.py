@@ -8,7 +8,7 @@ Navigation system's. This module holds what every pilot shares:
   turn larger than 160 degrees is driven backwards (turning the complement) while the distance
   driven backwards stays under ``max_backward``;
 - **reflexes** (section 3.5): on a bumper hit, stop, look around, back up ``backup_distance``,
-  and remember the obstacle that was hit (carried by odometry) so the avoidance accounts for it;
+  then recompute with the obstacle that was hit (which the visual memory now holds);
 - the **look-ahead camera bid** (eq. 1): ``(d_l / d_m) ** s``, capped at 0.9 like every Pilot bid.
 
 The avoidance strategies subclass :class:`Pilot` and implement :meth:`Pilot.avoid`:
@@ -21,7 +21,7 @@ import math
 from dataclasses import dataclass, field
 
 from .bidding import Bid, Look, Move
-from .geometry import Point, Pose, wrap_angle
+from .geometry import Pose, wrap_angle
 from .params import CONTROL_DT, PILOT, ROBOT, PilotParams, RobotDefaults
 from .perception import Beliefs, KnownObstacle
 
@@ -66,7 +66,6 @@ class Pilot:
         self.backward = 0.0  # m driven backwards since the robot last drove forwards max_backward
         self.forward = 0.0
         self.since_look = 0.0  # d_l of eq. 1, metres
-        self.bumped: list[tuple[str, Point]] = []  # obstacles found by the bumpers, odometry frame
         self._reflex: list[tuple[str, float]] = []  # pending reflex phases (name, amount)
         self._reflex_progress = 0.0
         self._events: list[str] = []
@@ -77,18 +76,11 @@ class Pilot:
         return Avoidance(None, 0.0, {})
 
     # -- per tick
-    def known_obstacles(self, beliefs: Beliefs) -> list[KnownObstacle]:
-        """What the pilot avoids: what perception reports plus the obstacles it bumped into."""
-        odom = beliefs.odometry
-        r = self.params.bump_obstacle_radius
-        bumped = [KnownObstacle(k, q, q, r) for k, p in self.bumped for q in (odom.to_local(p),)]
-        return list(beliefs.obstacles) + bumped
-
     def decide(self, beliefs: Beliefs, request: Move | None = None) -> PilotOutput:
         """The pilot's bids for this tick; ``request`` is the Navigation system's motion request."""
         self._track(beliefs.odometry)
         events, self._events = self._events, []
-        obstacles = self.known_obstacles(beliefs)
+        obstacles = list(beliefs.obstacles)  # the visual memory, bumped obstacles included
         look = self.look_bid()
         if self._reflex:
             return self._reflex_output(look, events, obstacles)
@@ -132,15 +124,14 @@ class Pilot:
                 self._reflex_progress += -ds
 
     # -- reflexes (section 3.5)
-    def on_bumps(self, bumps: list, odometry: Pose) -> None:
-        """Bumper contacts that began this tick (:class:`navcli.world.Bump`): start the reflex."""
+    def on_bumps(self, bumps: list) -> None:
+        """Bumper contacts that began this tick (:class:`navcli.world.Bump`): start the reflex.
+
+        The obstacle that was hit goes to the visual memory (the mission hands the bumps to
+        perception), so the recomputed forces include it."""
         if not bumps:
             return
         p = self.params
-        for b in bumps:
-            d = self.robot.radius + p.bump_obstacle_radius
-            here = odometry.to_world((d * math.cos(b.bearing), d * math.sin(b.bearing)))
-            self.bumped.append((f"bump{len(self.bumped)}", here))
         self._reflex = [("stop", p.reflex_stop_s), ("look", float(len(p.reflex_look_pans_deg))),
                         ("backup", p.backup_distance)]
         self._reflex_progress = 0.0

@@ -1,10 +1,9 @@
 """Figures 9 and 10 of the pilot paper, for any scenario: the direction of the net virtual force
 over the arena, and the pilot's bid (eq. 9) over the arena.
 
-Each grid point is evaluated as the pilot would see it there: the robot placed at that point
-facing +x, perceiving what perception reports from there (the obstacles and landmarks within
-camera range, the walls, the target), and the potential field computed by
-:func:`navcli.potential_field.field`. Points inside an obstacle's body are left blank. These
+Each grid point is evaluated as the pilot would compute it there with every obstacle, landmark
+and wall known exactly (the oracle perception): the robot placed at that point facing +x, and
+the potential field computed by :func:`navcli.potential_field.field`. Points inside an obstacle's body are left blank. These
 plots read the simulator's pilot, not a log, so they live here rather than in ``analysis``.
 """
 
@@ -16,7 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from .geometry import Pose, distance_to_segment
-from .perception import RangePerception
+from .perception import OraclePerception
 from .potential_field import field
 from .scenario import Circle, Scenario
 
@@ -39,7 +38,7 @@ def field_grid(sc: Scenario, step: float) -> tuple[np.ndarray, np.ndarray, np.nd
     ys = np.arange(step / 2, sc.arena.height, step)
     X, Y = np.meshgrid(xs, ys)
     U, V, B = (np.full(X.shape, np.nan) for _ in range(3))
-    perception = RangePerception(sc)
+    perception = OraclePerception(sc, np.random.default_rng(0))  # the figure shows the field of the true layout
     for idx in np.ndindex(X.shape):
         x, y = float(X[idx]), float(Y[idx])
         if _inside_body(sc, x, y):

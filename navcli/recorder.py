@@ -35,6 +35,8 @@ from foxglove.messages import (
     PoseInFrame,
     Quaternion,
     SceneEntity,
+    SceneEntityDeletion,
+    SceneEntityDeletionType,
     SceneUpdate,
     TextPrimitive,
     Timestamp,
@@ -57,6 +59,10 @@ _GREY, _RED, _BLUE, _GREEN = (Color(r=0.55, g=0.55, b=0.6, a=1.0), Color(r=0.85,
                               Color(r=0.2, g=0.45, b=0.9, a=1.0), Color(r=0.2, g=0.75, b=0.3, a=0.6))
 _ROBOT, _ARROW = Color(r=0.95, g=0.75, b=0.1, a=0.8), Color(r=0.9, g=0.2, b=0.8, a=1.0)
 _GROWN = Color(r=0.95, g=0.5, b=0.1, a=0.25)
+_FOV = Color(r=0.3, g=0.8, b=0.95, a=0.8)
+_MEMORY = {"landmark": Color(r=0.2, g=0.45, b=0.9, a=0.35), "obstacle": Color(r=0.85, g=0.3, b=0.25, a=0.35),
+           "bump": Color(r=1.0, g=0.1, b=0.1, a=0.5), "target": Color(r=0.2, g=0.75, b=0.3, a=0.35),
+           "wall": Color(r=0.55, g=0.55, b=0.6, a=0.2)}
 
 PILOT_SCHEMA = {
     "title": "navcli.Pilot",
@@ -76,6 +82,14 @@ BIDS_SCHEMA = {
                    "'agents' holds the Navigation agents' bids to their Communicator.",
     "type": "object",
     "properties": {r: {"type": "object"} for r in RESOURCES} | {"agents": {"type": "object"}},
+}
+VISION_SCHEMA = {
+    "title": "navcli.Vision",
+    "description": "The camera each tick: pan, state, and the detections of an image taken this tick, "
+                   "with fuzzy heading (deg) and distance (m) as cuts: lo0/hi0 the support, lo70/hi70 the 70 % cut.",
+    "type": "object",
+    "properties": {"pan_deg": {"type": "number"}, "state": {"type": "string"}, "image": {"type": "boolean"},
+                   "detections": {"type": "object"}},
 }
 SUMMARY_SCHEMA = {
     "title": "navcli.MissionSummary",
@@ -132,10 +146,16 @@ class Recorder:
         self.pilot = foxglove.Channel("/pilot", schema=PILOT_SCHEMA, context=ctx)
         self.bids = foxglove.Channel("/bids", schema=BIDS_SCHEMA, context=ctx)
         self.summary = foxglove.Channel("/mission/summary", schema=SUMMARY_SCHEMA, context=ctx)
+        self.vision = foxglove.Channel("/vision", schema=VISION_SCHEMA, context=ctx)
+        self.memory_scene = SceneUpdateChannel("/memory/scene", context=ctx)
         self._closed = False
         self._grown_keys: tuple = ()
         self._grown_ns = 0
         self._R_min = 0.0
+        self._fov = (0.0, 0.0)  # camera field of view (rad) and range (m)
+        self._pan_drawn: float | None = None
+        self._memory = None  # the visual memory, drawn on /memory/scene when there is one
+        self._draw_every = 5
 
     @property
     def port(self) -> int | None:
@@ -146,6 +166,9 @@ class Recorder:
         """Metadata ``run``, the scenario attached, the arena and the robot's body."""
         sc = mission.scenario
         self._R_min = sc.pilot.R_min
+        self._fov = (sc.camera.fov, sc.camera.range)
+        self._memory = getattr(mission.perception, "memory", None)
+        self._draw_every = getattr(mission.perception, "params", None) and mission.perception.params.draw_every or 5
         self.writer.write_metadata("run", mission.run_metadata())
         self.writer.attach(log_time=0, create_time=0, name=Path(sc.source).name or f"{sc.name}.yaml",
                            media_type="application/yaml", data=sc.text.encode())
@@ -182,8 +205,20 @@ class Recorder:
         if keys != self._grown_keys or ns - self._grown_ns >= GROWN_REFRESH_NS:
             ents.append(_grown(t.pilot.obstacles, t.pose, self._R_min, ns))
             self._grown_keys, self._grown_ns = keys, ns
+        pan, state = t.camera
+        if pan != self._pan_drawn:
+            ents.append(_field_of_view(pan, *self._fov, ns))
+            self._pan_drawn = pan
         if ents:
             self.robot_scene.log(SceneUpdate(entities=ents), log_time=ns)
+        dets = {}
+        for i, d in enumerate(t.detections or ()):
+            dets[d.key or f"obstacle{i}"] = d.as_json()
+        self.vision.log(_json({"pan_deg": math.degrees(pan), "state": state, "image": t.detections is not None,
+                               "detections": dets}), log_time=ns)
+        if self._memory is not None and (t.detections or t.index % self._draw_every == 0):
+            self.memory_scene.log(SceneUpdate(deletions=[SceneEntityDeletion(timestamp=_ts(ns), type=SceneEntityDeletionType.All)],
+                                              entities=_memory_entities(self._memory, ns)), log_time=ns)
         for e in t.events:
             self.event(e, ns)
 
@@ -238,6 +273,41 @@ def _force_arrows(arrows: list[tuple[str, float, float]], ns: int) -> SceneEntit
         prims.append(ArrowPrimitive(pose=_pose(0, 0, math.atan2(fy, fx), z=0.35), shaft_length=max(L - 0.08, 0.01),
                                     shaft_diameter=0.025, head_length=0.08, head_diameter=0.07, color=_ARROW))
     return SceneEntity(timestamp=_ts(ns), frame_id="base_link", id="forces", frame_locked=True, arrows=prims)
+
+
+def _field_of_view(pan: float, fov: float, rng: float, ns: int) -> SceneEntity:
+    """The camera's field of view: a fan in ``base_link``, turned by the pan."""
+    pts = [Point3(x=0.0, y=0.0, z=0.4)]
+    for k in range(9):
+        a = pan - fov / 2 + fov * k / 8
+        pts.append(Point3(x=rng * math.cos(a), y=rng * math.sin(a), z=0.4))
+    pts.append(Point3(x=0.0, y=0.0, z=0.4))
+    return SceneEntity(timestamp=_ts(ns), frame_id="base_link", id="camera", frame_locked=True,
+                       lines=[LinePrimitive(type=LinePrimitiveLineType.LineStrip, thickness=0.02, color=_FOV, points=pts)])
+
+
+def _memory_entities(memory, ns: int) -> list[SceneEntity]:
+    """The visual memory in ``base_link``: per remembered point a disc the size of its 70 % cut
+    and a ring for its support, so Foxglove shows belief (here) next to truth (/world/scene)."""
+    ents = []
+    ts = _ts(ns)
+    for m in memory.items.values():
+        cyl, lines = [], []
+        color = _MEMORY.get(m.kind, _MEMORY["obstacle"])
+        for s in m.spots:
+            r70 = max(s.radius(0.7), 0.03)
+            cyl.append(CylinderPrimitive(pose=_pose(s.x, s.y, z=0.02), size=Vector3(x=2 * r70, y=2 * r70, z=0.03),
+                                         bottom_scale=1.0, top_scale=1.0, color=color))
+            ring = [Point3(x=s.x + s.r0 * math.cos(a), y=s.y + s.r0 * math.sin(a), z=0.02)
+                    for a in (2 * math.pi * k / 24 for k in range(25))]
+            lines.append(LinePrimitive(type=LinePrimitiveLineType.LineStrip, thickness=0.01, color=color, points=ring))
+        if len(m.spots) == 2:
+            a, b = m.spots
+            lines.append(LinePrimitive(type=LinePrimitiveLineType.LineStrip, thickness=0.03, color=color,
+                                       points=[Point3(x=a.x, y=a.y, z=0.03), Point3(x=b.x, y=b.y, z=0.03)]))
+        ents.append(SceneEntity(timestamp=ts, frame_id="base_link", id=f"memory-{m.key}", frame_locked=True,
+                                cylinders=cyl, lines=lines))
+    return ents
 
 
 def _grown(obstacles, pose: Pose, R: float, ns: int) -> SceneEntity:

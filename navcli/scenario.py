@@ -18,7 +18,7 @@ from typing import Any, Literal
 import yaml
 
 from .geometry import Point, distance_to_segment
-from .params import DEFAULTS, PILOT, PILOT_NAMES, ROBOT, PilotParams
+from .params import DEFAULTS, PERCEPTIONS, PILOT, PILOT_NAMES, ROBOT, PilotParams
 
 SUPPORTED_VERSIONS = (1,)
 NAME_RE = re.compile(r"^[a-z0-9-]+$")
@@ -86,6 +86,7 @@ class MissionSpec:
     pilot: str
     time_limit: float  # simulated seconds
     seed: int
+    perception: str = DEFAULTS.perception  # vision | oracle
 
 
 @dataclass(frozen=True)
@@ -99,6 +100,9 @@ class Noise:
 class CameraSpec:
     fov: float  # rad
     range: float  # m
+    pan_limit: float = math.radians(DEFAULTS.camera_pan_limit_deg)  # rad either side of ahead
+    pan_speed: float = math.radians(DEFAULTS.camera_pan_speed_deg)  # rad/s
+    look_time: float = DEFAULTS.camera_look_time  # s of processing per look
 
 
 @dataclass(frozen=True)
@@ -438,12 +442,16 @@ class _Reader:
 
     def mission(self, v: Any) -> MissionSpec:
         P = ("mission",)
-        m = self.mapping(v, P, (), ("pilot", "time_limit", "seed"))
+        m = self.mapping(v, P, (), ("pilot", "time_limit", "seed", "perception"))
         pilot = self.opt(m, "pilot", P, self.text, DEFAULTS.pilot)
         if pilot not in PILOT_NAMES:
             raise self.fail(P + ("pilot",), f"unknown pilot {pilot!r} (expected one of: {', '.join(PILOT_NAMES)})")
+        perception = self.opt(m, "perception", P, self.text, DEFAULTS.perception)
+        if perception not in PERCEPTIONS:
+            raise self.fail(P + ("perception",),
+                            f"unknown perception {perception!r} (expected one of: {', '.join(PERCEPTIONS)})")
         return MissionSpec(pilot, self.opt(m, "time_limit", P, self.number, DEFAULTS.time_limit, positive=True),
-                           self.opt(m, "seed", P, self.integer, DEFAULTS.seed))
+                           self.opt(m, "seed", P, self.integer, DEFAULTS.seed), perception)
 
     def noise(self, v: Any) -> Noise:
         P = ("noise",)
@@ -454,11 +462,18 @@ class _Reader:
 
     def camera(self, v: Any) -> CameraSpec:
         P = ("camera",)
-        m = self.mapping(v, P, (), ("fov_deg", "range"))
+        m = self.mapping(v, P, (), ("fov_deg", "range", "pan_limit_deg", "pan_speed_deg", "look_time"))
         fov = self.opt(m, "fov_deg", P, self.number, DEFAULTS.camera_fov_deg, positive=True)
         if fov > 360:
             raise self.fail(P + ("fov_deg",), f"must be at most 360 degrees, found {fov}")
-        return CameraSpec(math.radians(fov), self.opt(m, "range", P, self.number, DEFAULTS.camera_range, positive=True))
+        pan = self.opt(m, "pan_limit_deg", P, self.number, DEFAULTS.camera_pan_limit_deg, nonneg=True)
+        if pan > 180:
+            raise self.fail(P + ("pan_limit_deg",), f"must be at most 180 degrees, found {pan}")
+        return CameraSpec(math.radians(fov), self.opt(m, "range", P, self.number, DEFAULTS.camera_range, positive=True),
+                          math.radians(pan),
+                          math.radians(self.opt(m, "pan_speed_deg", P, self.number, DEFAULTS.camera_pan_speed_deg,
+                                                positive=True)),
+                          self.opt(m, "look_time", P, self.number, DEFAULTS.camera_look_time, nonneg=True))
 
     def pilot(self, v: Any) -> PilotParams:
         P = ("pilot",)

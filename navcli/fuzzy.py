@@ -1,0 +1,215 @@
+"""Fuzzy numbers held as alpha-cut intervals (learning-agent paper, section 5.1; notes, section 3).
+
+A fuzzy number is stored as its cuts at the fixed levels ``ALPHAS``: one closed interval per
+level, nested (a higher level's cut lies inside a lower one's). Arithmetic is interval arithmetic
+level by level, the standard alpha-cut form of the extension principle (Dubois-Prade): widths add
+under addition and subtraction, products take the extreme products, and division refuses a
+divisor whose support contains zero. :class:`FuzzyAngle` adds wrap-around for headings. The
+imprecision measures of the papers are the width of the 70 % cut (:meth:`Fuzzy.width`) and the
+combined landmark imprecision :func:`landmark_imprecision`.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+ALPHAS = (0.0, 0.3, 0.7, 1.0)
+"""The membership levels whose cuts are kept: the support, the two levels of the papers' features, the core."""
+CUT = 0.7  # the papers' imprecision is the width of the 70 % alpha-cut
+LAMBDA, BETA = 0.2, 1.0  # learning-agent paper, section 5.1: weights of I(l)
+TWO_PI = 2.0 * math.pi
+
+Interval = tuple[float, float]
+
+
+def _wrap(a: float) -> float:
+    a = math.fmod(a + math.pi, TWO_PI)
+    if a <= 0.0:
+        a += TWO_PI
+    return a - math.pi
+
+
+@dataclass(frozen=True)
+class Fuzzy:
+    """A fuzzy number: ``cuts[k]`` is the interval of membership >= ``ALPHAS[k]``."""
+
+    cuts: tuple[Interval, ...]
+
+    def __post_init__(self) -> None:
+        if len(self.cuts) != len(ALPHAS):
+            raise ValueError(f"expected {len(ALPHAS)} cuts, got {len(self.cuts)}")
+        for (lo, hi), (lo2, hi2) in zip(self.cuts, self.cuts[1:]):
+            if not (lo <= lo2 <= hi2 <= hi):
+                raise ValueError(f"cuts are not nested: {self.cuts}")
+        for lo, hi in self.cuts:
+            if not (math.isfinite(lo) and math.isfinite(hi) and lo <= hi):
+                raise ValueError(f"bad cut [{lo}, {hi}]")
+
+    # -- construction
+    @classmethod
+    def trapezoid(cls, a: float, b: float, c: float, d: float) -> Fuzzy:
+        """Support [a, d], core [b, c]; linear in between."""
+        if not (a <= b <= c <= d):
+            raise ValueError(f"a trapezoid needs a <= b <= c <= d, got {a}, {b}, {c}, {d}")
+        return cls(tuple((a + al * (b - a), d - al * (d - c)) for al in ALPHAS))
+
+    @classmethod
+    def triangle(cls, a: float, m: float, b: float) -> Fuzzy:
+        return cls.trapezoid(a, m, m, b)
+
+    @classmethod
+    def crisp(cls, x: float) -> Fuzzy:
+        return cls.trapezoid(x, x, x, x)
+
+    @classmethod
+    def around(cls, x: float, spread: float, core: float = 0.0) -> Fuzzy:
+        """Symmetric about ``x``: support ``x +- spread``, core ``x +- core``."""
+        return cls.trapezoid(x - spread, x - core, x + core, x + spread)
+
+    # -- reading
+    def cut(self, alpha: float) -> Interval:
+        """The alpha-cut, interpolated linearly between the stored levels."""
+        if not 0.0 <= alpha <= 1.0:
+            raise ValueError(f"alpha must lie in [0, 1], got {alpha}")
+        for k in range(len(ALPHAS) - 1):
+            a0, a1 = ALPHAS[k], ALPHAS[k + 1]
+            if alpha <= a1:
+                t = (alpha - a0) / (a1 - a0)
+                (l0, h0), (l1, h1) = self.cuts[k], self.cuts[k + 1]
+                return l0 + t * (l1 - l0), h0 + t * (h1 - h0)
+        return self.cuts[-1]
+
+    def width(self, alpha: float = CUT) -> float:
+        """Width of the alpha-cut; at 0.7 it is the papers' imprecision measure."""
+        lo, hi = self.cut(alpha)
+        return hi - lo
+
+    @property
+    def support(self) -> Interval:
+        return self.cuts[0]
+
+    @property
+    def core(self) -> Interval:
+        return self.cuts[-1]
+
+    @property
+    def centre(self) -> float:
+        """The crisp value used for decisions: the middle of the core."""
+        lo, hi = self.cuts[-1]
+        return (lo + hi) / 2
+
+    def contains(self, x: float, alpha: float = 0.0) -> bool:
+        lo, hi = self.cut(alpha)
+        return lo <= x <= hi
+
+    # -- arithmetic, level by level
+    def _zip(self, other: Fuzzy, f) -> Fuzzy:
+        return Fuzzy(tuple(f(a, b) for a, b in zip(self.cuts, other.cuts)))
+
+    def __add__(self, other: Fuzzy | float) -> Fuzzy:
+        o = _lift(other)
+        return self._zip(o, lambda a, b: (a[0] + b[0], a[1] + b[1]))
+
+    __radd__ = __add__
+
+    def __neg__(self) -> Fuzzy:
+        return Fuzzy(tuple((-hi, -lo) for lo, hi in self.cuts))
+
+    def __sub__(self, other: Fuzzy | float) -> Fuzzy:
+        o = _lift(other)
+        return self._zip(o, lambda a, b: (a[0] - b[1], a[1] - b[0]))
+
+    def __rsub__(self, other: float) -> Fuzzy:
+        return _lift(other) - self
+
+    def __mul__(self, other: Fuzzy | float) -> Fuzzy:
+        if not isinstance(other, Fuzzy):
+            return self.scale(other)
+
+        def mul(a: Interval, b: Interval) -> Interval:
+            p = (a[0] * b[0], a[0] * b[1], a[1] * b[0], a[1] * b[1])
+            return min(p), max(p)
+
+        return self._zip(other, mul)
+
+    __rmul__ = __mul__
+
+    def __truediv__(self, other: Fuzzy | float) -> Fuzzy:
+        o = _lift(other)
+        lo, hi = o.support
+        if lo <= 0.0 <= hi:
+            raise ZeroDivisionError(f"divisor's support [{lo}, {hi}] contains 0")
+        return self * Fuzzy(tuple((1.0 / hi, 1.0 / lo) for lo, hi in o.cuts))  # the reciprocal
+
+    def scale(self, k: float) -> Fuzzy:
+        """Multiply by the crisp number ``k``."""
+        return Fuzzy(tuple((min(k * lo, k * hi), max(k * lo, k * hi)) for lo, hi in self.cuts))
+
+    def widen(self, e: float) -> Fuzzy:
+        """Add the symmetric triangular error (-e, 0, e): each cut grows by ``e * (1 - alpha)`` a side."""
+        return Fuzzy(tuple((lo - e * (1 - al), hi + e * (1 - al)) for (lo, hi), al in zip(self.cuts, ALPHAS)))
+
+
+def _lift(x: Fuzzy | float) -> Fuzzy:
+    return x if isinstance(x, Fuzzy) else Fuzzy.crisp(float(x))
+
+
+@dataclass(frozen=True)
+class FuzzyAngle:
+    """A fuzzy heading (rad): cuts as intervals ``[lo, hi]`` around a centre wrapped to (-pi, pi].
+
+    An interval may straddle +-pi; widths are capped at 2 pi (the heading is then unknown).
+    Sums and differences add widths, as for :class:`Fuzzy`, and re-wrap the centre.
+    """
+
+    value: Fuzzy
+
+    @classmethod
+    def around(cls, a: float, spread: float, core: float = 0.0) -> FuzzyAngle:
+        return cls(Fuzzy.around(_wrap(a), min(spread, math.pi), min(core, math.pi))).normalised()
+
+    def normalised(self) -> FuzzyAngle:
+        """Shift so the centre lies in (-pi, pi]; cap every cut at a full turn."""
+        c = self.value.centre
+        shift = _wrap(c) - c
+        cuts = []
+        for lo, hi in self.value.cuts:
+            lo, hi = lo + shift, hi + shift
+            if hi - lo > TWO_PI:
+                mid = (lo + hi) / 2
+                lo, hi = mid - math.pi, mid + math.pi
+            cuts.append((lo, hi))
+        # capping can break nesting only by making an inner cut wider than a capped outer one
+        for k in range(len(cuts) - 2, -1, -1):
+            lo, hi = cuts[k]
+            ilo, ihi = cuts[k + 1]
+            cuts[k] = (min(lo, ilo), max(hi, ihi))
+        return FuzzyAngle(Fuzzy(tuple(cuts)))
+
+    @property
+    def centre(self) -> float:
+        return _wrap(self.value.centre)
+
+    def width(self, alpha: float = CUT) -> float:
+        return min(self.value.width(alpha), TWO_PI)
+
+    def contains(self, a: float, alpha: float = 0.0) -> bool:
+        lo, hi = self.value.cut(alpha)
+        if hi - lo >= TWO_PI:
+            return True
+        return 0.0 <= (a - lo) % TWO_PI <= hi - lo
+
+    def __add__(self, other: FuzzyAngle | Fuzzy | float) -> FuzzyAngle:
+        o = other.value if isinstance(other, FuzzyAngle) else other
+        return FuzzyAngle(self.value + o).normalised()
+
+    def __sub__(self, other: FuzzyAngle | Fuzzy | float) -> FuzzyAngle:
+        o = other.value if isinstance(other, FuzzyAngle) else other
+        return FuzzyAngle(self.value - o).normalised()
+
+
+def landmark_imprecision(heading: FuzzyAngle, distance: Fuzzy) -> float:
+    """``I(l) = lambda * tanh(beta * I_d) + (1 - lambda) * I_h / (2 pi)`` (section 5.1), in [0, 1],
+    with ``I_h``, ``I_d`` the widths of the 70 % cuts, lambda = 0.2, beta = 1."""
+    return LAMBDA * math.tanh(BETA * distance.width(CUT)) + (1 - LAMBDA) * heading.width(CUT) / TWO_PI

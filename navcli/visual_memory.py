@@ -1,0 +1,277 @@
+"""The visual memory: where the robot believes the things it has seen are, as fuzzy positions.
+
+Notes, section 1 (thesis node 37): the memory keeps landmarks and obstacles relative to the robot;
+odometry moves them, with an imprecision that grows with the distance travelled and more with
+turning; seeing an object again reduces its imprecision; an object whose imprecision passes a
+threshold is removed. The bumpers add obstacles, and the mission adds what the robot is told at
+the start (the target, the arena's walls), which are kept however imprecise they become.
+
+Representation (our choice; the thesis' operators are not available): each remembered point is
+a fuzzy *position*: a crisp egocentric centre (its core) and nested discs around it, radius
+``r0`` for the 0 % cut (the support) and ``r1`` for the core, the cuts between linear in alpha.
+Discs make every update cheap and conservative:
+
+- **moving** by the odometry's ``(ds, dtheta)``: the centre moves exactly as measured; the
+  support grows by the bound on the odometry's error, ``u |ds| + D u |dtheta|`` (``u`` the
+  relative error bound, ``D`` the point's farthest distance): the fuzzy sum of the position and a
+  triangular error, so the true position never leaves the support;
+- **seeing** again: the fuzzy intersection (minimum) of memory and observation, enclosed in the
+  smallest disc (the true point lies in both, so in their intersection): sharper, still honest;
+- **reading** it as the papers do: a fuzzy distance and a fuzzy heading whose 70 % cut widths
+  give ``I(l)`` (:func:`navcli.fuzzy.landmark_imprecision`).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+from .fuzzy import ALPHAS, TWO_PI, Fuzzy, FuzzyAngle
+from .geometry import distance_to_segment
+from .params import VISION, VisionParams
+from .vision import Detection, Sighting
+
+Disc = tuple[float, float, float]  # x, y, radius
+
+
+@dataclass
+class Spot:
+    """A remembered point: egocentric centre (m) and the support and core radii (m)."""
+
+    x: float
+    y: float
+    r0: float
+    r1: float
+
+    def radius(self, alpha: float) -> float:
+        return self.r0 + alpha * (self.r1 - self.r0)
+
+    def distance(self) -> Fuzzy:
+        d = math.hypot(self.x, self.y)
+        return Fuzzy(tuple((max(0.0, d - r), d + r) for r in (self.radius(a) for a in ALPHAS)))
+
+    def heading(self) -> FuzzyAngle:
+        d = math.hypot(self.x, self.y)
+        h = math.atan2(self.y, self.x)
+        cuts = []
+        for a in ALPHAS:
+            r = self.radius(a)
+            half = math.pi if r >= d else math.asin(r / d)
+            cuts.append((h - half, h + half))
+        return FuzzyAngle(Fuzzy(tuple(cuts)))
+
+    def contains(self, p: tuple[float, float], alpha: float = 0.0) -> bool:
+        return math.hypot(p[0] - self.x, p[1] - self.y) <= self.radius(alpha) + 1e-9
+
+
+@dataclass
+class Memory:
+    """One remembered object: a landmark, an obstacle (one spot, or two for a linear one),
+    something the bumpers found, the target, or a wall."""
+
+    key: str
+    kind: str  # landmark | obstacle | bump | target | wall
+    spots: list[Spot]
+    radius: float  # physical half-width, m
+    prior: bool = False  # told at the start: never forgotten
+    seen: float = 0.0  # simulated time of the last sighting
+
+    def imprecision(self) -> float:
+        """I(l) of the object's worst-known point (section 5.1 of the learning-agent paper)."""
+        return max(_imprecision(s) for s in self.spots)
+
+
+def _imprecision(s: Spot) -> float:
+    """I(l) = 0.2 tanh(I_d) + 0.8 I_h / 2 pi from the 70 % cut of a spot, inlined for speed."""
+    r = s.r0 + 0.7 * (s.r1 - s.r0)
+    d = math.hypot(s.x, s.y)
+    i_h = TWO_PI if r >= d else 2.0 * math.asin(r / d)
+    return 0.2 * math.tanh(2.0 * r) + 0.8 * i_h / TWO_PI
+
+
+def _sighting_spot(s: Sighting) -> Spot:
+    """The disc around a sighting's polar box, for the support and for the core."""
+    h_c, d_c = s.heading.centre, s.distance.centre
+    cx, cy = d_c * math.cos(h_c), d_c * math.sin(h_c)
+    radii = []
+    for k in (0, len(ALPHAS) - 1):
+        dlo, dhi = s.distance.cuts[k]
+        hlo, hhi = s.heading.value.cuts[k]
+        r = 0.0
+        for d in (dlo, dhi):
+            for h in (hlo, hhi, h_c):
+                r = max(r, math.hypot(d * math.cos(h) - cx, d * math.sin(h) - cy))
+        if hhi - hlo > math.pi:  # a wide fan: its far arc may bulge past the corners
+            r = max(r, dhi + d_c)
+        radii.append(r)
+    return Spot(cx, cy, radii[0], radii[1])
+
+
+def _enclose_intersection(a: Disc, b: Disc) -> Disc | None:
+    """The smallest disc found that holds the intersection of discs ``a`` and ``b``, or None if
+    they do not meet. Either the smaller disc (one inside the other, or a fat lens) or the disc
+    on the common chord, whichever holds the whole lens."""
+    (ax, ay, ra), (bx, by, rb) = a, b
+    d = math.hypot(bx - ax, by - ay)
+    if d > ra + rb:
+        return None
+    small = a if ra <= rb else b
+    if d + min(ra, rb) <= max(ra, rb) or d == 0.0:
+        return small
+    x = (d * d + ra * ra - rb * rb) / (2 * d)  # chord position from a's centre along a -> b
+    h2 = ra * ra - x * x
+    if h2 <= 0.0:
+        return small
+    h = math.sqrt(h2)
+    ux, uy = (bx - ax) / d, (by - ay) / d
+    mx, my = ax + x * ux, ay + x * uy
+    tip_a, tip_b = ra - x, x - (d - rb)  # the lens' tips along the line, measured from the chord
+    if max(tip_a, tip_b) <= h:
+        return (mx, my, h)
+    return small
+
+
+def fuse(m: Spot, o: Spot) -> Spot:
+    """Memory and observation of the same point combined (fuzzy intersection, enclosed).
+
+    If the two supports do not meet the memory was wrong (an object moved, a wrong association):
+    the observation replaces it."""
+    sup = _enclose_intersection((m.x, m.y, m.r0), (o.x, o.y, o.r0))
+    if sup is None:
+        return Spot(o.x, o.y, o.r0, o.r1)
+    core = _enclose_intersection((m.x, m.y, m.r1), (o.x, o.y, o.r1)) or (o.x, o.y, o.r1)
+    cx, cy, r1 = core
+    r0 = math.hypot(cx - sup[0], cy - sup[1]) + sup[2]  # one centre: the support must hold the lens
+    return Spot(cx, cy, max(r0, r1), r1)
+
+
+@dataclass
+class VisualMemory:
+    """The remembered objects, moved by odometry, sharpened by sightings, pruned by imprecision.
+
+    ``u`` is the bound on the odometry's relative error that the memory allows for: its noise
+    (per-run and per-tick parts, each bounded) plus a floor for what the physics' integration
+    adds even without noise.
+    """
+
+    odometry_noise: float
+    params: VisionParams = VISION
+    items: dict[str, Memory] = field(default_factory=dict)
+    forgotten: list[str] = field(default_factory=list)
+    _n: int = 0
+
+    @property
+    def u(self) -> float:
+        return 2 * self.params.noise_bound * self.odometry_noise + self.params.odometry_floor
+
+    def add(self, key: str, kind: str, points: list[tuple[float, float]], radius: float, r0: float,
+            prior: bool = False) -> Memory:
+        """Put an object the robot was told of, or found, at egocentric ``points``."""
+        m = Memory(key, kind, [Spot(x, y, r0, 0.0) for x, y in points], radius, prior)
+        self.items[key] = m
+        return m
+
+    def move(self, ds: float, dtheta: float) -> None:
+        """The robot moved ``ds`` ahead along the mid-tick heading and turned ``dtheta`` (odometry)."""
+        if ds == 0.0 and dtheta == 0.0:
+            return
+        u = self.u
+        half = dtheta / 2
+        tx, ty = ds * math.cos(half), ds * math.sin(half)
+        c, s = math.cos(-dtheta), math.sin(-dtheta)
+        grow_t, grow_r = u * abs(ds), u * abs(dtheta)
+        for m in self.items.values():
+            for p in m.spots:
+                x, y = p.x - tx, p.y - ty
+                p.x, p.y = c * x - s * y, s * x + c * y
+                p.r0 += grow_t + (math.hypot(p.x, p.y) + p.r0) * grow_r
+
+    def shove(self) -> None:
+        """A collision may have pushed the robot sideways, unmeasured: widen everything."""
+        for m in self.items.values():
+            for p in m.spots:
+                p.r0 += self.params.bump_slip
+
+    def forget(self) -> list[str]:
+        """Drop what has become too imprecise (not what the robot was told); return the keys."""
+        lim = self.params.forget_above
+        gone = [k for k, m in self.items.items() if not m.prior and m.imprecision() > lim]
+        for k in gone:
+            del self.items[k]
+        self.forgotten += gone
+        return gone
+
+    def observe(self, detections: list[Detection], time: float) -> None:
+        """Fold one image's detections in: identified objects by id, plain obstacles by overlap."""
+        for det in detections:
+            spots = [_sighting_spot(s) for s in det.points]
+            if det.key:
+                m = self.items.get(det.key)
+                if m is None:
+                    self.items[det.key] = Memory(det.key, det.kind, spots, det.radius, det.kind == "target", time)
+                else:
+                    m.spots = [fuse(a, b) for a, b in zip(m.spots, spots)]
+                    m.seen = time
+                continue
+            self._observe_obstacle(spots, det.radius, time)
+
+    def _observe_obstacle(self, spots: list[Spot], radius: float, time: float) -> None:
+        """Associate a plain obstacle's sighting with what is remembered, or remember it.
+
+        A linear sighting joins the remembered linear obstacle it lies along (within the
+        supports), which then spans both; a point sighting is absorbed by a linear obstacle it
+        lies on, or fused with the remembered point whose support it meets (nearest first)."""
+        lines = [m for m in self.items.values() if m.kind == "obstacle" and len(m.spots) == 2]
+        for m in lines:
+            if all(_near_line(s, m.spots) for s in spots):
+                _extend(m, spots)
+                m.radius, m.seen = radius, time
+                return
+        if len(spots) == 1:
+            s = spots[0]
+            points = [m for m in self.items.values()
+                      if m.kind in ("obstacle", "bump") and len(m.spots) == 1 and _meets(m.spots[0], s)]
+            if points:
+                m = min(points, key=lambda m: math.hypot(m.spots[0].x - s.x, m.spots[0].y - s.y))
+                m.spots[0] = fuse(m.spots[0], s)
+                m.kind, m.radius, m.seen = "obstacle", radius, time
+                return
+        else:  # a new linear obstacle swallows the points and bumps that lie on it
+            for k in [k for k, m in self.items.items() if m.kind in ("obstacle", "bump") and len(m.spots) == 1
+                      and _near_line(m.spots[0], spots)]:
+                del self.items[k]
+        self._n += 1
+        key = f"obstacle-{self._n}"
+        self.items[key] = Memory(key, "obstacle", spots, radius, False, time)
+
+
+def _meets(a: Spot, b: Spot) -> bool:
+    return math.hypot(a.x - b.x, a.y - b.y) <= a.r0 + b.r0
+
+
+def _near_line(s: Spot, ends: list[Spot]) -> bool:
+    """Does spot ``s`` lie on the segment between ``ends``, within the supports?"""
+    a, b = ends
+    d = distance_to_segment((s.x, s.y), (a.x, a.y), (b.x, b.y))
+    return d <= s.r0 + max(a.r0, b.r0)
+
+
+def _extend(m: Memory, spots: list[Spot]) -> None:
+    """Grow the remembered linear obstacle ``m`` to span the sighted ``spots`` too.
+
+    Sighted ends that meet a remembered end are fused with it; the two spots farthest apart
+    along the obstacle become its ends."""
+    a, b = m.spots
+    ux, uy = b.x - a.x, b.y - a.y
+    L = math.hypot(ux, uy) or 1.0
+    ux, uy = ux / L, uy / L
+    cands = [a, b]
+    for s in spots:
+        for k, e in enumerate(cands[:2]):
+            if _meets(e, s):
+                cands[k] = fuse(e, s)
+                break
+        else:
+            cands.append(s)
+    cands.sort(key=lambda s: (s.x - a.x) * ux + (s.y - a.y) * uy)
+    m.spots = [cands[0], cands[-1]]
