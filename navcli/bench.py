@@ -17,14 +17,15 @@ from .scenario import Scenario
 
 
 def benchmark(sc: Scenario, *, repeat: int = 5, pilot: str | None = None, seed: int | None = None,
-              echo: Callable[[str], None] = print) -> dict[str, float]:
+              echo: Callable[[str], None] = print, perception: str | None = None) -> dict[str, float]:
     """Print and return the median real-time factor with logging ``on`` and ``off``."""
     results: dict[str, float] = {}
     with tempfile.TemporaryDirectory() as tmp:
         log = Path(tmp) / "bench.mcap"
-        run_mission(sc, seed=seed, pilot=pilot, out=log)  # warm-up: imports, caches
+        kw = dict(seed=seed, pilot=pilot, perception=perception)
+        run_mission(sc, out=log, **kw)  # warm-up: imports, caches
         for label, record in (("logging on", True), ("logging off", False)):
-            runs = [run_mission(sc, seed=seed, pilot=pilot, out=log, record=record) for _ in range(repeat)]
+            runs = [run_mission(sc, out=log, record=record, **kw) for _ in range(repeat)]
             rtf = statistics.median(r.realtime_factor for r in runs)
             us = statistics.median(r.wall_s / max(r.summary["ticks"], 1) * 1e6 for r in runs)
             s = runs[0].summary
@@ -53,3 +54,40 @@ def occlusion_benchmark(sizes=(12, 18, 32, 50, 100, 200), echo: Callable[[str], 
             obs.append(KnownObstacle(f"o{i}", (x, y), b, 0.02 if i % 4 == 3 else 0.15))
         t = [min(timeit.repeat(lambda f=f: f(obs), number=200, repeat=5)) / 200 * 1e6 for f in (facing_loop, facing_numpy)]
         echo(f"{n:>9} {t[0]:>9.0f} {t[1]:>9.0f}")
+
+
+def objects_benchmark(sc: Scenario, *, pilot: str | None = None, sizes=(12, 50, 200), ticks: int = 300,
+                      echo: Callable[[str], None] = print) -> None:
+    """Wall time per tick (logging on) with ``n`` objects: the scenario's, plus extra point
+    obstacles scattered at random (seeded) where they leave the start clear, for ``ticks`` ticks."""
+    import dataclasses
+    import math
+    import random
+    import time
+
+    from .mission import Mission
+    from .recorder import Recorder
+    from .scenario import Circle
+
+    rnd = random.Random(7)
+    base = list(sc.obstacles)
+    echo(f"{'objects':>8} {'us/tick':>9} {'x real time':>12}   ({pilot or sc.mission.pilot}, vision, logging on, {ticks} ticks)")
+    for n in sizes:
+        extra = []
+        while len(base) + len(sc.landmarks) + len(extra) < n:
+            c = (rnd.uniform(0.3, sc.arena.width - 0.3), rnd.uniform(0.3, sc.arena.height - 0.3))
+            if math.dist(c, sc.robot.start) > 1.0 and math.dist(c, sc.target.point) > 0.8:
+                extra.append(Circle(c, 0.1))
+        s = dataclasses.replace(sc, obstacles=tuple(base + extra))
+        with tempfile.TemporaryDirectory() as tmp:
+            m = Mission(s, pilot=pilot, time_limit=ticks * 0.1 + 1)
+            rec = Recorder(Path(tmp) / "b.mcap")
+            rec.start(m)
+            t0 = time.perf_counter()
+            k = 0
+            while m.outcome is None and k < ticks:
+                rec.tick(m.step())
+                k += 1
+            wall = time.perf_counter() - t0
+            rec.finish(m.summary(), m.world.time_ns)
+        echo(f"{len(base) + len(sc.landmarks) + len(extra):>8} {wall / k * 1e6:>9.0f} {m.time / wall:>11.0f}x")

@@ -16,7 +16,7 @@ from typing import Annotated, Optional
 
 import typer
 
-from .params import PILOT_NAMES
+from .params import PERCEPTIONS, PILOT_NAMES
 
 app = typer.Typer(
     help="Run, record and measure missions of the bidding Pilot/Vision/Navigation robot.",
@@ -26,6 +26,7 @@ app = typer.Typer(
 )
 
 PilotName = Enum("PilotName", {n.replace("-", "_"): n for n in PILOT_NAMES}, type=str)
+PerceptionName = Enum("PerceptionName", {n: n for n in PERCEPTIONS}, type=str)
 EXIT_BAD_INPUT, EXIT_FAILED_MISSION, EXIT_INTERRUPTED = 2, 3, 130
 
 
@@ -106,6 +107,9 @@ def run(
     live: Annotated[bool, typer.Option(help="Also serve the run to Foxglove (ws://localhost:PORT), paced to real time.")] = False,
     port: Annotated[int, typer.Option(min=0, max=65535, help="WebSocket port for --live (0: any free port).")] = 8765,
     param: ParamOption = [],
+    perception: Annotated[Optional[PerceptionName], typer.Option(
+        help="What the agents know: vision (camera and visual memory) or oracle (ground truth, to isolate the "
+             "pilot). Default: the scenario's mission.perception, else vision.")] = None,
 ) -> None:
     """Run one mission, record it to an MCAP log and print how it ended."""
     sc = _load(scenario, param)
@@ -123,7 +127,8 @@ def run(
         _err(f"serving the run live on ws://127.0.0.1:{port} (open it in Foxglove: Open connection)")
     try:
         res = run_mission(sc, seed=seed, pilot=pilot.value if pilot else None, time_limit=time_limit,
-                          out=out, live=live, port=port, on_tick=progress)
+                          out=out, live=live, port=port, on_tick=progress,
+                          perception=perception.value if perception else None)
     except KeyboardInterrupt:
         progress.close()
         _err("interrupted: the log is closed and marked 'interrupted'")
@@ -171,6 +176,8 @@ def bench(
     seed: Annotated[Optional[int], typer.Option(min=0)] = None,
     occlusion: Annotated[bool, typer.Option(help="Instead: time the pilot's occlusion test, loop vs numpy.")] = False,
     param: ParamOption = [],
+    perception: Annotated[Optional[PerceptionName], typer.Option(help="vision or oracle (default: the scenario's).")] = None,
+    objects: Annotated[bool, typer.Option(help="Instead: cost per tick with 12, 50 and 200 objects in the room.")] = False,
 ) -> None:
     """Real-time factor (simulated s per wall s) of a full mission, with logging on and off."""
     if occlusion:
@@ -179,9 +186,13 @@ def bench(
         occlusion_benchmark(echo=typer.echo)
         return
     sc = _load(scenario, param)
-    from .bench import benchmark
+    from .bench import benchmark, objects_benchmark
 
-    benchmark(sc, repeat=repeat, pilot=pilot.value if pilot else None, seed=seed, echo=typer.echo)
+    if objects:
+        objects_benchmark(sc, pilot=pilot.value if pilot else None, echo=typer.echo)
+        return
+    benchmark(sc, repeat=repeat, pilot=pilot.value if pilot else None, seed=seed, echo=typer.echo,
+              perception=perception.value if perception else None)
 
 
 plot_app = typer.Typer(help="Figures of the pilot paper for a scenario, as PNG files.", no_args_is_help=True)

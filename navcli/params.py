@@ -10,6 +10,10 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+NOISE_BOUND = 3.0
+"""Sensor errors (odometry, camera) are drawn from normals clipped at this many standard deviations:
+physical sensors have bounded errors, and the fuzzy supports of the visual memory rely on the bound."""
+
 PILOT_NAMES = ("potential-field", "geometric")
 """The pilots a scenario or ``--pilot`` may name; the first is the default."""
 
@@ -52,6 +56,7 @@ class PilotParams:
     reflex_look_pans_deg: tuple[float, ...] = (-60.0, 0.0, 60.0)  # looks around after a bump
     backup_distance: float = 0.30  # m backed up after a bump
     backup_speed: float = 0.15  # m/s
+    reflex_phase_limit_s: float = 4.0  # s: a reflex phase that cannot finish (backed into something) is given up
     # Section 2, eq. 1: the look-ahead camera bid (d_l / d_m) ** s
     look_d_max: float = 1.0  # m: d_m, the longest drive without looking ahead
     look_exponent: float = 2.0  # s
@@ -100,10 +105,11 @@ PERCEPTIONS = ("vision", "oracle")
 class VisionParams:
     """The camera's measurement model and the visual memory (notes, sections 1 and 3)."""
 
-    noise_bound: float = 3.0  # sensor errors are bounded at this many standard deviations
+    noise_bound: float = NOISE_BOUND  # sensor errors are bounded at this many standard deviations
     heading_floor: float = math.radians(0.5)  # rad: the fuzzy heading's least half-spread (a pixel or so)
     distance_floor: float = 0.02  # m: the fuzzy distance's least half-spread
-    odometry_floor: float = 0.01  # relative: odometry error the memory allows for even without noise
+    walk_bound: float = 4.0  # the per-tick odometry errors' random walk is bounded at this many deviations
+    odometry_floor: float = 0.005  # relative: odometry error the memory allows for even without noise
     bump_slip: float = 0.10  # m: how far a collision may shove the robot unmeasured
     bump_radius: float = 0.10  # m: support radius of an obstacle found by the bumpers
     forget_above: float = 0.35  # I(l) above which an object is forgotten

@@ -3,8 +3,9 @@
 The agents never see the world; they see :class:`Beliefs`, made each tick by a perception:
 
 - :class:`VisionPerception` (the default): the camera (:mod:`navcli.vision`) and the visual memory
-  (:mod:`navcli.visual_memory`). The robot knows what it has seen, where its memory and odometry
-  put it, and what it was told at the start: the target's position and the arena's walls.
+  (:mod:`navcli.visual_memory`). The robot knows what it has seen (the walls too, as linear
+  obstacles), where its memory and odometry put it, and what it was told at the start: where the
+  target is.
 - :class:`OraclePerception` (``--perception oracle``): ground truth of every obstacle, landmark,
   wall and the target; for experiments that isolate the pilot from vision. Never the default.
 
@@ -57,6 +58,9 @@ class Beliefs:
     target_line: tuple[Point, Point] | None  # egocentric diverting-target line, if any
     obstacles: tuple[KnownObstacle, ...]
     target_spread: float = 0.0
+
+
+FORGET_EVERY = 5  # ticks between two sweeps of the memory for what has become too imprecise
 
 
 def _walls(scenario: Scenario) -> list[tuple[str, Point, Point]]:
@@ -114,9 +118,8 @@ class VisionPerception:
             self.memory.add("target-b", "target", [start.to_local(t.line[1])], 0.0, told, prior=True)
         else:
             self.memory.add("target", "target", [start.to_local(t.point)], 0.0, told, prior=True)
-        for key, a, b in _walls(scenario):
-            self.memory.add(key, "wall", [start.to_local(a), start.to_local(b)], 0.0, told, prior=True)
         self._target_key = t.landmark if t.kind == "landmark" else "target"
+        self._ticks = 0
 
     def observe(self, time: float, truth: Pose, odometry: Pose) -> Beliefs:
         """Beliefs from the memory alone: crisp centres for the pilot (as the paper computes its
@@ -163,7 +166,9 @@ class VisionPerception:
                 mem._n += 1
                 mem.add(f"bump-{mem._n}", "bump", [(r * math.cos(b.bearing), r * math.sin(b.bearing))],
                         self.params.bump_radius / 2, self.params.bump_radius)
-        mem.forget()
+        self._ticks += 1
+        if self._ticks % FORGET_EVERY == 0:  # imprecision creeps: checking twice a second is enough
+            mem.forget()
 
 
 Perception = OraclePerception | VisionPerception

@@ -68,6 +68,7 @@ class Pilot:
         self.since_look = 0.0  # d_l of eq. 1, metres
         self._reflex: list[tuple[str, float]] = []  # pending reflex phases (name, amount)
         self._reflex_progress = 0.0
+        self._phase_ticks = 0  # ticks spent in the current reflex phase
         self._events: list[str] = []
         self._last_odom: Pose | None = None
 
@@ -135,14 +136,18 @@ class Pilot:
         self._reflex = [("stop", p.reflex_stop_s), ("look", float(len(p.reflex_look_pans_deg))),
                         ("backup", p.backup_distance)]
         self._reflex_progress = 0.0
+        self._phase_ticks = 0
         self._events.append(f"reflex: bumper hit at bearing {math.degrees(bumps[0].bearing):.0f} deg; "
                             "stopping, looking around, backing up")
 
     def _reflex_output(self, look: float, events: list[str], obstacles: list[KnownObstacle]) -> PilotOutput:
         p = self.params
-        while self._reflex and self._reflex_progress >= self._reflex[0][1] - 1e-9:
-            self._reflex.pop(0)
+        while self._reflex and (self._reflex_progress >= self._reflex[0][1] - 1e-9
+                                or self._phase_ticks * CONTROL_DT >= p.reflex_phase_limit_s):
+            self._reflex.pop(0)  # done, or given up (backing into something, the camera kept busy)
             self._reflex_progress = 0.0
+            self._phase_ticks = 0
+        self._phase_ticks += 1
         if not self._reflex:
             events.append("reflex done: recomputing with the obstacle that was hit")
             return PilotOutput([], {"mode": "reflex", "phase": "done", "bid": 0.0, "look_bid": look}, [], events,

@@ -38,7 +38,7 @@ class RunResult:
 def run_mission(scenario: Scenario, *, seed: int | None = None, pilot: str | None = None,
                 time_limit: float | None = None, out: Path | None = None, record: bool = True,
                 live: bool = False, port: int = 8765,
-                on_tick: Callable[[Mission, Tick], None] | None = None) -> RunResult:
+                on_tick: Callable[[Mission, Tick], None] | None = None, perception: str | None = None) -> RunResult:
     """Run ``scenario`` to its end and return its summary.
 
     ``record=False`` runs without a log (the benchmark's baseline). ``live`` serves the run to
@@ -49,7 +49,7 @@ def run_mission(scenario: Scenario, *, seed: int | None = None, pilot: str | Non
     """
     from .recorder import Recorder  # foxglove is imported only when a log is written
 
-    mission = Mission(scenario, seed=seed, pilot=pilot, time_limit=time_limit)
+    mission = Mission(scenario, seed=seed, pilot=pilot, time_limit=time_limit, perception=perception)
     path = None
     recorder = None
     if record or live:

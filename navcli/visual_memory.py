@@ -4,7 +4,7 @@ Notes, section 1 (thesis node 37): the memory keeps landmarks and obstacles rela
 odometry moves them, with an imprecision that grows with the distance travelled and more with
 turning; seeing an object again reduces its imprecision; an object whose imprecision passes a
 threshold is removed. The bumpers add obstacles, and the mission adds what the robot is told at
-the start (the target, the arena's walls), which are kept however imprecise they become.
+the start (the target), which is kept however imprecise it becomes.
 
 Representation (our choice; the thesis' operators are not available): each remembered point is
 a fuzzy *position*: a crisp egocentric centre (its core) and nested discs around it, radius
@@ -13,8 +13,9 @@ Discs make every update cheap and conservative:
 
 - **moving** by the odometry's ``(ds, dtheta)``: the centre moves exactly as measured; the
   support grows by the bound on the odometry's error, ``u |ds| + D u |dtheta|`` (``u`` the
-  relative error bound, ``D`` the point's farthest distance): the fuzzy sum of the position and a
-  triangular error, so the true position never leaves the support;
+  relative error bound, ``D`` the centre's distance: a turn error swings the disc about the
+  robot without resizing it): the fuzzy sum of the position and a triangular error, so the true
+  position never leaves the support;
 - **seeing** again: the fuzzy intersection (minimum) of memory and observation, enclosed in the
   smallest disc (the true point lies in both, so in their intersection): sharper, still honest;
 - **reading** it as the papers do: a fuzzy distance and a fuzzy heading whose 70 % cut widths
@@ -36,12 +37,30 @@ Disc = tuple[float, float, float]  # x, y, radius
 
 @dataclass
 class Spot:
-    """A remembered point: egocentric centre (m) and the support and core radii (m)."""
+    """A remembered point: egocentric centre (m), support and core radii (m).
+
+    The support is the radius ``base`` it had when last seen, plus the odometry drift since
+    (see :meth:`VisualMemory.move`), kept as sensitivities so that it is tight: ``J`` and ``K``
+    are how far the centre would shift per unit of the odometry's calibration error in turning
+    and in distance (vectors, m), ``vt`` and ``vs`` the summed squares of the per-tick moves
+    (rad*m, m) whose random errors add up like a random walk, ``run`` the distance driven.
+    """
 
     x: float
     y: float
-    r0: float
-    r1: float
+    base: float  # support radius when last seen
+    r1: float  # core radius
+    jx: float = 0.0
+    jy: float = 0.0
+    kx: float = 0.0
+    ky: float = 0.0
+    vt: float = 0.0
+    vs: float = 0.0
+    run: float = 0.0
+    r0: float = 0.0  # the support radius, kept up to date by VisualMemory
+
+    def __post_init__(self) -> None:
+        self.r0 = max(self.r0, self.base)
 
     def radius(self, alpha: float) -> float:
         return self.r0 + alpha * (self.r1 - self.r0)
@@ -132,17 +151,17 @@ def _enclose_intersection(a: Disc, b: Disc) -> Disc | None:
 
 
 def fuse(m: Spot, o: Spot) -> Spot:
-    """Memory and observation of the same point combined (fuzzy intersection, enclosed).
+    """Memory and observation of the same point combined: the fuzzy intersection (the true point
+    lies in both supports, so in their intersection), enclosed in a disc whose centre becomes
+    the crisp estimate; the drift starts again from there (set-membership filtering).
 
     If the two supports do not meet the memory was wrong (an object moved, a wrong association):
     the observation replaces it."""
     sup = _enclose_intersection((m.x, m.y, m.r0), (o.x, o.y, o.r0))
     if sup is None:
         return Spot(o.x, o.y, o.r0, o.r1)
-    core = _enclose_intersection((m.x, m.y, m.r1), (o.x, o.y, o.r1)) or (o.x, o.y, o.r1)
-    cx, cy, r1 = core
-    r0 = math.hypot(cx - sup[0], cy - sup[1]) + sup[2]  # one centre: the support must hold the lens
-    return Spot(cx, cy, max(r0, r1), r1)
+    x, y, r0 = sup
+    return Spot(x, y, r0, min(m.r1, o.r1, r0))
 
 
 @dataclass
@@ -160,10 +179,6 @@ class VisualMemory:
     forgotten: list[str] = field(default_factory=list)
     _n: int = 0
 
-    @property
-    def u(self) -> float:
-        return 2 * self.params.noise_bound * self.odometry_noise + self.params.odometry_floor
-
     def add(self, key: str, kind: str, points: list[tuple[float, float]], radius: float, r0: float,
             prior: bool = False) -> Memory:
         """Put an object the robot was told of, or found, at egocentric ``points``."""
@@ -172,24 +187,47 @@ class VisualMemory:
         return m
 
     def move(self, ds: float, dtheta: float) -> None:
-        """The robot moved ``ds`` ahead along the mid-tick heading and turned ``dtheta`` (odometry)."""
+        """The robot moved ``ds`` ahead along the mid-tick heading and turned ``dtheta`` (odometry).
+
+        Each centre moves as measured. The support then is ``base + drift``, the drift bounding
+        what the odometry's errors (scenario ``noise.odometry`` = sigma, each part bounded at
+        ``noise_bound`` sigma, as the world draws them) can have displaced the point since it
+        was seen: the per-run calibration errors of distance and turn act linearly, through the
+        sensitivities K and J; the per-tick errors add up as a random walk (bounded at
+        ``walk_bound`` of its standard deviations); plus a floor for the physics' own
+        integration error, ``odometry_floor`` per metre driven."""
         if ds == 0.0 and dtheta == 0.0:
             return
-        u = self.u
+        P = self.params
+        sig = self.odometry_noise
+        cal, walk = P.noise_bound * sig, P.walk_bound * sig
+        floor = P.odometry_floor
         half = dtheta / 2
-        tx, ty = ds * math.cos(half), ds * math.sin(half)
-        c, s = math.cos(-dtheta), math.sin(-dtheta)
-        grow_t, grow_r = u * abs(ds), u * abs(dtheta)
+        ux, uy = math.cos(half), math.sin(half)
+        c, s = math.cos(dtheta), -math.sin(dtheta)  # rotation by -dtheta
+        ads, adt = abs(ds), abs(dtheta)
         for m in self.items.values():
             for p in m.spots:
-                x, y = p.x - tx, p.y - ty
+                x, y = p.x, p.y
+                D = math.hypot(x, y)
+                # a turn error swings the point about the robot: d(position)/d(turn) = perp(p)
+                jx, jy = p.jx - dtheta * y, p.jy + dtheta * x
+                kx, ky = p.kx - ds * ux, p.ky - ds * uy  # a distance error shifts it along the motion
+                x, y = x - ds * ux, y - ds * uy
                 p.x, p.y = c * x - s * y, s * x + c * y
-                p.r0 += grow_t + (math.hypot(p.x, p.y) + p.r0) * grow_r
+                p.jx, p.jy = c * jx - s * jy, s * jx + c * jy
+                p.kx, p.ky = c * kx - s * ky, s * kx + c * ky
+                p.vt += (adt * D) ** 2
+                p.vs += ds * ds
+                p.run += ads
+                p.r0 = p.base + cal * (math.hypot(p.jx, p.jy) + math.hypot(p.kx, p.ky)) \
+                    + walk * (math.sqrt(p.vt) + math.sqrt(p.vs)) + floor * p.run
 
     def shove(self) -> None:
         """A collision may have pushed the robot sideways, unmeasured: widen everything."""
         for m in self.items.values():
             for p in m.spots:
+                p.base += self.params.bump_slip
                 p.r0 += self.params.bump_slip
 
     def forget(self) -> list[str]:
@@ -259,9 +297,23 @@ def _near_line(s: Spot, ends: list[Spot]) -> bool:
 def _extend(m: Memory, spots: list[Spot]) -> None:
     """Grow the remembered linear obstacle ``m`` to span the sighted ``spots`` too.
 
+    A linear sighting that is sharper than the memory re-anchors the line: the remembered ends
+    are moved onto the sighted line (their supports grown by the move, so they stay honest).
     Sighted ends that meet a remembered end are fused with it; the two spots farthest apart
     along the obstacle become its ends."""
     a, b = m.spots
+    if len(spots) == 2 and spots[0].r0 + spots[1].r0 < a.r0 + b.r0:
+        p, q = spots
+        ux, uy = q.x - p.x, q.y - p.y
+        L = math.hypot(ux, uy)
+        if L > 1e-9:
+            ux, uy = ux / L, uy / L
+            moved = []
+            for e in (a, b):
+                t = (e.x - p.x) * ux + (e.y - p.y) * uy
+                nx, ny = p.x + t * ux, p.y + t * uy
+                moved.append(Spot(nx, ny, e.r0 + math.hypot(e.x - nx, e.y - ny), e.r1))
+            a, b = moved
     ux, uy = b.x - a.x, b.y - a.y
     L = math.hypot(ux, uy) or 1.0
     ux, uy = ux / L, uy / L

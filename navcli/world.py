@@ -18,7 +18,7 @@ import numpy as np
 import pymunk
 
 from .geometry import Point, Pose, wrap_angle
-from .params import PHYSICS_DT, PHYSICS_DT_NS, PHYSICS_SUBSTEPS, ROBOT, RobotDefaults
+from .params import NOISE_BOUND, PHYSICS_DT, PHYSICS_DT_NS, PHYSICS_SUBSTEPS, ROBOT, RobotDefaults
 from .scenario import Circle, Scenario
 
 WALL_THICKNESS = 0.10  # m; walls sit outside the arena, their inner face on the border
@@ -45,7 +45,8 @@ class Odometry:
 
     Each tick the true forward distance and turned angle are measured with a relative error made
     of a per-run calibration error (drawn once: the systematic drift of real odometry) and a
-    per-tick random error, both with standard deviation ``noise`` (scenario ``noise.odometry``).
+    per-tick random error, both with standard deviation ``noise`` (scenario ``noise.odometry``),
+    clipped at ``NOISE_BOUND`` deviations.
     Zero noise gives exact dead reckoning.
     """
 
@@ -55,12 +56,16 @@ class Odometry:
         self.rng = rng
         self.scale_d, self.scale_a = (1.0, 1.0)
         if noise > 0:
-            self.scale_d, self.scale_a = (1.0 + noise * rng.standard_normal(2)).tolist()
+            self.scale_d, self.scale_a = (1.0 + noise * self._errors()).tolist()
+
+    def _errors(self) -> np.ndarray:
+        """Two standard errors, clipped at NOISE_BOUND deviations (a real sensor's errors are bounded)."""
+        return np.clip(self.rng.standard_normal(2), -NOISE_BOUND, NOISE_BOUND)
 
     def update(self, ds: float, dtheta: float) -> Pose:
         """Integrate one tick of true motion (ds along the heading, m; dtheta, rad)."""
         if self.noise > 0 and (ds != 0.0 or dtheta != 0.0):
-            ed, ea = (self.noise * self.rng.standard_normal(2)).tolist()
+            ed, ea = (self.noise * self._errors()).tolist()
             ds *= self.scale_d + ed
             dtheta *= self.scale_a + ea
         p = self.pose
