@@ -127,7 +127,8 @@ class Mission:
             self.pilot.on_look(self.perception.camera.pan)
         odom_before = world.odometry.pose
         bumps = world.step(v, omega)
-        self.perception.moved(odom_before, world.odometry.pose, bumps)
+        slip = abs(v) * CONTROL_DT if world.touching else 0.0  # sliding along a contact is unmeasured
+        self.perception.moved(odom_before, world.odometry.pose, bumps, slip)
         self.ticks += 1
         events = self.drain_events()
         events += [Event(world.time, "pilot", "info", m) for m in pilot_out.events]

@@ -110,7 +110,6 @@ class VisionParams:
     distance_floor: float = 0.02  # m: the fuzzy distance's least half-spread
     walk_bound: float = 4.0  # the per-tick odometry errors' random walk is bounded at this many deviations
     odometry_floor: float = 0.005  # relative: odometry error the memory allows for even without noise
-    bump_slip: float = 0.10  # m: how far a collision may shove the robot unmeasured
     bump_radius: float = 0.10  # m: support radius of an obstacle found by the bumpers
     forget_above: float = 0.35  # I(l) above which an object is forgotten
     draw_every: int = 5  # ticks between two /memory/scene updates

@@ -96,7 +96,7 @@ class OraclePerception:
     def look(self, time: float, truth: Pose, request: Look | None) -> list[Detection] | None:
         return self.camera.step(time, truth, request, CONTROL_DT)
 
-    def moved(self, before: Pose, after: Pose, bumps: list) -> None:
+    def moved(self, before: Pose, after: Pose, bumps: list, slip: float = 0.0) -> None:
         """The oracle needs no memory."""
 
 
@@ -151,16 +151,18 @@ class VisionPerception:
             self.memory.observe(dets, time)
         return dets
 
-    def moved(self, before: Pose, after: Pose, bumps: list) -> None:
-        """Odometry says the robot went from ``before`` to ``after``: move the memory; add what
-        the bumpers found (at the robot's rim, in the direction of the contact); forget."""
+    def moved(self, before: Pose, after: Pose, bumps: list, slip: float = 0.0) -> None:
+        """Odometry says the robot went from ``before`` to ``after``: move the memory; widen it
+        by ``slip`` (m), how far the robot may have slid unmeasured along something it touched;
+        add what the bumpers found (at the robot's rim, in the direction of the contact); forget."""
         dtheta = wrap_angle(after.theta - before.theta)
         mid = before.theta + dtheta / 2
         ds = (after.x - before.x) * math.cos(mid) + (after.y - before.y) * math.sin(mid)
         mem = self.memory
         mem.move(ds, dtheta)
+        if slip:
+            mem.shove(slip)
         if bumps:
-            mem.shove()
             r = self.scenario.robot.radius + self.params.bump_radius
             for b in bumps:
                 mem._n += 1

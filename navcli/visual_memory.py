@@ -223,12 +223,13 @@ class VisualMemory:
                 p.r0 = p.base + cal * (math.hypot(p.jx, p.jy) + math.hypot(p.kx, p.ky)) \
                     + walk * (math.sqrt(p.vt) + math.sqrt(p.vs)) + floor * p.run
 
-    def shove(self) -> None:
-        """A collision may have pushed the robot sideways, unmeasured: widen everything."""
+    def shove(self, slip: float) -> None:
+        """Sliding along something may have moved the robot ``slip`` metres sideways, which the
+        wheels do not measure: widen everything by that much."""
         for m in self.items.values():
             for p in m.spots:
-                p.base += self.params.bump_slip
-                p.r0 += self.params.bump_slip
+                p.base += slip
+                p.r0 += slip
 
     def forget(self) -> list[str]:
         """Drop what has become too imprecise (not what the robot was told); return the keys."""
@@ -299,8 +300,8 @@ def _extend(m: Memory, spots: list[Spot]) -> None:
 
     A linear sighting that is sharper than the memory re-anchors the line: the remembered ends
     are moved onto the sighted line (their supports grown by the move, so they stay honest).
-    Sighted ends that meet a remembered end are fused with it; the two spots farthest apart
-    along the obstacle become its ends."""
+    The two spots farthest apart along the obstacle become its ends (of nearly equal extent,
+    the sharper)."""
     a, b = m.spots
     if len(spots) == 2 and spots[0].r0 + spots[1].r0 < a.r0 + b.r0:
         p, q = spots
@@ -317,13 +318,13 @@ def _extend(m: Memory, spots: list[Spot]) -> None:
     ux, uy = b.x - a.x, b.y - a.y
     L = math.hypot(ux, uy) or 1.0
     ux, uy = ux / L, uy / L
-    cands = [a, b]
-    for s in spots:
-        for k, e in enumerate(cands[:2]):
-            if _meets(e, s):
-                cands[k] = fuse(e, s)
-                break
-        else:
-            cands.append(s)
-    cands.sort(key=lambda s: (s.x - a.x) * ux + (s.y - a.y) * uy)
-    m.spots = [cands[0], cands[-1]]
+    # The ends of a stretch are wherever it left the view, not fixed points of the obstacle, so
+    # they are never fused (that would mix two points); each kept end is one honest spot.
+    cands = sorted([a, b, *spots], key=lambda s: (s.x - a.x) * ux + (s.y - a.y) * uy)
+    proj = [(s.x - a.x) * ux + (s.y - a.y) * uy for s in cands]
+    first = min((s for s, t in zip(cands, proj) if t <= proj[0] + END_TIE), key=lambda s: s.r0)
+    last = min((s for s, t in zip(cands, proj) if t >= proj[-1] - END_TIE), key=lambda s: s.r0)
+    m.spots = [first, last] if first is not last else [first]  # all at one extent: a point now
+
+
+END_TIE = 0.10  # m: ends this close along a linear obstacle count as the same extent; the sharper is kept

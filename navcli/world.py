@@ -87,6 +87,7 @@ class World:
         self._v = 0.0  # the drive's current (commanded, rate-limited) speed, m/s
         self._w = 0.0  # and turn rate, rad/s
         self._last_touch: dict[pymunk.Shape, float] = {}
+        self.touching = False  # the bumper was pressed during the last tick
 
         space = pymunk.Space()
         space.collision_slop = 0.001  # m: pymunk's default (0.1) is in pixels
@@ -164,6 +165,7 @@ class World:
         dv, dw = lim.max_accel * dt, lim.max_turn_accel * dt
         start = self.pose
         bumps: list[Bump] = []
+        self.touching = False
         for _ in range(PHYSICS_SUBSTEPS):
             self._v += min(max(v - self._v, -dv), dv)
             self._w += min(max(omega - self._w, -dw), dw)
@@ -180,6 +182,7 @@ class World:
         return bumps
 
     def _touch(self, arbiter: pymunk.Arbiter, bumps: list[Bump]) -> None:
+        self.touching = True
         other = arbiter.shapes[1] if arbiter.shapes[0].body is self.body else arbiter.shapes[0]
         last = self._last_touch.get(other)
         self._last_touch[other] = self.time

@@ -14,7 +14,7 @@ from navcli.runner import run_mission
 from navcli.scenario import load_scenario
 
 TOPICS = {"/tf", "/robot/pose", "/robot/odometry", "/world/scene", "/robot/scene", "/pilot", "/bids",
-          "/events", "/mission/summary"}
+          "/events", "/mission/summary", "/vision", "/memory/scene"}
 
 
 @pytest.fixture(scope="module")
@@ -128,3 +128,33 @@ def test_analysis_does_not_import_the_simulator():
             "print(bad); sys.exit(1 if bad else 0)")
     r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
     assert r.returncode == 0, r.stdout + r.stderr
+
+
+def test_vision_topic_reports_images_with_fuzzy_detections(open_run):
+    _, res, log = open_run
+    v = log["/vision"]
+    assert len(v) == res.summary["ticks"]
+    images = v[v["image"]]
+    assert len(images) == res.summary["camera_looks"] > 0
+    seen = images["detections.target.points"].dropna()
+    assert len(seen) > 0, "the target marker is seen in the open room"
+    h = seen.iloc[0][0]["heading_deg"]
+    d = seen.iloc[0][0]["distance_m"]
+    for cut in (h, d):
+        assert cut["lo0"] <= cut["lo70"] <= cut["core"] <= cut["hi70"] <= cut["hi0"]
+    assert 0 < d["lo0"] < d["hi0"] < 6.0
+
+
+def test_no_numeric_field_of_the_pilot_log_is_missing(open_run):
+    _, _, log = open_run
+    nums = log["/pilot"].select_dtypes("number")
+    forces = [c for c in nums if c.startswith(("net.", "target.", "repulsive.", "turn_deg", "bid"))]
+    assert forces and not nums[forces].isna().any().any()  # NaN would have been written as null
+
+
+def test_oracle_perception_is_recorded_and_still_reaches(tmp_path):
+    sc = load_scenario(SCENARIOS / "paper-8x8.yaml")
+    res = run_mission(sc, out=tmp_path / "o.mcap", perception="oracle")
+    log = read_log(tmp_path / "o.mcap")
+    assert log.metadata["run"]["perception"] == "oracle" and res.summary["outcome"] == "reached"
+    assert "/memory/scene" not in log.topics  # no visual memory to draw

@@ -1,0 +1,196 @@
+"""The camera and the visual memory: what can be seen, how it is measured, how belief drifts,
+sharpens and is forgotten, and that it stays honest over a whole mission."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from conftest import SCENARIOS
+from navcli.bidding import Look
+from navcli.geometry import Pose, distance_to_segment
+from navcli.mission import Mission
+from navcli.params import CONTROL_DT, VISION
+from navcli.scenario import Circle, load_scenario
+from navcli.vision import Camera
+from navcli.visual_memory import Spot, VisualMemory
+
+
+def camera(make_scenario, noise=0.0, **over):
+    sc = make_scenario(noise={"odometry": 0.0, "vision_heading_deg": noise, "vision_distance": noise / 20}, **over)
+    return Camera(sc, np.random.default_rng(0))
+
+
+ROBOT = Pose(1.0, 2.0, 0.0)
+
+
+def seen(cam, pose=ROBOT):
+    """The landmarks in an image taken from ``pose``."""
+    return {d.key for d in cam.capture(pose) if d.kind == "landmark"}
+
+
+def test_a_landmark_behind_an_obstacle_is_not_seen(make_scenario):
+    hidden = camera(make_scenario, landmarks=[{"id": "A", "at": [4.0, 2.0]}],
+                    obstacles=[{"circle": {"center": [2.5, 2.05], "radius": 0.2}}])
+    assert "A" not in seen(hidden)
+    clear = camera(make_scenario, landmarks=[{"id": "A", "at": [4.0, 2.0]}],
+                   obstacles=[{"circle": {"center": [2.5, 2.6], "radius": 0.2}}])
+    assert "A" in seen(clear)
+    wall = camera(make_scenario, landmarks=[{"id": "A", "at": [4.0, 2.0]}],
+                  obstacles=[{"segment": {"from": [2.5, 1.0], "to": [2.5, 3.0]}}])
+    assert "A" not in seen(wall)
+
+
+def test_field_of_view_and_range_edges(make_scenario):
+    # 60 degree field of view: 29 degrees off the axis is in, 31 is out; range 6 m
+    at = lambda deg, d: [1.0 + d * math.cos(math.radians(deg)), 2.0 + d * math.sin(math.radians(deg))]  # noqa: E731
+    sc = dict(arena={"width": 9.0, "height": 6.0},
+              landmarks=[{"id": "in", "at": at(29, 2.0)}, {"id": "out", "at": at(-31, 2.0)},
+                         {"id": "near", "at": at(0, 5.9)}, {"id": "far", "at": at(5, 6.1)}])
+    assert seen(camera(make_scenario, **sc)) == {"in", "near"}
+
+
+def test_the_pan_takes_time_and_stops_at_its_limit(make_scenario):
+    cam = camera(make_scenario, landmarks=[{"id": "A", "at": [1.0, 3.5]}])  # straight to the left
+    spec = cam.spec
+    t, images = 0.0, []
+    for k in range(40):
+        out = cam.step(t, ROBOT, Look(math.radians(90)) if k == 0 else None, CONTROL_DT)
+        if out is not None:
+            images.append((t, out))
+        t += CONTROL_DT
+    (t_img, dets), = images
+    assert t_img == pytest.approx(math.radians(90) / spec.pan_speed, abs=CONTROL_DT)  # 1 s at 90 deg/s
+    assert [d.key for d in dets if d.kind == "landmark"] == ["A"]
+    cam.step(t, ROBOT, Look(math.radians(170)), CONTROL_DT)
+    while cam.state == "panning":
+        t += CONTROL_DT
+        cam.step(t, ROBOT, None, CONTROL_DT)
+    assert cam.pan == pytest.approx(spec.pan_limit)  # 100 degrees, not 170
+
+
+def test_the_camera_is_busy_while_it_processes_an_image(make_scenario):
+    cam = camera(make_scenario)
+    images = [k for k in range(12) if cam.step(k * CONTROL_DT, ROBOT, Look(0.0), CONTROL_DT) is not None]
+    period = round(cam.spec.look_time / CONTROL_DT)  # already panned: one image per processing time
+    assert images == list(range(0, 12, period))
+
+
+def test_measurements_hold_the_truth_in_their_support(make_scenario):
+    cam = camera(make_scenario, noise=2.0, landmarks=[{"id": "A", "at": [4.0, 2.6]}])
+    true_h, true_d = math.atan2(0.6, 3.0), math.hypot(3.0, 0.6)
+    cores = []
+    for _ in range(300):
+        s = cam.measure(ROBOT, (4.0, 2.6))
+        assert s.heading.contains(true_h) and s.distance.contains(true_d)
+        cores.append(s.heading.centre)
+    assert np.std(cores) == pytest.approx(math.radians(2.0), rel=0.2)  # the scenario's deviation
+    far = cam.measure(ROBOT, (6.5, 2.0)).distance.width(0.0)
+    near = cam.measure(ROBOT, (2.0, 2.0)).distance.width(0.0)
+    assert far > 3 * near  # the spread grows with the distance
+
+
+def test_a_linear_obstacle_is_seen_by_the_ends_of_its_visible_stretch(make_scenario):
+    cam = camera(make_scenario, obstacles=[{"segment": {"from": [3.0, 1.5], "to": [3.0, 2.5]}},
+                                           {"segment": {"from": [4.0, -0.0], "to": [4.0, 4.0]}}])
+    dets = cam.capture(ROBOT)
+    ends = sorted(tuple(round(ROBOT.to_world((p.distance.centre * math.cos(p.heading.centre),
+                                               p.distance.centre * math.sin(p.heading.centre)))[1], 1)
+                        for p in d.points) for d in dets)
+    # the short one whole; of the long one, what shows past the short one's ends, inside the view
+    assert (1.5, 2.5) in ends
+    assert all(len(e) == 2 for e in ends) and len(ends) == 3
+    for lo, hi in ends:
+        if lo != 1.5:
+            assert (hi <= 1.5 or lo >= 2.5)
+
+
+# -- the memory ------------------------------------------------------------------------------------
+def test_drift_grows_without_looks_and_shrinks_after_a_look(make_scenario):
+    sc = make_scenario(landmarks=[{"id": "A", "at": [4.0, 3.0]}], noise={"odometry": 0.02})
+    cam = Camera(sc, np.random.default_rng(1))
+    mem = VisualMemory(0.02)
+    mem.observe(cam.capture(ROBOT), 0.0)
+    r = [mem.items["A"].spots[0].r0]
+    for _ in range(30):
+        mem.move(0.03, 0.02)
+        r.append(mem.items["A"].spots[0].r0)
+    assert all(b > a for a, b in zip(r, r[1:]))  # grows with every move...
+    straight = VisualMemory(0.02)
+    straight.observe(cam.capture(ROBOT), 0.0)
+    for _ in range(30):
+        straight.move(0.03, 0.0)
+    assert straight.items["A"].spots[0].r0 < r[-1]  # ...and more when turning
+    # the robot has moved 0.9 m and turned 0.6 rad: look again from where it truly is
+    pose = ROBOT
+    for _ in range(30):
+        pose = Pose(pose.x + 0.03 * math.cos(pose.theta + 0.01), pose.y + 0.03 * math.sin(pose.theta + 0.01), pose.theta + 0.02)
+    cam.pan = 0.0
+    mem.observe(cam.capture(pose), 3.0)
+    assert mem.items["A"].spots[0].r0 < r[-1]
+
+
+def test_objects_too_imprecise_are_forgotten_but_not_the_target():
+    mem = VisualMemory(0.05)
+    mem.add("A", "landmark", [(2.0, 0.5)], 0.15, 0.05)
+    mem.add("target", "target", [(3.0, 0.0)], 0.0, 0.05, prior=True)
+    turns = 0
+    while "A" in mem.items:
+        mem.move(0.0, 0.2)
+        mem.move(0.05, -0.2)
+        mem.forget()
+        turns += 1
+        assert turns < 2000
+    assert mem.forgotten == ["A"] and "target" in mem.items
+    while mem.items["target"].imprecision() <= VISION.forget_above:
+        mem.move(0.05, 0.2)
+    mem.forget()
+    assert "target" in mem.items  # what the robot was told is kept, however blurred
+
+
+def test_fusing_keeps_the_truth_and_sharpens():
+    from navcli.visual_memory import fuse
+
+    truth = (2.0, 1.0)
+    a, b = Spot(2.3, 1.1, 0.5, 0.0), Spot(1.8, 0.8, 0.4, 0.0)
+    f = fuse(a, b)
+    assert f.contains(truth) and f.r0 < min(a.r0, b.r0)
+    assert fuse(Spot(0, 0, 0.1, 0), Spot(5, 5, 0.1, 0)).x == 5  # inconsistent: the observation wins
+
+
+def true_clearance(sc, x, y):
+    """Distance from a world point to the nearest physical thing (surface), or to the walls."""
+    d = [math.dist((x, y), o.center) - o.radius if isinstance(o, Circle)
+         else distance_to_segment((x, y), o.start, o.end) - o.thickness / 2 for o in sc.obstacles]
+    d += [math.dist((x, y), lm.at) - lm.radius for lm in sc.landmarks]
+    W, H = sc.arena.width, sc.arena.height
+    d += [abs(x), abs(y), abs(W - x), abs(H - y)]
+    return min(d)
+
+
+@pytest.mark.parametrize("pilot", ["potential-field", "geometric"])
+def test_memory_stays_honest_over_a_whole_mission_and_the_target_is_reached(pilot):
+    """With the default noise the true position stays inside every estimate's support."""
+    sc = load_scenario(SCENARIOS / "paper-8x8.yaml")
+    m = Mission(sc, pilot=pilot)
+    checked = 0
+    while m.outcome is None:
+        m.step()
+        if m.ticks % 5:
+            continue
+        pose = m.world.pose
+        for item in m.perception.memory.items.values():
+            for s in item.spots:
+                wx, wy = pose.to_world((s.x, s.y))
+                if item.kind == "landmark":
+                    lm = next(lm for lm in sc.landmarks if lm.id == item.key)
+                    assert math.dist((wx, wy), lm.at) <= s.r0 + 1e-6, (m.time, item.key)
+                elif item.kind == "target":
+                    assert math.dist((wx, wy), sc.target.point) <= s.r0 + 1e-6, (m.time, item.key)
+                else:
+                    assert true_clearance(sc, wx, wy) <= s.r0 + 1e-6, (m.time, item.key)
+                checked += 1
+    assert m.outcome == "reached"
+    assert checked > 500 and m.camera_looks > 20
