@@ -52,7 +52,8 @@ class Fuzzy:
         """Support [a, d], core [b, c]; linear in between."""
         if not (a <= b <= c <= d):
             raise ValueError(f"a trapezoid needs a <= b <= c <= d, got {a}, {b}, {c}, {d}")
-        return cls(tuple((a + al * (b - a), d - al * (d - c)) for al in ALPHAS))
+        # clamped to the core so that rounding can never un-nest the cuts
+        return cls(tuple((min(a + al * (b - a), b), max(d - al * (d - c), c)) for al in ALPHAS))
 
     @classmethod
     def triangle(cls, a: float, m: float, b: float) -> Fuzzy:
