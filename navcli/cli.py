@@ -235,5 +235,94 @@ def plot_bids(
     _plot("bids", scenario, out, step, param)
 
 
+compare_app = typer.Typer(help="Rerun missions with many seeds and compare, from the logs.", no_args_is_help=True)
+app.add_typer(compare_app, name="compare")
+
+
+@compare_app.command("pilots")
+def compare_pilots(
+    scenarios: Annotated[list[Path], typer.Argument(help="Scenario YAML files.")],
+    reruns: Annotated[int, typer.Option(min=1, help="Reruns per scenario and pilot (the paper: 45).")] = 45,
+    pilots: Annotated[str, typer.Option(help="Comma-separated pilots; the last is the baseline.")] =
+        "potential-field,geometric",
+    jobs: Annotated[Optional[int], typer.Option(min=1, help="Worker processes (default: the machine's cores).")] = None,
+    out: Annotated[Path, typer.Option(help="Folder for the logs, the table and the plots.")] = Path("logs/compare"),
+    time_limit: Annotated[Optional[float], typer.Option(min=0.1, help="Override the scenarios' time limit (s).")] = None,
+) -> None:
+    """The pilot paper's Table 1: every pilot on every scenario with the same seeds, in parallel;
+    logs that are already complete are kept (an interrupted comparison resumes)."""
+    import os
+    import time
+
+    names = [p.strip() for p in pilots.split(",") if p.strip()]
+    bad = [p for p in names if p not in PILOT_NAMES]
+    if bad or not names:
+        _err(f"error: --pilots: unknown pilot(s) {', '.join(bad) or '(none given)'} "
+             f"(expected some of: {', '.join(PILOT_NAMES)})")
+        raise typer.Exit(EXIT_BAD_INPUT)
+    scs = [_load(p) for p in scenarios]
+    from .compare import plan, run_all
+
+    work = plan(scs, names, reruns, out, time_limit)
+    workers = jobs or os.cpu_count() or 1
+    t0 = time.perf_counter()
+    failed: list = []
+    ran = 0
+    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
+
+    with Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(),
+                  transient=True, disable=not sys.stderr.isatty()) as bar:
+        task = bar.add_task(f"{len(work)} runs on {workers} workers", total=len(work))
+
+        def done(r) -> None:
+            nonlocal ran
+            ran += r.ran
+            if r.outcome != "reached":
+                failed.append(r)
+            bar.advance(task)
+
+        try:
+            run_all(work, workers, done)
+        except KeyboardInterrupt:
+            _err("interrupted: completed logs are kept; run the same command again to resume")
+            raise typer.Exit(EXIT_INTERRUPTED) from None
+    wall = time.perf_counter() - t0
+    typer.echo(f"{len(work)} runs ({ran} run now, {len(work) - ran} already complete) in {wall:.1f} s "
+               f"on {workers} workers")
+    for r in failed:
+        typer.echo(f"  failed: {r.job.name} {r.job.pilot} seed {r.job.seed}: {r.outcome} {r.message} ({r.job.log})")
+    _report(out, names[-1], out)
+
+
+@app.command()
+def report(
+    logdir: Annotated[Path, typer.Argument(help="A folder of logs (searched recursively).")],
+    out: Annotated[Optional[Path], typer.Option(help="Where to write the table and plots (default: LOGDIR).")] = None,
+    baseline: Annotated[str, typer.Option(help="The pilot the others are compared with.")] = "geometric",
+) -> None:
+    """Rebuild the comparison table and plots from existing logs, running nothing."""
+    if not logdir.is_dir():
+        _err(f"error: {logdir}: no such folder")
+        raise typer.Exit(EXIT_BAD_INPUT)
+    _report(logdir, baseline, out or logdir)
+
+
+def _report(logdir: Path, baseline: str, out: Path) -> None:
+    from analysis import LogError
+    from analysis.compare import improvements, load_runs, markdown, pilot_table, write_report
+
+    try:
+        runs = load_runs(logdir)
+    except LogError as e:
+        _err(f"error: {e}")
+        raise typer.Exit(EXIT_BAD_INPUT) from None
+    files = write_report(runs, out, baseline)
+    imps = improvements(runs, baseline) if baseline in set(runs["pilot"]) else None
+    typer.echo("")
+    typer.echo(markdown(pilot_table(runs), imps if imps is not None else __import__("pandas").DataFrame(
+        columns=["scenario"])))
+    typer.echo(f"wrote {', '.join(str(p) for p in files.values())}")
+
+
 def main() -> None:
     app()
