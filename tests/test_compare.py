@@ -1,0 +1,146 @@
+"""navcli compare pilots / navcli report on a small comparison, checked against the logs themselves."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+from typer.testing import CliRunner
+
+from analysis import LogError, path_length, read_log
+from analysis.compare import improvements, load_runs, paired_improvement, pilot_table
+from conftest import SCENARIOS
+from navcli import compare
+from navcli.cli import app
+from navcli.mission import Mission
+from navcli.recorder import Recorder
+from navcli.scenario import load_scenario
+
+PILOTS = ["potential-field", "geometric"]
+
+
+@pytest.fixture(scope="module")
+def small(tmp_path_factory):
+    """Two reruns of the Figure 9 room with both pilots, run in this process."""
+    out = tmp_path_factory.mktemp("cmp")
+    sc = load_scenario(SCENARIOS / "paper-fig9.yaml")
+    jobs = compare.plan([sc], PILOTS, 2, out)
+    results = compare.run_all(jobs, 1)
+    return out, jobs, results
+
+
+def test_the_same_seeds_serve_every_pilot(small):
+    _, jobs, _ = small
+    seeds = {p: [j.seed for j in jobs if j.pilot == p] for p in PILOTS}
+    assert seeds["potential-field"] == seeds["geometric"] and len(set(seeds["geometric"])) == 2
+    assert seeds["geometric"] == [compare.rerun_seed(1, 0), compare.rerun_seed(1, 1)]
+
+
+def test_table_agrees_with_the_poses_of_the_logs(small):
+    out, jobs, results = small
+    runs = load_runs(out)
+    assert len(runs) == len(jobs) and all(r.ran for r in results)
+    table = pilot_table(runs).set_index("pilot")
+    for pilot in PILOTS:
+        times, paths = [], []
+        for j in (j for j in jobs if j.pilot == pilot):
+            log = read_log(j.log)
+            if log.summary["outcome"] != "reached":
+                continue
+            poses = log["/robot/pose"]
+            times.append(poses["time_s"].iloc[-1])
+            paths.append(100 * path_length(poses))
+        assert table.loc[pilot, "reached"] == len(times)
+        assert table.loc[pilot, "time_s_mean"] == pytest.approx(np.mean(times), abs=1e-9)
+        assert table.loc[pilot, "path_cm_mean"] == pytest.approx(np.mean(paths), rel=0.01)
+        assert table.loc[pilot, "path_cm_std"] == pytest.approx(np.std(paths, ddof=1), rel=0.05, abs=1.0)
+
+
+def test_resume_runs_only_what_is_missing(small):
+    out, jobs, _ = small
+    gone = jobs[1]
+    Path(gone.log).unlink()
+    again = compare.run_all(jobs, 1)
+    assert [r.job for r in again if r.ran] == [gone]
+    assert all(r.outcome == compare.complete(r.job.log) for r in again)
+
+
+def test_parallel_and_serial_give_the_same_table(tmp_path):
+    sc = load_scenario(SCENARIOS / "paper-fig9.yaml")
+    tables = []
+    for workers in (1, 2):
+        out = tmp_path / f"w{workers}"
+        compare.run_all(compare.plan([sc], PILOTS, 2, out), workers)
+        tables.append(pilot_table(load_runs(out)))
+    assert tables[0].equals(tables[1])
+
+
+def test_failed_runs_stay_in_the_table_as_failures(tmp_path, monkeypatch):
+    import navcli.runner
+
+    sc = load_scenario(SCENARIOS / "paper-fig9.yaml")
+    jobs = compare.plan([sc], PILOTS, 2, tmp_path, time_limit=3.0)  # too short to arrive: timeouts
+    real = navcli.runner.run_mission
+
+    def boom(mission, tick):
+        if tick.index == 3:
+            raise RuntimeError("wheel fell off")
+
+    def one_breaks(sc, **kw):  # one run raises: an error, its log closed and marked
+        if kw["pilot"] == "geometric" and kw["seed"] == jobs[0].seed:
+            kw["on_tick"] = boom
+        return real(sc, **kw)
+
+    monkeypatch.setattr(navcli.runner, "run_mission", one_breaks)
+    results = compare.run_all(jobs, 1)
+    assert sorted(r.outcome for r in results) == ["error", "timeout", "timeout", "timeout"]
+    broken = next(r for r in results if r.outcome == "error")
+    assert "wheel fell off" in broken.message
+    table = pilot_table(load_runs(tmp_path)).set_index("pilot")
+    assert table["runs"].to_dict() == {"geometric": 2, "potential-field": 2}
+    assert table["reached"].sum() == 0 and table["failed"].sum() == 4
+    assert compare.complete(broken.job.log) is None  # a resumed comparison runs it again
+
+
+def test_a_log_whose_summary_disagrees_with_its_poses_is_refused_by_name(tmp_path):
+    sc = load_scenario(SCENARIOS / "open-arena.yaml")
+    m = Mission(sc)
+    path = tmp_path / "liar.mcap"
+    rec = Recorder(path)
+    rec.start(m)
+    for _ in range(30):
+        rec.tick(m.step())
+    rec.finish(m.summary() | {"path_length_m": 42.0}, m.world.time_ns)
+    with pytest.raises(LogError, match="liar.mcap.*disagrees"):
+        load_runs(tmp_path)
+
+
+def test_paired_statistics_on_a_known_case():
+    base = np.array([10.0, 12.0, 11.0, 13.0, 9.0, 10.0, 12.0, 11.0])
+    better = base * 0.8  # 20 % less, every pair
+    imp, lo, hi, p = paired_improvement(base, better)
+    assert imp == pytest.approx(20.0) and lo == pytest.approx(20.0) and hi == pytest.approx(20.0)
+    assert p < 0.01  # all eight differences the same sign: 2 / 2**8 exactly, estimated
+    imp, lo, hi, p = paired_improvement(base, base[::-1].copy())  # the same values shuffled: no effect
+    assert lo < 0 < hi and p > 0.2
+
+
+def test_cli_compare_and_report(tmp_path):
+    runner = CliRunner()
+    out = tmp_path / "cli"
+    r = runner.invoke(app, ["compare", "pilots", str(SCENARIOS / "paper-fig9.yaml"), "--reruns", "1", "--jobs", "1",
+                            "--out", str(out)])
+    assert r.exit_code == 0, r.output
+    assert "2 runs (2 run now, 0 already complete)" in r.output and "| potential-field |" in r.output
+    for f in ("table.csv", "table.md", "improvements.csv", "runs.csv", "boxplots-paper-fig9.png",
+              "trajectories-paper-fig9-geometric.png", "trajectories-paper-fig9-potential-field.png"):
+        assert (out / f).exists(), f
+    r = runner.invoke(app, ["compare", "pilots", str(SCENARIOS / "paper-fig9.yaml"), "--reruns", "1", "--jobs", "1",
+                            "--out", str(out)])
+    assert "0 run now, 2 already complete" in r.output
+    r = runner.invoke(app, ["report", str(out / "paper-fig9"), "--out", str(tmp_path / "rep")])
+    assert r.exit_code == 0 and (tmp_path / "rep" / "table.md").read_text() == (out / "table.md").read_text()
+    assert runner.invoke(app, ["report", str(tmp_path / "nope")]).exit_code == 2
+    r = runner.invoke(app, ["compare", "pilots", str(SCENARIOS / "paper-fig9.yaml"), "--pilots", "autopilot"])
+    assert r.exit_code == 2 and "unknown pilot" in r.output
