@@ -98,3 +98,29 @@ def corridor_aim(a: Point, b: Point, margin: float, p: Point = (0.0, 0.0)) -> tu
     if margin / L <= t <= 1.0 - margin / L:
         return (a[0] + t * dx, a[1] + t * dy), True
     return ((a[0] + b[0]) / 2, (a[1] + b[1]) / 2), False
+
+
+def blocks_sight(eye: Point, p: Point, c: Point, r: float) -> bool:
+    """Does a disc (c, r) cut the line of sight ``eye -> p``? Only strictly between the two: a
+    disc beside either end is the looker's own neighbourhood or the looked-at thing's."""
+    vx, vy = p[0] - eye[0], p[1] - eye[1]
+    L2 = vx * vx + vy * vy
+    if L2 == 0.0:
+        return False
+    t = ((c[0] - eye[0]) * vx + (c[1] - eye[1]) * vy) / L2
+    if t <= 0.0 or t >= 1.0:
+        return False
+    qx, qy = eye[0] + t * vx - c[0], eye[1] + t * vy - c[1]
+    return qx * qx + qy * qy < r * r
+
+
+def crosses_sight(eye: Point, p: Point, a: Point, b: Point) -> bool:
+    """Does segment ``ab`` properly cross the line of sight ``eye -> p`` (touching does not count)?"""
+    d1 = (b[0] - a[0]) * (eye[1] - a[1]) - (b[1] - a[1]) * (eye[0] - a[0])
+    d2 = (b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0])
+    if (d1 > 0) == (d2 > 0) or d1 == 0 or d2 == 0:
+        return False
+    vx, vy = p[0] - eye[0], p[1] - eye[1]
+    d3 = vx * (a[1] - eye[1]) - vy * (a[0] - eye[0])
+    d4 = vx * (b[1] - eye[1]) - vy * (b[0] - eye[0])
+    return (d3 > 0) != (d4 > 0) and d3 != 0 and d4 != 0

@@ -112,6 +112,7 @@ class VisionParams:
     odometry_floor: float = 0.005  # relative: odometry error the memory allows for even without noise
     bump_radius: float = 0.10  # m: support radius of an obstacle found by the bumpers
     forget_above: float = 0.35  # I(l) above which an object is forgotten
+    forget_every: int = 5  # ticks between two sweeps of the memory for what has become too imprecise
     draw_every: int = 5  # ticks between two /memory/scene updates
 
 

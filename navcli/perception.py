@@ -60,15 +60,6 @@ class Beliefs:
     target_spread: float = 0.0
 
 
-FORGET_EVERY = 5  # ticks between two sweeps of the memory for what has become too imprecise
-
-
-def _walls(scenario: Scenario) -> list[tuple[str, Point, Point]]:
-    W, H = scenario.arena.width, scenario.arena.height
-    return [("wall-s", (0.0, 0.0), (W, 0.0)), ("wall-e", (W, 0.0), (W, H)),
-            ("wall-n", (W, H), (0.0, H)), ("wall-w", (0.0, H), (0.0, 0.0))]
-
-
 class OraclePerception:
     """Ground truth for the agents (see the module docstring)."""
 
@@ -85,7 +76,7 @@ class OraclePerception:
                 self._objects.append((f"o{i}", o.start, o.end, o.thickness / 2))
         for lm in scenario.landmarks:
             self._objects.append((f"L{lm.id}", lm.at, lm.at, lm.radius))
-        self._objects += [(k, a, b, 0.0) for k, a, b in _walls(scenario)]
+        self._objects += [(k, a, b, 0.0) for k, a, b in scenario.walls]
 
     def observe(self, time: float, truth: Pose, odometry: Pose) -> Beliefs:
         seen = tuple(KnownObstacle(k, truth.to_local(a), truth.to_local(b), r) for k, a, b, r in self._objects)
@@ -169,7 +160,7 @@ class VisionPerception:
                 mem.add(f"bump-{mem._n}", "bump", [(r * math.cos(b.bearing), r * math.sin(b.bearing))],
                         self.params.bump_radius / 2, self.params.bump_radius)
         self._ticks += 1
-        if self._ticks % FORGET_EVERY == 0:  # imprecision creeps: checking twice a second is enough
+        if self._ticks % self.params.forget_every == 0:  # imprecision creeps: twice a second is enough
             mem.forget()
 
 

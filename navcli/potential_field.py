@@ -150,9 +150,9 @@ def facing_loop(obstacles: tuple[KnownObstacle, ...] | list[KnownObstacle]) -> l
     if the line from its centre to the robot crosses no other obstacle (a point obstacle by its
     body, a linear one by its segment).
 
-    The hot spot of a tick (n x n tests), so the geometry is inlined: a point ``p`` of radius
-    ``r`` blocks the sight line ``0 -> c`` when its distance to that segment is under ``r``; a
-    segment ``ab`` blocks it when the two segments cross properly (touching does not count).
+    The hot spot of a tick (n x n tests), so :func:`navcli.geometry.blocks_sight` (a point
+    obstacle's body cuts the sight line ``0 -> c``) and :func:`navcli.geometry.crosses_sight`
+    (a linear one crosses it properly) are inlined here, with the robot at the origin.
     """
     points = [(j, o.a[0], o.a[1], o.radius * o.radius) for j, o in enumerate(obstacles) if o.a == o.b]
     lines = [(j, o.a[0], o.a[1], o.b[0], o.b[1]) for j, o in enumerate(obstacles) if o.a != o.b]

@@ -123,6 +123,13 @@ class Scenario:
     text: str = field(default="", repr=False)  # the YAML itself, attached to every log
 
     @property
+    def walls(self) -> tuple[tuple[str, Point, Point], ...]:
+        """The arena's four walls as (name, from, to), counter-clockwise from the south wall."""
+        W, H = self.arena.width, self.arena.height
+        return (("wall-s", (0.0, 0.0), (W, 0.0)), ("wall-e", (W, 0.0), (W, H)),
+                ("wall-n", (W, H), (0.0, H)), ("wall-w", (0.0, H), (0.0, 0.0)))
+
+    @property
     def sha256(self) -> str:
         return hashlib.sha256(self.text.encode("utf-8")).hexdigest()
 

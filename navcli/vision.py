@@ -23,7 +23,7 @@ import numpy as np
 
 from .bidding import Look
 from .fuzzy import Fuzzy, FuzzyAngle
-from .geometry import Point, Pose, distance_to_segment, wrap_angle
+from .geometry import Point, Pose, blocks_sight, crosses_sight, distance_to_segment, wrap_angle
 from .params import VISION, VisionParams
 from .scenario import Circle, Scenario
 
@@ -99,10 +99,8 @@ class Camera:
         elif t.kind == "line":
             objs.append(_Object("target-a", "target", t.line[0], t.line[0], 0.0))
             objs.append(_Object("target-b", "target", t.line[1], t.line[1], 0.0))
-        W, H = scenario.arena.width, scenario.arena.height
-        for k, (a, b) in enumerate((((0.0, 0.0), (W, 0.0)), ((W, 0.0), (W, H)), ((W, H), (0.0, H)),
-                                    ((0.0, H), (0.0, 0.0)))):
-            objs.append(_Object(f"wall{k}", "wall", a, b, 0.0))
+        for key, a, b in scenario.walls:
+            objs.append(_Object(key, "wall", a, b, 0.0))
         self.objects = objs
         # what may block a line of sight: every physical object (target markers are not)
         self._all_points = [(o.key, o.a, o.radius) for o in objs if o.kind in ("landmark", "circle")]
@@ -166,32 +164,8 @@ class Camera:
 
     def occluded(self, eye: Point, p: Point, own: str) -> bool:
         """Does any physical object other than ``own`` cross the line of sight ``eye -> p``?"""
-        ex, ey = eye
-        vx, vy = p[0] - ex, p[1] - ey
-        L2 = vx * vx + vy * vy
-        if L2 == 0.0:
-            return False
-        for key, (cx, cy), r in self._points:
-            if key == own:
-                continue
-            t = ((cx - ex) * vx + (cy - ey) * vy) / L2
-            if t <= 0.0 or t >= 1.0:
-                continue
-            qx, qy = ex + t * vx - cx, ey + t * vy - cy
-            if qx * qx + qy * qy < r * r:
-                return True
-        for key, (ax, ay), (bx, by), _r in self._lines:
-            if key == own:
-                continue
-            d1 = (bx - ax) * (ey - ay) - (by - ay) * (ex - ax)
-            d2 = (bx - ax) * (p[1] - ay) - (by - ay) * (p[0] - ax)
-            if (d1 > 0) == (d2 > 0) or d1 == 0 or d2 == 0:
-                continue
-            d3 = vx * (ay - ey) - vy * (ax - ex)
-            d4 = vx * (by - ey) - vy * (bx - ex)
-            if (d3 > 0) != (d4 > 0) and d3 != 0 and d4 != 0:
-                return True
-        return False
+        return any(key != own and blocks_sight(eye, p, c, r) for key, c, r in self._points) or \
+            any(key != own and crosses_sight(eye, p, a, b) for key, a, b, _r in self._lines)
 
     def capture(self, pose: Pose) -> list[Detection]:
         """The objects in the image taken now from ``pose``, measured with noise."""

@@ -20,6 +20,7 @@ from navcli.potential_field import (
     pilot_bid,
     point_force,
     target_force,
+    _reference,
 )
 
 K, A_t, R = 18.0, 50.0, 0.40
@@ -161,3 +162,16 @@ def test_bid_stays_in_0_0_9_and_forces_stay_bounded_for_any_layout(obstacles, tx
 @given(layouts())
 def test_numpy_and_loop_occlusion_agree(obstacles):
     assert facing_numpy(obstacles) == facing_loop(obstacles)
+
+
+@settings(max_examples=200, deadline=None)
+@given(layouts())
+def test_the_inlined_occlusion_is_the_geometry_of_lines_of_sight(obstacles):
+    from navcli.geometry import blocks_sight, crosses_sight
+
+    def hides(q, c):
+        return blocks_sight((0.0, 0.0), c, q.a, q.radius) if q.is_point else crosses_sight((0.0, 0.0), c, q.a, q.b)
+
+    ref = [not any(j != i and hides(q, _reference(o)) for j, q in enumerate(obstacles))
+           for i, o in enumerate(obstacles)]
+    assert facing_loop(obstacles) == ref
