@@ -52,7 +52,8 @@ def occlusion_benchmark(sizes=(12, 18, 32, 50, 100, 200), echo: Callable[[str], 
             x, y = rnd.uniform(-4, 4), rnd.uniform(-4, 4)
             b = (x + rnd.uniform(-1, 1), y + rnd.uniform(-1, 1)) if i % 4 == 3 else (x, y)
             obs.append(KnownObstacle(f"o{i}", (x, y), b, 0.02 if i % 4 == 3 else 0.15))
-        t = [min(timeit.repeat(lambda f=f: f(obs), number=200, repeat=5)) / 200 * 1e6 for f in (facing_loop, facing_numpy)]
+        t = [min(timeit.repeat(lambda f=f, o=obs: f(o), number=200, repeat=5)) / 200 * 1e6
+             for f in (facing_loop, facing_numpy)]
         echo(f"{n:>9} {t[0]:>9.0f} {t[1]:>9.0f}")
 
 

@@ -35,7 +35,7 @@ def _err(msg: str) -> None:
 
 
 PARAMS = ("K", "A_t", "R_min")  # the pilot parameters a scenario's `pilot:` block and --param may set
-ParamOption = Annotated[list[str], typer.Option(
+ParamOption = Annotated[Optional[list[str]], typer.Option(
     "--param", metavar="NAME=VALUE",
     help=f"Override a pilot parameter of the scenario ({', '.join(PARAMS)}); repeatable, e.g. --param K=20.")]
 
@@ -106,7 +106,7 @@ def run(
     time_limit: Annotated[Optional[float], typer.Option(min=0.1, help="Simulated seconds before the run is declared failed.")] = None,
     live: Annotated[bool, typer.Option(help="Also serve the run to Foxglove (ws://localhost:PORT), paced to real time.")] = False,
     port: Annotated[int, typer.Option(min=0, max=65535, help="WebSocket port for --live (0: any free port).")] = 8765,
-    param: ParamOption = [],
+    param: ParamOption = None,
     perception: Annotated[Optional[PerceptionName], typer.Option(
         help="What the agents know: vision (camera and visual memory) or oracle (ground truth, to isolate the "
              "pilot). Default: the scenario's mission.perception, else vision.")] = None,
@@ -175,7 +175,7 @@ def bench(
     pilot: Annotated[Optional[PilotName], typer.Option(help="Pilot (default: the scenario's).")] = None,
     seed: Annotated[Optional[int], typer.Option(min=0)] = None,
     occlusion: Annotated[bool, typer.Option(help="Instead: time the pilot's occlusion test, loop vs numpy.")] = False,
-    param: ParamOption = [],
+    param: ParamOption = None,
     perception: Annotated[Optional[PerceptionName], typer.Option(help="vision or oracle (default: the scenario's).")] = None,
     objects: Annotated[bool, typer.Option(help="Instead: cost per tick with 12, 50 and 200 objects in the room.")] = False,
 ) -> None:
@@ -218,7 +218,7 @@ def plot_field(
     scenario: Annotated[Path, typer.Argument(help="Scenario YAML file.")],
     out: Annotated[Optional[Path], typer.Option(help="PNG file (default: logs/<scenario>/field.png).")] = None,
     step: Annotated[Optional[float], typer.Option(min=0.02, help="Grid spacing in metres (default 0.2).")] = None,
-    param: ParamOption = [],
+    param: ParamOption = None,
 ) -> None:
     """Direction of the net virtual force over the arena (pilot paper, Figure 9)."""
     _plot("field", scenario, out, step, param)
@@ -229,7 +229,7 @@ def plot_bids(
     scenario: Annotated[Path, typer.Argument(help="Scenario YAML file.")],
     out: Annotated[Optional[Path], typer.Option(help="PNG file (default: logs/<scenario>/bids.png).")] = None,
     step: Annotated[Optional[float], typer.Option(min=0.02, help="Grid spacing in metres (default 0.05).")] = None,
-    param: ParamOption = [],
+    param: ParamOption = None,
 ) -> None:
     """The pilot's bid (eq. 9) over the arena (pilot paper, Figure 10)."""
     _plot("bids", scenario, out, step, param)

@@ -526,6 +526,6 @@ class _Reader:
                 gap = distance_to_segment(s, o.start, o.end) - o.thickness / 2
             if gap < r:
                 self.fail(P, f"the robot (radius {r:g} m) at [{s[0]:g}, {s[1]:g}] overlaps obstacles[{i}]")
-        for i, lm in enumerate(sc.landmarks):
+        for lm in sc.landmarks:
             if math.dist(s, lm.at) - lm.radius < r:
                 self.fail(P, f"the robot (radius {r:g} m) at [{s[0]:g}, {s[1]:g}] overlaps landmark {lm.id!r}")

@@ -9,7 +9,7 @@ import pytest
 from typer.testing import CliRunner
 
 from analysis import LogError, path_length, read_log
-from analysis.compare import improvements, load_runs, paired_improvement, pilot_table
+from analysis.compare import load_runs, paired_improvement, pilot_table
 from conftest import SCENARIOS
 from navcli import compare
 from navcli.cli import app

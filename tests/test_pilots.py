@@ -8,7 +8,7 @@ import math
 import pytest
 
 from analysis import read_log
-from navcli.bidding import Bid, Look, Move
+from navcli.bidding import Bid, Move
 from navcli.geometric import GeometricPilot, blocked_interval
 from navcli.geometry import Pose
 from navcli.mission import Mission

@@ -7,7 +7,6 @@ import math
 import numpy as np
 import pytest
 
-from conftest import scenario_dict
 from navcli.params import CONTROL_DT, ROBOT
 from navcli.world import World
 
