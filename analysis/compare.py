@@ -33,7 +33,7 @@ PATH_TOLERANCE = 0.01  # the summary's path length must match the poses' within 
 
 def load_runs(logdir: str | Path) -> pd.DataFrame:
     """One row per ``.mcap`` under ``logdir`` (recursively): the summary, plus the path length
-    and time recomputed from ``/robot/pose``. Raises :class:`LogError` naming a log whose
+    and time recomputed from ``/robot/pose``, whose x, y are kept in ``xy`` for plots. Raises :class:`LogError` naming a log whose
     summary disagrees with its poses, or that has no summary."""
     rows = []
     for path in sorted(Path(logdir).rglob("*.mcap")):
@@ -53,7 +53,7 @@ def load_runs(logdir: str | Path) -> pd.DataFrame:
                      "outcome": s["outcome"], "reached": s["outcome"] == "reached", "time_s": s["time_s"],
                      "path_m": s["path_length_m"], "path_cm": 100.0 * s["path_length_m"],
                      "collisions": s["collisions"], "camera_looks": s["camera_looks"], "ticks": s["ticks"],
-                     "poses_path_m": walked})
+                     "poses_path_m": walked, "xy": poses[["x", "y"]].to_numpy()})
     if not rows:
         raise LogError(f"{logdir}: no .mcap logs found")
     return pd.DataFrame(rows)
@@ -152,12 +152,12 @@ def write_report(runs: pd.DataFrame, out: str | Path, baseline: str = "geometric
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     table = pilot_table(runs)
-    imps = improvements(runs, baseline) if baseline in set(runs["pilot"]) else pd.DataFrame()
+    imps = improvements(runs, baseline) if baseline in set(runs["pilot"]) else pd.DataFrame(columns=["scenario"])
     files = {"runs": out / "runs.csv", "table": out / "table.csv", "improvements": out / "improvements.csv",
              "markdown": out / "table.md"}
-    runs.to_csv(files["runs"], index=False)
+    runs.drop(columns=["xy"]).to_csv(files["runs"], index=False)
     table.to_csv(files["table"], index=False)
     imps.to_csv(files["improvements"], index=False)
-    files["markdown"].write_text(markdown(table, imps if len(imps) else pd.DataFrame(columns=["scenario"])))
+    files["markdown"].write_text(markdown(table, imps))
     files.update(plots.comparison_plots(runs, out))
     return files

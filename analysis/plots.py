@@ -59,9 +59,8 @@ def comparison_plots(runs: pd.DataFrame, out: Path) -> dict[str, Path]:
         for pilot, gp in g.groupby("pilot", sort=True):
             fig, ax = plt.subplots(figsize=(6.5, 6.5))
             for r in gp.itertuples():
-                poses = read_log(r.log, topics=["/robot/pose"])["/robot/pose"]
-                ax.plot(poses["x"], poses["y"], lw=0.8, alpha=0.6,
-                        color="tab:purple" if r.reached else "tab:orange")
+                xy = r.xy if "xy" in gp else read_log(r.log, topics=["/robot/pose"])["/robot/pose"][["x", "y"]].to_numpy()
+                ax.plot(xy[:, 0], xy[:, 1], lw=0.8, alpha=0.6, color="tab:purple" if r.reached else "tab:orange")
             if sc:
                 _arena(ax, sc)
             ax.set_title(f"{scenario}: {pilot}, {int(gp['reached'].sum())}/{len(gp)} reached "

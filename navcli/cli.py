@@ -309,7 +309,7 @@ def report(
 
 def _report(logdir: Path, baseline: str, out: Path) -> None:
     from analysis import LogError
-    from analysis.compare import improvements, load_runs, markdown, pilot_table, write_report
+    from analysis.compare import load_runs, write_report
 
     try:
         runs = load_runs(logdir)
@@ -317,10 +317,8 @@ def _report(logdir: Path, baseline: str, out: Path) -> None:
         _err(f"error: {e}")
         raise typer.Exit(EXIT_BAD_INPUT) from None
     files = write_report(runs, out, baseline)
-    imps = improvements(runs, baseline) if baseline in set(runs["pilot"]) else None
     typer.echo("")
-    typer.echo(markdown(pilot_table(runs), imps if imps is not None else __import__("pandas").DataFrame(
-        columns=["scenario"])))
+    typer.echo(files["markdown"].read_text())
     typer.echo(f"wrote {', '.join(str(p) for p in files.values())}")
 
 
