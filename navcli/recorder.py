@@ -44,6 +44,7 @@ from foxglove.messages import (
 )
 
 from .bidding import RESOURCES
+from .params import VISION
 from .scenario import Circle, Scenario
 
 if TYPE_CHECKING:
@@ -156,7 +157,7 @@ class Recorder:
         self._fov = (0.0, 0.0)  # camera field of view (rad) and range (m)
         self._pan_drawn: float | None = None
         self._memory = None  # the visual memory, drawn on /memory/scene when there is one
-        self._draw_every = 5
+        self._draw_every = VISION.draw_every
 
     @property
     def port(self) -> int | None:
@@ -169,7 +170,6 @@ class Recorder:
         self._R_min = sc.pilot.R_min
         self._fov = (sc.camera.fov, sc.camera.range)
         self._memory = getattr(mission.perception, "memory", None)
-        self._draw_every = getattr(mission.perception, "params", None) and mission.perception.params.draw_every or 5
         self.writer.write_metadata("run", mission.run_metadata())
         self.writer.attach(log_time=0, create_time=0, name=Path(sc.source).name or f"{sc.name}.yaml",
                            media_type="application/yaml", data=sc.text.encode())
