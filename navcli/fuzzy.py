@@ -211,6 +211,11 @@ class FuzzyAngle:
 
 
 def landmark_imprecision(heading: FuzzyAngle, distance: Fuzzy) -> float:
-    """``I(l) = lambda * tanh(beta * I_d) + (1 - lambda) * I_h / (2 pi)`` (section 5.1), in [0, 1],
-    with ``I_h``, ``I_d`` the widths of the 70 % cuts, lambda = 0.2, beta = 1."""
-    return LAMBDA * math.tanh(BETA * distance.width(CUT)) + (1 - LAMBDA) * heading.width(CUT) / TWO_PI
+    """I(l) of a landmark whose fuzzy heading and distance are given (section 5.1), in [0, 1]."""
+    return imprecision(heading.width(CUT), distance.width(CUT))
+
+
+def imprecision(i_h: float, i_d: float) -> float:
+    """``I(l) = lambda * tanh(beta * I_d) + (1 - lambda) * I_h / (2 pi)`` (section 5.1), with
+    ``I_h`` (rad) and ``I_d`` (m) the widths of the 70 % cuts, lambda = 0.2, beta = 1."""
+    return LAMBDA * math.tanh(BETA * i_d) + (1 - LAMBDA) * min(i_h, TWO_PI) / TWO_PI

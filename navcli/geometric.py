@@ -24,12 +24,9 @@ from __future__ import annotations
 import math
 
 from .bidding import Move
-from .geometry import Point, closest_on_segment, segment_distance, wrap_angle
+from .geometry import ORIGIN, Point, closest_on_segment, segment_distance, wrap_angle
 from .perception import Beliefs, KnownObstacle
 from .pilot import Avoidance, Pilot
-
-ORIGIN = (0.0, 0.0)
-
 
 def ray_enters(h: float, o: KnownObstacle, R: float, reach: float) -> bool:
     """Does driving ``reach`` metres from the origin along heading ``h`` enter ``o`` grown by ``R``?"""
@@ -54,22 +51,16 @@ def blocked_interval(o: KnownObstacle, R: float) -> tuple[float, float]:
     if o.is_point:
         return r1, l1
     r2, l2 = _tangents(o.b, R)
-    mid = math.atan2(*reversed(_mid(o)))
+    cx, cy = o.centre
+    mid = math.atan2(cy, cx)
     # measure the edges relative to the direction of the capsule's middle, to take min and max
     rights = [wrap_angle(r - mid) for r in (r1, r2)]
     lefts = [wrap_angle(left - mid) for left in (l1, l2)]
     return wrap_angle(mid + min(rights)), wrap_angle(mid + max(lefts))
 
 
-def _mid(o: KnownObstacle) -> Point:
-    return ((o.a[0] + o.b[0]) / 2, (o.a[1] + o.b[1]) / 2)
-
-
 class GeometricPilot(Pilot):
     """``--pilot geometric``: the baseline of Table 1 (rules in the module docstring)."""
-
-    name = "pilot"
-    kind = "geometric"
 
     def __init__(self, *args, **kw):
         super().__init__(*args, **kw)

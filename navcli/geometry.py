@@ -10,6 +10,7 @@ import math
 from dataclasses import dataclass
 
 Point = tuple[float, float]
+ORIGIN: Point = (0.0, 0.0)  # the robot, in egocentric coordinates
 
 
 @dataclass(frozen=True)
@@ -30,6 +31,14 @@ class Pose:
         """The inverse of :meth:`to_local`: an egocentric point back in this pose's parent frame."""
         c, s = math.cos(self.theta), math.sin(self.theta)
         return (self.x + c * q[0] - s * q[1], self.y + s * q[0] + c * q[1])
+
+
+def motion_between(before: Pose, after: Pose) -> tuple[float, float]:
+    """What wheel odometry reports for going from ``before`` to ``after``: the distance driven
+    along the mid-way heading (m, negative backwards) and the turn (rad)."""
+    dtheta = wrap_angle(after.theta - before.theta)
+    mid = before.theta + dtheta / 2
+    return (after.x - before.x) * math.cos(mid) + (after.y - before.y) * math.sin(mid), dtheta
 
 
 def wrap_angle(a: float) -> float:

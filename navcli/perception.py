@@ -20,11 +20,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from .bidding import Look
-from .geometry import Point, Pose, wrap_angle
+from .geometry import Point, Pose, motion_between
 from .params import CONTROL_DT, VISION, VisionParams
-from .scenario import Circle, Scenario
+from .scenario import Scenario
 from .vision import Camera, Detection
-from .visual_memory import VisualMemory
+from .visual_memory import Spot, VisualMemory
 
 
 @dataclass(frozen=True)
@@ -43,6 +43,11 @@ class KnownObstacle:
     @property
     def is_point(self) -> bool:
         return self.a == self.b
+
+    @property
+    def centre(self) -> Point:
+        """Where the paper computes a force from: a point obstacle itself, a linear one's middle."""
+        return self.a if self.is_point else ((self.a[0] + self.b[0]) / 2, (self.a[1] + self.b[1]) / 2)
 
 
 @dataclass(frozen=True)
@@ -68,15 +73,11 @@ class OraclePerception:
     def __init__(self, scenario: Scenario, rng: np.random.Generator, params: VisionParams = VISION):
         self.scenario = scenario
         self.camera = Camera(scenario, rng, params)
-        self._objects: list[tuple[str, Point, Point, float]] = []
-        for i, o in enumerate(scenario.obstacles):
-            if isinstance(o, Circle):
-                self._objects.append((f"o{i}", o.center, o.center, o.radius))
-            else:
-                self._objects.append((f"o{i}", o.start, o.end, o.thickness / 2))
-        for lm in scenario.landmarks:
-            self._objects.append((f"L{lm.id}", lm.at, lm.at, lm.radius))
-        self._objects += [(k, a, b, 0.0) for k, a, b in scenario.walls]
+        # everything physical the camera could ever see, landmarks keyed as the memory keys them
+        order = {"circle": 0, "segment": 0, "landmark": 1, "wall": 2}  # obstacles, landmarks, walls
+        self._objects = [(f"L{o.key}" if o.kind == "landmark" else o.key, o.a, o.b, o.radius)
+                         for o in sorted(self.camera.objects, key=lambda o: order.get(o.kind, 3))
+                         if o.kind != "target"]
 
     def observe(self, time: float, truth: Pose, odometry: Pose) -> Beliefs:
         seen = tuple(KnownObstacle(k, truth.to_local(a), truth.to_local(b), r) for k, a, b, r in self._objects)
@@ -146,19 +147,15 @@ class VisionPerception:
         """Odometry says the robot went from ``before`` to ``after``: move the memory; widen it
         by ``slip`` (m), how far the robot may have slid unmeasured along something it touched;
         add what the bumpers found (at the robot's rim, in the direction of the contact); forget."""
-        dtheta = wrap_angle(after.theta - before.theta)
-        mid = before.theta + dtheta / 2
-        ds = (after.x - before.x) * math.cos(mid) + (after.y - before.y) * math.sin(mid)
         mem = self.memory
-        mem.move(ds, dtheta)
+        mem.move(*motion_between(before, after))
         if slip:
             mem.shove(slip)
         if bumps:
             r = self.scenario.robot.radius + self.params.bump_radius
             for b in bumps:
-                mem._n += 1
-                mem.add(f"bump-{mem._n}", "bump", [(r * math.cos(b.bearing), r * math.sin(b.bearing))],
-                        self.params.bump_radius / 2, self.params.bump_radius)
+                mem.add_found("bump", [Spot(r * math.cos(b.bearing), r * math.sin(b.bearing), self.params.bump_radius, 0.0)],
+                              self.params.bump_radius / 2)
         self._ticks += 1
         if self._ticks % self.params.forget_every == 0:  # imprecision creeps: twice a second is enough
             mem.forget()

@@ -56,7 +56,6 @@ class Pilot:
     """Shared pilot machinery (see the module docstring); ``avoid`` proposes nothing here."""
 
     name = "pilot"
-    kind = "none"
 
     def __init__(self, params: PilotParams = PILOT, max_speed: float = ROBOT.max_speed,
                  robot: RobotDefaults = ROBOT):

@@ -24,12 +24,11 @@ import math
 from dataclasses import dataclass
 
 from .bidding import Move
-from .geometry import Point, closest_on_segment, corridor_aim, wrap_angle
+from .geometry import ORIGIN, Point, closest_on_segment, corridor_aim, wrap_angle
 from .params import PilotParams
 from .perception import Beliefs, KnownObstacle
 from .pilot import Avoidance, Pilot
 
-ORIGIN = (0.0, 0.0)
 NUMPY_FROM = 32  # obstacles: where numpy's occlusion test overtakes the loop (navcli bench --occlusion)
 
 
@@ -90,11 +89,6 @@ def line_target_force(a: Point, b: Point, A_t: float, margin: float) -> tuple[fl
     aim, inside = corridor_aim(a, b, margin)
     fx, fy = target_force(aim, A_t)
     return fx, fy, inside
-
-
-def _reference(o: KnownObstacle) -> Point:
-    """The point an obstacle's force comes from: its centre (a segment's middle)."""
-    return o.a if o.is_point else ((o.a[0] + o.b[0]) / 2, (o.a[1] + o.b[1]) / 2)
 
 
 def facing(obstacles: tuple[KnownObstacle, ...] | list[KnownObstacle]) -> list[bool]:
@@ -158,7 +152,7 @@ def facing_loop(obstacles: tuple[KnownObstacle, ...] | list[KnownObstacle]) -> l
     lines = [(j, o.a[0], o.a[1], o.b[0], o.b[1]) for j, o in enumerate(obstacles) if o.a != o.b]
     out = []
     for i, o in enumerate(obstacles):
-        cx, cy = _reference(o)
+        cx, cy = o.centre
         L2 = cx * cx + cy * cy
         free = True
         if L2 > 0.0:
@@ -273,9 +267,6 @@ class PotentialFieldPilot(Pilot):
     IN_DISTRESS. The previous angle is carried into the present frame through odometry, so the
     average is taken between two headings of the same frame.
     """
-
-    name = "pilot"
-    kind = "potential-field"
 
     def __init__(self, params: PilotParams, max_speed: float, **kw):
         super().__init__(params, max_speed, **kw)

@@ -119,6 +119,12 @@ def _pose(x: float, y: float, theta: float = 0.0, z: float = 0.0) -> FxPose:
     return FxPose(position=Vector3(x=x, y=y, z=z), orientation=_yaw(theta))
 
 
+def _cylinder(x: float, y: float, radius: float, bottom: float, height: float, color: Color) -> CylinderPrimitive:
+    """An upright cylinder (or flat disc) of ``radius`` standing on ``z = bottom`` at (x, y)."""
+    return CylinderPrimitive(pose=_pose(x, y, z=bottom + height / 2), size=Vector3(x=2 * radius, y=2 * radius, z=height),
+                             bottom_scale=1.0, top_scale=1.0, color=color)
+
+
 def _json(msg: dict) -> bytes:
     """Compact JSON, by orjson (8x faster than the standard library on a /pilot message, the
     largest cost of logging). orjson writes NaN and infinity as null, so none reaches the file."""
@@ -177,8 +183,7 @@ class Recorder:
         r = sc.robot.radius
         body = SceneEntity(
             timestamp=_ts(0), frame_id="base_link", id="robot", frame_locked=True,
-            cylinders=[CylinderPrimitive(pose=_pose(0, 0, z=0.15), size=Vector3(x=2 * r, y=2 * r, z=0.3),
-                                         bottom_scale=1.0, top_scale=1.0, color=_ROBOT)],
+            cylinders=[_cylinder(0.0, 0.0, r, 0.0, 0.3, _ROBOT)],
             arrows=[ArrowPrimitive(pose=_pose(0, 0, z=0.32), shaft_length=r, shaft_diameter=0.04,
                                    head_length=0.1, head_diameter=0.1, color=_ROBOT)])
         self.robot_scene.log(SceneUpdate(entities=[body]), log_time=0)
@@ -297,10 +302,8 @@ def _memory_entities(memory, ns: int) -> list[SceneEntity]:
         color, faint = _MEMORY.get(m.kind, _MEMORY["obstacle"])
         for s in m.spots:
             r70 = max(s.radius(0.7), 0.03)
-            cyl.append(CylinderPrimitive(pose=_pose(s.x, s.y, z=0.03), size=Vector3(x=2 * r70, y=2 * r70, z=0.03),
-                                         bottom_scale=1.0, top_scale=1.0, color=color))
-            cyl.append(CylinderPrimitive(pose=_pose(s.x, s.y, z=0.01), size=Vector3(x=2 * s.r0, y=2 * s.r0, z=0.01),
-                                         bottom_scale=1.0, top_scale=1.0, color=faint))
+            cyl.append(_cylinder(s.x, s.y, r70, 0.015, 0.03, color))
+            cyl.append(_cylinder(s.x, s.y, s.r0, 0.005, 0.01, faint))
         if len(m.spots) == 2:
             a, b = m.spots
             lines.append(LinePrimitive(type=LinePrimitiveLineType.LineStrip, thickness=0.03, color=color,
@@ -314,14 +317,12 @@ def _grown(obstacles, pose: Pose, R: float, ns: int) -> SceneEntity:
     """The pilot's prohibited areas (section 3.1): known obstacles grown by R_min, drawn flat in
     ``world`` where the robot perceives them (egocentric positions placed with the true pose)."""
     cyl, cubes = [], []
-    size = Vector3(x=2 * R, y=2 * R, z=0.01)
     for o in obstacles:
         a = pose.to_world(o.a)
-        cyl.append(CylinderPrimitive(pose=_pose(*a, z=0.005), size=size, bottom_scale=1.0, top_scale=1.0, color=_GROWN))
+        cyl.append(_cylinder(*a, R, 0.0, 0.01, _GROWN))
         if o.a != o.b:
             b = pose.to_world(o.b)
-            cyl.append(CylinderPrimitive(pose=_pose(*b, z=0.005), size=size, bottom_scale=1.0, top_scale=1.0,
-                                         color=_GROWN))
+            cyl.append(_cylinder(*b, R, 0.0, 0.01, _GROWN))
             cubes.append(CubePrimitive(pose=_pose((a[0] + b[0]) / 2, (a[1] + b[1]) / 2, math.atan2(b[1] - a[1], b[0] - a[0]),
                                                   z=0.005),
                                        size=Vector3(x=math.dist(a, b), y=2 * R, z=0.01), color=_GROWN))
@@ -337,9 +338,7 @@ def _arena_entities(sc: Scenario) -> list[SceneEntity]:
     ents = [SceneEntity(timestamp=ts, frame_id="world", id="walls", cubes=walls)]
     for i, o in enumerate(sc.obstacles):
         if isinstance(o, Circle):
-            prim = {"cylinders": [CylinderPrimitive(pose=_pose(*o.center, z=HEIGHT / 2),
-                                                    size=Vector3(x=2 * o.radius, y=2 * o.radius, z=HEIGHT),
-                                                    bottom_scale=1.0, top_scale=1.0, color=_RED)]}
+            prim = {"cylinders": [_cylinder(*o.center, o.radius, 0.0, HEIGHT, _RED)]}
         else:
             (ax, ay), (bx, by) = o.start, o.end
             prim = {"cubes": [CubePrimitive(pose=_pose(*o.center, math.atan2(by - ay, bx - ax), z=HEIGHT / 2),
@@ -349,8 +348,7 @@ def _arena_entities(sc: Scenario) -> list[SceneEntity]:
     for lm in sc.landmarks:
         ents.append(SceneEntity(
             timestamp=ts, frame_id="world", id=f"landmark-{lm.id}",
-            cylinders=[CylinderPrimitive(pose=_pose(*lm.at, z=HEIGHT / 2), size=Vector3(x=2 * lm.radius, y=2 * lm.radius, z=HEIGHT),
-                                         bottom_scale=1.0, top_scale=1.0, color=_BLUE)],
+            cylinders=[_cylinder(*lm.at, lm.radius, 0.0, HEIGHT, _BLUE)],
             texts=[TextPrimitive(pose=_pose(*lm.at, z=HEIGHT + 0.15), billboard=True, font_size=14.0,
                                  scale_invariant=True, color=_BLUE, text=lm.id)]))
     tg = sc.target
@@ -360,7 +358,6 @@ def _arena_entities(sc: Scenario) -> list[SceneEntity]:
                                           points=[Point3(x=ax, y=ay, z=0.01), Point3(x=bx, y=by, z=0.01)])]}
     else:
         r = tg.tolerance
-        target = {"cylinders": [CylinderPrimitive(pose=_pose(*tg.point, z=0.01), size=Vector3(x=2 * r, y=2 * r, z=0.02),
-                                                  bottom_scale=1.0, top_scale=1.0, color=_GREEN)]}
+        target = {"cylinders": [_cylinder(*tg.point, r, 0.0, 0.02, _GREEN)]}
     ents.append(SceneEntity(timestamp=ts, frame_id="world", id="target", **target))
     return ents

@@ -27,12 +27,13 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-from .fuzzy import ALPHAS, TWO_PI, Fuzzy, FuzzyAngle
+from .fuzzy import ALPHAS, CUT, TWO_PI, Fuzzy, FuzzyAngle, imprecision
 from .geometry import distance_to_segment
 from .params import VISION, VisionParams
 from .vision import Detection, Sighting
 
 Disc = tuple[float, float, float]  # x, y, radius
+END_TIE = 0.10  # m: ends this close along a linear obstacle count as the same extent; the sharper is kept
 
 
 @dataclass
@@ -85,11 +86,11 @@ class Spot:
 
 @dataclass
 class Memory:
-    """One remembered object: a landmark, an obstacle (one spot, or two for a linear one),
-    something the bumpers found, the target, or a wall."""
+    """One remembered object: a landmark, an obstacle (one spot, or two for a linear one, the
+    walls among them), something the bumpers found, or the target."""
 
     key: str
-    kind: str  # landmark | obstacle | bump | target | wall
+    kind: str  # landmark | obstacle | bump | target
     spots: list[Spot]
     radius: float  # physical half-width, m
     prior: bool = False  # told at the start: never forgotten
@@ -101,11 +102,11 @@ class Memory:
 
 
 def _imprecision(s: Spot) -> float:
-    """I(l) = 0.2 tanh(I_d) + 0.8 I_h / 2 pi from the 70 % cut of a spot, inlined for speed."""
-    r = s.r0 + 0.7 * (s.r1 - s.r0)
+    """I(l) of a spot from its 70 % cut: the widths of its heading and distance, read off the disc
+    directly (what :meth:`Spot.heading` and :meth:`Spot.distance` would give, without building them)."""
+    r = s.radius(CUT)
     d = math.hypot(s.x, s.y)
-    i_h = TWO_PI if r >= d else 2.0 * math.asin(r / d)
-    return 0.2 * math.tanh(2.0 * r) + 0.8 * i_h / TWO_PI
+    return imprecision(TWO_PI if r >= d else 2.0 * math.asin(r / d), 2.0 * r)
 
 
 def _sighting_spot(s: Sighting) -> Spot:
@@ -168,10 +169,8 @@ def fuse(m: Spot, o: Spot) -> Spot:
 class VisualMemory:
     """The remembered objects, moved by odometry, sharpened by sightings, pruned by imprecision.
 
-    ``u`` is the bound on the odometry's relative error that the memory allows for: its noise
-    (per-run and per-tick parts, each bounded) plus a floor for what the physics' integration
-    adds even without noise.
-    """
+    ``odometry_noise`` is the odometry's relative deviation (scenario ``noise.odometry``), from
+    which :meth:`move` bounds the drift."""
 
     odometry_noise: float
     params: VisionParams = VISION
@@ -181,9 +180,16 @@ class VisualMemory:
 
     def add(self, key: str, kind: str, points: list[tuple[float, float]], radius: float, r0: float,
             prior: bool = False) -> Memory:
-        """Put an object the robot was told of, or found, at egocentric ``points``."""
+        """Put an object the robot was told of at egocentric ``points``, known to within ``r0``."""
         m = Memory(key, kind, [Spot(x, y, r0, 0.0) for x, y in points], radius, prior)
         self.items[key] = m
+        return m
+
+    def add_found(self, kind: str, spots: list[Spot], radius: float, time: float = 0.0) -> Memory:
+        """Remember a new unidentified object (an obstacle seen, or bumped into) under a fresh key."""
+        self._n += 1
+        m = Memory(f"{kind}-{self._n}", kind, spots, radius, False, time)
+        self.items[m.key] = m
         return m
 
     def move(self, ds: float, dtheta: float) -> None:
@@ -279,9 +285,7 @@ class VisualMemory:
             for k in [k for k, m in self.items.items() if m.kind in ("obstacle", "bump") and len(m.spots) == 1
                       and _near_line(m.spots[0], spots)]:
                 del self.items[k]
-        self._n += 1
-        key = f"obstacle-{self._n}"
-        self.items[key] = Memory(key, "obstacle", spots, radius, False, time)
+        self.add_found("obstacle", spots, radius, time)
 
 
 def _meets(a: Spot, b: Spot) -> bool:
@@ -320,11 +324,8 @@ def _extend(m: Memory, spots: list[Spot]) -> None:
     ux, uy = ux / L, uy / L
     # The ends of a stretch are wherever it left the view, not fixed points of the obstacle, so
     # they are never fused (that would mix two points); each kept end is one honest spot.
-    cands = sorted([a, b, *spots], key=lambda s: (s.x - a.x) * ux + (s.y - a.y) * uy)
-    proj = [(s.x - a.x) * ux + (s.y - a.y) * uy for s in cands]
-    first = min((s for s, t in zip(cands, proj) if t <= proj[0] + END_TIE), key=lambda s: s.r0)
-    last = min((s for s, t in zip(cands, proj) if t >= proj[-1] - END_TIE), key=lambda s: s.r0)
+    along = [((s.x - a.x) * ux + (s.y - a.y) * uy, s) for s in (a, b, *spots)]
+    lo, hi = min(t for t, _ in along), max(t for t, _ in along)
+    first = min((s for t, s in along if t <= lo + END_TIE), key=lambda s: s.r0)
+    last = min((s for t, s in along if t >= hi - END_TIE), key=lambda s: s.r0)
     m.spots = [first, last] if first is not last else [first]  # all at one extent: a point now
-
-
-END_TIE = 0.10  # m: ends this close along a linear obstacle count as the same extent; the sharper is kept

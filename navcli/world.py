@@ -17,7 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 import pymunk
 
-from .geometry import Point, Pose, wrap_angle
+from .geometry import Point, Pose, motion_between, wrap_angle
 from .params import NOISE_BOUND, PHYSICS_DT, PHYSICS_DT_NS, PHYSICS_SUBSTEPS, ROBOT, RobotDefaults
 from .scenario import Circle, Scenario
 
@@ -174,11 +174,7 @@ class World:
             self._substeps += 1
             self.path_length += (self.body.position - before).length
             self.body.each_arbiter(self._touch, bumps)
-        end = self.pose
-        dtheta = wrap_angle(end.theta - start.theta)
-        mid = start.theta + dtheta / 2
-        ds = (end.x - start.x) * math.cos(mid) + (end.y - start.y) * math.sin(mid)  # wheel travel
-        self.odometry.update(ds, dtheta)
+        self.odometry.update(*motion_between(start, self.pose))
         return bumps
 
     def _touch(self, arbiter: pymunk.Arbiter, bumps: list[Bump]) -> None:
@@ -198,6 +194,6 @@ class World:
         bumps.append(Bump(self.time, self._names[other], (q.x, q.y), bearing))
 
     def stop(self) -> None:
-        """Halt the drive at once (used by reflexes and at the end of a mission)."""
+        """Halt the drive at once (at the end of a mission)."""
         self._v = self._w = 0.0
 

@@ -20,7 +20,6 @@ from navcli.potential_field import (
     pilot_bid,
     point_force,
     target_force,
-    _reference,
 )
 
 K, A_t, R = 18.0, 50.0, 0.40
@@ -172,6 +171,6 @@ def test_the_inlined_occlusion_is_the_geometry_of_lines_of_sight(obstacles):
     def hides(q, c):
         return blocks_sight((0.0, 0.0), c, q.a, q.radius) if q.is_point else crosses_sight((0.0, 0.0), c, q.a, q.b)
 
-    ref = [not any(j != i and hides(q, _reference(o)) for j, q in enumerate(obstacles))
+    ref = [not any(j != i and hides(q, o.centre) for j, q in enumerate(obstacles))
            for i, o in enumerate(obstacles)]
     assert facing_loop(obstacles) == ref

@@ -57,7 +57,7 @@ def test_bump_event_reports_what_where_and_bearing(make_scenario):
     assert b.what == "obstacle 0"
     assert b.point[0] == pytest.approx(2.0 - 0.15, abs=0.01) and b.point[1] == pytest.approx(2.0, abs=0.01)
     assert b.bearing == pytest.approx(0.0, abs=0.05)  # dead ahead
-    assert 1.0 < b.time < 3.0  # 0.35 m gap... at 0.3 m/s after the ramp-up
+    assert 1.0 < b.time < 3.0  # a 0.6 m gap (1.25 to 1.85) at 0.3 m/s, after a 0.6 s ramp-up: about 2.3 s
 
 
 def test_a_new_contact_counts_again_only_after_letting_go(make_scenario):
