@@ -1,6 +1,6 @@
 """Comparison plots from logs: every trajectory of each pilot on its arena, and box plots.
 
-The arena is drawn from the scenario YAML attached to each log (shared/spec/log-format.md), read
+The arena is drawn from the scenario YAML attached to each log (the README's "The log"), read
 as plain YAML: analysis needs nothing of navcli to draw it.
 """
 

@@ -1,3 +1,43 @@
-"""navcli: a mission runner for the bidding Pilot/Vision/Navigation robot of Busquets, Mohan et al."""
+"""navcli: a mission runner for the bidding Pilot/Vision/Navigation robot of Busquets, Mohan et al.
+
+The public API, for notebooks and scripts (imported lazily, so ``navcli --help`` stays fast)::
+
+    from navcli import RunSpec, load_scenario, run_mission
+    spec = RunSpec.build(load_scenario("scenarios/paper-8x8.yaml"), seed=3, overrides={"pilot.K": 30})
+    result = run_mission(spec)          # -> RunResult: summary, log path, wall time
+
+The package reads like the papers' architecture: ``pilot/`` (the Pilot), ``vision/`` (camera,
+visual memory, perception), ``navigation/`` (the Navigation agents and the Communicator),
+``experiments/`` (compare, bench); ``world`` is the only module that imports pymunk and
+``recorder`` the only writer of logs.
+"""
+
+from __future__ import annotations
+
+import importlib
+from typing import Any
 
 __version__ = "0.1.0"
+
+_API = {
+    "Agent": "bidding", "Bid": "bidding", "Look": "bidding", "Move": "bidding", "arbitrate": "bidding",
+    "Beliefs": "beliefs", "Bump": "beliefs", "KnownObstacle": "beliefs",
+    "ConfigError": "config", "RunSpec": "config",
+    "Mission": "mission", "Tick": "mission", "Event": "mission",
+    "Params": "params", "ParamError": "params",
+    "RunResult": "runner", "run_mission": "runner",
+    "Scenario": "scenario", "ScenarioError": "scenario", "load_scenario": "scenario", "parse_scenario": "scenario",
+}
+__all__ = sorted(_API) + ["__version__"]
+
+
+def __getattr__(name: str) -> Any:
+    if name in _API:
+        value = getattr(importlib.import_module(f".{_API[name]}", __name__), name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module 'navcli' has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    return __all__

@@ -10,7 +10,10 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Iterable, Literal
+from typing import TYPE_CHECKING, Iterable, Literal, Protocol
+
+if TYPE_CHECKING:
+    from .beliefs import Beliefs
 
 Resource = Literal["motion", "camera"]
 RESOURCES: tuple[Resource, ...] = ("motion", "camera")
@@ -24,6 +27,10 @@ class Move:
     heading: float
     speed: float
 
+    def __post_init__(self) -> None:
+        if not (math.isfinite(self.heading) and math.isfinite(self.speed)):
+            raise ValueError(f"a move needs a finite heading and speed, got {self.heading}, {self.speed}")
+
     def as_json(self) -> dict:
         return {"type": "move", "heading_deg": math.degrees(self.heading), "speed": self.speed}
 
@@ -34,6 +41,10 @@ class Look:
 
     pan: float
 
+    def __post_init__(self) -> None:
+        if not math.isfinite(self.pan):
+            raise ValueError(f"a look needs a finite pan, got {self.pan}")
+
     def as_json(self) -> dict:
         return {"type": "look", "pan_deg": math.degrees(self.pan)}
 
@@ -43,7 +54,15 @@ Action = Move | Look
 
 @dataclass(frozen=True)
 class Bid:
-    """One bidder's offer for one resource: the action it wants and its urgency in [0, 1]."""
+    """One bidder's offer for one resource: the action it wants and its urgency in [0, 1].
+
+    >>> Bid("pilot", "motion", Move(0.0, 0.3), 0.9).value
+    0.9
+    >>> Bid("pilot", "motion", Move(0.0, 0.3), float("nan"))
+    Traceback (most recent call last):
+    ...
+    ValueError: bid of pilot for motion is nan, outside [0, 1]
+    """
 
     bidder: str
     resource: Resource
@@ -60,6 +79,10 @@ class Bid:
 def arbitrate(bids: Iterable[Bid]) -> dict[Resource, Bid | None]:
     """Give each resource to its highest bid.
 
+    >>> stop, go = Move(0.0, 0.0), Move(0.0, 0.3)
+    >>> arbitrate([Bid("pilot", "motion", stop, 0.5), Bid("navigation", "motion", go, 0.5)])["motion"].bidder
+    'pilot'
+
     Tie rule: between equal bids the one offered first wins, so the caller's fixed order of
     consultation (the Pilot before the Navigation system: safety first) decides, and the outcome
     never depends on hashing or timing. A resource nobody bid for maps to ``None``.
@@ -70,3 +93,14 @@ def arbitrate(bids: Iterable[Bid]) -> dict[Resource, Bid | None]:
         if cur is None or b.value > cur.value:
             best[b.resource] = b
     return best
+
+
+class Agent(Protocol):
+    """What a bidding agent is (the Navigation system's agents, and anything that replaces them):
+    a name for the logs, and beliefs in, bids out. Agents keep their own state between ticks but
+    learn of the world only through :class:`~navcli.beliefs.Beliefs`."""
+
+    name: str
+
+    def bid(self, beliefs: Beliefs) -> list[Bid]:
+        ...

@@ -34,37 +34,37 @@ def _err(msg: str) -> None:
     typer.echo(msg, err=True)
 
 
-PARAMS = ("K", "A_t", "R_min")  # the pilot parameters a scenario's `pilot:` block and --param may set
 ParamOption = Annotated[Optional[list[str]], typer.Option(
     "--param", metavar="NAME=VALUE",
-    help=f"Override a pilot parameter of the scenario ({', '.join(PARAMS)}); repeatable, e.g. --param K=20.")]
+    help="Override any parameter by its dotted name (pilot.K, pilot.R_min, navigation.kappa1, robot.max_speed, "
+         "vision.forget_above ...; `navcli params` lists them); repeatable, e.g. --param pilot.K=20.")]
 
 
-def _load(path: Path, params: list[str] | None = None):
-    """Load a scenario (with --param overrides) or exit 2 naming what is wrong."""
-    import dataclasses
-
+def _load(path: Path):
+    """Load a scenario or exit 2 naming what is wrong."""
     from .scenario import ScenarioError, load_scenario
 
     try:
-        sc = load_scenario(path)
+        return load_scenario(path)
     except ScenarioError as e:
         _err(f"error: scenario refused\n{e}")
         raise typer.Exit(EXIT_BAD_INPUT) from None
-    over = {}
-    for item in params or []:
-        name, _, value = item.partition("=")
-        if name not in PARAMS:
-            _err(f"error: --param {item!r}: unknown pilot parameter {name!r} (expected one of: {', '.join(PARAMS)})")
-            raise typer.Exit(EXIT_BAD_INPUT)
-        try:
-            over[name] = float(value)
-        except ValueError:
-            over[name] = float("nan")
-        if not over[name] > 0 or over[name] == float("inf"):
-            _err(f"error: --param {item!r}: expected {name}=<a number greater than zero>")
-            raise typer.Exit(EXIT_BAD_INPUT)
-    return dataclasses.replace(sc, pilot=dataclasses.replace(sc.pilot, **over)) if over else sc
+
+
+def _spec(path: Path, params: list[str] | None = None, **choices):
+    """The run configuration of a scenario file with the command line's choices (``seed``,
+    ``pilot``, ``perception``, ``time_limit``; None keeps the scenario's) and ``--param``
+    overrides, or exit 2 naming what is wrong."""
+    from .config import ConfigError, RunSpec
+    from .params import ParamError, parse_override
+
+    sc = _load(path)
+    try:
+        overrides = dict(parse_override(item) for item in params or [])
+        return RunSpec.build(sc, overrides=overrides, **choices)
+    except (ParamError, ConfigError) as e:
+        _err(f"error: --param: {e}" if isinstance(e, ParamError) else f"error: {e}")
+        raise typer.Exit(EXIT_BAD_INPUT) from None
 
 
 class _Progress:
@@ -102,7 +102,9 @@ def run(
     scenario: Annotated[Path, typer.Argument(help="Scenario YAML file (see scenarios/).")],
     seed: Annotated[Optional[int], typer.Option(min=0, help="Random seed (default: the scenario's mission.seed).")] = None,
     pilot: Annotated[Optional[PilotName], typer.Option(help="Pilot (default: the scenario's mission.pilot).")] = None,
-    out: Annotated[Optional[Path], typer.Option(help="Log file (default: logs/<scenario>/<pilot>-seed<N>.mcap).")] = None,
+    out: Annotated[Optional[Path], typer.Option(
+        help="Log file (default: logs/<scenario>/<pilot>-seed<N>-<run id>.mcap, the run id a hash of the whole "
+             "configuration).")] = None,
     time_limit: Annotated[Optional[float], typer.Option(min=0.1, help="Simulated seconds before the run is declared failed.")] = None,
     live: Annotated[bool, typer.Option(help="Also serve the run to Foxglove (ws://localhost:PORT), paced to real time.")] = False,
     port: Annotated[int, typer.Option(min=0, max=65535, help="WebSocket port for --live (0: any free port).")] = 8765,
@@ -112,7 +114,8 @@ def run(
              "pilot). Default: the scenario's mission.perception, else vision.")] = None,
 ) -> None:
     """Run one mission, record it to an MCAP log and print how it ended."""
-    sc = _load(scenario, param)
+    spec = _spec(scenario, param, seed=seed, pilot=pilot.value if pilot else None, time_limit=time_limit,
+                 perception=perception.value if perception else None)
     from .runner import run_mission
 
     import signal
@@ -121,14 +124,11 @@ def run(
         raise KeyboardInterrupt
 
     signal.signal(signal.SIGTERM, _terminate)
-    limit = time_limit or sc.mission.time_limit
-    progress = _Progress(limit, f"{sc.name}")
+    progress = _Progress(spec.time_limit, spec.scenario.name)
     if live:
         _err(f"serving the run live on ws://127.0.0.1:{port} (open it in Foxglove: Open connection)")
     try:
-        res = run_mission(sc, seed=seed, pilot=pilot.value if pilot else None, time_limit=time_limit,
-                          out=out, live=live, port=port, on_tick=progress,
-                          perception=perception.value if perception else None)
+        res = run_mission(spec, out=out, live=live, port=port, on_tick=progress)
     except KeyboardInterrupt:
         progress.close()
         _err("interrupted: the log is closed and marked 'interrupted'")
@@ -181,18 +181,18 @@ def bench(
 ) -> None:
     """Real-time factor (simulated s per wall s) of a full mission, with logging on and off."""
     if occlusion:
-        from .bench import occlusion_benchmark
+        from .experiments.bench import occlusion_benchmark
 
         occlusion_benchmark(echo=typer.echo)
         return
-    sc = _load(scenario, param)
-    from .bench import benchmark, objects_benchmark
+    spec = _spec(scenario, param, seed=seed, pilot=pilot.value if pilot else None,
+                 perception=perception.value if perception else None)
+    from .experiments.bench import benchmark, objects_benchmark
 
     if objects:
-        objects_benchmark(sc, pilot=pilot.value if pilot else None, echo=typer.echo)
+        objects_benchmark(spec, echo=typer.echo)
         return
-    benchmark(sc, repeat=repeat, pilot=pilot.value if pilot else None, seed=seed, echo=typer.echo,
-              perception=perception.value if perception else None)
+    benchmark(spec, repeat=repeat, echo=typer.echo)
 
 
 plot_app = typer.Typer(help="Figures of the pilot paper for a scenario, as PNG files.", no_args_is_help=True)
@@ -200,13 +200,13 @@ app.add_typer(plot_app, name="plot")
 
 
 def _plot(kind: str, scenario: Path, out: Optional[Path], step: Optional[float], param: list[str]) -> None:
-    sc = _load(scenario, param)
-    from . import plots
+    spec = _spec(scenario, param)
+    from . import figures
 
-    out = out or Path("logs") / sc.name / f"{kind}.png"
-    fn = plots.plot_field if kind == "field" else plots.plot_bids
+    out = out or Path("logs") / spec.scenario.name / f"{kind}.png"
+    fn = figures.plot_field if kind == "field" else figures.plot_bids
     try:
-        path = fn(sc, out, step) if step else fn(sc, out)
+        path = fn(spec, out, step) if step else fn(spec, out)
     except OSError as e:
         _err(f"error: cannot write {out}: {e.strerror or e}")
         raise typer.Exit(1) from None
@@ -248,6 +248,7 @@ def compare_pilots(
     jobs: Annotated[Optional[int], typer.Option(min=1, help="Worker processes (default: the machine's cores).")] = None,
     out: Annotated[Path, typer.Option(help="Folder for the logs, the table and the plots.")] = Path("logs/compare"),
     time_limit: Annotated[Optional[float], typer.Option(min=0.1, help="Override the scenarios' time limit (s).")] = None,
+    param: ParamOption = None,
 ) -> None:
     """The pilot paper's Table 1: every pilot on every scenario with the same seeds, in parallel;
     logs that are already complete are kept (an interrupted comparison resumes)."""
@@ -260,10 +261,10 @@ def compare_pilots(
         _err(f"error: --pilots: unknown pilot(s) {', '.join(bad) or '(none given)'} "
              f"(expected some of: {', '.join(PILOT_NAMES)})")
         raise typer.Exit(EXIT_BAD_INPUT)
-    scs = [_load(p) for p in scenarios]
-    from .compare import plan, run_all
+    specs = [_spec(p, param, time_limit=time_limit) for p in scenarios]
+    from .experiments.compare import plan, run_all
 
-    work = plan(scs, names, reruns, out, time_limit)
+    work = plan(specs, names, reruns, out)
     workers = jobs or os.cpu_count() or 1
     t0 = time.perf_counter()
     failed: list = []
@@ -290,7 +291,8 @@ def compare_pilots(
     typer.echo(f"{len(work)} runs ({ran} run now, {len(work) - ran} already complete) in {wall:.1f} s "
                f"on {workers} workers")
     for r in failed:
-        typer.echo(f"  failed: {r.job.name} {r.job.pilot} seed {r.job.seed}: {r.outcome} {r.message} ({r.job.log})")
+        j = r.job.spec
+        typer.echo(f"  failed: {j.scenario.name} {j.pilot} seed {j.seed}: {r.outcome} {r.message} ({r.job.log})")
     _report(out, names[-1], out)
 
 
@@ -309,7 +311,7 @@ def report(
 
 def _report(logdir: Path, baseline: str, out: Path) -> None:
     from analysis import LogError
-    from analysis.compare import load_runs, write_report
+    from analysis.tables import load_runs, write_report
 
     try:
         runs = load_runs(logdir)
@@ -320,6 +322,28 @@ def _report(logdir: Path, baseline: str, out: Path) -> None:
     typer.echo("")
     typer.echo(files["markdown"].read_text())
     typer.echo(f"wrote {', '.join(str(p) for p in files.values())}")
+
+
+@app.command()
+def params(
+    scenario: Annotated[Optional[Path], typer.Argument(help="Show the values this scenario resolves to.")] = None,
+    param: ParamOption = None,
+) -> None:
+    """List every parameter by its --param name, with its value.
+
+    Without a scenario, the defaults; with one, its values after its blocks and any --param."""
+    from .params import Params, ParamError, parse_override
+
+    if scenario is not None:
+        values = _spec(scenario, param).params
+    else:
+        try:
+            values = Params().override(dict(parse_override(i) for i in param or []))
+        except ParamError as e:
+            _err(f"error: --param: {e}")
+            raise typer.Exit(EXIT_BAD_INPUT) from None
+    for name, value in values.flat().items():
+        typer.echo(f"{name:34s} {value}")
 
 
 def main() -> None:

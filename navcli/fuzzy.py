@@ -32,7 +32,18 @@ def _wrap(a: float) -> float:
 
 @dataclass(frozen=True)
 class Fuzzy:
-    """A fuzzy number: ``cuts[k]`` is the interval of membership >= ``ALPHAS[k]``."""
+    """A fuzzy number: ``cuts[k]`` is the interval of membership >= ``ALPHAS[k]``.
+
+    >>> a = Fuzzy.trapezoid(0.0, 1.0, 2.0, 3.0)
+    >>> a.support, a.core, round(a.width(0.7), 9)  # the 70 % cut is [0.7, 2.3]
+    ((0.0, 3.0), (1.0, 2.0), 1.6)
+    >>> round((a + a).width(0.7), 9), (a - a).support  # widths add, also under subtraction
+    (3.2, (-3.0, 3.0))
+    >>> Fuzzy.crisp(2.0) / Fuzzy.around(0.0, 1.0)
+    Traceback (most recent call last):
+    ...
+    ZeroDivisionError: divisor's support [-1.0, 1.0] contains 0
+    """
 
     cuts: tuple[Interval, ...]
 
@@ -217,5 +228,11 @@ def landmark_imprecision(heading: FuzzyAngle, distance: Fuzzy) -> float:
 
 def imprecision(i_h: float, i_d: float) -> float:
     """``I(l) = lambda * tanh(beta * I_d) + (1 - lambda) * I_h / (2 pi)`` (section 5.1), with
-    ``I_h`` (rad) and ``I_d`` (m) the widths of the 70 % cuts, lambda = 0.2, beta = 1."""
+    ``I_h`` (rad) and ``I_d`` (m) the widths of the 70 % cuts, lambda = 0.2, beta = 1.
+
+    >>> imprecision(0.0, 0.0), imprecision(TWO_PI, 0.0)  # crisp; heading unknown
+    (0.0, 0.8)
+    >>> round(imprecision(math.pi, 1.0), 4)  # 0.2 tanh(1) + 0.8 / 2
+    0.5523
+    """
     return LAMBDA * math.tanh(BETA * i_d) + (1 - LAMBDA) * min(i_h, TWO_PI) / TWO_PI

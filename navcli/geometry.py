@@ -22,7 +22,12 @@ class Pose:
     theta: float
 
     def to_local(self, p: Point) -> Point:
-        """Express the world point ``p`` in this pose's frame (egocentric: x ahead, y left)."""
+        """Express the world point ``p`` in this pose's frame (egocentric: x ahead, y left).
+
+        >>> x, y = Pose(1.0, 1.0, math.pi / 2).to_local((1.0, 3.0))  # 2 m north of a robot facing north
+        >>> round(x, 9), round(y, 9)
+        (2.0, 0.0)
+        """
         dx, dy = p[0] - self.x, p[1] - self.y
         c, s = math.cos(self.theta), math.sin(self.theta)
         return (c * dx + s * dy, -s * dx + c * dy)
@@ -42,7 +47,11 @@ def motion_between(before: Pose, after: Pose) -> tuple[float, float]:
 
 
 def wrap_angle(a: float) -> float:
-    """Wrap an angle to (-pi, pi]."""
+    """Wrap an angle to (-pi, pi].
+
+    >>> wrap_angle(3 * math.pi) == math.pi, wrap_angle(-math.pi) == math.pi, round(wrap_angle(7.0), 6)
+    (True, True, 0.716815)
+    """
     a = math.fmod(a + math.pi, 2.0 * math.pi)
     if a <= 0.0:
         a += 2.0 * math.pi
@@ -72,7 +81,13 @@ def _cross(ox: float, oy: float, ax: float, ay: float, bx: float, by: float) -> 
 
 
 def segments_intersect(p1: Point, p2: Point, q1: Point, q2: Point) -> bool:
-    """True when the closed segments ``p1p2`` and ``q1q2`` share a point (proper or touching)."""
+    """True when the closed segments ``p1p2`` and ``q1q2`` share a point (proper or touching).
+
+    >>> segments_intersect((0, 0), (2, 2), (0, 2), (2, 0)), segments_intersect((0, 0), (1, 0), (1, 0), (1, 5))
+    (True, True)
+    >>> segments_intersect((0, 0), (1, 0), (0, 1), (1, 1))
+    False
+    """
     d1 = _cross(*q1, *q2, *p1)
     d2 = _cross(*q1, *q2, *p2)
     d3 = _cross(*p1, *p2, *q1)
@@ -100,6 +115,11 @@ def corridor_aim(a: Point, b: Point, margin: float, p: Point = (0.0, 0.0)) -> tu
     The safe corridor is the band perpendicular to the line over its middle part, ``margin``
     away from both ends. Inside it: the foot of the perpendicular (cross straight over);
     outside it: the line's centre. Returns (aim point, inside the corridor).
+
+    >>> corridor_aim((1.0, -2.0), (1.0, 2.0), 0.4)  # in front of the middle: straight across
+    ((1.0, 0.0), True)
+    >>> corridor_aim((1.0, 0.2), (1.0, 4.0), 0.4)  # beside the end: head for the centre
+    ((1.0, 2.1), False)
     """
     dx, dy = b[0] - a[0], b[1] - a[1]
     L = math.hypot(dx, dy)

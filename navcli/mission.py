@@ -1,9 +1,15 @@
 """One mission: the world, the robot's systems and the arbiter, ticked at a fixed control rate.
 
-Shaped like Gymnasium's ``Env``: build it from a scenario and a seed, call :meth:`Mission.step`
-until :attr:`Mission.outcome` is set; every step returns a :class:`Tick`, the complete record of
-that control period (poses, every bid, the winners, the pilot's explanation, events), which the
-recorder writes and tests inspect. One seeded ``numpy`` generator is made here and handed down.
+Shaped like Gymnasium's ``Env``: build it from a :class:`~navcli.config.RunSpec`, call
+:meth:`Mission.step` until :attr:`Mission.outcome` is set; every step returns a :class:`Tick`, the
+complete record of that control period (poses, every bid, the winners, the pilot's explanation,
+the camera, what the memory holds, events), which the recorder writes and tests inspect. One
+seeded ``numpy`` generator is made here and handed down.
+
+A step runs the phases of the papers' market in order, each a method: perceive (beliefs from the
+camera and memory, or the oracle), bid (the Navigation system, then the Pilot with the
+Navigation system's request), arbitrate (the highest bid per resource), act (the wheel command
+and the look), step the world (physics, odometry, bumps), and record (the :class:`Tick`).
 """
 
 from __future__ import annotations
@@ -14,15 +20,16 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import __version__
+from .beliefs import Beliefs, Bump
 from .bidding import Bid, Resource, arbitrate
+from .config import RunSpec
 from .geometry import Pose, segments_intersect
-from .navigation import NavigationSystem
-from .params import CONTROL_DT, PHYSICS_DT
-from .perception import make_perception
-from .pilot import PilotOutput
-from .pilots import make_pilot
-from .scenario import Scenario
-from .vision import Detection
+from .navigation import NavigationOutput, NavigationSystem
+from .params import CONTROL_DT
+from .pilot import PilotOutput, make_pilot
+from .vision.camera import Detection
+from .vision.perception import make_perception
+from .vision.visual_memory import Remembered
 from .world import World
 
 OUTCOMES = ("reached", "timeout", "blocked", "interrupted", "error")
@@ -54,23 +61,21 @@ class Tick:
     events: tuple[Event, ...]
     camera: tuple[float, str]  # pan (rad, relative to the heading) and state: idle | panning | processing
     detections: tuple[Detection, ...] | None  # what the image taken this tick showed, if one was
+    memory: tuple[Remembered, ...] | None = None  # the visual memory, every vision.draw_every ticks
 
 
 class Mission:
-    """A scenario being run with one seed and one pilot."""
+    """A scenario being run with one configuration."""
 
-    def __init__(self, scenario: Scenario, seed: int | None = None, pilot: str | None = None,
-                 time_limit: float | None = None, perception: str | None = None):
-        self.scenario = scenario
-        self.seed = scenario.mission.seed if seed is None else seed
-        self.pilot_name = pilot or scenario.mission.pilot
-        self.time_limit = scenario.mission.time_limit if time_limit is None else time_limit
-        self.rng = np.random.default_rng(self.seed)
-        self.world = World(scenario, self.rng)
-        self.perception_name = perception or scenario.mission.perception
-        self.perception = make_perception(self.perception_name, scenario, self.rng)
-        self.pilot = make_pilot(self.pilot_name, scenario.pilot, scenario.robot.max_speed)
-        self.navigation = NavigationSystem(scenario.robot.max_speed)
+    def __init__(self, spec: RunSpec):
+        self.spec = spec
+        self.scenario = spec.scenario
+        p = spec.params
+        self.rng = np.random.default_rng(spec.seed)
+        self.world = World(spec.scenario, self.rng, p.robot)
+        self.perception = make_perception(spec.perception, spec.scenario, self.rng, p)
+        self.pilot = make_pilot(spec.pilot, p.pilot, p.robot)
+        self.navigation = NavigationSystem(p.navigation, p.robot, p.pilot)
         self.ticks = 0
         self.outcome: str | None = None
         self.reason = ""
@@ -82,71 +87,81 @@ class Mission:
         goal = {"point": f"the point [{t.point[0]:g}, {t.point[1]:g}]",
                 "landmark": f"landmark {t.landmark}",
                 "line": f"crossing the line {t.line}"}[t.kind]
-        return f"mission {self.scenario.name} started at [{s[0]:g}, {s[1]:g}] with the {self.pilot_name} pilot; target: {goal}"
+        return f"mission {self.scenario.name} started at [{s[0]:g}, {s[1]:g}] with the {self.spec.pilot} pilot; target: {goal}"
 
     @property
     def time(self) -> float:
         return self.world.time
 
-    def run_metadata(self) -> dict[str, str]:
-        """The ``run`` metadata record: enough to reproduce this run."""
-        sc = self.scenario
-        return {
-            "scenario": sc.name,
-            "scenario_file": sc.source,
-            "scenario_sha256": sc.sha256,
-            "seed": str(self.seed),
-            "pilot": self.pilot_name,
-            "perception": self.perception_name,
-            "navcli_version": __version__,
-            "time_limit_s": repr(self.time_limit),
-            "control_dt_s": repr(CONTROL_DT),
-            "physics_dt_s": repr(PHYSICS_DT),
-            "pilot_params": repr(sc.pilot),
-            "noise": repr(sc.noise),
-            "camera": repr(sc.camera),
-        }
+    # -- the phases of one tick
+    def perceive(self) -> Beliefs:
+        w = self.world
+        return self.perception.observe(w.time, w.pose, w.odometry.pose)
+
+    def bid(self, beliefs: Beliefs) -> tuple[NavigationOutput, PilotOutput]:
+        """The Navigation system bids first; the Pilot hears its motion request (to carry it out
+        when it is safe) and bids."""
+        nav = self.navigation.bid(beliefs)
+        request = next((b.action for b in nav.bids if b.resource == "motion"), None)
+        return nav, self.pilot.decide(beliefs, request)
+
+    def act(self, winners: dict[Resource, Bid | None], before: Pose) -> tuple[tuple[float, float], list[Detection] | None]:
+        """The Pilot turns the winning motion bid into a wheel command; Vision carries out the
+        winning look (an image may be taken)."""
+        command = self.pilot.execute(winners["motion"])
+        look = winners["camera"].action if winners["camera"] is not None else None
+        detections = self.perception.look(self.world.time, before, look)
+        if detections is not None:
+            self.camera_looks += 1
+        return command, detections
+
+    def step_world(self, command: tuple[float, float]) -> list[Bump]:
+        """Physics and odometry for one control period; perception hears of the motion and bumps."""
+        w = self.world
+        odom_before = w.odometry.pose
+        bumps = w.step(*command)
+        slip = abs(command[0]) * CONTROL_DT if w.touching else 0.0  # sliding along a contact is unmeasured
+        self.perception.moved(odom_before, w.odometry.pose, tuple(bumps), slip)
+        return bumps
 
     def step(self) -> Tick:
-        """Run one control period: perceive, bid, arbitrate, act, step the physics."""
+        """Run one control period: perceive, bid, arbitrate, act, step the world, record."""
         if self.outcome is not None:
             raise RuntimeError(f"the mission has ended ({self.outcome})")
         world = self.world
         before = world.pose
-        beliefs = self.perception.observe(world.time, before, world.odometry.pose)
-        nav_bids = self.navigation.bid(beliefs)
-        request = next((b.action for b in nav_bids if b.resource == "motion"), None)
-        pilot_out = self.pilot.decide(beliefs, request)
-        bids = tuple(pilot_out.bids) + tuple(nav_bids)  # the Pilot is consulted first (ties)
+        beliefs = self.perceive()
+        nav, pilot_out = self.bid(beliefs)
+        bids = tuple(pilot_out.bids) + nav.bids  # the Pilot is consulted first (ties)
         winners = arbitrate(bids)
-        v, omega = self.pilot.execute(winners["motion"])
-        look = winners["camera"].action if winners["camera"] is not None else None
-        detections = self.perception.look(world.time, before, look)
-        if detections is not None:  # an image was taken
-            self.camera_looks += 1
-            self.pilot.on_look(self.perception.camera.pan)
-        odom_before = world.odometry.pose
-        bumps = world.step(v, omega)
-        slip = abs(v) * CONTROL_DT if world.touching else 0.0  # sliding along a contact is unmeasured
-        self.perception.moved(odom_before, world.odometry.pose, bumps, slip)
+        command, detections = self.act(winners, before)
+        bumps = self.step_world(command)
         self.ticks += 1
+        after = world.pose
+        self._check_end(before, after)
+        return self._record(command, bids, nav, winners, pilot_out, bumps, detections)
+
+    def _record(self, command, bids, nav: NavigationOutput, winners, pilot_out: PilotOutput, bumps: list[Bump],
+                detections) -> Tick:
+        world = self.world
         events = self.drain_events()
         events += [Event(world.time, "pilot", "info", m) for m in pilot_out.events]
         for b in bumps:
             events.append(Event(b.time, "pilot", "warning",
                                 f"bumper contact with {b.what} at bearing {math.degrees(b.bearing):.0f} deg"))
-        self.pilot.on_bumps(bumps)
-        after = world.pose
-        if self._reached(before, after):
-            self._end("reached", f"target reached after {world.time:.1f} s")
-        elif world.time >= self.time_limit - 1e-9:
-            self._end("timeout", f"time limit of {self.time_limit:g} s reached")
         if self.outcome is not None:
             events.append(Event(world.time, "mission", "info" if self.outcome == "reached" else "warning", self.reason))
         cam = self.perception.camera
-        return Tick(self.ticks, world.time_ns, after, world.odometry.pose, (v, omega),
-                    bids, tuple(self.navigation.last_agent_bids), winners, pilot_out, tuple(events),
-                    (cam.pan, cam.state), tuple(detections) if detections is not None else None)
+        memory = self.perception.snapshot() if self.ticks % self.spec.params.vision.draw_every == 0 else None
+        return Tick(self.ticks, world.time_ns, world.pose, world.odometry.pose, command, bids, nav.agent_bids,
+                    winners, pilot_out, tuple(events), (cam.pan, cam.state),
+                    tuple(detections) if detections is not None else None, memory)
+
+    def _check_end(self, before: Pose, after: Pose) -> None:
+        if self._reached(before, after):
+            self._end("reached", f"target reached after {self.world.time:.1f} s")
+        elif self.world.time >= self.spec.time_limit - 1e-9:
+            self._end("timeout", f"time limit of {self.spec.time_limit:g} s reached")
 
     def drain_events(self) -> list[Event]:
         """Events raised outside a step (the mission's start) and not yet handed out."""
@@ -160,7 +175,7 @@ class Mission:
             return math.dist(p, t.point) <= t.tolerance
         if t.kind == "landmark":
             lm = next(lm for lm in self.scenario.landmarks if lm.id == t.landmark)
-            return math.dist(p, t.point) <= t.tolerance + lm.radius + self.scenario.robot.radius
+            return math.dist(p, t.point) <= t.tolerance + lm.radius + self.spec.params.robot.radius
         return segments_intersect((before.x, before.y), p, *t.line)
 
     def _end(self, outcome: str, reason: str) -> None:
@@ -173,12 +188,12 @@ class Mission:
         self._end(outcome, reason)
 
     def summary(self) -> dict:
-        """The ``/mission/summary`` record (shared/spec/log-format.md)."""
+        """The ``/mission/summary`` record (the log format in the README)."""
         w = self.world
         return {
             "scenario": self.scenario.name,
-            "seed": self.seed,
-            "pilot": self.pilot_name,
+            "seed": self.spec.seed,
+            "pilot": self.spec.pilot,
             "outcome": self.outcome or "interrupted",
             "reason": self.reason,
             "time_s": w.time,
@@ -187,5 +202,5 @@ class Mission:
             "camera_looks": self.camera_looks,
             "ticks": self.ticks,
             "navcli_version": __version__,
+            "run_id": self.spec.run_id,
         }
-

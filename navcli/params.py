@@ -1,14 +1,21 @@
-"""Every tunable default of navcli, in one place.
+"""Every tunable number of navcli, in one place.
 
 The papers' values live here (K = 18, A_t = 50, R_min = 0.40 m, bid cap 0.9 ...). A scenario's
 blocks and the command line override them; nothing else in the code base repeats a default.
 Units: metres, seconds, radians, unless a name says otherwise.
+
+The four parameter sets a run is made with (robot, pilot, navigation, vision) travel together as
+one :class:`Params`, addressed by dotted names (``pilot.K``, ``navigation.kappa1``) from the
+command line (``--param``), plan files and the log's metadata. Each field declares the range it
+may take (``at_least``, ``above``, ``at_most``): an override outside it is refused by name.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from typing import Any, Mapping
 
 NOISE_BOUND = 3.0
 """Sensor errors (odometry, camera) are drawn from normals clipped at this many standard deviations:
@@ -16,6 +23,8 @@ physical sensors have bounded errors, and the fuzzy supports of the visual memor
 
 PILOT_NAMES = ("potential-field", "geometric")
 """The pilots a scenario or ``--pilot`` may name; the first is the default."""
+PERCEPTIONS = ("vision", "oracle")
+"""What the agents may know: the camera and visual memory (default), or ground truth."""
 
 # --- Timing: both rates in one place --------------------------------------------------------
 CONTROL_DT = 0.1
@@ -26,42 +35,51 @@ PHYSICS_DT = CONTROL_DT / PHYSICS_SUBSTEPS
 PHYSICS_DT_NS = round(PHYSICS_DT * 1e9)
 
 
-@dataclass(frozen=True)
-class RobotDefaults:
-    """Body and drive limits of the differential-drive robot (a Pioneer-sized disc)."""
+def _p(default: Any, *, at_least: float | None = 0.0, above: float | None = None,
+       at_most: float | None = None, below: float | None = None) -> Any:
+    """A parameter field with the range an override must respect (checked by :meth:`Params.override`)."""
+    return field(default=default, metadata={"at_least": at_least, "above": above, "at_most": at_most, "below": below})
 
-    radius: float = 0.25
-    max_speed: float = 0.3  # m/s
-    max_accel: float = 0.5  # m/s^2
-    max_turn_rate: float = math.radians(90.0)  # rad/s
-    max_turn_accel: float = math.radians(180.0)  # rad/s^2
+
+@dataclass(frozen=True)
+class RobotParams:
+    """Body and drive limits of the differential-drive robot (a Pioneer-sized disc); a scenario's
+    ``robot:`` block sets ``radius`` and ``max_speed``."""
+
+    radius: float = _p(0.25, above=0.0)  # m
+    max_speed: float = _p(0.3, above=0.0)  # m/s
+    max_accel: float = _p(0.5, above=0.0)  # m/s^2
+    max_turn_rate: float = _p(math.radians(90.0), above=0.0)  # rad/s
+    max_turn_accel: float = _p(math.radians(180.0), above=0.0)  # rad/s^2
 
 
 @dataclass(frozen=True)
 class PilotParams:
-    """Parameters of the Pilot (pilot paper, sections 3.4 and 4)."""
+    """Parameters of the Pilot (pilot paper, sections 3.4 and 4); a scenario's ``pilot:`` block
+    sets ``K``, ``A_t`` and ``R_min``."""
 
-    K: float = 18.0  # eq. 2: repulsion constant
-    A_t: float = 50.0  # eq. 5: constant target attraction
-    R_min: float = 0.40  # m, radius of the grown obstacles (eq. 3-4)
-    bid_cap: float = 0.9  # eq. 9: the Pilot never bids above this
-    heading_gain: float = 1.5  # 1/s: turn rate per radian of heading error
-    turn_in_place: float = math.radians(45.0)  # above this heading error the robot stops to turn
-    distress_gain: float = 1.5  # section 5: the offending obstacle's force x 1.5 when IN_DISTRESS
-    corridor_margin: float = 0.40  # m: section 3.3, the safe corridor keeps this far from the line's ends
+    K: float = _p(18.0)  # eq. 2: repulsion constant
+    A_t: float = _p(50.0)  # eq. 5: constant target attraction
+    R_min: float = _p(0.40, above=0.0)  # m, radius of the grown obstacles (eq. 3-4)
+    bid_cap: float = _p(0.9, at_most=1.0)  # eq. 9: the Pilot never bids above this
+    heading_gain: float = _p(1.5)  # 1/s: turn rate per radian of heading error
+    turn_in_place: float = _p(math.radians(45.0))  # above this heading error the robot stops to turn
+    distress_gain: float = _p(1.5)  # section 5: the offending obstacle's force x 1.5 when IN_DISTRESS
+    corridor_margin: float = _p(0.40)  # m: section 3.3, the safe corridor keeps this far from the line's ends
     # Section 3.5: reflexes and backward motion
-    backward_turn: float = math.radians(160.0)  # turns larger than this are driven backwards...
-    max_backward: float = 0.6  # m: ...while the distance driven backwards stays under this
-    reflex_stop_s: float = 0.5  # s standing still after a bump
+    backward_turn: float = _p(math.radians(160.0), at_most=math.pi)  # turns larger than this are driven backwards...
+    max_backward: float = _p(0.6)  # m: ...while the distance driven backwards stays under this
+    reflex_stop_s: float = _p(0.5)  # s standing still after a bump
     reflex_look_pans_deg: tuple[float, ...] = (-60.0, 0.0, 60.0)  # looks around after a bump
-    backup_distance: float = 0.30  # m backed up after a bump
-    backup_speed: float = 0.15  # m/s
-    reflex_phase_limit_s: float = 4.0  # s: a reflex phase that cannot finish (backed into something) is given up
+    backup_distance: float = _p(0.30)  # m backed up after a bump
+    backup_speed: float = _p(0.15, above=0.0)  # m/s
+    reflex_phase_limit_s: float = _p(4.0, above=0.0)  # s: a reflex phase that cannot finish (backed into something) is given up
     # Section 2, eq. 1: the look-ahead camera bid (d_l / d_m) ** s
-    look_d_max: float = 1.0  # m: d_m, the longest drive without looking ahead
-    look_exponent: float = 2.0  # s
+    look_d_max: float = _p(1.0, above=0.0)  # m: d_m, the longest drive without looking ahead
+    look_exponent: float = _p(2.0, above=0.0)  # s
+    look_ahead_cone: float = _p(math.radians(30.0))  # rad: a look this close to straight ahead resets d_l
     # Geometric pilot (the baseline of Table 1)
-    geometric_lookahead: float = 1.0  # m beyond the grown obstacle at which it starts to steer
+    geometric_lookahead: float = _p(1.0)  # m beyond the grown obstacle at which it starts to steer
 
 
 @dataclass(frozen=True)
@@ -69,16 +87,31 @@ class NavigationParams:
     """Parameters of the Navigation system's agents."""
 
     # Target Tracker (notes, section 2, with the thesis' GA-tuned values for cluster C1, Table 5.2)
-    kappa1: float = 0.314  # move bid with a precisely known target
-    alpha: float = 1.731  # how fast that bid falls with the target's imprecision I_a
-    kappa2: float = 0.493  # the look bid's peak
-    beta: float = 2.03  # I_a = (eps / 2 pi) ** beta, eps the width of the heading's 70 % cut
-    I_a_bar: float = 0.386  # I_a at which the look bid peaks (the Rescuer's threshold)
+    kappa1: float = _p(0.314, at_most=1.0)  # move bid with a precisely known target
+    alpha: float = _p(1.731)  # how fast that bid falls with the target's imprecision I_a
+    kappa2: float = _p(0.493, at_most=1.0)  # the look bid's peak
+    beta: float = _p(2.03, above=0.0)  # I_a = (eps / 2 pi) ** beta, eps the width of the heading's 70 % cut
+    I_a_bar: float = _p(0.386, above=0.0, below=1.0)  # I_a at which the look bid peaks (the Rescuer's threshold)
+
+
+@dataclass(frozen=True)
+class VisionParams:
+    """The camera's measurement model and the visual memory (notes, sections 1 and 3)."""
+
+    noise_bound: float = _p(NOISE_BOUND, above=0.0)  # sensor errors are bounded at this many standard deviations
+    heading_floor: float = _p(math.radians(0.5))  # rad: the fuzzy heading's least half-spread (a pixel or so)
+    distance_floor: float = _p(0.02)  # m: the fuzzy distance's least half-spread
+    walk_bound: float = _p(4.0)  # the per-tick odometry errors' random walk is bounded at this many deviations
+    odometry_floor: float = _p(0.005)  # relative: odometry error the memory allows for even without noise
+    bump_radius: float = _p(0.10, above=0.0)  # m: support radius of an obstacle found by the bumpers
+    forget_above: float = _p(0.35, above=0.0, at_most=1.0)  # I(l) above which an object is forgotten
+    forget_every: int = _p(5, at_least=1)  # ticks between two sweeps of the memory for what has become too imprecise
+    draw_every: int = _p(5, at_least=1)  # ticks between two /memory/scene updates
 
 
 @dataclass(frozen=True)
 class Defaults:
-    """Defaults of the optional scenario blocks (see shared/spec/scenario-format.md)."""
+    """Defaults of the optional scenario blocks other than the parameter sets (the scenario format)."""
 
     heading_deg: float = 0.0
     landmark_radius: float = 0.15
@@ -95,29 +128,114 @@ class Defaults:
     camera_pan_limit_deg: float = 100.0  # the pan unit turns this far either side of ahead
     camera_pan_speed_deg: float = 90.0  # deg/s
     camera_look_time: float = 0.3  # s of image processing per look, the camera busy meanwhile
-    perception: str = "vision"  # vision | oracle (ground truth, for experiments isolating the pilot)
+    perception: str = PERCEPTIONS[0]
 
 
-PERCEPTIONS = ("vision", "oracle")
-
-
-@dataclass(frozen=True)
-class VisionParams:
-    """The camera's measurement model and the visual memory (notes, sections 1 and 3)."""
-
-    noise_bound: float = NOISE_BOUND  # sensor errors are bounded at this many standard deviations
-    heading_floor: float = math.radians(0.5)  # rad: the fuzzy heading's least half-spread (a pixel or so)
-    distance_floor: float = 0.02  # m: the fuzzy distance's least half-spread
-    walk_bound: float = 4.0  # the per-tick odometry errors' random walk is bounded at this many deviations
-    odometry_floor: float = 0.005  # relative: odometry error the memory allows for even without noise
-    bump_radius: float = 0.10  # m: support radius of an obstacle found by the bumpers
-    forget_above: float = 0.35  # I(l) above which an object is forgotten
-    forget_every: int = 5  # ticks between two sweeps of the memory for what has become too imprecise
-    draw_every: int = 5  # ticks between two /memory/scene updates
-
-
-ROBOT = RobotDefaults()
+ROBOT = RobotParams()
 PILOT = PilotParams()
 NAVIGATION = NavigationParams()
 VISION = VisionParams()
 DEFAULTS = Defaults()
+
+
+class ParamError(ValueError):
+    """An override names no parameter, or gives it a value outside its range."""
+
+
+@dataclass(frozen=True)
+class Params:
+    """The four parameter sets of one run; see the module docstring for the dotted names.
+
+    >>> p = Params().override({"pilot.K": 30, "navigation.kappa1": 0.5})
+    >>> p.pilot.K, p.navigation.kappa1, p.pilot.A_t
+    (30.0, 0.5, 50.0)
+    >>> try:
+    ...     Params().override({"pilot.k": 1})
+    ... except ParamError as e:
+    ...     print(e)
+    unknown parameter 'pilot.k' (did you mean pilot.K?)
+    """
+
+    robot: RobotParams = ROBOT
+    pilot: PilotParams = PILOT
+    navigation: NavigationParams = NAVIGATION
+    vision: VisionParams = VISION
+
+    GROUPS = ("robot", "pilot", "navigation", "vision")
+
+    def to_json(self) -> dict[str, dict[str, Any]]:
+        """``{"pilot": {"K": 18.0, ...}, ...}``: plain JSON values (tuples as lists)."""
+        return {g: {k: list(v) if isinstance(v, tuple) else v for k, v in dataclasses.asdict(getattr(self, g)).items()}
+                for g in self.GROUPS}
+
+    @classmethod
+    def from_json(cls, d: Mapping[str, Mapping[str, Any]]) -> Params:
+        """The inverse of :meth:`to_json` (unknown names refused, as for overrides)."""
+        return cls().override({f"{g}.{k}": v for g, block in d.items() for k, v in block.items()})
+
+    def flat(self) -> dict[str, Any]:
+        """Every parameter by its dotted name."""
+        return {f"{g}.{k}": v for g, block in self.to_json().items() for k, v in block.items()}
+
+    def override(self, changes: Mapping[str, Any]) -> Params:
+        """A copy with ``changes`` (dotted name -> value) applied; raises :class:`ParamError`."""
+        groups: dict[str, dict[str, Any]] = {}
+        for name, value in changes.items():
+            group, _, key = name.partition(".")
+            target = getattr(self, group, None) if group in self.GROUPS else None
+            fields = {f.name: f for f in dataclasses.fields(target)} if target is not None else {}
+            if key not in fields:
+                raise ParamError(f"unknown parameter {name!r}{_suggest(name, self.flat())}")
+            groups.setdefault(group, {})[key] = _checked(name, fields[key], value)
+        return dataclasses.replace(self, **{g: dataclasses.replace(getattr(self, g), **kw) for g, kw in groups.items()})
+
+
+def _checked(name: str, f: dataclasses.Field, value: Any) -> Any:
+    """``value`` converted to the field's type and checked against its declared range."""
+    if isinstance(f.default, tuple):
+        if not isinstance(value, (list, tuple)) or not all(_is_number(v) and math.isfinite(v) for v in value):
+            raise ParamError(f"{name} expects a list of numbers, got {value!r}")
+        return tuple(float(v) for v in value)
+    if not _is_number(value) or not math.isfinite(value):
+        raise ParamError(f"{name} expects a finite number, got {value!r}")
+    if isinstance(f.default, int):
+        if value != int(value):
+            raise ParamError(f"{name} expects a whole number, got {value!r}")
+        value = int(value)
+    else:
+        value = float(value)
+    m = f.metadata
+    for bound, ok, words in (("at_least", lambda v, b: v >= b, "at least"), ("above", lambda v, b: v > b, "above"),
+                             ("at_most", lambda v, b: v <= b, "at most"), ("below", lambda v, b: v < b, "below")):
+        b = m.get(bound)
+        if b is not None and not ok(value, b):
+            raise ParamError(f"{name} must be {words} {b:g}, got {value:g}")
+    return value
+
+
+def _is_number(v: Any) -> bool:
+    return isinstance(v, (int, float)) and not isinstance(v, bool)
+
+
+def _suggest(name: str, known: Mapping[str, Any]) -> str:
+    import difflib
+
+    close = ([k for k in known if k.endswith("." + name)] or difflib.get_close_matches(name, known, n=1)
+             or [k for k in known if k.lower() == name.lower()])
+    return f" (did you mean {close[0]}?)" if close else " (see `navcli params` for the names)"
+
+
+def parse_override(item: str) -> tuple[str, float]:
+    """``"pilot.K=30"`` -> ``("pilot.K", 30.0)``; the value is checked by :meth:`Params.override`.
+
+    >>> parse_override("navigation.kappa1=0.5")
+    ('navigation.kappa1', 0.5)
+    """
+    name, sep, value = item.partition("=")
+    name = name.strip()
+    if not sep or not name:
+        raise ParamError(f"{item!r}: expected NAME=VALUE, e.g. pilot.K=30")
+    try:
+        return name, float(value)
+    except ValueError:
+        raise ParamError(f"{item!r}: {value.strip()!r} is not a number") from None

@@ -1,4 +1,4 @@
-"""The recorder: the only writer of navcli's log format (shared/spec/log-format.md).
+"""The recorder: the only writer of navcli's log format (the README's "The log").
 
 One MCAP file per run, written with Foxglove's SDK so Foxglove's 3D, Plot and Log panels read it
 by schema name. Log time is simulation time (integer nanoseconds from the start); no wall clock
@@ -44,12 +44,13 @@ from foxglove.messages import (
 )
 
 from .bidding import RESOURCES
-from .params import VISION
-from .scenario import Circle, Scenario
+from .scenario import Scenario
 
 if TYPE_CHECKING:
+    from .config import RunSpec
     from .geometry import Pose
-    from .mission import Event, Mission, Tick
+    from .mission import Event, Tick
+    from .vision.visual_memory import Remembered
 
 GROWN_REFRESH_NS = 1_000_000_000  # grown obstacles are redrawn on change, or every simulated second
 ARROW_MIN = 2.0  # force units: weaker forces are not drawn (2 cm at 100 units per metre)
@@ -162,32 +163,30 @@ class Recorder:
         self._R_min = 0.0
         self._fov = (0.0, 0.0)  # camera field of view (rad) and range (m)
         self._pan_drawn: float | None = None
-        self._memory = None  # the visual memory, drawn on /memory/scene when there is one
-        self._draw_every = VISION.draw_every
 
     @property
     def port(self) -> int | None:
         return self.server.port if self.server else None
 
     # -- the run
-    def start(self, mission: Mission) -> None:
-        """Metadata ``run``, the scenario attached, the arena and the robot's body."""
-        sc = mission.scenario
-        self._R_min = sc.pilot.R_min
+    def start(self, spec: RunSpec, pose: Pose, odometry: Pose) -> None:
+        """Metadata ``run`` (the whole configuration), the scenario attached, the arena, the
+        robot's body, and the first poses."""
+        sc = spec.scenario
+        self._R_min = spec.params.pilot.R_min
         self._fov = (sc.camera.fov, sc.camera.range)
-        self._memory = getattr(mission.perception, "memory", None)
-        self.writer.write_metadata("run", mission.run_metadata())
+        self.writer.write_metadata("run", spec.metadata())
         self.writer.attach(log_time=0, create_time=0, name=Path(sc.source).name or f"{sc.name}.yaml",
                            media_type="application/yaml", data=sc.text.encode())
         self.world_scene.log(SceneUpdate(entities=_arena_entities(sc)), log_time=0)
-        r = sc.robot.radius
+        r = spec.params.robot.radius
         body = SceneEntity(
             timestamp=_ts(0), frame_id="base_link", id="robot", frame_locked=True,
             cylinders=[_cylinder(0.0, 0.0, r, 0.0, 0.3, _ROBOT)],
             arrows=[ArrowPrimitive(pose=_pose(0, 0, z=0.32), shaft_length=r, shaft_diameter=0.04,
                                    head_length=0.1, head_diameter=0.1, color=_ROBOT)])
         self.robot_scene.log(SceneUpdate(entities=[body]), log_time=0)
-        self._pose_msgs(mission.world.pose, mission.world.odometry.pose, 0)
+        self._pose_msgs(pose, odometry, 0)
 
     def _pose_msgs(self, truth: Pose, odom: Pose, ns: int) -> None:
         ts = _ts(ns)
@@ -222,9 +221,9 @@ class Recorder:
             dets[d.key or f"obstacle{i}"] = d.as_json()
         self.vision.log(_json({"pan_deg": math.degrees(pan), "state": state, "image": t.detections is not None,
                                "detections": dets}), log_time=ns)
-        if self._memory is not None and t.index % self._draw_every == 0:
+        if t.memory is not None:
             self.memory_scene.log(SceneUpdate(deletions=[SceneEntityDeletion(timestamp=_ts(ns), type=SceneEntityDeletionType.All)],
-                                              entities=_memory_entities(self._memory, ns)), log_time=ns)
+                                              entities=_memory_entities(t.memory, ns)), log_time=ns)
         for e in t.events:
             self.event(e, ns)
 
@@ -292,22 +291,21 @@ def _field_of_view(pan: float, fov: float, rng: float, ns: int) -> SceneEntity:
                        lines=[LinePrimitive(type=LinePrimitiveLineType.LineStrip, thickness=0.02, color=_FOV, points=pts)])
 
 
-def _memory_entities(memory, ns: int) -> list[SceneEntity]:
+def _memory_entities(memory: tuple[Remembered, ...], ns: int) -> list[SceneEntity]:
     """The visual memory in ``base_link``: per remembered point a disc the size of its 70 % cut
     and a fainter one for its support, so Foxglove shows belief (here) next to truth (/world/scene)."""
     ents = []
     ts = _ts(ns)
-    for m in memory.items.values():
+    for m in memory:
         cyl, lines = [], []
         color, faint = _MEMORY.get(m.kind, _MEMORY["obstacle"])
-        for s in m.spots:
-            r70 = max(s.radius(0.7), 0.03)
-            cyl.append(_cylinder(s.x, s.y, r70, 0.015, 0.03, color))
-            cyl.append(_cylinder(s.x, s.y, s.r0, 0.005, 0.01, faint))
+        for x, y, r70, r0 in m.spots:
+            cyl.append(_cylinder(x, y, max(r70, 0.03), 0.015, 0.03, color))
+            cyl.append(_cylinder(x, y, r0, 0.005, 0.01, faint))
         if len(m.spots) == 2:
-            a, b = m.spots
+            (ax, ay, *_), (bx, by, *_) = m.spots
             lines.append(LinePrimitive(type=LinePrimitiveLineType.LineStrip, thickness=0.03, color=color,
-                                       points=[Point3(x=a.x, y=a.y, z=0.04), Point3(x=b.x, y=b.y, z=0.04)]))
+                                       points=[Point3(x=ax, y=ay, z=0.04), Point3(x=bx, y=by, z=0.04)]))
         ents.append(SceneEntity(timestamp=ts, frame_id="base_link", id=f"memory-{m.key}", frame_locked=True,
                                 cylinders=cyl, lines=lines))
     return ents
@@ -336,21 +334,21 @@ def _arena_entities(sc: Scenario) -> list[SceneEntity]:
              for x, y, sx, sy in ((W / 2, -t / 2, W + 2 * t, t), (W / 2, H + t / 2, W + 2 * t, t),
                                   (-t / 2, H / 2, t, H), (W + t / 2, H / 2, t, H))]
     ents = [SceneEntity(timestamp=ts, frame_id="world", id="walls", cubes=walls)]
-    for i, o in enumerate(sc.obstacles):
-        if isinstance(o, Circle):
-            prim = {"cylinders": [_cylinder(*o.center, o.radius, 0.0, HEIGHT, _RED)]}
-        else:
-            (ax, ay), (bx, by) = o.start, o.end
-            prim = {"cubes": [CubePrimitive(pose=_pose(*o.center, math.atan2(by - ay, bx - ax), z=HEIGHT / 2),
-                                            size=Vector3(x=math.hypot(bx - ax, by - ay), y=o.thickness, z=HEIGHT),
-                                            color=_RED)]}
-        ents.append(SceneEntity(timestamp=ts, frame_id="world", id=f"obstacle-{i}", **prim))
-    for lm in sc.landmarks:
-        ents.append(SceneEntity(
-            timestamp=ts, frame_id="world", id=f"landmark-{lm.id}",
-            cylinders=[_cylinder(*lm.at, lm.radius, 0.0, HEIGHT, _BLUE)],
-            texts=[TextPrimitive(pose=_pose(*lm.at, z=HEIGHT + 0.15), billboard=True, font_size=14.0,
-                                 scale_invariant=True, color=_BLUE, text=lm.id)]))
+    for o in sc.objects:
+        if o.kind == "circle":
+            ents.append(SceneEntity(timestamp=ts, frame_id="world", id=f"obstacle-{o.key[1:]}",
+                                    cylinders=[_cylinder(*o.a, o.radius, 0.0, HEIGHT, _RED)]))
+        elif o.kind == "segment":
+            (ax, ay), (bx, by) = o.a, o.b
+            ents.append(SceneEntity(timestamp=ts, frame_id="world", id=f"obstacle-{o.key[1:]}", cubes=[CubePrimitive(
+                pose=_pose((ax + bx) / 2, (ay + by) / 2, math.atan2(by - ay, bx - ax), z=HEIGHT / 2),
+                size=Vector3(x=math.hypot(bx - ax, by - ay), y=2 * o.radius, z=HEIGHT), color=_RED)]))
+        elif o.kind == "landmark":
+            ents.append(SceneEntity(
+                timestamp=ts, frame_id="world", id=f"landmark-{o.key}",
+                cylinders=[_cylinder(*o.a, o.radius, 0.0, HEIGHT, _BLUE)],
+                texts=[TextPrimitive(pose=_pose(*o.a, z=HEIGHT + 0.15), billboard=True, font_size=14.0,
+                                     scale_invariant=True, color=_BLUE, text=o.key)]))
     tg = sc.target
     if tg.kind == "line":
         (ax, ay), (bx, by) = tg.line

@@ -1,5 +1,5 @@
 """Run one mission to its end, recording it: the engine behind ``navcli run``, the benchmark and
-(later) ``navcli compare``.
+``navcli compare``.
 
 It owns the lifetime of a log: whatever ends the run (the target, the time limit, Ctrl-C, an
 exception) the recorder is finished with a summary that says so, and the file gets its final name.
@@ -12,15 +12,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable
 
+from .config import RunSpec
 from .mission import Event, Mission, Tick
-from .scenario import Scenario
-
-LOG_ROOT = Path("logs")
-
-
-def default_log_path(scenario: Scenario, pilot: str, seed: int, root: Path = LOG_ROOT) -> Path:
-    """``logs/<scenario>/<pilot>-seed<N>.mcap``."""
-    return root / scenario.name / f"{pilot}-seed{seed}.mcap"
 
 
 @dataclass(frozen=True)
@@ -35,12 +28,11 @@ class RunResult:
         return self.summary["time_s"] / self.wall_s if self.wall_s > 0 else float("inf")
 
 
-def run_mission(scenario: Scenario, *, seed: int | None = None, pilot: str | None = None,
-                time_limit: float | None = None, out: Path | None = None, record: bool = True,
-                live: bool = False, port: int = 8765,
-                on_tick: Callable[[Mission, Tick], None] | None = None, perception: str | None = None) -> RunResult:
-    """Run ``scenario`` to its end and return its summary.
+def run_mission(spec: RunSpec, *, out: Path | None = None, record: bool = True, live: bool = False,
+                port: int = 8765, on_tick: Callable[[Mission, Tick], None] | None = None) -> RunResult:
+    """Run the configuration ``spec`` to its end and return its summary.
 
+    The log goes to ``out``, by default :meth:`RunSpec.default_log_path`.
     ``record=False`` runs without a log (the benchmark's baseline). ``live`` serves the run to
     Foxglove on ``ws://localhost:<port>`` and paces it to real time. ``on_tick`` is called after
     every tick (progress display; tests use it to interrupt a run). A ``KeyboardInterrupt`` ends
@@ -49,16 +41,16 @@ def run_mission(scenario: Scenario, *, seed: int | None = None, pilot: str | Non
     """
     from .recorder import Recorder  # foxglove is imported only when a log is written
 
-    mission = Mission(scenario, seed=seed, pilot=pilot, time_limit=time_limit, perception=perception)
+    mission = Mission(spec)
     path = None
     recorder = None
     if record or live:
-        path = out or default_log_path(scenario, mission.pilot_name, mission.seed)
+        path = out or spec.default_log_path()
         recorder = Recorder(path, live=live, port=port)
     t0 = time.perf_counter()
     try:
         if recorder:
-            recorder.start(mission)
+            recorder.start(spec, mission.world.pose, mission.world.odometry.pose)
             for e in mission.drain_events():
                 recorder.event(e, 0)
         while mission.outcome is None:

@@ -1,4 +1,4 @@
-"""Scenario files: YAML in, frozen dataclasses out (shared/spec/scenario-format.md, version 1).
+"""Scenario files: YAML in, frozen dataclasses out (the scenario format, version 1, in the README).
 
 Every refusal names the file, the line and the field, says what is wrong and what was expected,
 so that ``navcli validate`` and ``navcli run`` can print it and exit non-zero without a
@@ -18,7 +18,7 @@ from typing import Any, Literal
 import yaml
 
 from .geometry import Point, distance_to_segment
-from .params import DEFAULTS, PERCEPTIONS, PILOT, PILOT_NAMES, ROBOT, PilotParams
+from .params import DEFAULTS, PERCEPTIONS, PILOT_NAMES, Params
 
 SUPPORTED_VERSIONS = (1,)
 NAME_RE = re.compile(r"^[a-z0-9-]+$")
@@ -33,10 +33,10 @@ class Arena:
 
 @dataclass(frozen=True)
 class RobotSpec:
+    """Where the robot starts; its size and speed are parameters (``params.robot``)."""
+
     start: Point
     heading: float  # rad
-    radius: float
-    max_speed: float  # m/s
 
 
 @dataclass(frozen=True)
@@ -106,6 +106,30 @@ class CameraSpec:
 
 
 @dataclass(frozen=True)
+class ArenaObject:
+    """One physical thing of the arena, as every part of navcli sees it (the world's bodies, the
+    camera's objects, the oracle's obstacles, the log's scene, the figures): the one place that
+    turns the scenario's obstacles, landmarks, target markers and walls into geometry.
+
+    ``a == b`` for a round thing (a circle, a landmark, a target marker); a linear one runs from
+    ``a`` to ``b``. ``radius`` is the physical half-width (0 for a wall's face and a target
+    marker). ``key`` is stable (a landmark's id, ``o3``, ``target``, ``wall-s``); ``label`` is how
+    events name it (``obstacle 3``, ``landmark A``, ``wall``).
+    """
+
+    key: str
+    kind: Literal["landmark", "circle", "segment", "target", "wall"]
+    a: Point
+    b: Point
+    radius: float
+    label: str
+
+    def clearance(self, p: Point) -> float:
+        """Distance (m) from ``p`` to the thing's surface; negative inside it."""
+        return distance_to_segment(p, self.a, self.b) - self.radius
+
+
+@dataclass(frozen=True)
 class Scenario:
     version: int
     name: str
@@ -118,7 +142,7 @@ class Scenario:
     mission: MissionSpec
     noise: Noise
     camera: CameraSpec
-    pilot: PilotParams
+    params: Params  # the defaults with the file's robot (radius, max_speed) and pilot blocks applied
     source: str = ""  # the file it came from
     text: str = field(default="", repr=False)  # the YAML itself, attached to every log
 
@@ -128,6 +152,23 @@ class Scenario:
         W, H = self.arena.width, self.arena.height
         return (("wall-s", (0.0, 0.0), (W, 0.0)), ("wall-e", (W, 0.0), (W, H)),
                 ("wall-n", (W, H), (0.0, H)), ("wall-w", (0.0, H), (0.0, 0.0)))
+
+    @property
+    def objects(self) -> tuple[ArenaObject, ...]:
+        """Landmarks, obstacles, target markers and walls, in that order (see :class:`ArenaObject`)."""
+        objs = [ArenaObject(lm.id, "landmark", lm.at, lm.at, lm.radius, f"landmark {lm.id}") for lm in self.landmarks]
+        for i, o in enumerate(self.obstacles):
+            if isinstance(o, Circle):
+                objs.append(ArenaObject(f"o{i}", "circle", o.center, o.center, o.radius, f"obstacle {i}"))
+            else:
+                objs.append(ArenaObject(f"o{i}", "segment", o.start, o.end, o.thickness / 2, f"obstacle {i}"))
+        t = self.target
+        if t.kind == "point":
+            objs.append(ArenaObject("target", "target", t.point, t.point, 0.0, "target"))
+        elif t.kind == "line":
+            objs += [ArenaObject(f"target-{s}", "target", p, p, 0.0, "target") for s, p in zip("ab", t.line)]
+        objs += [ArenaObject(key, "wall", a, b, 0.0, "wall") for key, a, b in self.walls]
+        return tuple(objs)
 
     @property
     def sha256(self) -> str:
@@ -322,23 +363,24 @@ class _Reader:
         name = g(self.name, top["name"])
         description = g(self.text, top.get("description", ""), ("description",), default="")
         arena = g(self.arena, top["arena"])
-        robot = g(self.robot, top["robot"])
+        robot, robot_params = g(self.robot, top["robot"], default=(None, {}))
         landmarks = g(self.landmarks, top.get("landmarks", []), default=())
         target = g(self.target, top["target"], landmarks or ())
         obstacles = g(self.obstacles, top.get("obstacles", []), default=())
         mission = g(self.mission, top.get("mission", {}))
         noise = g(self.noise, top.get("noise", {}))
         camera = g(self.camera, top.get("camera", {}))
-        pilot = g(self.pilot, top.get("pilot", {}))
+        pilot_params = g(self.pilot, top.get("pilot", {}), default={})
         if self.problems:
             raise ScenarioError(self.problems)
+        params = Params().override(robot_params | pilot_params)
         sc = Scenario(version, name, description, arena, robot, target, obstacles, landmarks,
-                      mission, noise, camera, pilot)
+                      mission, noise, camera, params)
         self.placement(sc)
         if self.problems:
             raise ScenarioError(self.problems)
         return Scenario(version, name, description, arena, robot, target, obstacles, landmarks,
-                        mission, noise, camera, pilot, source=self.source, text=text)
+                        mission, noise, camera, params, source=self.source, text=text)
 
     def version(self, v: Any) -> int:
         if isinstance(v, bool) or not isinstance(v, int):
@@ -359,15 +401,13 @@ class _Reader:
         h = self.number(m["height"], ("arena", "height"), positive=True)
         return Arena(w, h)
 
-    def robot(self, v: Any) -> RobotSpec:
+    def robot(self, v: Any) -> tuple[RobotSpec, dict[str, float]]:
+        """The start, and the robot parameters the block sets (``radius``, ``max_speed``)."""
         P = ("robot",)
         m = self.mapping(v, P, ("start",), ("heading_deg", "radius", "max_speed"))
-        return RobotSpec(
-            start=self.point(m["start"], P + ("start",)),
-            heading=math.radians(self.opt(m, "heading_deg", P, self.number, DEFAULTS.heading_deg)),
-            radius=self.opt(m, "radius", P, self.number, ROBOT.radius, positive=True),
-            max_speed=self.opt(m, "max_speed", P, self.number, ROBOT.max_speed, positive=True),
-        )
+        spec = RobotSpec(start=self.point(m["start"], P + ("start",)),
+                         heading=math.radians(self.opt(m, "heading_deg", P, self.number, DEFAULTS.heading_deg)))
+        return spec, {f"robot.{k}": self.number(m[k], P + (k,), positive=True) for k in ("radius", "max_speed") if k in m}
 
     def target(self, v: Any, landmarks: tuple[Landmark, ...]) -> Target:
         P = ("target",)
@@ -482,12 +522,11 @@ class _Reader:
                                                 positive=True)),
                           self.opt(m, "look_time", P, self.number, DEFAULTS.camera_look_time, nonneg=True))
 
-    def pilot(self, v: Any) -> PilotParams:
+    def pilot(self, v: Any) -> dict[str, float]:
+        """The pilot parameters the block sets."""
         P = ("pilot",)
         m = self.mapping(v, P, (), ("K", "A_t", "R_min"))
-        return PilotParams(K=self.opt(m, "K", P, self.number, PILOT.K, positive=True),
-                           A_t=self.opt(m, "A_t", P, self.number, PILOT.A_t, positive=True),
-                           R_min=self.opt(m, "R_min", P, self.number, PILOT.R_min, positive=True))
+        return {f"pilot.{k}": self.number(m[k], P + (k,), positive=True) for k in ("K", "A_t", "R_min") if k in m}
 
     # -- where things are
     def placement(self, sc: Scenario) -> None:
@@ -514,18 +553,12 @@ class _Reader:
         for i, lm in enumerate(sc.landmarks):
             inside(lm.at, ("landmarks", i, "at"))
 
-        s, r = sc.robot.start, sc.robot.radius
+        s, r = sc.robot.start, sc.params.robot.radius
         P = ("robot", "start")
         if min(s[0], s[1], W - s[0], H - s[1]) < r and not self.problems:
             self.fail(P, f"the robot (radius {r:g} m) at [{s[0]:g}, {s[1]:g}] overlaps a wall "
                          f"(expected at least {r:g} m from every wall)")
-        for i, o in enumerate(sc.obstacles):
-            if isinstance(o, Circle):
-                gap = math.dist(s, o.center) - o.radius
-            else:
-                gap = distance_to_segment(s, o.start, o.end) - o.thickness / 2
-            if gap < r:
-                self.fail(P, f"the robot (radius {r:g} m) at [{s[0]:g}, {s[1]:g}] overlaps obstacles[{i}]")
-        for lm in sc.landmarks:
-            if math.dist(s, lm.at) - lm.radius < r:
-                self.fail(P, f"the robot (radius {r:g} m) at [{s[0]:g}, {s[1]:g}] overlaps landmark {lm.id!r}")
+        for o in sc.objects:
+            if o.kind in ("circle", "segment", "landmark") and o.clearance(s) < r:
+                what = f"obstacles[{o.key[1:]}]" if o.kind != "landmark" else f"landmark {o.key!r}"
+                self.fail(P, f"the robot (radius {r:g} m) at [{s[0]:g}, {s[1]:g}] overlaps {what}")

@@ -12,32 +12,18 @@ comes from :class:`Odometry`, which sees the true motion through the scenario's 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 
 import numpy as np
 import pymunk
 
-from .geometry import Point, Pose, motion_between, wrap_angle
-from .params import NOISE_BOUND, PHYSICS_DT, PHYSICS_DT_NS, PHYSICS_SUBSTEPS, ROBOT, RobotDefaults
-from .scenario import Circle, Scenario
+from .beliefs import Bump
+from .geometry import Pose, motion_between, wrap_angle
+from .params import NOISE_BOUND, PHYSICS_DT, PHYSICS_DT_NS, PHYSICS_SUBSTEPS, RobotParams
+from .scenario import Scenario
 
 WALL_THICKNESS = 0.10  # m; walls sit outside the arena, their inner face on the border
 BUMP_REARM = 1.0  # s without touching a thing before touching it again counts as a new bump
 ROBOT_MASS = 20.0  # kg
-
-
-@dataclass(frozen=True)
-class Bump:
-    """A bumper contact that began during a tick.
-
-    ``what`` names the thing hit (``wall``, ``obstacle 3``, ``landmark A``); ``point`` is the
-    contact point in the world; ``bearing`` is its direction in the robot frame (rad, 0 = ahead).
-    """
-
-    time: float
-    what: str
-    point: Point
-    bearing: float
 
 
 class Odometry:
@@ -77,10 +63,11 @@ class Odometry:
 class World:
     """The pymunk arena of one scenario, stepped one control tick at a time."""
 
-    def __init__(self, scenario: Scenario, rng: np.random.Generator, limits: RobotDefaults = ROBOT):
+    def __init__(self, scenario: Scenario, rng: np.random.Generator, robot: RobotParams | None = None):
+        """``robot``: the body and drive limits, by default the scenario's (``scenario.params.robot``)."""
         self.scenario = scenario
-        self.limits = limits
-        self.max_speed = scenario.robot.max_speed
+        self.robot = robot = robot or scenario.params.robot
+        self.max_speed = robot.max_speed
         self._substeps = 0
         self.path_length = 0.0
         self.bumps = 0
@@ -94,16 +81,16 @@ class World:
         self.space = space
         self._names: dict[pymunk.Shape, str] = {}
         self._add_walls()
-        for i, o in enumerate(scenario.obstacles):
-            if isinstance(o, Circle):
-                shape = pymunk.Circle(space.static_body, o.radius, o.center)
+        # obstacles first, then landmarks: the order pymunk meets them in
+        for o in sorted((o for o in scenario.objects if o.kind in ("circle", "segment", "landmark")),
+                        key=lambda o: o.kind == "landmark"):
+            if o.kind == "segment":
+                shape = pymunk.Segment(space.static_body, o.a, o.b, o.radius)
             else:
-                shape = pymunk.Segment(space.static_body, o.start, o.end, o.thickness / 2)
-            self._add_static(shape, f"obstacle {i}")
-        for lm in scenario.landmarks:
-            self._add_static(pymunk.Circle(space.static_body, lm.radius, lm.at), f"landmark {lm.id}")
+                shape = pymunk.Circle(space.static_body, o.radius, o.a)
+            self._add_static(shape, o.label)
 
-        r = scenario.robot.radius
+        r = robot.radius
         body = pymunk.Body(ROBOT_MASS, pymunk.moment_for_circle(ROBOT_MASS, 0, r))
         body.position = scenario.robot.start
         body.angle = scenario.robot.heading
@@ -158,7 +145,7 @@ class World:
 
         The command is clipped to the robot's limits and reached at bounded acceleration.
         """
-        lim = self.limits
+        lim = self.robot
         v = min(max(v, -self.max_speed), self.max_speed)
         omega = min(max(omega, -lim.max_turn_rate), lim.max_turn_rate)
         dt = PHYSICS_DT

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import re
 import signal
 import subprocess
 import sys
@@ -13,6 +14,7 @@ from typer.testing import CliRunner
 from analysis import read_log
 from conftest import ROOT, SCENARIOS, scenario_dict
 from navcli.cli import app
+from navcli.params import Params
 
 runner = CliRunner()
 
@@ -34,7 +36,10 @@ def test_run_writes_the_default_log_path(tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
     r = invoke("run", SCENARIOS / "open-arena.yaml", "--pilot", "geometric", "--seed", 4)
     assert r.exit_code == 0, r.output
-    assert (tmp_path / "logs" / "open-arena" / "geometric-seed4.mcap").exists()
+    logs = list((tmp_path / "logs" / "open-arena").glob("geometric-seed4-*.mcap"))
+    assert len(logs) == 1 and str(logs[0].relative_to(tmp_path)) in r.output
+    run_id = read_log(logs[0], topics=[]).metadata["run"]["run_id"]
+    assert logs[0].name == f"geometric-seed4-{run_id[:8]}.mcap"
 
 
 def test_a_mission_that_runs_out_of_time_exits_3(tmp_path):
@@ -82,11 +87,15 @@ def test_validate_reports_each_file(write_scenario):
     assert "paper-8x8.yaml: ok" in r.output and "landmarks[1].id" in r.output and "1 of 2 files refused" in r.output
 
 
-def test_help_lists_the_commands():
+def test_help_lists_every_command_with_its_summary():
     r = invoke("--help")
     assert r.exit_code == 0
-    for cmd in ("run", "validate", "bench"):
-        assert cmd in r.output
+    listed = dict(re.findall(r"^│ ([a-z]+)\s{2,}(\S.*?)\s*│$", r.output, re.M))
+    commands = {c.callback.__name__: c.callback.__doc__ for c in app.registered_commands}
+    groups = {g.name: g.typer_instance.info.help for g in app.registered_groups}
+    assert set(listed) == set(commands) | set(groups)
+    for name, doc in (commands | groups).items():
+        assert doc.split()[:3] == listed[name].split()[:3], name  # each with the first words of its summary
 
 
 def test_cli_module_imports_no_heavy_library():
@@ -118,16 +127,23 @@ def test_ctrl_c_on_a_live_run_leaves_a_log_marked_interrupted(tmp_path):
     assert not partial.exists()
 
 
-def test_param_overrides_the_pilot_parameters_and_is_recorded(tmp_path):
+def test_param_overrides_any_parameter_and_is_recorded_as_json(tmp_path):
     out = tmp_path / "k.mcap"
-    r = invoke("run", SCENARIOS / "open-arena.yaml", "--param", "K=30", "--param", "A_t=40", "--out", out)
+    r = invoke("run", SCENARIOS / "open-arena.yaml", "--param", "pilot.K=30", "--param", "pilot.A_t=40",
+               "--param", "navigation.kappa1=0.5", "--param", "robot.max_speed=0.25", "--out", out)
     assert r.exit_code == 0, r.output
-    params = read_log(out).metadata["run"]["pilot_params"]
-    assert "K=30.0" in params and "A_t=40.0" in params and "R_min=0.4" in params
+    params = read_log(out, topics=[]).config["params"]
+    assert (params["pilot"]["K"], params["pilot"]["A_t"], params["navigation"]["kappa1"]) == (30.0, 40.0, 0.5)
+    assert params["robot"]["max_speed"] == 0.25
+    others = {k: v for k, v in Params().flat().items()
+              if k not in ("pilot.K", "pilot.A_t", "navigation.kappa1", "robot.max_speed")}
+    assert {f"{g}.{k}": v for g, b in params.items() for k, v in b.items()}.items() >= others.items()
 
 
 def test_bad_param_exits_2_naming_it():
-    for bad, words in (("Q=1", "unknown pilot parameter 'Q'"), ("K=abc", "number greater than zero"),
-                       ("R_min=0", "number greater than zero"), ("K", "number greater than zero")):
+    for bad, words in (("Q=1", "unknown parameter 'Q'"), ("K=1", "did you mean pilot.K?"),
+                       ("pilot.K=abc", "'abc' is not a number"), ("pilot.R_min=0", "pilot.R_min must be above 0"),
+                       ("pilot.K", "expected NAME=VALUE"), ("pilot.K=nan", "finite number"),
+                       ("navigation.kappa1=1.5", "at most 1"), ("vision.forget_every=2.5", "whole number")):
         r = invoke("run", SCENARIOS / "open-arena.yaml", "--param", bad)
-        assert r.exit_code == 2 and words in r.output, (bad, r.output)
+        assert r.exit_code == 2 and words in r.output and "Traceback" not in r.output, (bad, r.output)

@@ -9,9 +9,10 @@ import pytest
 from typer.testing import CliRunner
 
 from analysis import LogError, path_length, read_log
-from analysis.compare import load_runs, paired_improvement, pilot_table
+from analysis.tables import load_runs, paired_improvement, pilot_table
 from conftest import SCENARIOS
-from navcli import compare
+from navcli.config import RunSpec
+from navcli.experiments import compare
 from navcli.cli import app
 from navcli.mission import Mission
 from navcli.recorder import Recorder
@@ -25,14 +26,14 @@ def small(tmp_path_factory):
     """Two reruns of the Figure 9 room with both pilots, run in this process."""
     out = tmp_path_factory.mktemp("cmp")
     sc = load_scenario(SCENARIOS / "paper-fig9.yaml")
-    jobs = compare.plan([sc], PILOTS, 2, out)
+    jobs = compare.plan([RunSpec.build(sc)], PILOTS, 2, out)
     results = compare.run_all(jobs, 1)
     return out, jobs, results
 
 
 def test_the_same_seeds_serve_every_pilot(small):
     _, jobs, _ = small
-    seeds = {p: [j.seed for j in jobs if j.pilot == p] for p in PILOTS}
+    seeds = {p: [j.spec.seed for j in jobs if j.spec.pilot == p] for p in PILOTS}
     assert seeds["potential-field"] == seeds["geometric"] and len(set(seeds["geometric"])) == 2
     assert seeds["geometric"] == [compare.rerun_seed(1, 0), compare.rerun_seed(1, 1)]
 
@@ -44,7 +45,7 @@ def test_table_agrees_with_the_poses_of_the_logs(small):
     table = pilot_table(runs).set_index("pilot")
     for pilot in PILOTS:
         times, paths = [], []
-        for j in (j for j in jobs if j.pilot == pilot):
+        for j in (j for j in jobs if j.spec.pilot == pilot):
             log = read_log(j.log)
             if log.summary["outcome"] != "reached":
                 continue
@@ -63,34 +64,34 @@ def test_resume_runs_only_what_is_missing(small):
     Path(gone.log).unlink()
     again = compare.run_all(jobs, 1)
     assert [r.job for r in again if r.ran] == [gone]
-    assert all(r.outcome == compare.complete(r.job.log) for r in again)
+    assert all(r.outcome == compare.complete(r.job.log, r.job.spec.run_id) for r in again)
 
 
-def test_parallel_and_serial_give_the_same_table(tmp_path):
-    sc = load_scenario(SCENARIOS / "paper-fig9.yaml")
-    tables = []
-    for workers in (1, 2):
-        out = tmp_path / f"w{workers}"
-        compare.run_all(compare.plan([sc], PILOTS, 2, out), workers)
-        tables.append(pilot_table(load_runs(out)))
-    assert tables[0].equals(tables[1])
+def test_parallel_and_serial_give_the_same_table(small, tmp_path):
+    serial, jobs, _ = small  # the same plan, run in this process
+    base = RunSpec.build(load_scenario(SCENARIOS / "paper-fig9.yaml"))
+    parallel = compare.run_all(compare.plan([base], PILOTS, 2, tmp_path), 2)
+    assert all(r.ran for r in parallel)
+    columns = ["scenario", "pilot", "seed", "run_id", "outcome", "time_s", "path_m", "collisions", "camera_looks"]
+    a, b = (load_runs(d).sort_values("log").reset_index(drop=True)[columns] for d in (serial, tmp_path))
+    assert a.equals(b) and pilot_table(load_runs(serial)).equals(pilot_table(load_runs(tmp_path)))
 
 
 def test_failed_runs_stay_in_the_table_as_failures(tmp_path, monkeypatch):
     import navcli.runner
 
     sc = load_scenario(SCENARIOS / "paper-fig9.yaml")
-    jobs = compare.plan([sc], PILOTS, 2, tmp_path, time_limit=3.0)  # too short to arrive: timeouts
+    jobs = compare.plan([RunSpec.build(sc, time_limit=3.0)], PILOTS, 2, tmp_path)  # too short to arrive: timeouts
     real = navcli.runner.run_mission
 
     def boom(mission, tick):
         if tick.index == 3:
             raise RuntimeError("wheel fell off")
 
-    def one_breaks(sc, **kw):  # one run raises: an error, its log closed and marked
-        if kw["pilot"] == "geometric" and kw["seed"] == jobs[0].seed:
+    def one_breaks(spec, **kw):  # one run raises: an error, its log closed and marked
+        if spec.pilot == "geometric" and spec.seed == jobs[0].spec.seed:
             kw["on_tick"] = boom
-        return real(sc, **kw)
+        return real(spec, **kw)
 
     monkeypatch.setattr(navcli.runner, "run_mission", one_breaks)
     results = compare.run_all(jobs, 1)
@@ -100,20 +101,41 @@ def test_failed_runs_stay_in_the_table_as_failures(tmp_path, monkeypatch):
     table = pilot_table(load_runs(tmp_path)).set_index("pilot")
     assert table["runs"].to_dict() == {"geometric": 2, "potential-field": 2}
     assert table["reached"].sum() == 0 and table["failed"].sum() == 4
-    assert compare.complete(broken.job.log) is None  # a resumed comparison runs it again
+    assert compare.complete(broken.job.log, broken.job.spec.run_id) is None  # a resumed comparison runs it again
 
 
 def test_a_log_whose_summary_disagrees_with_its_poses_is_refused_by_name(tmp_path):
     sc = load_scenario(SCENARIOS / "open-arena.yaml")
-    m = Mission(sc)
+    m = Mission(RunSpec.build(sc))
     path = tmp_path / "liar.mcap"
     rec = Recorder(path)
-    rec.start(m)
+    rec.start(m.spec, m.world.pose, m.world.odometry.pose)
     for _ in range(30):
         rec.tick(m.step())
     rec.finish(m.summary() | {"path_length_m": 42.0}, m.world.time_ns)
     with pytest.raises(LogError, match="liar.mcap.*disagrees"):
         load_runs(tmp_path)
+
+
+def test_a_parameter_reaches_every_worker_and_the_log_and_never_reuses_other_runs(tmp_path):
+    """The whole configuration travels with the job: --param pilot.K=30 is what the workers run
+    and what every log records; resume never takes a K = 18 log for a K = 30 run."""
+    sc = load_scenario(SCENARIOS / "paper-fig9.yaml")
+    base = RunSpec.build(sc, time_limit=5.0)
+    k18 = compare.plan([base], PILOTS, 2, tmp_path)
+    compare.run_all(k18, 2)
+    k30 = compare.plan([RunSpec.build(sc, time_limit=5.0, overrides={"pilot.K": 30})], PILOTS, 2, tmp_path)
+    assert {j.log for j in k30}.isdisjoint(j.log for j in k18)  # the run id is part of the path
+    results = compare.run_all(k30, 2)
+    assert all(r.ran for r in results)  # nothing reused from the K = 18 runs
+    for r in results:
+        config = read_log(r.job.log, topics=[]).config
+        assert config["params"]["pilot"]["K"] == 30.0 and config["seed"] == r.job.spec.seed
+    runs = load_runs(tmp_path)
+    assert sorted(runs["params.pilot.K"]) == [18.0] * 4 + [30.0] * 4
+    # a log of another configuration at the expected path is not taken as done
+    Path(k18[0].log).replace(k30[0].log)
+    assert compare.complete(k30[0].log, k30[0].spec.run_id) is None
 
 
 def test_paired_statistics_on_a_known_case():

@@ -14,6 +14,7 @@ import pytest
 
 from analysis import path_length, read_log
 from conftest import ROOT, SCENARIOS
+from navcli.config import RunSpec
 from navcli.runner import run_mission
 from navcli.scenario import load_scenario
 
@@ -46,7 +47,7 @@ def _dump(d: dict) -> str:
 def test_paper_8x8_matches_its_golden_digest(pilot, tmp_path, request):
     sc = load_scenario(SCENARIOS / "paper-8x8.yaml")
     out = tmp_path / f"{pilot}.mcap"
-    run_mission(sc, pilot=pilot, seed=1, out=out)
+    run_mission(RunSpec.build(sc, pilot=pilot, seed=1), out=out)
     log = read_log(out)
     got = digest(log)
     assert log.summary["path_length_m"] == pytest.approx(path_length(log["/robot/pose"]), rel=0.01)

@@ -8,20 +8,21 @@ import math
 import pytest
 
 from analysis import read_log
+from navcli.config import RunSpec
 from navcli.bidding import Bid, Move
-from navcli.geometric import GeometricPilot, blocked_interval
+from navcli.pilot.geometric import GeometricPilot, blocked_interval
 from navcli.geometry import Pose
 from navcli.mission import Mission
-from navcli.params import CONTROL_DT, PILOT
-from navcli.perception import Beliefs, KnownObstacle
-from navcli.pilot import Pilot
-from navcli.potential_field import PotentialFieldPilot
+from navcli.params import CONTROL_DT, PILOT, ROBOT
+from navcli.beliefs import Beliefs, KnownObstacle
+from navcli.pilot.base import Pilot
+from navcli.pilot.potential_field import PotentialFieldPilot
 from navcli.runner import run_mission
-from navcli.world import Bump
+from navcli.beliefs import Bump
 
 
-def beliefs(obstacles=(), target=(5.0, 0.0), odom=Pose(0.0, 0.0, 0.0)):
-    return Beliefs(0.0, odom, target, None, tuple(obstacles))
+def beliefs(obstacles=(), target=(5.0, 0.0), odom=Pose(0.0, 0.0, 0.0), looked=None, bumps=()):
+    return Beliefs(0.0, odom, target, None, tuple(obstacles), 0.0, looked, tuple(bumps))
 
 
 def nav(move):
@@ -30,7 +31,7 @@ def nav(move):
 
 # -- execution ---------------------------------------------------------------------------------
 def test_execution_turns_toward_the_heading_and_drives_when_facing_it():
-    p = Pilot(PILOT, 0.3)
+    p = Pilot(PILOT, ROBOT)
     v, w = p.execute(nav(Move(0.2, 0.3)))
     assert v == pytest.approx(0.3 * math.cos(0.2)) and w == pytest.approx(PILOT.heading_gain * 0.2)
     v, w = p.execute(nav(Move(math.radians(90), 0.3)))
@@ -39,7 +40,7 @@ def test_execution_turns_toward_the_heading_and_drives_when_facing_it():
 
 
 def test_section_3_5_turns_over_160_degrees_are_driven_backwards_within_a_budget():
-    p = Pilot(PILOT, 0.3)
+    p = Pilot(PILOT, ROBOT)
     v, w = p.execute(nav(Move(math.radians(170), 0.3)))
     assert v == pytest.approx(-0.3 * math.cos(math.radians(10)))  # backwards...
     assert w == pytest.approx(PILOT.heading_gain * math.radians(-10))  # ...turning the complement
@@ -51,7 +52,7 @@ def test_section_3_5_turns_over_160_degrees_are_driven_backwards_within_a_budget
 
 
 def test_backward_budget_counts_backward_travel_and_refills_after_a_forward_stretch():
-    p = Pilot(PILOT, 0.3)
+    p = Pilot(PILOT, ROBOT)
     for x in (0.0, -0.2, -0.4):
         p.decide(beliefs(odom=Pose(x, 0.0, 0.0)))
     assert p.backward == pytest.approx(0.4)
@@ -62,7 +63,7 @@ def test_backward_budget_counts_backward_travel_and_refills_after_a_forward_stre
 
 # -- eq. 1: the look-ahead camera bid ------------------------------------------------------------
 def test_eq1_look_bid_grows_with_distance_since_the_last_look_ahead():
-    p = PotentialFieldPilot(PILOT, 0.3)
+    p = PotentialFieldPilot(PILOT, ROBOT)
     assert p.look_bid() == 0.0
     p.since_look = 0.5
     assert p.look_bid() == pytest.approx((0.5 / PILOT.look_d_max) ** PILOT.look_exponent)
@@ -70,21 +71,22 @@ def test_eq1_look_bid_grows_with_distance_since_the_last_look_ahead():
     assert p.look_bid() == pytest.approx(0.9)  # capped like every Pilot bid
     out = p.decide(beliefs())
     assert any(b.resource == "camera" and b.value == pytest.approx(0.9) for b in out.bids)
-    p.on_look(math.radians(60))
+    p.decide(beliefs(looked=math.radians(60)))  # Vision reports the image it took
     assert p.look_bid() == pytest.approx(0.9)  # a look to the side is not a look ahead
-    p.on_look(0.0)
+    p.decide(beliefs(looked=0.0))
     assert p.look_bid() == 0.0
 
 
 # -- reflexes (section 3.5) --------------------------------------------------------------------
 def test_reflex_stops_looks_around_backs_up_then_avoids_again():
-    p = PotentialFieldPilot(PILOT, 0.3)
+    p = PotentialFieldPilot(PILOT, ROBOT)
     p.decide(beliefs(odom=Pose(1.0, 1.0, 0.0)))
-    p.on_bumps([Bump(3.0, "obstacle 0", (1.4, 1.0), 0.0)])
+    bumps = [Bump(3.0, "obstacle 0", (1.4, 1.0), 0.0)]  # felt during the last tick
     phases, looks = [], []
-    x = 1.0
+    x, looked = 1.0, None
     for _ in range(200):
-        out = p.decide(beliefs(odom=Pose(x, 1.0, 0.0)))
+        out = p.decide(beliefs(odom=Pose(x, 1.0, 0.0), looked=looked, bumps=bumps))
+        bumps, looked = [], None
         phase = out.info.get("phase")
         if out.info["mode"] != "reflex" or phase == "done":
             break
@@ -99,7 +101,7 @@ def test_reflex_stops_looks_around_backs_up_then_avoids_again():
         if phase == "look":
             look = next(b for b in out.bids if b.resource == "camera")
             looks.append(round(math.degrees(look.action.pan)))
-            p.on_look(look.action.pan)  # Vision carries the look out
+            looked = look.action.pan  # Vision carries the look out; the pilot hears of it next tick
     order = [ph for i, ph in enumerate(phases) if i == 0 or phases[i - 1] != ph]
     assert order == ["stop", "look", "backup"]
     assert phases.count("stop") == round(PILOT.reflex_stop_s / CONTROL_DT)
@@ -117,7 +119,7 @@ def test_reflex_after_hitting_an_obstacle_the_pilot_did_not_know(make_scenario, 
     sc = make_scenario(obstacles=[{"circle": {"center": [2.5, 2.0], "radius": 0.15}}],
                        camera={"range": 0.3}, noise={"odometry": 0.0})
     out = tmp_path / "bump.mcap"
-    res = run_mission(sc, out=out)
+    res = run_mission(RunSpec.build(sc), out=out)
     log = read_log(out)
     ev = list(log["/events"]["message"])
     assert any("bumper contact with obstacle 0" in m for m in ev)
@@ -134,7 +136,7 @@ def test_reflex_after_hitting_an_obstacle_the_pilot_did_not_know(make_scenario, 
 
 # -- the geometric pilot -----------------------------------------------------------------------
 def test_geometric_pilot_steers_along_the_nearer_tangent_when_the_request_is_blocked():
-    g = GeometricPilot(PILOT, 0.3)
+    g = GeometricPilot(PILOT, ROBOT)
     obstacle = KnownObstacle("o", (1.2, 0.1), (1.2, 0.1), 0.15)
     a = g.avoid(beliefs([obstacle]), [obstacle], Move(0.0, 0.3))
     right, left = blocked_interval(obstacle, PILOT.R_min)
@@ -144,21 +146,21 @@ def test_geometric_pilot_steers_along_the_nearer_tangent_when_the_request_is_blo
 
 
 def test_geometric_pilot_keeps_out_of_the_way_when_the_request_is_safe():
-    g = GeometricPilot(PILOT, 0.3)
+    g = GeometricPilot(PILOT, ROBOT)
     obstacle = KnownObstacle("o", (1.5, 1.0), (1.5, 1.0), 0.15)
     a = g.avoid(beliefs([obstacle]), [obstacle], Move(0.0, 0.3))
     assert a.move is None and a.bid == 0.0
 
 
 def test_geometric_pilot_escapes_from_inside_a_grown_obstacle():
-    g = GeometricPilot(PILOT, 0.3)
+    g = GeometricPilot(PILOT, ROBOT)
     obstacle = KnownObstacle("o", (0.3, 0.0), (0.3, 0.0), 0.15)
     a = g.avoid(beliefs([obstacle]), [obstacle], Move(0.0, 0.3))
     assert a.info["rule"] == "escape" and abs(a.move.heading) == pytest.approx(math.pi)
 
 
 def test_geometric_pilot_passes_a_long_obstacle_around_its_nearer_end():
-    g = GeometricPilot(PILOT, 0.3)
+    g = GeometricPilot(PILOT, ROBOT)
     wall = KnownObstacle("w", (1.0, -0.5), (1.0, 2.0), 0.025)
     a = g.avoid(beliefs([wall]), [wall], Move(0.0, 0.3))
     assert a.move.heading < 0  # the lower end is nearer the request: pass below it
@@ -183,7 +185,7 @@ def crossing_y(mission_poses, x=3.0):
 
 def drive_mission(sc, perception="oracle"):
     """Equation 8 is a property of the pilot: isolate it from vision with the oracle perception."""
-    m = Mission(sc, pilot="potential-field", perception=perception)
+    m = Mission(RunSpec.build(sc, pilot="potential-field", perception=perception))
     poses = [(m.world.pose.x, m.world.pose.y)]
     while m.outcome is None:
         t = m.step()

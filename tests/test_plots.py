@@ -9,14 +9,15 @@ from typer.testing import CliRunner
 
 from conftest import SCENARIOS
 from navcli.cli import app
-from navcli.plots import field_grid
+from navcli.config import RunSpec
+from navcli.figures import field_grid
 
 PNG = b"\x89PNG\r\n\x1a\n"
 
 
 def test_field_points_to_the_target_in_open_space_and_away_from_obstacles(make_scenario):
     sc = make_scenario(obstacles=[{"circle": {"center": [3.0, 2.0], "radius": 0.2}}])
-    X, Y, U, V, B = field_grid(sc, 0.25)
+    X, Y, U, V, B = field_grid(RunSpec.build(sc), 0.25)
     near = lambda x, y: np.unravel_index(np.hypot(X - x, Y - y).argmin(), X.shape)  # noqa: E731
     i = near(1.625, 2.875)  # far from the obstacle and the walls: straight at the target (5, 2)
     want = math.atan2(2 - Y[i], 5 - X[i])

@@ -9,8 +9,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from navcli.params import PILOT
-from navcli.perception import KnownObstacle
-from navcli.potential_field import (
+from navcli.beliefs import KnownObstacle
+from navcli.pilot.potential_field import (
     facing,
     facing_loop,
     facing_numpy,

@@ -26,7 +26,7 @@ def test_values_are_converted_to_si_and_radians(make_scenario):
     assert sc.camera.fov == pytest.approx(math.pi / 3)
     assert sc.obstacles[0] == Circle((3.0, 3.0), 0.2)
     assert isinstance(sc.obstacles[1], Segment) and sc.obstacles[1].center == (4.0, 2.0)
-    assert sc.pilot.K == 18 and sc.pilot.A_t == 50 and sc.pilot.R_min == 0.40  # the paper's defaults
+    assert sc.params.pilot.K == 18 and sc.params.pilot.A_t == 50 and sc.params.pilot.R_min == 0.40  # the paper's defaults
 
 
 def test_landmark_target_takes_the_landmark_position(make_scenario):

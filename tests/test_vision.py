@@ -9,13 +9,14 @@ import numpy as np
 import pytest
 
 from conftest import SCENARIOS
+from navcli.config import RunSpec
 from navcli.bidding import Look
 from navcli.geometry import Pose, distance_to_segment
 from navcli.mission import Mission
 from navcli.params import CONTROL_DT, VISION
 from navcli.scenario import Circle, load_scenario
-from navcli.vision import Camera
-from navcli.visual_memory import Spot, VisualMemory
+from navcli.vision.camera import Camera
+from navcli.vision.visual_memory import Spot, VisualMemory
 
 
 def camera(make_scenario, noise=0.0, **over):
@@ -151,7 +152,7 @@ def test_objects_too_imprecise_are_forgotten_but_not_the_target():
 
 
 def test_fusing_keeps_the_truth_and_sharpens():
-    from navcli.visual_memory import fuse
+    from navcli.vision.visual_memory import fuse
 
     truth = (2.0, 1.0)
     a, b = Spot(2.3, 1.1, 0.5, 0.0), Spot(1.8, 0.8, 0.4, 0.0)
@@ -174,7 +175,7 @@ def true_clearance(sc, x, y):
 def test_memory_stays_honest_over_a_whole_mission_and_the_target_is_reached(pilot):
     """With the default noise the true position stays inside every estimate's support."""
     sc = load_scenario(SCENARIOS / "paper-8x8.yaml")
-    m = Mission(sc, pilot=pilot)
+    m = Mission(RunSpec.build(sc, pilot=pilot))
     checked = 0
     while m.outcome is None:
         m.step()

@@ -28,7 +28,7 @@ def drive(world: World, v: float, omega: float, seconds: float):
 def test_wall_stops_the_robot_at_top_speed(make_scenario, speed):
     w = world_for(make_scenario, speed=speed)
     drive(w, speed, 0.0, 20.0)
-    r = w.scenario.robot.radius
+    r = w.robot.radius
     assert w.pose.x + r <= 6.0 + 0.01  # no more than slop into the wall, never through it
     assert w.pose.x + r >= 6.0 - 0.01  # and it did drive all the way to it
     assert w.speed[0] == pytest.approx(speed)  # the wheels kept pushing the whole time
@@ -42,7 +42,7 @@ def test_wall_stops_the_robot_at_top_speed(make_scenario, speed):
 def test_obstacle_stops_the_robot(make_scenario, speed, obstacle):
     w = world_for(make_scenario, speed=speed, obstacles=[obstacle])
     bumps = drive(w, speed, 0.0, 8.0)
-    r = w.scenario.robot.radius
+    r = w.robot.radius
     half = obstacle["circle"]["radius"] if "circle" in obstacle else 0.01
     assert w.pose.x <= 3.0 - half - r + 0.01
     assert w.pose.x >= 3.0 - half - r - 0.02

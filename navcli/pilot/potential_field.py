@@ -23,11 +23,11 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from .bidding import Move
-from .geometry import ORIGIN, Point, closest_on_segment, corridor_aim, wrap_angle
-from .params import PilotParams
-from .perception import Beliefs, KnownObstacle
-from .pilot import Avoidance, Pilot
+from ..beliefs import Beliefs, KnownObstacle
+from ..bidding import Move
+from ..geometry import ORIGIN, Point, closest_on_segment, corridor_aim, wrap_angle
+from ..params import PilotParams, RobotParams
+from .base import Avoidance, Pilot
 
 NUMPY_FROM = 32  # obstacles: where numpy's occlusion test overtakes the loop (navcli bench --occlusion)
 
@@ -268,8 +268,8 @@ class PotentialFieldPilot(Pilot):
     average is taken between two headings of the same frame.
     """
 
-    def __init__(self, params: PilotParams, max_speed: float, **kw):
-        super().__init__(params, max_speed, **kw)
+    def __init__(self, params: PilotParams, robot: RobotParams):
+        super().__init__(params, robot)
         self._prev_heading: float | None = None  # previous turn as an odometry-frame heading
 
     def avoid(self, beliefs: Beliefs, obstacles: list[KnownObstacle], request: Move | None) -> Avoidance:

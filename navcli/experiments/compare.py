@@ -1,20 +1,24 @@
 """``navcli compare pilots``: rerun missions with many seeds, in parallel, each as its own log.
 
-Every (scenario, pilot, rerun) is one run with one log, ``<out>/<scenario>/<pilot>-seed<N>.mcap``.
-Seeds come from the scenario's seed and the rerun index (the same seeds for every pilot, so the
-comparison is paired). A run whose complete log already exists is not run again, so an
-interrupted comparison resumes; a run that fails keeps its log (marked ``error``) and is reported.
-The table itself is built from the logs by ``analysis`` (see :mod:`analysis.compare`).
+Every (scenario, pilot, rerun) is one run, a whole :class:`~navcli.config.RunSpec`, with one log,
+``<out>/<scenario>/<pilot>-seed<N>-<run id>.mcap``. Seeds come from the scenario's seed and the
+rerun index (the same seeds for every pilot, so the comparison is paired). A job carries its
+configuration whole to the worker, so whatever was planned (parameters, time limit) is what
+runs. A run whose complete log of the same configuration (same run id) already exists is not run
+again, so an interrupted comparison resumes, and a comparison with other parameters never reuses
+its logs; a run that fails keeps its log (marked ``error``) and is reported. The table itself is
+built from the logs by ``analysis`` (see :mod:`analysis.tables`).
 """
 
 from __future__ import annotations
 
-import functools
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable
 
 import numpy as np
+
+from ..config import RunSpec
 
 
 def rerun_seed(base: int, index: int) -> int:
@@ -24,12 +28,8 @@ def rerun_seed(base: int, index: int) -> int:
 
 @dataclass(frozen=True)
 class Job:
-    scenario: str  # path of the scenario file
-    name: str  # the scenario's name
-    pilot: str
-    seed: int
+    spec: RunSpec
     log: str
-    time_limit: float | None = None
 
 
 @dataclass(frozen=True)
@@ -40,50 +40,46 @@ class Outcome:
     ran: bool = True  # False: a complete log was already there
 
 
-def plan(scenarios: list, pilots: list[str], reruns: int, out: Path, time_limit: float | None = None) -> list[Job]:
-    """All runs of a comparison (``scenarios``: loaded :class:`navcli.scenario.Scenario` s)."""
+def plan(specs: list[RunSpec], pilots: list[str], reruns: int, out: Path) -> list[Job]:
+    """All runs of a comparison: each base configuration (one per scenario) with every pilot and
+    ``reruns`` seeds derived from its seed."""
     jobs = []
-    for sc in scenarios:
+    for base in specs:
         for i in range(reruns):
-            seed = rerun_seed(sc.mission.seed, i)
+            seed = rerun_seed(base.seed, i)
             for pilot in pilots:
-                jobs.append(Job(sc.source, sc.name, pilot, seed,
-                                str(out / sc.name / f"{pilot}-seed{seed}.mcap"), time_limit))
+                spec = base.replace(seed=seed, pilot=pilot)
+                jobs.append(Job(spec, str(spec.default_log_path(out))))
     return jobs
 
 
-def complete(log: str) -> str | None:
-    """The outcome of an existing, complete log (not interrupted, not an error), else None."""
+def complete(log: str, run_id: str) -> str | None:
+    """The outcome of an existing, complete log of the run ``run_id`` (not interrupted, not an
+    error), else None."""
     p = Path(log)
     if not p.exists():
         return None
     from analysis import LogError, read_log
 
     try:
-        outcome = read_log(p, topics=[]).summary.get("outcome")
+        done = read_log(p, topics=[])
     except LogError:
+        return None
+    outcome = done.summary.get("outcome")
+    if done.metadata.get("run", {}).get("run_id") != run_id:
         return None
     return outcome if outcome in ("reached", "timeout", "blocked") else None
 
 
-@functools.lru_cache(maxsize=None)
-def _scenario(path: str):
-    """Each worker parses each scenario once."""
-    from .scenario import load_scenario
-
-    return load_scenario(path)
-
-
 def run_job(job: Job) -> Outcome:
     """Run one job (in a worker process, or in this one); never raises."""
-    done = complete(job.log)
+    done = complete(job.log, job.spec.run_id)
     if done is not None:
         return Outcome(job, done, ran=False)
-    from .runner import run_mission
+    from ..runner import run_mission
 
     try:
-        res = run_mission(_scenario(job.scenario), seed=job.seed, pilot=job.pilot, out=Path(job.log),
-                          time_limit=job.time_limit)
+        res = run_mission(job.spec, out=Path(job.log))
     except Exception as e:  # the runner has closed the log, marked error
         return Outcome(job, "error", f"{type(e).__name__}: {e}")
     return Outcome(job, res.summary["outcome"], res.summary.get("reason", ""))
@@ -102,7 +98,7 @@ def run_all(jobs: list[Job], workers: int, on_done: Callable[[Outcome], None] | 
     import multiprocessing as mp
     from concurrent.futures import ProcessPoolExecutor, as_completed
 
-    from . import recorder, runner  # noqa: F401  (imported once here, inherited by the forked workers)
+    from .. import recorder, runner  # noqa: F401  (imported once here, inherited by the forked workers)
 
     # fork: workers start with navcli already imported; nothing is re-imported per run
     ctx = mp.get_context("fork") if "fork" in mp.get_all_start_methods() else None

@@ -21,11 +21,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .bidding import Look
-from .fuzzy import Fuzzy, FuzzyAngle
-from .geometry import Point, Pose, blocks_sight, crosses_sight, distance_to_segment, wrap_angle
-from .params import VISION, VisionParams
-from .scenario import Circle, Scenario
+from ..bidding import Look
+from ..fuzzy import Fuzzy, FuzzyAngle
+from ..geometry import Point, Pose, blocks_sight, crosses_sight, distance_to_segment, wrap_angle
+from ..params import VISION, VisionParams
+from ..scenario import ArenaObject, Scenario
 
 
 SEGMENT_STEP = 0.2  # m between the samples of a linear obstacle tested for visibility
@@ -63,15 +63,6 @@ class Detection:
                                                "distance_m": f(p.distance)} for p in self.points]}
 
 
-@dataclass(frozen=True)
-class _Object:
-    key: str
-    kind: str  # landmark | target | circle | segment | wall
-    a: Point
-    b: Point
-    radius: float  # physical half-width: what blocks a line of sight
-
-
 class Camera:
     """The pan unit, the image and the measurement model (see the module docstring)."""
 
@@ -85,22 +76,7 @@ class Camera:
         self.goal = 0.0
         self._capture_at = 0.0
         self._free_at = 0.0
-        objs: list[_Object] = []
-        for lm in scenario.landmarks:
-            objs.append(_Object(lm.id, "landmark", lm.at, lm.at, lm.radius))
-        for i, o in enumerate(scenario.obstacles):
-            if isinstance(o, Circle):
-                objs.append(_Object(f"o{i}", "circle", o.center, o.center, o.radius))
-            else:
-                objs.append(_Object(f"o{i}", "segment", o.start, o.end, o.thickness / 2))
-        t = scenario.target
-        if t.kind == "point":
-            objs.append(_Object("target", "target", t.point, t.point, 0.0))
-        elif t.kind == "line":
-            objs.append(_Object("target-a", "target", t.line[0], t.line[0], 0.0))
-            objs.append(_Object("target-b", "target", t.line[1], t.line[1], 0.0))
-        for key, a, b in scenario.walls:
-            objs.append(_Object(key, "wall", a, b, 0.0))
+        objs = scenario.objects  # landmarks, obstacles, target markers, walls: the draw order of the noise
         self.objects = objs
         # what may block a line of sight: every physical object (target markers are not)
         self._all_points = [(o.key, o.a, o.radius) for o in objs if o.kind in ("landmark", "circle")]
@@ -184,7 +160,7 @@ class Camera:
         finally:
             self._points, self._lines = self._all_points, self._all_lines
 
-    def visible_runs(self, pose: Pose, o: _Object) -> list[tuple[Point, ...]]:
+    def visible_runs(self, pose: Pose, o: ArenaObject) -> list[tuple[Point, ...]]:
         """The parts of a linear obstacle in view, as the end points of each visible stretch.
 
         The segment is sampled every ``SEGMENT_STEP`` metres (its ends included); consecutive

@@ -12,7 +12,10 @@ Navigation system's. This module holds what every pilot shares:
 - the **look-ahead camera bid** (eq. 1): ``(d_l / d_m) ** s``, capped at 0.9 like every Pilot bid.
 
 The avoidance strategies subclass :class:`Pilot` and implement :meth:`Pilot.avoid`:
-``navcli.potential_field`` (the paper's pilot) and ``navcli.geometric`` (the baseline).
+:mod:`navcli.pilot.potential_field` (the paper's pilot) and :mod:`navcli.pilot.geometric` (the
+baseline). Everything the Pilot learns comes in its :class:`~navcli.beliefs.Beliefs` (the memory's
+obstacles, odometry, the image taken last tick, the bumps of last tick) and the Navigation
+system's request; everything it decides goes out in its :class:`PilotOutput` and wheel command.
 """
 
 from __future__ import annotations
@@ -20,10 +23,10 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-from .bidding import Bid, Look, Move
-from .geometry import Pose, wrap_angle
-from .params import CONTROL_DT, PILOT, ROBOT, PilotParams, RobotDefaults
-from .perception import Beliefs, KnownObstacle
+from ..beliefs import Beliefs, Bump, KnownObstacle
+from ..bidding import Bid, Look, Move
+from ..geometry import Pose, motion_between, wrap_angle
+from ..params import CONTROL_DT, PILOT, ROBOT, PilotParams, RobotParams
 
 
 @dataclass(frozen=True)
@@ -57,10 +60,9 @@ class Pilot:
 
     name = "pilot"
 
-    def __init__(self, params: PilotParams = PILOT, max_speed: float = ROBOT.max_speed,
-                 robot: RobotDefaults = ROBOT):
+    def __init__(self, params: PilotParams = PILOT, robot: RobotParams = ROBOT):
         self.params = params
-        self.max_speed = max_speed
+        self.max_speed = robot.max_speed
         self.robot = robot
         self.backward = 0.0  # m driven backwards since the robot last drove forwards max_backward
         self.forward = 0.0
@@ -78,6 +80,9 @@ class Pilot:
     # -- per tick
     def decide(self, beliefs: Beliefs, request: Move | None = None) -> PilotOutput:
         """The pilot's bids for this tick; ``request`` is the Navigation system's motion request."""
+        if beliefs.looked is not None:
+            self._looked(beliefs.looked)
+        self._bumped(beliefs.bumps)
         self._track(beliefs.odometry)
         events, self._events = self._events, []
         obstacles = list(beliefs.obstacles)  # the visual memory, bumped obstacles included
@@ -96,9 +101,9 @@ class Pilot:
         p = self.params
         return min(p.bid_cap, (self.since_look / p.look_d_max) ** p.look_exponent)
 
-    def on_look(self, pan: float) -> None:
+    def _looked(self, pan: float) -> None:
         """Vision carried out a look at ``pan`` (rad); a look ahead resets d_l of eq. 1."""
-        if abs(pan) < math.radians(30):
+        if abs(pan) < self.params.look_ahead_cone:
             self.since_look = 0.0
         if self._reflex and self._reflex[0][0] == "look":
             self._reflex_progress += 1
@@ -108,8 +113,7 @@ class Pilot:
         last, self._last_odom = self._last_odom, odom
         if last is None:
             return
-        dx, dy = odom.x - last.x, odom.y - last.y
-        ds = dx * math.cos(last.theta) + dy * math.sin(last.theta)
+        ds, _ = motion_between(last, odom)
         self.since_look += abs(ds)
         if ds < 0:
             self.backward += -ds
@@ -124,11 +128,11 @@ class Pilot:
                 self._reflex_progress += -ds
 
     # -- reflexes (section 3.5)
-    def on_bumps(self, bumps: list) -> None:
-        """Bumper contacts that began this tick (:class:`navcli.world.Bump`): start the reflex.
+    def _bumped(self, bumps: tuple[Bump, ...]) -> None:
+        """Bumper contacts that began last tick: start the reflex.
 
-        The obstacle that was hit goes to the visual memory (the mission hands the bumps to
-        perception), so the recomputed forces include it."""
+        The obstacle that was hit goes to the visual memory (perception hears of the bumps too),
+        so the recomputed forces include it."""
         if not bumps:
             return
         p = self.params

@@ -12,20 +12,18 @@ import tempfile
 from pathlib import Path
 from typing import Callable
 
-from .runner import run_mission
-from .scenario import Scenario
+from ..config import RunSpec
+from ..runner import run_mission
 
 
-def benchmark(sc: Scenario, *, repeat: int = 5, pilot: str | None = None, seed: int | None = None,
-              echo: Callable[[str], None] = print, perception: str | None = None) -> dict[str, float]:
+def benchmark(spec: RunSpec, *, repeat: int = 5, echo: Callable[[str], None] = print) -> dict[str, float]:
     """Print and return the median real-time factor with logging ``on`` and ``off``."""
     results: dict[str, float] = {}
     with tempfile.TemporaryDirectory() as tmp:
         log = Path(tmp) / "bench.mcap"
-        kw = dict(seed=seed, pilot=pilot, perception=perception)
-        run_mission(sc, out=log, **kw)  # warm-up: imports, caches
+        run_mission(spec, out=log)  # warm-up: imports, caches
         for label, record in (("logging on", True), ("logging off", False)):
-            runs = [run_mission(sc, out=log, record=record, **kw) for _ in range(repeat)]
+            runs = [run_mission(spec, out=log, record=record) for _ in range(repeat)]
             rtf = statistics.median(r.realtime_factor for r in runs)
             us = statistics.median(r.wall_s / max(r.summary["ticks"], 1) * 1e6 for r in runs)
             s = runs[0].summary
@@ -41,8 +39,8 @@ def occlusion_benchmark(sizes=(12, 18, 32, 50, 100, 200), echo: Callable[[str], 
     import random
     import timeit
 
-    from .perception import KnownObstacle
-    from .potential_field import NUMPY_FROM, facing_loop, facing_numpy
+    from ..beliefs import KnownObstacle
+    from ..pilot.potential_field import NUMPY_FROM, facing_loop, facing_numpy
 
     rnd = random.Random(1)
     echo(f"{'obstacles':>9} {'loop us':>9} {'numpy us':>9}   (best of 5 x 200 calls; numpy used from {NUMPY_FROM} on)")
@@ -57,7 +55,7 @@ def occlusion_benchmark(sizes=(12, 18, 32, 50, 100, 200), echo: Callable[[str], 
         echo(f"{n:>9} {t[0]:>9.0f} {t[1]:>9.0f}")
 
 
-def objects_benchmark(sc: Scenario, *, pilot: str | None = None, sizes=(12, 50, 200), ticks: int = 300,
+def objects_benchmark(spec: RunSpec, *, sizes=(12, 50, 200), ticks: int = 300,
                       echo: Callable[[str], None] = print) -> None:
     """Wall time per tick (logging on) with ``n`` objects: the scenario's, plus extra point
     obstacles scattered at random (seeded) where they leave the start clear, for ``ticks`` ticks."""
@@ -66,13 +64,14 @@ def objects_benchmark(sc: Scenario, *, pilot: str | None = None, sizes=(12, 50, 
     import random
     import time
 
-    from .mission import Mission
-    from .recorder import Recorder
-    from .scenario import Circle
+    from ..mission import Mission
+    from ..recorder import Recorder
+    from ..scenario import Circle
 
+    sc = spec.scenario
     rnd = random.Random(7)
     base = list(sc.obstacles)
-    echo(f"{'objects':>8} {'us/tick':>9} {'x real time':>12}   ({pilot or sc.mission.pilot}, vision, logging on, {ticks} ticks)")
+    echo(f"{'objects':>8} {'us/tick':>9} {'x real time':>12}   ({spec.pilot}, {spec.perception}, logging on, {ticks} ticks)")
     for n in sizes:
         extra = []
         while len(base) + len(sc.landmarks) + len(extra) < n:
@@ -81,9 +80,9 @@ def objects_benchmark(sc: Scenario, *, pilot: str | None = None, sizes=(12, 50, 
                 extra.append(Circle(c, 0.1))
         s = dataclasses.replace(sc, obstacles=tuple(base + extra))
         with tempfile.TemporaryDirectory() as tmp:
-            m = Mission(s, pilot=pilot, time_limit=ticks * 0.1 + 1)
+            m = Mission(spec.replace(scenario=s, time_limit=ticks * 0.1 + 1))
             rec = Recorder(Path(tmp) / "b.mcap")
-            rec.start(m)
+            rec.start(m.spec, m.world.pose, m.world.odometry.pose)
             t0 = time.perf_counter()
             k = 0
             while m.outcome is None and k < ticks:

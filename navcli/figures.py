@@ -3,7 +3,7 @@ over the arena, and the pilot's bid (eq. 9) over the arena.
 
 Each grid point is evaluated as the pilot would compute it there with every obstacle, landmark
 and wall known exactly (the oracle perception): the robot placed at that point facing +x, and
-the potential field computed by :func:`navcli.potential_field.field`. Points inside an obstacle's body are left blank. These
+the potential field computed by :func:`navcli.pilot.potential_field.field`. Points inside an obstacle's body are left blank. These
 plots read the simulator's pilot, not a log, so they live here rather than in ``analysis``.
 """
 
@@ -14,26 +14,19 @@ from pathlib import Path
 
 import numpy as np
 
-from .geometry import Pose, distance_to_segment
-from .perception import OraclePerception
-from .potential_field import field
+from .config import RunSpec
+from .geometry import Pose
+from .pilot.potential_field import field
 from .scenario import Circle, Scenario
+from .vision.perception import OraclePerception
 
 
-def _inside_body(sc: Scenario, x: float, y: float) -> bool:
-    for o in sc.obstacles:
-        if isinstance(o, Circle):
-            if math.dist((x, y), o.center) <= o.radius:
-                return True
-        elif distance_to_segment((x, y), o.start, o.end) <= o.thickness / 2:
-            return True
-    return any(math.dist((x, y), lm.at) <= lm.radius for lm in sc.landmarks)
-
-
-def field_grid(sc: Scenario, step: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+def field_grid(spec: RunSpec, step: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """X, Y (m), the unit net-force direction (U, V) and the bid on a grid of ``step`` metres.
 
     Blank points (inside bodies) are NaN."""
+    sc, pilot = spec.scenario, spec.params.pilot
+    bodies = [o for o in sc.objects if o.kind in ("circle", "segment", "landmark")]
     xs = np.arange(step / 2, sc.arena.width, step)
     ys = np.arange(step / 2, sc.arena.height, step)
     X, Y = np.meshgrid(xs, ys)
@@ -41,23 +34,23 @@ def field_grid(sc: Scenario, step: float) -> tuple[np.ndarray, np.ndarray, np.nd
     perception = OraclePerception(sc, np.random.default_rng(0))  # the figure shows the field of the true layout
     for idx in np.ndindex(X.shape):
         x, y = float(X[idx]), float(Y[idx])
-        if _inside_body(sc, x, y):
+        if any(o.clearance((x, y)) <= 0.0 for o in bodies):
             continue
         pose = Pose(x, y, 0.0)
         b = perception.observe(0.0, pose, pose)
-        f = field(b.target, b.target_line, b.obstacles, sc.pilot)
+        f = field(b.target, b.target_line, b.obstacles, pilot)
         U[idx], V[idx] = math.cos(f.turn), math.sin(f.turn)
         B[idx] = f.bid
     return X, Y, U, V, B
 
 
-def _arena(ax, sc: Scenario) -> None:
+def _arena(ax, sc: Scenario, R_min: float) -> None:
     import matplotlib.patches as mp
 
     for o in sc.obstacles:
         if isinstance(o, Circle):
             ax.add_patch(mp.Circle(o.center, o.radius, color="tab:red", zorder=3))
-            ax.add_patch(mp.Circle(o.center, sc.pilot.R_min, fill=False, ls="--", color="tab:red", lw=0.8, zorder=3))
+            ax.add_patch(mp.Circle(o.center, R_min, fill=False, ls="--", color="tab:red", lw=0.8, zorder=3))
         else:
             ax.plot([o.start[0], o.end[0]], [o.start[1], o.end[1]], color="tab:red", lw=3, zorder=3)
     for lm in sc.landmarks:
@@ -76,34 +69,35 @@ def _arena(ax, sc: Scenario) -> None:
     ax.set_ylabel("y (m)")
 
 
-def plot_field(sc: Scenario, out: Path, step: float = 0.2) -> Path:
+def plot_field(spec: RunSpec, out: Path, step: float = 0.2) -> Path:
     """Figure 9: arrows along the net force (eq. 6-7), over the arena."""
+    sc, p = spec.scenario, spec.params.pilot
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    X, Y, U, V, _ = field_grid(sc, step)
+    X, Y, U, V, _ = field_grid(spec, step)
     fig, ax = plt.subplots(figsize=(7, 7 * sc.arena.height / sc.arena.width + 0.5))
     ax.quiver(X, Y, U, V, angles="xy", scale_units="xy", scale=1 / (0.8 * step), width=0.003, color="0.25")
-    _arena(ax, sc)
-    ax.set_title(f"{sc.name}: direction of the net force (K={sc.pilot.K:g}, A_t={sc.pilot.A_t:g}, "
-                 f"R_min={sc.pilot.R_min:g} m)")
+    _arena(ax, sc, p.R_min)
+    ax.set_title(f"{sc.name}: direction of the net force (K={p.K:g}, A_t={p.A_t:g}, R_min={p.R_min:g} m)")
     return _save(fig, out)
 
 
-def plot_bids(sc: Scenario, out: Path, step: float = 0.05) -> Path:
+def plot_bids(spec: RunSpec, out: Path, step: float = 0.05) -> Path:
     """Figure 10: the pilot's motion bid (eq. 9) over the arena."""
+    sc, p = spec.scenario, spec.params.pilot
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    X, Y, _, _, B = field_grid(sc, step)
+    X, Y, _, _, B = field_grid(spec, step)
     fig, ax = plt.subplots(figsize=(7.8, 7 * sc.arena.height / sc.arena.width + 0.5))
-    im = ax.pcolormesh(X, Y, B, shading="nearest", cmap="viridis", vmin=0.0, vmax=sc.pilot.bid_cap)
+    im = ax.pcolormesh(X, Y, B, shading="nearest", cmap="viridis", vmin=0.0, vmax=p.bid_cap)
     fig.colorbar(im, ax=ax, label="pilot bid (eq. 9)")
-    _arena(ax, sc)
+    _arena(ax, sc, p.R_min)
     ax.set_title(f"{sc.name}: the pilot's bid 0.9 G_max / F_max")
     return _save(fig, out)
 

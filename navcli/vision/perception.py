@@ -2,67 +2,30 @@
 
 The agents never see the world; they see :class:`Beliefs`, made each tick by a perception:
 
-- :class:`VisionPerception` (the default): the camera (:mod:`navcli.vision`) and the visual memory
-  (:mod:`navcli.visual_memory`). The robot knows what it has seen (the walls too, as linear
+- :class:`VisionPerception` (the default): the camera (:mod:`navcli.vision.camera`) and the visual
+  memory (:mod:`navcli.vision.visual_memory`). The robot knows what it has seen (the walls too, as linear
   obstacles), where its memory and odometry put it, and what it was told at the start: where the
   target is.
 - :class:`OraclePerception` (``--perception oracle``): ground truth of every obstacle, landmark,
   wall and the target; for experiments that isolate the pilot from vision. Never the default.
 
-Both own the camera, so looks are arbitrated, timed and counted the same way.
+Both own the camera, so looks are arbitrated, timed and counted the same way, and both pass on
+what the agents hear of the last tick: the pan of the image taken, the bumps felt.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 
 import numpy as np
 
-from .bidding import Look
-from .geometry import Point, Pose, motion_between
-from .params import CONTROL_DT, VISION, VisionParams
-from .scenario import Scenario
-from .vision import Camera, Detection
-from .visual_memory import Spot, VisualMemory
-
-
-@dataclass(frozen=True)
-class KnownObstacle:
-    """An obstacle as the robot knows it, egocentric (x ahead, y left, metres).
-
-    A point obstacle has ``a == b`` (its centre); a linear one runs from ``a`` to ``b``.
-    ``radius`` is its physical half-width, ``key`` names it stably across ticks for logs.
-    """
-
-    key: str
-    a: Point
-    b: Point
-    radius: float
-
-    @property
-    def is_point(self) -> bool:
-        return self.a == self.b
-
-    @property
-    def centre(self) -> Point:
-        """Where the paper computes a force from: a point obstacle itself, a linear one's middle."""
-        return self.a if self.is_point else ((self.a[0] + self.b[0]) / 2, (self.a[1] + self.b[1]) / 2)
-
-
-@dataclass(frozen=True)
-class Beliefs:
-    """Everything an agent may use at one tick. Positions are egocentric, in metres.
-
-    ``target_spread`` is the width (rad) of the 70 % cut of the target's fuzzy heading: 0 when
-    it is known exactly, 2 pi when it is lost."""
-
-    time: float
-    odometry: Pose  # where the robot believes it is, in the arena frame
-    target: Point | None  # egocentric target point (the line's centre for a line target)
-    target_line: tuple[Point, Point] | None  # egocentric diverting-target line, if any
-    obstacles: tuple[KnownObstacle, ...]
-    target_spread: float = 0.0
+from ..beliefs import Beliefs, Bump, KnownObstacle
+from ..bidding import Look
+from ..geometry import Pose, motion_between
+from ..params import CONTROL_DT, ROBOT, VISION, Params, RobotParams, VisionParams
+from ..scenario import Scenario
+from .camera import Camera, Detection
+from .visual_memory import Remembered, Spot, VisualMemory
 
 
 class OraclePerception:
@@ -73,6 +36,8 @@ class OraclePerception:
     def __init__(self, scenario: Scenario, rng: np.random.Generator, params: VisionParams = VISION):
         self.scenario = scenario
         self.camera = Camera(scenario, rng, params)
+        self._looked: float | None = None
+        self._bumps: tuple[Bump, ...] = ()
         # everything physical the camera could ever see, landmarks keyed as the memory keys them
         order = {"circle": 0, "segment": 0, "landmark": 1, "wall": 2}  # obstacles, landmarks, walls
         self._objects = [(f"L{o.key}" if o.kind == "landmark" else o.key, o.a, o.b, o.radius)
@@ -83,13 +48,20 @@ class OraclePerception:
         seen = tuple(KnownObstacle(k, truth.to_local(a), truth.to_local(b), r) for k, a, b, r in self._objects)
         t = self.scenario.target
         line = (truth.to_local(t.line[0]), truth.to_local(t.line[1])) if t.line else None
-        return Beliefs(time, odometry, truth.to_local(t.point), line, seen, 0.0)
+        return Beliefs(time, odometry, truth.to_local(t.point), line, seen, 0.0, self._looked, self._bumps)
 
     def look(self, time: float, truth: Pose, request: Look | None) -> list[Detection] | None:
-        return self.camera.step(time, truth, request, CONTROL_DT)
+        dets = self.camera.step(time, truth, request, CONTROL_DT)
+        self._looked = self.camera.pan if dets is not None else None
+        return dets
 
-    def moved(self, before: Pose, after: Pose, bumps: list, slip: float = 0.0) -> None:
-        """The oracle needs no memory."""
+    def moved(self, before: Pose, after: Pose, bumps: tuple[Bump, ...], slip: float = 0.0) -> None:
+        """The oracle needs no memory; it passes the bumps on."""
+        self._bumps = bumps
+
+    def snapshot(self) -> None:
+        """The oracle remembers nothing."""
+        return None
 
 
 class VisionPerception:
@@ -97,10 +69,14 @@ class VisionPerception:
 
     name = "vision"
 
-    def __init__(self, scenario: Scenario, rng: np.random.Generator, params: VisionParams = VISION):
+    def __init__(self, scenario: Scenario, rng: np.random.Generator, params: VisionParams = VISION,
+                 robot: RobotParams = ROBOT):
         self.scenario = scenario
         self.params = params
+        self.robot = robot
         self.camera = Camera(scenario, rng, params)
+        self._looked: float | None = None
+        self._bumps: tuple[Bump, ...] = ()
         self.memory = VisualMemory(scenario.noise.odometry, params)
         start = Pose(*scenario.robot.start, scenario.robot.heading)
         told = params.distance_floor  # what the robot is told is precise to a couple of cm
@@ -134,25 +110,31 @@ class VisionPerception:
             m = items.get(self._target_key) or items["target"]
             s = m.spots[0]
             target, spread = (s.x, s.y), s.heading().width()
-        return Beliefs(time, odometry, target, line, tuple(obstacles), spread)
+        return Beliefs(time, odometry, target, line, tuple(obstacles), spread, self._looked, self._bumps)
 
     def look(self, time: float, truth: Pose, request: Look | None) -> list[Detection] | None:
         """Carry out the winning look; fold an image's detections into the memory."""
         dets = self.camera.step(time, truth, request, CONTROL_DT)
+        self._looked = self.camera.pan if dets is not None else None
         if dets:
             self.memory.observe(dets, time)
         return dets
 
-    def moved(self, before: Pose, after: Pose, bumps: list, slip: float = 0.0) -> None:
+    def snapshot(self) -> tuple[Remembered, ...]:
+        """The memory as values, for the log."""
+        return self.memory.snapshot()
+
+    def moved(self, before: Pose, after: Pose, bumps: tuple[Bump, ...], slip: float = 0.0) -> None:
         """Odometry says the robot went from ``before`` to ``after``: move the memory; widen it
         by ``slip`` (m), how far the robot may have slid unmeasured along something it touched;
         add what the bumpers found (at the robot's rim, in the direction of the contact); forget."""
+        self._bumps = bumps
         mem = self.memory
         mem.move(*motion_between(before, after))
         if slip:
             mem.shove(slip)
         if bumps:
-            r = self.scenario.robot.radius + self.params.bump_radius
+            r = self.robot.radius + self.params.bump_radius
             for b in bumps:
                 mem.add_found("bump", [Spot(r * math.cos(b.bearing), r * math.sin(b.bearing), self.params.bump_radius, 0.0)],
                               self.params.bump_radius / 2)
@@ -164,10 +146,10 @@ class VisionPerception:
 Perception = OraclePerception | VisionPerception
 
 
-def make_perception(name: str, scenario: Scenario, rng: np.random.Generator) -> Perception:
+def make_perception(name: str, scenario: Scenario, rng: np.random.Generator, params: Params = Params()) -> Perception:
     if name == "oracle":
-        return OraclePerception(scenario, rng)
+        return OraclePerception(scenario, rng, params.vision)
     if name == "vision":
-        return VisionPerception(scenario, rng)
+        return VisionPerception(scenario, rng, params.vision, params.robot)
     raise ValueError(f"unknown perception {name!r} (expected vision or oracle)")
 

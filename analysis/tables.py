@@ -24,7 +24,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from .logs import LogError, path_length, read_log
+from .logs import LogError, config_columns, path_length, read_log
 
 METRICS = {"time_s": "time (s)", "path_cm": "path length (cm)"}
 RESAMPLES = 10_000
@@ -32,8 +32,10 @@ PATH_TOLERANCE = 0.01  # the summary's path length must match the poses' within 
 
 
 def load_runs(logdir: str | Path) -> pd.DataFrame:
-    """One row per ``.mcap`` under ``logdir`` (recursively): the summary, plus the path length
-    and time recomputed from ``/robot/pose``, whose x, y are kept in ``xy`` for plots. Raises :class:`LogError` naming a log whose
+    """One row per ``.mcap`` under ``logdir`` (recursively): the summary, the run's configuration
+    (perception, time limit and every parameter as ``params.<group>.<name>`` columns, so runs can
+    be grouped by them), plus the path length and time recomputed from ``/robot/pose``, whose x,
+    y are kept in ``xy`` for plots. Raises :class:`LogError` naming a log whose
     summary disagrees with its poses, or that has no summary."""
     rows = []
     for path in sorted(Path(logdir).rglob("*.mcap")):
@@ -49,11 +51,14 @@ def load_runs(logdir: str | Path) -> pd.DataFrame:
                            f"its poses ({walked:.3f} m)")
         if abs(last - s["time_s"]) > 1e-6:
             raise LogError(f"{path}: summary time {s['time_s']} s disagrees with its last pose ({last} s)")
-        rows.append({"log": str(path), "scenario": s["scenario"], "pilot": s["pilot"], "seed": s["seed"],
+        config = log.config
+        rows.append({"log": str(path), "run_id": s.get("run_id"), "scenario": s["scenario"], "pilot": s["pilot"],
+                     "seed": s["seed"], "perception": config.get("perception"),
+                     "time_limit_s": config.get("time_limit_s"),
                      "outcome": s["outcome"], "reached": s["outcome"] == "reached", "time_s": s["time_s"],
                      "path_m": s["path_length_m"], "path_cm": 100.0 * s["path_length_m"],
                      "collisions": s["collisions"], "camera_looks": s["camera_looks"], "ticks": s["ticks"],
-                     "poses_path_m": walked, "xy": poses[["x", "y"]].to_numpy()})
+                     "poses_path_m": walked, "xy": poses[["x", "y"]].to_numpy()} | config_columns(config))
     if not rows:
         raise LogError(f"{logdir}: no .mcap logs found")
     return pd.DataFrame(rows)

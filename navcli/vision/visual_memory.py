@@ -27,10 +27,10 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-from .fuzzy import ALPHAS, CUT, TWO_PI, Fuzzy, FuzzyAngle, imprecision
-from .geometry import distance_to_segment
-from .params import VISION, VisionParams
-from .vision import Detection, Sighting
+from ..fuzzy import ALPHAS, CUT, TWO_PI, Fuzzy, FuzzyAngle, imprecision
+from ..geometry import distance_to_segment
+from ..params import VISION, VisionParams
+from .camera import Detection, Sighting
 
 Disc = tuple[float, float, float]  # x, y, radius
 END_TIE = 0.10  # m: ends this close along a linear obstacle count as the same extent; the sharper is kept
@@ -82,6 +82,16 @@ class Spot:
 
     def contains(self, p: tuple[float, float], alpha: float = 0.0) -> bool:
         return math.hypot(p[0] - self.x, p[1] - self.y) <= self.radius(alpha) + 1e-9
+
+
+@dataclass(frozen=True)
+class Remembered:
+    """A remembered object as a value, for the log: per point its egocentric centre (m), the
+    radius of its 70 % cut and of its support (m)."""
+
+    key: str
+    kind: str
+    spots: tuple[tuple[float, float, float, float], ...]  # (x, y, r70, r0)
 
 
 @dataclass
@@ -236,6 +246,11 @@ class VisualMemory:
             for p in m.spots:
                 p.base += slip
                 p.r0 += slip
+
+    def snapshot(self) -> tuple[Remembered, ...]:
+        """What is remembered now, as values that outlive the next tick."""
+        return tuple(Remembered(m.key, m.kind, tuple((s.x, s.y, s.radius(CUT), s.r0) for s in m.spots))
+                     for m in self.items.values())
 
     def forget(self) -> list[str]:
         """Drop what has become too imprecise (not what the robot was told); return the keys."""

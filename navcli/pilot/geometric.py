@@ -16,17 +16,18 @@ area, [it] bid[s] to move tangentially to the grown obstacle". Our rules, in ful
    seen square on, where both sides are equally near).
 4. Otherwise propose nothing: the Navigation system's request is safe.
 
-Reflexes, backward turns and the look-ahead bid are the shared ones of :class:`navcli.pilot.Pilot`.
+Reflexes, backward turns and the look-ahead bid are the shared ones of :class:`navcli.pilot.base.Pilot`.
 """
 
 from __future__ import annotations
 
 import math
 
-from .bidding import Move
-from .geometry import ORIGIN, Point, closest_on_segment, segment_distance, wrap_angle
-from .perception import Beliefs, KnownObstacle
-from .pilot import Avoidance, Pilot
+from ..beliefs import Beliefs, KnownObstacle
+from ..bidding import Move
+from ..geometry import ORIGIN, Point, closest_on_segment, segment_distance, wrap_angle
+from .base import Avoidance, Pilot
+
 
 def ray_enters(h: float, o: KnownObstacle, R: float, reach: float) -> bool:
     """Does driving ``reach`` metres from the origin along heading ``h`` enter ``o`` grown by ``R``?"""

@@ -1,0 +1,69 @@
+"""What the agents know at one tick: plain values, egocentric, with no link to how they were made.
+
+Agents (the Pilot, the Navigation agents) take :class:`Beliefs` and return bids; they never see
+the world, the camera or the memory. So this module imports only values and geometry, and an
+agent that imports it pulls in nothing else.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from .geometry import Point, Pose
+
+
+@dataclass(frozen=True)
+class Bump:
+    """A bumper contact that began during a tick.
+
+    ``what`` names the thing hit (``wall``, ``obstacle 3``, ``landmark A``); ``point`` is the
+    contact point in the world; ``bearing`` is its direction in the robot frame (rad, 0 = ahead).
+    """
+
+    time: float
+    what: str
+    point: Point
+    bearing: float
+
+
+@dataclass(frozen=True)
+class KnownObstacle:
+    """An obstacle as the robot knows it, egocentric (x ahead, y left, metres).
+
+    A point obstacle has ``a == b`` (its centre); a linear one runs from ``a`` to ``b``.
+    ``radius`` is its physical half-width, ``key`` names it stably across ticks for logs.
+    """
+
+    key: str
+    a: Point
+    b: Point
+    radius: float
+
+    @property
+    def is_point(self) -> bool:
+        return self.a == self.b
+
+    @property
+    def centre(self) -> Point:
+        """Where the paper computes a force from: a point obstacle itself, a linear one's middle."""
+        return self.a if self.is_point else ((self.a[0] + self.b[0]) / 2, (self.a[1] + self.b[1]) / 2)
+
+
+@dataclass(frozen=True)
+class Beliefs:
+    """Everything an agent may use at one tick. Positions are egocentric, in metres.
+
+    ``target_spread`` is the width (rad) of the 70 % cut of the target's fuzzy heading: 0 when
+    it is known exactly, 2 pi when it is lost. ``looked`` is the pan (rad, relative to the
+    heading) of the image the camera took during the previous tick, ``None`` if it took none;
+    ``bumps`` are the bumper contacts that began during the previous tick.
+    """
+
+    time: float
+    odometry: Pose  # where the robot believes it is, in the arena frame
+    target: Point | None  # egocentric target point (the line's centre for a line target)
+    target_line: tuple[Point, Point] | None  # egocentric diverting-target line, if any
+    obstacles: tuple[KnownObstacle, ...]
+    target_spread: float = 0.0
+    looked: float | None = None
+    bumps: tuple[Bump, ...] = ()

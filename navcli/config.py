@@ -1,0 +1,109 @@
+"""One run's whole configuration, as one value: :class:`RunSpec`.
+
+Everything that decides a run travels in it, from the command line to a worker process and into
+the log: the scenario (its text and sha256, not just a path), the seed, the pilot, the
+perception, the time limit and every parameter after the scenario's and the command line's
+overrides. Its :attr:`RunSpec.run_id` (a sha256 of its JSON form and navcli's version) names the
+run: it is part of the default log path and the key by which comparisons resume, so two runs
+share a log only if they are the same run.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import hashlib
+import json
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Mapping
+
+from . import __version__
+from .params import CONTROL_DT, PERCEPTIONS, PHYSICS_DT, PILOT_NAMES, Params
+from .scenario import Scenario, parse_scenario
+
+LOG_ROOT = Path("logs")
+
+
+class ConfigError(ValueError):
+    """A run configuration that cannot be run (an unknown pilot, a bad time limit ...)."""
+
+
+@dataclass(frozen=True)
+class RunSpec:
+    """Everything that decides one run (see the module docstring). Build it with :meth:`build`."""
+
+    scenario: Scenario
+    seed: int
+    pilot: str
+    perception: str
+    time_limit: float  # simulated seconds
+    params: Params
+
+    def __post_init__(self) -> None:
+        if self.pilot not in PILOT_NAMES:
+            raise ConfigError(f"unknown pilot {self.pilot!r} (expected one of: {', '.join(PILOT_NAMES)})")
+        if self.perception not in PERCEPTIONS:
+            raise ConfigError(f"unknown perception {self.perception!r} (expected one of: {', '.join(PERCEPTIONS)})")
+        if not (isinstance(self.seed, int) and 0 <= self.seed < 2 ** 64):
+            raise ConfigError(f"the seed must be a whole number from 0 to 2**64 - 1, got {self.seed!r}")
+        if not (0.0 < self.time_limit < float("inf")):
+            raise ConfigError(f"the time limit must be a positive number of seconds, got {self.time_limit!r}")
+
+    @classmethod
+    def build(cls, scenario: Scenario, *, seed: int | None = None, pilot: str | None = None,
+              perception: str | None = None, time_limit: float | None = None,
+              overrides: Mapping[str, Any] | None = None) -> RunSpec:
+        """The scenario's own choices, with any of them replaced, and ``overrides`` (dotted
+        parameter names, ``{"pilot.K": 30}``) applied on top of the scenario's parameters."""
+        m = scenario.mission
+        return cls(scenario, m.seed if seed is None else seed, pilot or m.pilot, perception or m.perception,
+                   float(m.time_limit if time_limit is None else time_limit),
+                   scenario.params.override(overrides or {}))
+
+    def replace(self, **changes: Any) -> RunSpec:
+        """A copy with some fields changed (``seed=2``, ``pilot="geometric"``)."""
+        return dataclasses.replace(self, **changes)
+
+    def to_json(self) -> dict[str, Any]:
+        """The configuration as plain JSON (the scenario by name, file and sha256; its text goes
+        into the log as an attachment)."""
+        sc = self.scenario
+        return {"scenario": {"name": sc.name, "file": sc.source, "sha256": sc.sha256},
+                "seed": self.seed, "pilot": self.pilot, "perception": self.perception,
+                "time_limit_s": self.time_limit, "params": self.params.to_json()}
+
+    @classmethod
+    def from_json(cls, d: Mapping[str, Any], scenario_text: str) -> RunSpec:
+        """The inverse of :meth:`to_json`, given the scenario's text (a log's attachment)."""
+        sc = parse_scenario(scenario_text, d["scenario"].get("file", "<log>"))
+        if sc.sha256 != d["scenario"]["sha256"]:
+            raise ConfigError("the scenario text does not match the configuration's sha256")
+        return cls(sc, int(d["seed"]), d["pilot"], d["perception"], float(d["time_limit_s"]),
+                   Params.from_json(d["params"]))
+
+    @property
+    def run_id(self) -> str:
+        """sha256 (hex) of the canonical JSON of :meth:`to_json` without the scenario's file name
+        (a moved file is the same scenario), with navcli's version."""
+        d = self.to_json()
+        d["scenario"] = {k: v for k, v in d["scenario"].items() if k != "file"}
+        blob = json.dumps([d, __version__], sort_keys=True, separators=(",", ":"))
+        return hashlib.sha256(blob.encode()).hexdigest()
+
+    def log_name(self) -> str:
+        """``<pilot>-seed<N>-<first 8 hex digits of run_id>.mcap``."""
+        return f"{self.pilot}-seed{self.seed}-{self.run_id[:8]}.mcap"
+
+    def default_log_path(self, root: Path = LOG_ROOT) -> Path:
+        """``<root>/<scenario>/<pilot>-seed<N>-<id>.mcap``."""
+        return root / self.scenario.name / self.log_name()
+
+    def metadata(self) -> dict[str, str]:
+        """The log's ``run`` metadata record: the configuration as JSON (``config``), its
+        ``run_id``, and its main fields as plain strings for tools that only list metadata."""
+        sc = self.scenario
+        return {"run_id": self.run_id, "config": json.dumps(self.to_json(), sort_keys=True),
+                "scenario": sc.name, "scenario_file": sc.source, "scenario_sha256": sc.sha256,
+                "seed": str(self.seed), "pilot": self.pilot, "perception": self.perception,
+                "time_limit_s": repr(self.time_limit), "navcli_version": __version__,
+                "control_dt_s": repr(CONTROL_DT), "physics_dt_s": repr(PHYSICS_DT)}

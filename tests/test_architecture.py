@@ -1,0 +1,114 @@
+"""The import rules that keep the architecture honest (README, "Where to find it in the code").
+
+Read from the source with ``ast``, so a rule is checked for every module whether or not a test
+happens to import it, and once more by importing the agents in a fresh interpreter.
+"""
+
+from __future__ import annotations
+
+import ast
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from conftest import ROOT
+
+VALUES = {"navcli.beliefs", "navcli.bidding", "navcli.geometry", "navcli.fuzzy", "navcli.params"}
+"""Plain values and maths: what an agent may import."""
+STDLIB = set(sys.stdlib_module_names)
+
+
+def _module_name(path: Path) -> str:
+    parts = list(path.relative_to(ROOT).with_suffix("").parts)
+    return ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
+
+
+def _imports(path: Path) -> set[str]:
+    """Every module ``path`` imports (relative imports resolved), at any depth of the file."""
+    name = _module_name(path)
+    package = name if path.name == "__init__.py" else name.rpartition(".")[0]
+    found = set()
+    for node in ast.walk(ast.parse(path.read_text(), str(path))):
+        if isinstance(node, ast.Import):
+            found |= {a.name for a in node.names}
+        elif isinstance(node, ast.ImportFrom):
+            if node.level:
+                base = package.split(".")[: len(package.split(".")) - node.level + 1]
+                mod = ".".join(base + ([node.module] if node.module else []))
+            else:
+                mod = node.module
+            found.add(mod)
+            found |= {f"{mod}.{a.name}" for a in node.names}  # `from . import recorder` imports a module
+    return found
+
+
+def _modules(*folders: str) -> dict[str, set[str]]:
+    return {_module_name(p): _imports(p) for f in folders for p in sorted((ROOT / f).rglob("*.py"))}
+
+
+MODULES = _modules("navcli", "analysis")
+KNOWN = set(MODULES)
+
+
+def _who_imports(prefix: str) -> set[str]:
+    return {m for m, deps in MODULES.items() if any(d == prefix or d.startswith(prefix + ".") for d in deps)}
+
+
+def test_the_import_scan_sees_the_package():
+    assert {"navcli.world", "navcli.pilot.potential_field", "navcli.navigation.target_tracker",
+            "analysis.logs"} <= KNOWN
+    assert "navcli.beliefs" in MODULES["navcli.pilot.base"]  # relative imports are resolved
+
+
+def test_only_the_world_imports_pymunk():
+    assert _who_imports("pymunk") == {"navcli.world"}
+
+
+def test_only_the_recorder_writes_logs():
+    assert _who_imports("foxglove") == {"navcli.recorder"}
+    assert _who_imports("mcap.writer") == set()
+
+
+def test_analysis_never_imports_the_simulator():
+    assert {m for m in _who_imports("navcli") if m.startswith("analysis")} == set()
+
+
+@pytest.mark.parametrize("agent", sorted(m for m in KNOWN if m.startswith(("navcli.pilot", "navcli.navigation"))))
+def test_agents_import_only_values_and_maths(agent):
+    """An agent sees beliefs and returns bids: it imports values, maths and its own package."""
+    own = agent.split(".")[:2]
+    for dep in MODULES[agent]:
+        top = dep.split(".")[0]
+        if top == "navcli":
+            allowed = dep.split(".")[:2] == own or any(dep == v or dep.startswith(v + ".") for v in VALUES) \
+                or dep == "navcli"
+            assert allowed, f"{agent} imports {dep}"
+        else:
+            assert top in STDLIB or top in ("numpy", "__future__"), f"{agent} imports {dep}"
+
+
+def test_value_modules_import_only_each_other():
+    for mod in VALUES:
+        for dep in MODULES[mod]:
+            top = dep.split(".")[0]
+            assert top in STDLIB or top == "__future__" or dep in VALUES or dep.rpartition(".")[0] in VALUES, \
+                f"{mod} imports {dep}"
+
+
+def test_importing_the_agents_or_analysis_pulls_in_no_simulator():
+    code = ("import sys, navcli.pilot, navcli.navigation; "
+            "bad = [m for m in ('pymunk', 'yaml', 'foxglove', 'navcli.scenario', 'navcli.vision', 'navcli.world') "
+            "if m in sys.modules]; [sys.modules.pop(m) for m in list(sys.modules) if m.startswith('navcli')]; "
+            "import analysis; bad += [m for m in sys.modules if m.split('.')[0] in ('navcli', 'pymunk', 'foxglove')]; "
+            "print(bad); sys.exit(1 if bad else 0)")
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT)
+    assert r.returncode == 0, r.stdout + r.stderr
+
+
+def test_the_public_api_is_importable_and_listed():
+    import navcli
+
+    for name in navcli.__all__:
+        assert getattr(navcli, name) is not None, name
