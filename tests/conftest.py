@@ -9,10 +9,12 @@ import pytest
 import yaml
 from hypothesis import settings
 
-# CI (CI=true) runs the property tests derandomised: the same examples every run, so a red CI is
-# a real regression, not a new random draw. Locally they explore (HYPOTHESIS_PROFILE=ci to replay).
-settings.register_profile("ci", derandomize=True, deadline=None, print_blob=True)
-settings.register_profile("dev", deadline=None)
+# CI (CI=true) runs the property tests derandomised: the same 100 examples every run, so a red CI
+# is a real regression, not a new random draw. Locally they explore new examples each run
+# (HYPOTHESIS_PROFILE=ci to replay CI's; HYPOTHESIS_PROFILE=thorough for 2,000 per property).
+settings.register_profile("ci", derandomize=True, deadline=None, print_blob=True, max_examples=100)
+settings.register_profile("dev", deadline=None, max_examples=100)
+settings.register_profile("thorough", deadline=None, max_examples=2000)
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci" if os.environ.get("CI") else "dev"))
 
 ROOT = Path(__file__).resolve().parent.parent

@@ -28,3 +28,22 @@ def test_a_resource_nobody_bids_for_has_no_winner():
 def test_bids_outside_unit_interval_are_refused(value):
     with pytest.raises(ValueError):
         Bid("pilot", "motion", Move(0, 0), value)
+
+
+@pytest.mark.parametrize("bad", [float("nan"), float("inf"), -float("inf")])
+def test_non_finite_moves_and_looks_are_refused(bad):
+    """A NaN heading must never reach the wheels (it would make the world's pose NaN a tick later)."""
+    for make in (lambda: Move(bad, 0.3), lambda: Move(0.0, bad), lambda: Look(bad)):
+        with pytest.raises(ValueError, match="finite"):
+            make()
+
+
+def test_an_agent_that_computes_nan_is_stopped_at_its_bid():
+    """An agent's arithmetic going wrong (0/0) surfaces as an error at the bid, not in the world."""
+    from navcli.beliefs import Beliefs
+    from navcli.geometry import Pose
+    from navcli.navigation import TargetTracker
+
+    lost = Beliefs(0.0, Pose(0, 0, 0), (float("nan"), 1.0), None, ())
+    with pytest.raises(ValueError, match="finite heading"):
+        TargetTracker().bid(lost)

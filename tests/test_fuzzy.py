@@ -65,7 +65,7 @@ def fuzzies(draw):
     return x, Fuzzy.around(x, s + c, c)
 
 
-@settings(max_examples=300, deadline=None)
+@settings(deadline=None)
 @given(fuzzies(), fuzzies(), st.sampled_from(ALPHAS))
 def test_true_values_stay_inside_the_cuts_they_were_built_from(fa, fb, alpha):
     (x, a), (y, b) = fa, fb
@@ -78,7 +78,7 @@ def test_true_values_stay_inside_the_cuts_they_were_built_from(fa, fb, alpha):
         assert lo - 1e-9 * (1 + abs(x / y)) <= x / y <= hi + 1e-9 * (1 + abs(x / y))
 
 
-@settings(max_examples=300, deadline=None)
+@settings(deadline=None)
 @given(fuzzies(), fuzzies(), st.sampled_from(ALPHAS))
 def test_widths_add_under_addition_and_subtraction(fa, fb, alpha):
     (_, a), (_, b) = fa, fb
@@ -86,7 +86,7 @@ def test_widths_add_under_addition_and_subtraction(fa, fb, alpha):
     assert (a - b).width(alpha) == pytest.approx(a.width(alpha) + b.width(alpha), abs=1e-9)
 
 
-@settings(max_examples=200, deadline=None)
+@settings(deadline=None)
 @given(fuzzies(), fuzzies())
 def test_cuts_stay_nested_through_arithmetic(fa, fb):
     (_, a), (_, b) = fa, fb

@@ -144,7 +144,7 @@ def layouts(draw):
     return obs
 
 
-@settings(max_examples=300, deadline=None)
+@settings(deadline=None)
 @given(layouts(), coords, coords)
 def test_bid_stays_in_0_0_9_and_forces_stay_bounded_for_any_layout(obstacles, tx, ty):
     f = field((tx, ty), None, obstacles, PILOT)
@@ -157,13 +157,13 @@ def test_bid_stays_in_0_0_9_and_forces_stay_bounded_for_any_layout(obstacles, tx
     assert -math.pi <= f.turn <= math.pi and math.isfinite(f.turn)
 
 
-@settings(max_examples=200, deadline=None)
+@settings(deadline=None)
 @given(layouts())
 def test_numpy_and_loop_occlusion_agree(obstacles):
     assert facing_numpy(obstacles) == facing_loop(obstacles)
 
 
-@settings(max_examples=200, deadline=None)
+@settings(deadline=None)
 @given(layouts())
 def test_the_inlined_occlusion_is_the_geometry_of_lines_of_sight(obstacles):
     from navcli.geometry import blocks_sight, crosses_sight
