@@ -47,40 +47,50 @@ def _scenario_of(log_path: str) -> dict:
 
 
 def comparison_plots(runs: pd.DataFrame, out: Path) -> dict[str, Path]:
-    """``trajectories-<scenario>-<pilot>.png`` and ``boxplots-<scenario>.png`` into ``out``."""
+    """``trajectories-<scenario>[-<perception>]-<pilot>.png`` and ``boxplots-<scenario>[-<perception>].png``
+    into ``out``. Failed runs are drawn in orange and end in a cross where they stopped; the box
+    plots (reached runs) say how many runs each leaves out."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
+    runs = runs.copy()
+    runs["perception"] = runs["perception"].fillna("?") if "perception" in runs else "?"
+    several = runs.groupby("scenario")["perception"].nunique().max() > 1
     files: dict[str, Path] = {}
-    for scenario, g in runs.groupby("scenario", sort=True):
+    for (scenario, perception), g in runs.groupby(["scenario", "perception"], sort=True):
+        tag = f"{scenario}-{perception}" if several else scenario
         sc = _scenario_of(g["log"].iloc[0])
         for pilot, gp in g.groupby("pilot", sort=True):
             fig, ax = plt.subplots(figsize=(6.5, 6.5))
             for r in gp.itertuples():
                 xy = r.xy if "xy" in gp else read_log(r.log, topics=["/robot/pose"])["/robot/pose"][["x", "y"]].to_numpy()
                 ax.plot(xy[:, 0], xy[:, 1], lw=0.8, alpha=0.6, color="tab:purple" if r.reached else "tab:orange")
+                if not r.reached:
+                    ax.plot(*xy[-1], marker="x", ms=9, mew=2, color="tab:orange", zorder=5)
             if sc:
                 _arena(ax, sc)
-            ax.set_title(f"{scenario}: {pilot}, {int(gp['reached'].sum())}/{len(gp)} reached "
-                         f"(orange: failed)")
-            path = out / f"trajectories-{scenario}-{pilot}.png"
+            failed = int((~gp["reached"]).sum())
+            ax.set_title(f"{scenario} ({perception}): {pilot}, {int(gp['reached'].sum())}/{len(gp)} reached"
+                         + (f"\n{failed} failed: orange, x where they stopped" if failed else ""))
+            path = out / f"trajectories-{tag}-{pilot}.png"
             fig.tight_layout()
             fig.savefig(path, dpi=100)
             plt.close(fig)
-            files[f"trajectories-{scenario}-{pilot}"] = path
+            files[f"trajectories-{tag}-{pilot}"] = path
         ok = g[g["reached"]]
         pilots = sorted(g["pilot"].unique())
-        fig, axes = plt.subplots(1, 2, figsize=(9, 4.5))
+        labels = [f"{p}\n({int((~g.loc[g['pilot'] == p, 'reached']).sum())} failed, not shown)" for p in pilots]
+        fig, axes = plt.subplots(1, 2, figsize=(9, 4.8))
         for ax, (col, label) in zip(axes, (("time_s", "time to target (s)"), ("path_cm", "path length (cm)"))):
-            ax.boxplot([ok.loc[ok["pilot"] == p, col].to_numpy() for p in pilots], tick_labels=pilots)
+            ax.boxplot([ok.loc[ok["pilot"] == p, col].to_numpy() for p in pilots], tick_labels=labels)
             ax.set_ylabel(label)
             ax.grid(axis="y", alpha=0.3)
-        fig.suptitle(f"{scenario}: reached runs per pilot")
+        fig.suptitle(f"{scenario} ({perception} perception): reached runs per pilot")
         fig.tight_layout()
-        path = out / f"boxplots-{scenario}.png"
+        path = out / f"boxplots-{tag}.png"
         fig.savefig(path, dpi=100)
         plt.close(fig)
-        files[f"boxplots-{scenario}"] = path
+        files[f"boxplots-{tag}"] = path
     return files

@@ -64,17 +64,50 @@ def load_runs(logdir: str | Path) -> pd.DataFrame:
     return pd.DataFrame(rows)
 
 
+def wilson_interval(successes: int, n: int, z: float = 1.96) -> tuple[float, float]:
+    """The Wilson score 95 % interval of a success rate (sound at 0/n and n/n, unlike the normal
+    approximation).
+
+    >>> [round(x, 3) for x in wilson_interval(45, 45)]
+    [0.921, 1.0]
+    """
+    if n == 0:
+        return math.nan, math.nan
+    p = successes / n
+    centre = (p + z * z / (2 * n)) / (1 + z * z / n)
+    half = z / (1 + z * z / n) * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n))
+    return max(0.0, centre - half), min(1.0, centre + half)
+
+
+CONDITION = ["scenario", "perception", "pilot"]
+"""What a row of the table is: one pilot on one scenario with one perception."""
+
+
+def _conditions(runs: pd.DataFrame) -> pd.DataFrame:
+    runs = runs.copy()
+    runs["perception"] = runs["perception"].fillna("?") if "perception" in runs else "?"
+    return runs
+
+
 def pilot_table(runs: pd.DataFrame) -> pd.DataFrame:
-    """Per scenario and pilot: runs, successes, and mean and standard deviation (over reached
-    runs) of time, path length (cm, as the paper prints it), collisions and camera looks."""
+    """Per scenario, perception and pilot: runs, successes with the success rate and its Wilson
+    95 % interval; the mean and standard deviation over the *reached* runs of time, path length
+    (cm, as the paper prints it), collisions and camera looks; and, so that failures are not
+    hidden by leaving them out, the mean time with every failed run counted at its time limit
+    (``time_fail_at_limit_mean``)."""
     out = []
-    for (scenario, pilot), g in runs.groupby(["scenario", "pilot"], sort=True):
+    for (scenario, perception, pilot), g in _conditions(runs).groupby(CONDITION, sort=True):
         ok = g[g["reached"]]
-        row = {"scenario": scenario, "pilot": pilot, "runs": len(g), "reached": int(g["reached"].sum()),
-               "failed": int((~g["reached"]).sum())}
+        n, k = len(g), int(g["reached"].sum())
+        lo, hi = wilson_interval(k, n)
+        row = {"scenario": scenario, "perception": perception, "pilot": pilot, "runs": n, "reached": k,
+               "failed": n - k, "success_rate": k / n, "success_ci_low": lo, "success_ci_high": hi}
         for col in ("time_s", "path_cm", "collisions", "camera_looks"):
             row[f"{col}_mean"] = float(ok[col].mean()) if len(ok) else math.nan
             row[f"{col}_std"] = float(ok[col].std(ddof=1)) if len(ok) > 1 else math.nan
+        limit = g["time_limit_s"].fillna(g["time_s"]) if "time_limit_s" in g else g["time_s"]
+        row["time_fail_at_limit_mean"] = float(g["time_s"].where(g["reached"], limit).mean())
+        row["collisions_all_mean"] = float(g["collisions"].mean())
         out.append(row)
     return pd.DataFrame(out)
 
@@ -83,7 +116,7 @@ def improvements(runs: pd.DataFrame, baseline: str) -> pd.DataFrame:
     """Per scenario, pilot (other than ``baseline``) and metric: the paired improvement over the
     baseline in %, its bootstrap 95 % CI, the permutation p-value, and the number of pairs."""
     out = []
-    for scenario, g in runs.groupby("scenario", sort=True):
+    for (scenario, perception), g in _conditions(runs).groupby(["scenario", "perception"], sort=True):
         base = g[(g["pilot"] == baseline) & g["reached"]].set_index("seed")
         for pilot in sorted(set(g["pilot"]) - {baseline}):
             other = g[(g["pilot"] == pilot) & g["reached"]].set_index("seed")
@@ -92,7 +125,8 @@ def improvements(runs: pd.DataFrame, baseline: str) -> pd.DataFrame:
                 b = base.loc[seeds, metric].to_numpy(float)
                 p = other.loc[seeds, metric].to_numpy(float)
                 imp, lo, hi, pval = paired_improvement(b, p)
-                out.append({"scenario": scenario, "pilot": pilot, "baseline": baseline, "metric": metric,
+                out.append({"scenario": scenario, "perception": perception, "pilot": pilot, "baseline": baseline,
+                            "metric": metric,
                             "pairs": len(seeds), "improvement_pct": imp, "ci95_low": lo, "ci95_high": hi,
                             "p_value": pval})
     return pd.DataFrame(out)
@@ -122,22 +156,27 @@ def _fmt(mean: float, std: float, digits: int = 2) -> tuple[str, str]:
 
 
 def markdown(table: pd.DataFrame, imps: pd.DataFrame) -> str:
-    """The comparison as Markdown: Table 1's layout, then the improvements."""
+    """The comparison as Markdown: Table 1's layout (times and paths over the reached runs), the
+    success rate with its interval and the time with failures counted at the limit beside it;
+    then the improvements."""
     lines = []
-    for scenario, g in table.groupby("scenario", sort=True):
-        lines += [f"### {scenario}", "",
-                  "| pilot | reached | time avg (s) | time std | path avg (cm) | path std | collisions avg | camera looks avg |",
-                  "| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: |"]
+    for (scenario, perception), g in table.groupby(["scenario", "perception"], sort=True):
+        lines += [f"### {scenario} ({perception} perception)", "",
+                  "| pilot | reached | success (95 % CI) | time avg (s) | time std | path avg (cm) | path std "
+                  "| time, failures at the limit (s) | collisions avg (all runs) | camera looks avg |",
+                  "| --- | --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"]
         for r in g.itertuples():
             t, ts = _fmt(r.time_s_mean, r.time_s_std)
             p, ps = _fmt(r.path_cm_mean, r.path_cm_std)
-            c, _ = _fmt(r.collisions_mean, 0.0)
+            tl, _ = _fmt(r.time_fail_at_limit_mean, 0.0)
+            c, _ = _fmt(r.collisions_all_mean, 0.0)
             k, _ = _fmt(r.camera_looks_mean, 0.0, 1)
-            lines.append(f"| {r.pilot} | {r.reached}/{r.runs} | {t} | {ts} | {p} | {ps} | {c} | {k} |")
+            rate = f"{100 * r.success_rate:.0f} % [{100 * r.success_ci_low:.0f}, {100 * r.success_ci_high:.0f}]"
+            lines.append(f"| {r.pilot} | {r.reached}/{r.runs} | {rate} | {t} | {ts} | {p} | {ps} | {tl} | {c} | {k} |")
         lines.append("")
-        gi = imps[imps["scenario"] == scenario]
+        gi = imps[(imps["scenario"] == scenario) & (imps["perception"] == perception)] if len(imps) else imps
         if len(gi):
-            lines += ["| pilot vs baseline | metric | pairs | improvement | 95 % CI | p (paired) |",
+            lines += ["| pilot vs baseline | metric | pairs (both reached) | improvement | 95 % CI | p (paired) |",
                       "| --- | --- | ---: | ---: | --- | ---: |"]
             for r in gi.itertuples():
                 if math.isnan(r.improvement_pct):
@@ -157,7 +196,8 @@ def write_report(runs: pd.DataFrame, out: str | Path, baseline: str = "geometric
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     table = pilot_table(runs)
-    imps = improvements(runs, baseline) if baseline in set(runs["pilot"]) else pd.DataFrame(columns=["scenario"])
+    imps = improvements(runs, baseline) if baseline in set(runs["pilot"]) else \
+        pd.DataFrame(columns=["scenario", "perception"])
     files = {"runs": out / "runs.csv", "table": out / "table.csv", "improvements": out / "improvements.csv",
              "markdown": out / "table.md"}
     runs.drop(columns=["xy"]).to_csv(files["runs"], index=False)

@@ -31,13 +31,15 @@ class KnownObstacle:
     """An obstacle as the robot knows it, egocentric (x ahead, y left, metres).
 
     A point obstacle has ``a == b`` (its centre); a linear one runs from ``a`` to ``b``.
-    ``radius`` is its physical half-width, ``key`` names it stably across ticks for logs.
+    ``radius`` is its physical half-width, ``key`` names it stably across ticks for logs;
+    ``wall`` marks (a known stretch of) one of the room's walls.
     """
 
     key: str
     a: Point
     b: Point
     radius: float
+    wall: bool = False
 
     @property
     def is_point(self) -> bool:
@@ -56,7 +58,8 @@ class Beliefs:
     ``target_spread`` is the width (rad) of the 70 % cut of the target's fuzzy heading: 0 when
     it is known exactly, 2 pi when it is lost. ``looked`` is the pan (rad, relative to the
     heading) of the image the camera took during the previous tick, ``None`` if it took none;
-    ``bumps`` are the bumper contacts that began during the previous tick.
+    ``bumps`` are the bumper contacts that began during the previous tick; ``touching`` says the
+    bumper was pressed during the previous tick (a contact that lasts is no new bump).
     """
 
     time: float
@@ -67,3 +70,4 @@ class Beliefs:
     target_spread: float = 0.0
     looked: float | None = None
     bumps: tuple[Bump, ...] = ()
+    touching: bool = False

@@ -199,14 +199,19 @@ plot_app = typer.Typer(help="Figures of the pilot paper for a scenario, as PNG f
 app.add_typer(plot_app, name="plot")
 
 
-def _plot(kind: str, scenario: Path, out: Optional[Path], step: Optional[float], param: list[str]) -> None:
+WallsOption = Annotated[bool, typer.Option(
+    help="Let the room's walls push too (the paper's figures show an example without walls).")]
+
+
+def _plot(kind: str, scenario: Path, out: Optional[Path], step: Optional[float], param: list[str],
+          walls: bool = False) -> None:
     spec = _spec(scenario, param)
     from . import figures
 
     out = out or Path("logs") / spec.scenario.name / f"{kind}.png"
     fn = figures.plot_field if kind == "field" else figures.plot_bids
     try:
-        path = fn(spec, out, step) if step else fn(spec, out)
+        path = fn(spec, out, step, walls) if step else fn(spec, out, walls=walls)
     except OSError as e:
         _err(f"error: cannot write {out}: {e.strerror or e}")
         raise typer.Exit(1) from None
@@ -219,9 +224,10 @@ def plot_field(
     out: Annotated[Optional[Path], typer.Option(help="PNG file (default: logs/<scenario>/field.png).")] = None,
     step: Annotated[Optional[float], typer.Option(min=0.02, help="Grid spacing in metres (default 0.2).")] = None,
     param: ParamOption = None,
+    walls: WallsOption = False,
 ) -> None:
     """Direction of the net virtual force over the arena (pilot paper, Figure 9)."""
-    _plot("field", scenario, out, step, param)
+    _plot("field", scenario, out, step, param, walls)
 
 
 @plot_app.command("bids")
@@ -230,9 +236,10 @@ def plot_bids(
     out: Annotated[Optional[Path], typer.Option(help="PNG file (default: logs/<scenario>/bids.png).")] = None,
     step: Annotated[Optional[float], typer.Option(min=0.02, help="Grid spacing in metres (default 0.05).")] = None,
     param: ParamOption = None,
+    walls: WallsOption = False,
 ) -> None:
     """The pilot's bid (eq. 9) over the arena (pilot paper, Figure 10)."""
-    _plot("bids", scenario, out, step, param)
+    _plot("bids", scenario, out, step, param, walls)
 
 
 compare_app = typer.Typer(help="Rerun missions with many seeds and compare, from the logs.", no_args_is_help=True)
@@ -249,6 +256,8 @@ def compare_pilots(
     out: Annotated[Path, typer.Option(help="Folder for the logs, the table and the plots.")] = Path("logs/compare"),
     time_limit: Annotated[Optional[float], typer.Option(min=0.1, help="Override the scenarios' time limit (s).")] = None,
     param: ParamOption = None,
+    perception: Annotated[Optional[PerceptionName], typer.Option(
+        help="vision or oracle for every run (default: each scenario's mission.perception).")] = None,
 ) -> None:
     """The pilot paper's Table 1: every pilot on every scenario with the same seeds, in parallel;
     logs that are already complete are kept (an interrupted comparison resumes)."""
@@ -261,7 +270,8 @@ def compare_pilots(
         _err(f"error: --pilots: unknown pilot(s) {', '.join(bad) or '(none given)'} "
              f"(expected some of: {', '.join(PILOT_NAMES)})")
         raise typer.Exit(EXIT_BAD_INPUT)
-    specs = [_spec(p, param, time_limit=time_limit) for p in scenarios]
+    specs = [_spec(p, param, time_limit=time_limit, perception=perception.value if perception else None)
+             for p in scenarios]
     from .experiments.compare import plan, run_all
 
     work = plan(specs, names, reruns, out)

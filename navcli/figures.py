@@ -21,10 +21,11 @@ from .scenario import Circle, Scenario
 from .vision.perception import OraclePerception
 
 
-def field_grid(spec: RunSpec, step: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+def field_grid(spec: RunSpec, step: float, walls: bool = False) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """X, Y (m), the unit net-force direction (U, V) and the bid on a grid of ``step`` metres.
 
-    Blank points (inside bodies) are NaN."""
+    Like the paper's Figures 9 and 10, the room's walls exert no force unless ``walls`` is set
+    (the paper's example has none). Blank points (inside bodies) are NaN."""
     sc, pilot = spec.scenario, spec.params.pilot
     bodies = [o for o in sc.objects if o.kind in ("circle", "segment", "landmark")]
     xs = np.arange(step / 2, sc.arena.width, step)
@@ -38,7 +39,8 @@ def field_grid(spec: RunSpec, step: float) -> tuple[np.ndarray, np.ndarray, np.n
             continue
         pose = Pose(x, y, 0.0)
         b = perception.observe(0.0, pose, pose)
-        f = field(b.target, b.target_line, b.obstacles, pilot)
+        obstacles = b.obstacles if walls else [o for o in b.obstacles if not o.wall]
+        f = field(b.target, b.target_line, obstacles, pilot)
         U[idx], V[idx] = math.cos(f.turn), math.sin(f.turn)
         B[idx] = f.bid
     return X, Y, U, V, B
@@ -50,7 +52,7 @@ def _arena(ax, sc: Scenario, R_min: float) -> None:
     for o in sc.obstacles:
         if isinstance(o, Circle):
             ax.add_patch(mp.Circle(o.center, o.radius, color="tab:red", zorder=3))
-            ax.add_patch(mp.Circle(o.center, R_min, fill=False, ls="--", color="tab:red", lw=0.8, zorder=3))
+            ax.add_patch(mp.Circle(o.center, o.radius + R_min, fill=False, ls="--", color="tab:red", lw=0.8, zorder=3))
         else:
             ax.plot([o.start[0], o.end[0]], [o.start[1], o.end[1]], color="tab:red", lw=3, zorder=3)
     for lm in sc.landmarks:
@@ -69,7 +71,7 @@ def _arena(ax, sc: Scenario, R_min: float) -> None:
     ax.set_ylabel("y (m)")
 
 
-def plot_field(spec: RunSpec, out: Path, step: float = 0.2) -> Path:
+def plot_field(spec: RunSpec, out: Path, step: float = 0.2, walls: bool = False) -> Path:
     """Figure 9: arrows along the net force (eq. 6-7), over the arena."""
     sc, p = spec.scenario, spec.params.pilot
     import matplotlib
@@ -77,7 +79,7 @@ def plot_field(spec: RunSpec, out: Path, step: float = 0.2) -> Path:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    X, Y, U, V, _ = field_grid(spec, step)
+    X, Y, U, V, _ = field_grid(spec, step, walls)
     fig, ax = plt.subplots(figsize=(7, 7 * sc.arena.height / sc.arena.width + 0.5))
     ax.quiver(X, Y, U, V, angles="xy", scale_units="xy", scale=1 / (0.8 * step), width=0.003, color="0.25")
     _arena(ax, sc, p.R_min)
@@ -85,7 +87,7 @@ def plot_field(spec: RunSpec, out: Path, step: float = 0.2) -> Path:
     return _save(fig, out)
 
 
-def plot_bids(spec: RunSpec, out: Path, step: float = 0.05) -> Path:
+def plot_bids(spec: RunSpec, out: Path, step: float = 0.05, walls: bool = False) -> Path:
     """Figure 10: the pilot's motion bid (eq. 9) over the arena."""
     sc, p = spec.scenario, spec.params.pilot
     import matplotlib
@@ -93,7 +95,7 @@ def plot_bids(spec: RunSpec, out: Path, step: float = 0.05) -> Path:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    X, Y, _, _, B = field_grid(spec, step)
+    X, Y, _, _, B = field_grid(spec, step, walls)
     fig, ax = plt.subplots(figsize=(7.8, 7 * sc.arena.height / sc.arena.width + 0.5))
     im = ax.pcolormesh(X, Y, B, shading="nearest", cmap="viridis", vmin=0.0, vmax=p.bid_cap)
     fig.colorbar(im, ax=ax, label="pilot bid (eq. 9)")

@@ -121,7 +121,7 @@ class Mission:
         odom_before = w.odometry.pose
         bumps = w.step(*command)
         slip = abs(command[0]) * CONTROL_DT if w.touching else 0.0  # sliding along a contact is unmeasured
-        self.perception.moved(odom_before, w.odometry.pose, tuple(bumps), slip)
+        self.perception.moved(odom_before, w.odometry.pose, tuple(bumps), w.touching, slip)
         return bumps
 
     def step(self) -> Tick:

@@ -64,22 +64,28 @@ class PilotParams:
     bid_cap: float = _p(0.9, at_most=1.0)  # eq. 9: the Pilot never bids above this
     heading_gain: float = _p(1.5)  # 1/s: turn rate per radian of heading error
     turn_in_place: float = _p(math.radians(45.0))  # above this heading error the robot stops to turn
-    distress_gain: float = _p(1.5)  # section 5: the offending obstacle's force x 1.5 when IN_DISTRESS
+    distress_gain: float = _p(1.5)  # section 5: each offending obstacle's force x 1.5 when IN_DISTRESS
+    wall_window: float = _p(1.0, above=0.0)  # m: a room wall acts as the stretch this long nearest the robot
     corridor_margin: float = _p(0.40)  # m: section 3.3, the safe corridor keeps this far from the line's ends
     # Section 3.5: reflexes and backward motion
     backward_turn: float = _p(math.radians(160.0), at_most=math.pi)  # turns larger than this are driven backwards...
-    max_backward: float = _p(0.6)  # m: ...while the distance driven backwards stays under this
+    max_backward: float = _p(0.6)  # m: ...while the total distance driven backwards that way stays under this
     reflex_stop_s: float = _p(0.5)  # s standing still after a bump
     reflex_look_pans_deg: tuple[float, ...] = (-60.0, 0.0, 60.0)  # looks around after a bump
     backup_distance: float = _p(0.30)  # m backed up after a bump
     backup_speed: float = _p(0.15, above=0.0)  # m/s
     reflex_phase_limit_s: float = _p(4.0, above=0.0)  # s: a reflex phase that cannot finish (backed into something) is given up
+    # No silent stall (our design): pushing without moving starts the reflex too
+    stall_window_s: float = _p(2.0, above=0.0)  # s over which commanded and measured motion are compared
+    stall_min_distance: float = _p(0.1, above=0.0)  # m commanded in that window before a stall can be called
+    stall_progress: float = _p(0.2, at_most=1.0)  # a stall: less than this fraction of the commanded distance moved
     # Section 2, eq. 1: the look-ahead camera bid (d_l / d_m) ** s
     look_d_max: float = _p(1.0, above=0.0)  # m: d_m, the longest drive without looking ahead
     look_exponent: float = _p(2.0, above=0.0)  # s
     look_ahead_cone: float = _p(math.radians(30.0))  # rad: a look this close to straight ahead resets d_l
     # Geometric pilot (the baseline of Table 1)
-    geometric_lookahead: float = _p(1.0)  # m beyond the grown obstacle at which it starts to steer
+    geometric_lookahead: float = _p(1.0)  # m beyond the prohibited area at which it starts to steer
+    geometric_clearance: float = _p(0.05)  # m: its tangents pass this far outside the prohibited area
 
 
 @dataclass(frozen=True)

@@ -312,18 +312,20 @@ def _memory_entities(memory: tuple[Remembered, ...], ns: int) -> list[SceneEntit
 
 
 def _grown(obstacles, pose: Pose, R: float, ns: int) -> SceneEntity:
-    """The pilot's prohibited areas (section 3.1): known obstacles grown by R_min, drawn flat in
-    ``world`` where the robot perceives them (egocentric positions placed with the true pose)."""
+    """The pilot's prohibited areas (section 3.1): known obstacles grown by R_min from their
+    surface, drawn flat in ``world`` where the robot perceives them (egocentric positions placed
+    with the true pose)."""
     cyl, cubes = [], []
     for o in obstacles:
+        g = o.radius + R
         a = pose.to_world(o.a)
-        cyl.append(_cylinder(*a, R, 0.0, 0.01, _GROWN))
+        cyl.append(_cylinder(*a, g, 0.0, 0.01, _GROWN))
         if o.a != o.b:
             b = pose.to_world(o.b)
-            cyl.append(_cylinder(*b, R, 0.0, 0.01, _GROWN))
+            cyl.append(_cylinder(*b, g, 0.0, 0.01, _GROWN))
             cubes.append(CubePrimitive(pose=_pose((a[0] + b[0]) / 2, (a[1] + b[1]) / 2, math.atan2(b[1] - a[1], b[0] - a[0]),
                                                   z=0.005),
-                                       size=Vector3(x=math.dist(a, b), y=2 * R, z=0.01), color=_GROWN))
+                                       size=Vector3(x=math.dist(a, b), y=2 * g, z=0.01), color=_GROWN))
     return SceneEntity(timestamp=_ts(ns), frame_id="world", id="grown-obstacles", cylinders=cyl, cubes=cubes)
 
 

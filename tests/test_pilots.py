@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 import pytest
 
 from analysis import read_log
@@ -16,8 +17,9 @@ from navcli.mission import Mission
 from navcli.params import CONTROL_DT, PILOT, ROBOT
 from navcli.beliefs import Beliefs, KnownObstacle
 from navcli.pilot.base import Pilot
-from navcli.pilot.potential_field import PotentialFieldPilot
+from navcli.pilot.potential_field import PotentialFieldPilot, passable_gap
 from navcli.runner import run_mission
+from navcli.world import World
 from navcli.beliefs import Bump
 
 
@@ -51,14 +53,22 @@ def test_section_3_5_turns_over_160_degrees_are_driven_backwards_within_a_budget
     assert v == 0.0 and w > 0
 
 
-def test_backward_budget_counts_backward_travel_and_refills_after_a_forward_stretch():
+def test_the_backward_budget_is_a_total_of_commanded_backward_driving():
+    """Section 3.5: "the total distance covered backwards" stays under max_backward. Counted as
+    commanded, so a robot pushing blind against something spends it as well; forward driving
+    never refills it."""
     p = Pilot(PILOT, ROBOT)
-    for x in (0.0, -0.2, -0.4):
-        p.decide(beliefs(odom=Pose(x, 0.0, 0.0)))
-    assert p.backward == pytest.approx(0.4)
-    for x in (0.0, 0.3):
-        p.decide(beliefs(odom=Pose(x, 0.0, 0.0)))
-    assert p.backward == pytest.approx(0.0)  # 0.7 m forwards >= max_backward
+    per_tick = 0.3 * math.cos(math.radians(10)) * CONTROL_DT  # 170 degrees: backwards, 10 degrees off
+    n = math.ceil(PILOT.max_backward / per_tick)
+    for _ in range(n):
+        v, _ = p.execute(nav(Move(math.radians(170), 0.3)))
+        assert v < 0
+        p.decide(beliefs())  # odometry says the robot did not move at all (pinned)
+    assert p.backward == pytest.approx(n * per_tick)
+    for _ in range(50):
+        assert p.execute(nav(Move(0.0, 0.3)))[0] > 0  # a long stretch forwards...
+    v, _ = p.execute(nav(Move(math.radians(170), 0.3)))
+    assert v == 0.0  # ...and the budget is still spent: an ordinary turn in place
 
 
 # -- eq. 1: the look-ahead camera bid ------------------------------------------------------------
@@ -139,10 +149,11 @@ def test_geometric_pilot_steers_along_the_nearer_tangent_when_the_request_is_blo
     g = GeometricPilot(PILOT, ROBOT)
     obstacle = KnownObstacle("o", (1.2, 0.1), (1.2, 0.1), 0.15)
     a = g.avoid(beliefs([obstacle]), [obstacle], Move(0.0, 0.3))
-    right, left = blocked_interval(obstacle, PILOT.R_min)
+    right, left = blocked_interval(obstacle, PILOT.R_min + PILOT.geometric_clearance)
     assert a.bid == pytest.approx(0.9) and a.info["rule"] == "tangent"
     assert a.move.heading == pytest.approx(right)  # the obstacle sits left of the request
-    assert right == pytest.approx(math.atan2(0.1, 1.2) - math.asin(0.4 / math.hypot(1.2, 0.1)))
+    # tangent to the prohibited area (0.15 m body + R_min 0.40 m) grown by the 0.05 m clearance
+    assert right == pytest.approx(math.atan2(0.1, 1.2) - math.asin(0.60 / math.hypot(1.2, 0.1)))
 
 
 def test_geometric_pilot_keeps_out_of_the_way_when_the_request_is_safe():
@@ -154,9 +165,10 @@ def test_geometric_pilot_keeps_out_of_the_way_when_the_request_is_safe():
 
 def test_geometric_pilot_escapes_from_inside_a_grown_obstacle():
     g = GeometricPilot(PILOT, ROBOT)
-    obstacle = KnownObstacle("o", (0.3, 0.0), (0.3, 0.0), 0.15)
+    obstacle = KnownObstacle("o", (0.5, 0.0), (0.5, 0.0), 0.15)  # its surface 0.35 m away: inside R_min
     a = g.avoid(beliefs([obstacle]), [obstacle], Move(0.0, 0.3))
     assert a.info["rule"] == "escape" and abs(a.move.heading) == pytest.approx(math.pi)
+    assert a.info["in_distress"] and a.info["clearance"] == pytest.approx(0.5 - 0.15 - PILOT.R_min)
 
 
 def test_geometric_pilot_passes_a_long_obstacle_around_its_nearer_end():
@@ -168,8 +180,8 @@ def test_geometric_pilot_passes_a_long_obstacle_around_its_nearer_end():
 
 
 # -- equation 8, in the physics world ----------------------------------------------------------
-def gap_scenario(make_scenario, gap):
-    obstacles = [{"circle": {"center": [3.0, 2.0 + s * gap / 2], "radius": 0.1}} for s in (-1, 1)]
+def gap_scenario(make_scenario, gap, radius=0.1):
+    obstacles = [{"circle": {"center": [3.0, 2.0 + s * gap / 2], "radius": radius}} for s in (-1, 1)]
     return make_scenario(arena={"width": 6.0, "height": 5.0}, robot={"start": [0.8, 2.0], "heading_deg": 0},
                          target={"at": [5.2, 2.0]}, obstacles=obstacles, noise={"odometry": 0.0},
                          mission={"time_limit": 120, "seed": 1})
@@ -193,11 +205,36 @@ def drive_mission(sc, perception="oracle"):
     return m, poses
 
 
-def test_eq8_drives_between_two_obstacles_1_1_m_apart_without_touching(make_scenario):
-    m, poses = drive_mission(gap_scenario(make_scenario, 1.1))
-    assert m.outcome == "reached" and m.world.bumps == 0
+def worst_push_back(K, A_t, d, radius):
+    """The strongest push-back of two obstacles at (0, +-d) on a robot heading between them along
+    the x axis, by brute force over x (eq. 2 with distances from the surface)."""
+    x = np.linspace(1e-4, 5 * d, 20001)
+    s = np.hypot(x, d)
+    return float(np.max(2 * K * x / (s * (s - radius) ** 2)))
+
+
+def test_eq8_the_passable_gap_follows_from_K_and_A_t():
+    # point obstacles: A_t = c K / d_min^2 with c = 2 / sqrt(2) / 1.5 ** 1.5 = 0.7698 (the paper: 0.76)
+    c = 2 / math.sqrt(2) / 1.5 ** 1.5
+    assert c == pytest.approx(0.7698, abs=1e-4)
+    assert passable_gap(PILOT.K, PILOT.A_t) == pytest.approx(2 * math.sqrt(c * PILOT.K / PILOT.A_t), abs=1e-3)
+    assert passable_gap(PILOT.K, PILOT.A_t) == pytest.approx(1.053, abs=1e-3)  # the paper: "1 meter"
+    for radius in (0.05, 0.15):  # obstacles with a body: the push-back at half the gap is A_t
+        gap = passable_gap(PILOT.K, PILOT.A_t, radius)
+        assert worst_push_back(PILOT.K, PILOT.A_t, gap / 2, radius) == pytest.approx(PILOT.A_t, rel=1e-3)
+
+
+@pytest.mark.parametrize("side", [+1, -1], ids=["just-above", "just-below"])
+def test_eq8_in_simulation_the_pilot_passes_just_above_the_gap_and_not_just_below(make_scenario, side):
+    radius = 0.05
+    gap = passable_gap(PILOT.K, PILOT.A_t, radius) + side * 0.03
+    m, poses = drive_mission(gap_scenario(make_scenario, gap, radius))
+    assert m.world.bumps == 0
     y = crossing_y(poses)
-    assert y is not None and abs(y - 2.0) < 0.55 - 0.1 - 0.25  # between them, clear of both
+    if side > 0:
+        assert m.outcome == "reached" and y is not None and abs(y - 2.0) < gap / 2 - radius - 0.25
+    else:
+        assert y is None or abs(y - 2.0) > gap / 2  # never between them
 
 
 def test_eq8_goes_around_two_obstacles_0_6_m_apart(make_scenario):
@@ -213,3 +250,50 @@ def test_crossing_a_diverting_target_line_ends_the_mission(make_scenario):
     assert m.outcome == "reached"
     assert poses[-2][0] < 4.0 <= poses[-1][0]
     assert poses[-1][1] == pytest.approx(1.0, abs=0.2)  # straight across, inside the corridor
+
+
+# -- no silent stall ---------------------------------------------------------------------------
+def test_a_robot_pinned_against_a_wall_notices_and_backs_away(make_scenario):
+    """Real physics: the robot is sent straight into the east wall and the bumper's new-contact
+    events are withheld from the pilot (a contact that lasts is no new bump), so only the stall
+    watch can notice: commanded motion without progress starts the reflex, which backs away."""
+    sc = make_scenario(robot={"start": [5.2, 2.0], "heading_deg": 0}, noise={"odometry": 0.0})
+    world = World(sc, np.random.default_rng(0))
+    pilot = Pilot(PILOT, ROBOT)  # no avoidance: it carries out the request
+    into_the_wall = nav(Move(0.0, 0.3))
+    events, xs, looked = [], [], None
+    for _ in range(round(8.0 / CONTROL_DT)):
+        out = pilot.decide(Beliefs(world.time, world.odometry.pose, None, None, (), 0.0, looked, (), world.touching))
+        events += out.events
+        looked = next((b.action.pan for b in out.bids if b.resource == "camera"), None)  # an instant camera
+        winner = next((b for b in out.bids if b.resource == "motion"), into_the_wall)
+        world.step(*pilot.execute(winner))
+        xs.append(world.pose.x)
+    pinned_at = 6.0 - ROBOT.radius
+    stalled = [e for e in events if e.startswith("reflex: stalled")]
+    assert len(stalled) >= 1 and "bumper pressed" in stalled[0]
+    first = xs.index(max(xs))
+    assert max(xs) == pytest.approx(pinned_at, abs=0.01)  # it did reach the wall and push
+    assert min(xs[first:]) < pinned_at - 0.8 * PILOT.backup_distance  # and then backed away from it
+    assert first * CONTROL_DT < 8.0 - PILOT.stall_window_s
+
+
+def test_stall_watch_escapes_opposite_to_the_way_the_robot_was_pushing():
+    p = Pilot(PILOT, ROBOT)
+    for _ in range(round(PILOT.stall_window_s / CONTROL_DT) + 1):  # pushing backwards, going nowhere
+        p.execute(nav(Move(0.0, -0.3)))
+        out = p.decide(beliefs())
+    assert out.info["mode"] == "reflex" and any("stalled" in e for e in out.events)
+    while out.info.get("phase") != "backup":
+        p._looked(0.0)
+        out = p.decide(beliefs())
+    assert next(b for b in out.bids if b.resource == "motion").action.speed > 0  # forwards, away from it
+
+
+def test_turning_in_place_is_no_stall():
+    p = Pilot(PILOT, ROBOT)
+    for _ in range(3 * round(PILOT.stall_window_s / CONTROL_DT)):
+        v, _ = p.execute(nav(Move(math.radians(120), 0.3)))  # a big turn: in place, v = 0
+        assert v == 0.0
+        out = p.decide(beliefs())
+    assert out.info["mode"] != "reflex"

@@ -41,6 +41,19 @@ def test_eq2_point_force_falls_with_the_square_of_distance_away_from_the_obstacl
     assert (fx, fy, mag) == pytest.approx((-43.2, -57.6, 72.0)) and not distress
 
 
+def test_eq2_4_distances_count_from_the_obstacles_surface():
+    """A 0.15 m obstacle whose centre is 0.65 m away is 0.5 m away: 18 / 0.25 = 72 (eq. 2); the
+    prohibited area ends R_min = 0.40 m from its surface, i.e. 0.55 m from its centre, 0.15 m
+    before a 0.25 m robot would touch it (contact at 0.40 m between centres)."""
+    fx, fy, mag, distress = point_force((0.65, 0.0), K, R, radius=0.15)
+    assert (fx, fy, mag, distress) == pytest.approx((-72.0, 0.0, 72.0, False))
+    assert point_force((0.56, 0.0), K, R, radius=0.15)[3] is False
+    assert point_force((0.54, 0.0), K, R, radius=0.15)[2:] == pytest.approx((F_MAX, True))
+    # a linear obstacle 0.05 m thick: from its face
+    _, _, mag, distress = linear_force((1.025, -1.0), (1.025, 1.0), K, R, radius=0.025)
+    assert mag == pytest.approx(18.0) and not distress
+
+
 def test_eq3_4_inside_the_grown_circle_the_force_is_the_constant_f_max():
     for o in ((0.2, 0.0), (0.0, -0.4), (0.1, 0.1)):
         fx, fy, mag, distress = point_force(o, K, R)
@@ -73,7 +86,7 @@ def test_section_3_3_corridor_pull_is_perpendicular_inside_and_to_the_centre_out
 
 
 def test_eq6_7_net_force_and_turn_angle():
-    f = field((5.0, 0.0), None, [pt("o", 1.0, 0.5)], PILOT)
+    f = field((5.0, 0.0), None, [pt("o", 1.0, 0.5, r=0.0)], PILOT)  # a point, as in the paper
     # d^2 = 1.25: |F| = 14.4 along -(1, 0.5)/sqrt(1.25)
     fo = (-14.4 / math.sqrt(1.25), -7.2 / math.sqrt(1.25))
     assert f.net == pytest.approx((50 + fo[0], fo[1]))
@@ -82,25 +95,32 @@ def test_eq6_7_net_force_and_turn_angle():
 
 
 def test_eq9_bid_is_0_9_times_the_strongest_single_repulsion_over_f_max():
-    f = field((5.0, 0.0), None, [pt("near", 1.0, 0.5), pt("far", 2.0, -1.5)], PILOT)
+    f = field((5.0, 0.0), None, [pt("near", 1.0, 0.5, r=0.0), pt("far", 2.0, -1.5, r=0.0)], PILOT)
     assert f.g_max == pytest.approx(14.4)
     assert f.bid == pytest.approx(0.9 * 14.4 / 112.5)
     assert pilot_bid(F_MAX, PILOT) == pytest.approx(0.9) and pilot_bid(2 * F_MAX, PILOT) == pytest.approx(0.9)
     assert field((5.0, 0.0), None, [], PILOT).bid == 0.0
 
 
-def test_section_5_in_distress_the_offender_weighs_1_5_and_the_target_is_ignored():
-    f = field((5.0, 1.0), None, [pt("hit", 0.2, 0.2), pt("other", 0.0, 2.0)], PILOT)
+def test_section_5_in_distress_each_offender_weighs_1_5_and_the_target_is_ignored():
+    f = field((5.0, 1.0), None, [pt("hit", 0.2, 0.2, r=0.0), pt("other", 0.0, 2.0, r=0.0)], PILOT)
     assert f.in_distress
     u = -1 / math.sqrt(2)
     hit = (1.5 * F_MAX * u, 1.5 * F_MAX * u)
     other = (0.0, -18 / 4)
     assert f.net == pytest.approx((hit[0] + other[0], hit[1] + other[1]))
     assert f.bid == pytest.approx(0.9)
+    # two obstacles in distress, left and right ahead: both weigh 1.5 (their sideways pushes cancel)
+    f = field((5.0, 0.0), None, [pt("l", 0.3, 0.2, r=0.0), pt("r", 0.3, -0.1, r=0.0), pt("far", -2.0, 0.0, r=0.0)],
+              PILOT)
+    ul, ur = (0.3, 0.2), (0.3, -0.1)
+    nl, nr = math.hypot(*ul), math.hypot(*ur)
+    want = (-1.5 * F_MAX * (ul[0] / nl + ur[0] / nr) + 18 / 4, -1.5 * F_MAX * (ul[1] / nl + ur[1] / nr))
+    assert f.net == pytest.approx(want) and f.target == pytest.approx((50.0, 0.0))
 
 
 def test_section_5_repulsion_from_passed_obstacles_is_dropped():
-    f = field((5.0, 0.0), None, [pt("behind", -1.0, 0.2)], PILOT)  # repulsion points at the target
+    f = field((5.0, 0.0), None, [pt("behind", -1.0, 0.2, r=0.0)], PILOT)  # repulsion points at the target
     assert f.passed and f.repulsion == (0.0, 0.0) and f.net == pytest.approx((50.0, 0.0)) and f.turn == 0.0
     assert f.bid > 0  # the bid still says an obstacle is near
     f = field((5.0, 0.0), None, [pt("ahead", 1.0, 0.2)], PILOT)
@@ -174,3 +194,61 @@ def test_the_inlined_occlusion_is_the_geometry_of_lines_of_sight(obstacles):
     ref = [not any(j != i and hides(q, o.centre) for j, q in enumerate(obstacles))
            for i, o in enumerate(obstacles)]
     assert facing_loop(obstacles) == ref
+
+
+# -- section 5, as worded ----------------------------------------------------------------------
+def test_section_5_the_turn_is_the_mean_of_this_angle_and_the_previous_one():
+    """Raw angles 0, 90, 90, 90 degrees give 0, 45, 90, 90: the mean of the new and the previous
+    computed angle, not a running filter (which would give 0, 45, 67.5, 78.75)."""
+    from navcli.beliefs import Beliefs
+    from navcli.geometry import Pose
+    from navcli.params import ROBOT
+    from navcli.pilot.potential_field import PotentialFieldPilot
+
+    p = PotentialFieldPilot(PILOT, ROBOT)
+    turns = []
+    for target in ((5.0, 0.0), (0.0, 5.0), (0.0, 5.0), (0.0, 5.0)):  # no obstacles: raw = target bearing
+        out = p.decide(Beliefs(0.0, Pose(0.0, 0.0, 0.0), target, None, ()))
+        turns.append(out.info["turn_deg"])
+    assert turns == pytest.approx([0.0, 45.0, 90.0, 90.0])
+
+
+def test_section_5_no_averaging_in_distress():
+    from navcli.beliefs import Beliefs
+    from navcli.geometry import Pose
+    from navcli.params import ROBOT
+    from navcli.pilot.potential_field import PotentialFieldPilot
+
+    p = PotentialFieldPilot(PILOT, ROBOT)
+    p.decide(Beliefs(0.0, Pose(0.0, 0.0, 0.0), (5.0, 0.0), None, ()))  # previous angle: 0
+    near = pt("near", 0.25, 0.25, r=0.0)  # 0.35 m: inside R_min, the repulsion alone, straight away
+    out = p.decide(Beliefs(0.0, Pose(0.0, 0.0, 0.0), (5.0, 0.0), None, (near,)))
+    assert out.info["in_distress"] and out.info["turn_deg"] == pytest.approx(-135.0)
+    assert out.info["raw_turn_deg"] == out.info["turn_deg"]
+
+
+def test_occlusion_never_hides_an_obstacle_in_distress():
+    """A long linear obstacle whose nearest point is 0.325 m away but whose centre lies behind a
+    small obstacle: section 5's sight line to the centre is blocked, yet it still pushes."""
+    wall = seg("long", (0.35, -3.0), (0.35, 0.5))  # centre (0.35, -1.25); face 0.325 m away
+    pole = pt("pole", 0.2, -0.714, r=0.15)  # on the sight line from that centre to the robot
+    assert facing([wall, pole]) == [False, True]  # the plain occlusion test would hide it
+    f = field((5.0, 0.0), None, [wall, pole], PILOT)
+    forces = {o.key: o for o in f.forces}
+    assert forces["long"].facing and forces["long"].in_distress and f.in_distress
+
+
+def test_a_rooms_corner_is_no_sink():
+    """At 0.45 m from two walls, section 3.2 on whole 8 m walls (direction from their centres)
+    pushes the robot along both walls into the corner; a wall as the 1 m stretch nearest the robot
+    pushes it out."""
+    south = ((-0.45, -0.45), (7.55, -0.45))  # the robot at (0.45, 0.45) of an 8 m room, facing +x
+    west = ((-0.45, 7.55), (-0.45, -0.45))
+    whole = [KnownObstacle(k, a, b, 0.0) for k, (a, b) in (("s", south), ("w", west))]
+    rx, ry = field(None, None, whole, PILOT).repulsion
+    assert rx < 0 and ry < 0  # both walls push toward the corner
+    walls = [KnownObstacle(k, a, b, 0.0, wall=True) for k, (a, b) in (("s", south), ("w", west))]
+    rx, ry = field(None, None, walls, PILOT).repulsion
+    assert rx > 0 and ry > 0 and rx == pytest.approx(ry)  # out of it, along the diagonal
+    f = field((5.0, 5.0), None, walls, PILOT)
+    assert 0 < f.turn < math.pi / 2

@@ -28,6 +28,9 @@ class TargetTracker:
 
     A line target is headed for through the Pilot's safe corridor (``corridor_margin``, m, the
     pilot's parameter, so both aim at the same point); ``max_speed`` (m/s) is the speed asked for.
+    A bid of 0 is not offered: once the target is lost (its heading unknown, I_a = 1) the tracker
+    asks for no motion at all, so a silent Pilot leaves the wheels still instead of driving toward
+    a heading nobody knows (finding the target again is the Rescuer's job).
     """
 
     params: NavigationParams = NAVIGATION
@@ -50,7 +53,9 @@ class TargetTracker:
         move = p.kappa1 * (1.0 - i_a) ** p.alpha
         look = p.kappa2 * (i_a / p.I_a_bar if i_a <= p.I_a_bar else (1.0 - i_a) / (1.0 - p.I_a_bar))
         heading = math.atan2(y, x)
-        bids = [Bid(self.name, "motion", Move(heading, self.max_speed), move)]
+        bids = []
+        if move > 0.0:
+            bids.append(Bid(self.name, "motion", Move(heading, self.max_speed), move))
         if look > 0.0:
             bids.append(Bid(self.name, "camera", Look(heading), look))
         return bids

@@ -5,10 +5,11 @@ its look-ahead camera bid, and (2) executes whichever motion bid won the arbiter
 Navigation system's. This module holds what every pilot shares:
 
 - **execution** of a winning :class:`Move` as a heading servo, with the section 3.5 rule that a
-  turn larger than 160 degrees is driven backwards (turning the complement) while the distance
-  driven backwards stays under ``max_backward``;
-- **reflexes** (section 3.5): on a bumper hit, stop, look around, back up ``backup_distance``,
-  then recompute with the obstacle that was hit (which the visual memory now holds);
+  turn larger than 160 degrees is driven backwards (turning the complement) while the total
+  distance driven backwards that way stays under ``max_backward``;
+- **reflexes** (section 3.5): on a bumper hit, stop, look around, back up ``backup_distance``
+  (drive forward from a contact behind), then recompute with the obstacle that was hit (which
+  the visual memory now holds); the same reflex when the robot stalls, pushing without moving;
 - the **look-ahead camera bid** (eq. 1): ``(d_l / d_m) ** s``, capped at 0.9 like every Pilot bid.
 
 The avoidance strategies subclass :class:`Pilot` and implement :meth:`Pilot.avoid`:
@@ -21,6 +22,7 @@ system's request; everything it decides goes out in its :class:`PilotOutput` and
 from __future__ import annotations
 
 import math
+from collections import deque
 from dataclasses import dataclass, field
 
 from ..beliefs import Beliefs, Bump, KnownObstacle
@@ -64,14 +66,16 @@ class Pilot:
         self.params = params
         self.max_speed = robot.max_speed
         self.robot = robot
-        self.backward = 0.0  # m driven backwards since the robot last drove forwards max_backward
-        self.forward = 0.0
+        self.backward = 0.0  # m commanded backwards by section 3.5's backward turns, in total
         self.since_look = 0.0  # d_l of eq. 1, metres
         self._reflex: list[tuple[str, float]] = []  # pending reflex phases (name, amount)
         self._reflex_progress = 0.0
+        self._reflex_dir = -1.0  # the reflex backs up (-1) or, from a contact behind, drives forward (+1)
         self._phase_ticks = 0  # ticks spent in the current reflex phase
         self._events: list[str] = []
         self._last_odom: Pose | None = None
+        self._last_v = 0.0  # the forward speed last commanded, m/s
+        self._recent: deque[tuple[float, float]] = deque(maxlen=max(1, round(params.stall_window_s / CONTROL_DT)))
 
     # -- to be provided by the strategies
     def avoid(self, beliefs: Beliefs, obstacles: list[KnownObstacle], request: Move | None) -> Avoidance:
@@ -84,6 +88,7 @@ class Pilot:
             self._looked(beliefs.looked)
         self._bumped(beliefs.bumps)
         self._track(beliefs.odometry)
+        self._watch_for_stall(beliefs.touching)
         events, self._events = self._events, []
         obstacles = list(beliefs.obstacles)  # the visual memory, bumped obstacles included
         look = self.look_bid()
@@ -109,39 +114,58 @@ class Pilot:
             self._reflex_progress += 1
 
     def _track(self, odom: Pose) -> None:
-        """Distances the pilot keeps from its odometry: since the last look, and backwards."""
+        """What the pilot keeps from its odometry: the distance since the last look ahead, a
+        reflex's progress, and the commanded-against-measured motion the stall watch compares."""
         last, self._last_odom = self._last_odom, odom
         if last is None:
             return
         ds, _ = motion_between(last, odom)
         self.since_look += abs(ds)
-        if ds < 0:
-            self.backward += -ds
-            self.forward = 0.0
-        else:
-            self.forward += ds
-            if self.forward >= self.params.max_backward:
-                self.backward = 0.0  # a good stretch forwards: backing up is allowed again
         if self._reflex:
-            phase = self._reflex[0][0]
-            if phase == "backup":
-                self._reflex_progress += -ds
+            if self._reflex[0][0] == "backup":
+                self._reflex_progress += ds * self._reflex_dir
+            self._recent.clear()  # a reflex that cannot move is given up by its phase limit instead
+        else:
+            self._recent.append((abs(self._last_v) * CONTROL_DT, abs(ds)))
 
-    # -- reflexes (section 3.5)
+    # -- reflexes (section 3.5) and the stall watch (our design)
     def _bumped(self, bumps: tuple[Bump, ...]) -> None:
-        """Bumper contacts that began last tick: start the reflex.
+        """Bumper contacts that began last tick: start the reflex, away from the contact.
 
         The obstacle that was hit goes to the visual memory (perception hears of the bumps too),
-        so the recomputed forces include it."""
-        if not bumps:
+        so the recomputed forces include it. A contact behind the robot (it backed into
+        something) is escaped forwards; the paper's reflex backs up from a contact ahead."""
+        if bumps:
+            behind = abs(bumps[0].bearing) > math.pi / 2
+            self._start_reflex(+1.0 if behind else -1.0,
+                               f"reflex: bumper hit at bearing {math.degrees(bumps[0].bearing):.0f} deg; "
+                               f"stopping, looking around, {'driving forward' if behind else 'backing up'}")
+
+    def _watch_for_stall(self, touching: bool) -> None:
+        """No silent stall (our design; the paper's reflex fires on a new bump only, and a contact
+        that lasts is no new bump): when, over the last ``stall_window_s``, the pilot commanded at
+        least ``stall_min_distance`` of driving but odometry measured less than ``stall_progress``
+        of it, the robot is pushing against something (or wedged): the reflex starts, escaping
+        opposite to the way the robot was pushing."""
+        p = self.params
+        if self._reflex or len(self._recent) < (self._recent.maxlen or 1):
             return
+        commanded = sum(c for c, _ in self._recent)
+        moved = sum(m for _, m in self._recent)
+        if commanded >= p.stall_min_distance and moved < p.stall_progress * commanded:
+            self._start_reflex(+1.0 if self._last_v < 0 else -1.0,
+                               f"reflex: stalled ({'bumper pressed, ' if touching else ''}commanded {commanded:.2f} m "
+                               f"in {p.stall_window_s:g} s, moved {moved:.2f} m)")
+
+    def _start_reflex(self, direction: float, message: str) -> None:
         p = self.params
         self._reflex = [("stop", p.reflex_stop_s), ("look", float(len(p.reflex_look_pans_deg))),
                         ("backup", p.backup_distance)]
         self._reflex_progress = 0.0
+        self._reflex_dir = direction
         self._phase_ticks = 0
-        self._events.append(f"reflex: bumper hit at bearing {math.degrees(bumps[0].bearing):.0f} deg; "
-                            "stopping, looking around, backing up")
+        self._recent.clear()
+        self._events.append(message)
 
     def _reflex_output(self, look: float, events: list[str], obstacles: list[KnownObstacle]) -> PilotOutput:
         p = self.params
@@ -158,7 +182,8 @@ class Pilot:
         phase = self._reflex[0][0]
         if phase == "stop":
             self._reflex_progress += CONTROL_DT  # this tick is spent standing still
-        bids = [Bid(self.name, "motion", Move(0.0, -p.backup_speed if phase == "backup" else 0.0), p.bid_cap)]
+        speed = self._reflex_dir * p.backup_speed if phase == "backup" else 0.0
+        bids = [Bid(self.name, "motion", Move(0.0, speed), p.bid_cap)]
         if phase == "look":
             pan = math.radians(p.reflex_look_pans_deg[int(self._reflex_progress)])
             bids.append(Bid(self.name, "camera", Look(pan), p.bid_cap))
@@ -169,13 +194,24 @@ class Pilot:
 
     # -- execution
     def execute(self, winner: Bid | None) -> tuple[float, float]:
-        """Wheel command (v m/s, omega rad/s) that carries out the winning motion bid."""
-        if winner is None or not isinstance(winner.action, Move):
-            return 0.0, 0.0
-        move = winner.action
-        if abs(move.heading) > self.params.backward_turn and move.speed > 0 and self.backward < self.params.max_backward:
-            move = Move(wrap_angle(move.heading - math.pi), -move.speed)  # section 3.5: back up, turn the complement
-        return self.drive(move)
+        """Wheel command (v m/s, omega rad/s) that carries out the winning motion bid.
+
+        Section 3.5: a turn larger than ``backward_turn`` is driven backwards, turning the
+        complement, while the total distance commanded backwards this way stays under
+        ``max_backward`` (the paper's "total distance covered backwards"; counted as commanded, so
+        pushing blind against something spends it too)."""
+        v, omega = 0.0, 0.0
+        if winner is not None and isinstance(winner.action, Move):
+            move = winner.action
+            p = self.params
+            backward = abs(move.heading) > p.backward_turn and move.speed > 0 and self.backward < p.max_backward
+            if backward:
+                move = Move(wrap_angle(move.heading - math.pi), -move.speed)  # back up, turn the complement
+            v, omega = self.drive(move)
+            if backward:
+                self.backward += -v * CONTROL_DT
+        self._last_v = v
+        return v, omega
 
     def drive(self, move: Move) -> tuple[float, float]:
         """Heading servo: turn toward ``move.heading``; drive only when roughly facing it."""

@@ -5,13 +5,15 @@ geometric principles) algorithm"; the thesis (notes, section 2, Pilot) adds that
 grown (points to circles, lines to rounded rectangles) and that "if about to enter a forbidden
 area, [it] bid[s] to move tangentially to the grown obstacle". Our rules, in full:
 
-1. Grow every known obstacle by ``R_min``: a circle around a point obstacle, a rounded rectangle
-   (capsule) around a linear one. Take the **nearest** grown obstacle (smallest clearance).
+1. Grow every known obstacle by ``R_min`` from its surface, into the same prohibited areas the
+   potential-field pilot uses: a circle around a point obstacle, a rounded rectangle (capsule)
+   around a linear one. Take the **nearest** prohibited area (smallest clearance to its edge).
 2. If the robot is inside it, move straight away from it (from its nearest point), bid 0.9.
 3. Otherwise, if the motion the Navigation system asks for (its requested heading) would enter
-   that grown obstacle within ``geometric_lookahead`` metres, steer along the tangent of the grown
-   obstacle on the side nearer the requested heading, and bid 0.9 (the Pilot's cap, which beats
-   any Navigation bid) while that holds. The side is chosen when the obstacle starts blocking and
+   that prohibited area within ``geometric_lookahead`` metres, steer along the tangent of it
+   (grown by a further ``geometric_clearance``, so the path passes beside the area's edge rather
+   than grazing it) on the side nearer the requested heading, and bid 0.9 (the Pilot's cap, which
+   beats any Navigation bid) while that holds. The side is chosen when the obstacle starts blocking and
    kept until it no longer does (without this the robot dithers in front of a long obstacle
    seen square on, where both sides are equally near).
 4. Otherwise propose nothing: the Navigation system's request is safe.
@@ -30,9 +32,10 @@ from .base import Avoidance, Pilot
 
 
 def ray_enters(h: float, o: KnownObstacle, R: float, reach: float) -> bool:
-    """Does driving ``reach`` metres from the origin along heading ``h`` enter ``o`` grown by ``R``?"""
+    """Does driving ``reach`` metres from the origin along heading ``h`` enter ``o`` grown by ``R``
+    from its surface?"""
     end = (math.cos(h) * reach, math.sin(h) * reach)
-    return segment_distance(ORIGIN, end, o.a, o.b) < R
+    return segment_distance(ORIGIN, end, o.a, o.b) < R + o.radius
 
 
 def _tangents(c: Point, R: float) -> tuple[float, float]:
@@ -44,14 +47,16 @@ def _tangents(c: Point, R: float) -> tuple[float, float]:
 
 
 def blocked_interval(o: KnownObstacle, R: float) -> tuple[float, float]:
-    """The headings (right edge, left edge) that lead into obstacle ``o`` grown by ``R``.
+    """The headings (right edge, left edge) that lead into obstacle ``o`` grown by ``R`` from its
+    surface.
 
     For a capsule, the union of the tangent cones of its two end circles (the straight sides lie
     between them)."""
-    r1, l1 = _tangents(o.a, R)
+    g = R + o.radius
+    r1, l1 = _tangents(o.a, g)
     if o.is_point:
         return r1, l1
-    r2, l2 = _tangents(o.b, R)
+    r2, l2 = _tangents(o.b, g)
     cx, cy = o.centre
     mid = math.atan2(cy, cx)
     # measure the edges relative to the direction of the capsule's middle, to take min and max
@@ -68,27 +73,28 @@ class GeometricPilot(Pilot):
         self._side: dict[str, str] = {}  # the side chosen to pass the obstacle being avoided
 
     def avoid(self, beliefs: Beliefs, obstacles: list[KnownObstacle], request: Move | None) -> Avoidance:
-        R = self.params.R_min
+        p = self.params
+        R = p.R_min
         best, clearance = None, math.inf
         for o in obstacles:
             q = o.a if o.is_point else closest_on_segment(ORIGIN, o.a, o.b)
-            c = math.hypot(q[0], q[1]) - R
+            c = math.hypot(q[0], q[1]) - o.radius - R  # from the prohibited area's edge
             if c < clearance:
                 best, clearance, nearest = o, c, q
         info: dict = {"nearest": best.key if best else None, "clearance": clearance if best else None,
                       "in_distress": clearance <= 0.0}
         if best is None:
             return Avoidance(None, 0.0, info)
-        cap = self.params.bid_cap
-        if clearance <= 0.0:  # rule 2: inside the grown obstacle
+        cap = p.bid_cap
+        if clearance <= 0.0:  # rule 2: inside the prohibited area
             away = math.atan2(-nearest[1], -nearest[0])
             return Avoidance(Move(away, self.max_speed), cap, info | {"rule": "escape", "turn_deg": math.degrees(away)})
         h = request.heading if request is not None else 0.0
-        if request is None or clearance > self.params.geometric_lookahead or \
-                not ray_enters(h, best, R, clearance + R + self.params.geometric_lookahead):
+        if request is None or clearance > p.geometric_lookahead or \
+                not ray_enters(h, best, R, clearance + R + best.radius + p.geometric_lookahead):
             self._side = {}
             return Avoidance(None, 0.0, info | {"rule": "clear"})
-        right, left = blocked_interval(best, R)  # rule 3: steer along the nearer tangent...
+        right, left = blocked_interval(best, R + p.geometric_clearance)  # rule 3: steer along the nearer tangent...
         side = self._side.get(best.key)
         if side is None:  # ...chosen once per obstacle, so the robot does not dither between sides
             side = "right" if abs(wrap_angle(h - right)) <= abs(wrap_angle(h - left)) else "left"

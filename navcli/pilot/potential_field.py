@@ -6,13 +6,33 @@ the paper's units (K = 18, A_t = 50: a force of 50 is the target's pull).
 
 Section by section:
 - 3.1 point obstacles: ``point_force`` (equations 2-4), the target: ``target_force`` (eq. 5);
-- 3.2 linear obstacles: ``linear_force`` (magnitude from the nearest point, direction from the centre);
+- 3.2 linear obstacles: ``linear_force`` (magnitude from the nearest point, direction from the centre),
+  and the room's walls as a bounded stretch of wall (``wall_window``, our design);
 - 3.3 diverting targets: ``line_target_force`` (the safe corridor);
 - 3.4 net force and turn angle: ``field`` (eq. 6, 7);
 - 4 the bid: ``pilot_bid`` (eq. 9);
-- 5 the fixes: occlusion (``facing``), IN_DISTRESS (x1.5, target ignored), passed obstacles
-  (repulsion dropped when it points within 90 degrees of the attraction), and the averaging of
-  the turn angle (in :class:`PotentialFieldPilot`).
+- 5 the fixes: occlusion (``facing``; an obstacle in distress is never hidden), IN_DISTRESS (each
+  offending obstacle x1.5, target ignored), passed obstacles (repulsion dropped when it points
+  within 90 degrees of the attraction), and the averaging of the turn angle with the previous one
+  (in :class:`PotentialFieldPilot`).
+
+**Prohibited areas are grown from the obstacle's surface** (our reading of section 3.1, where
+obstacles are grown "slightly larger than the diameter of the robot"): ``d`` in eq. 2-4 is the
+distance from the robot's centre to the obstacle's surface (its centre or nearest point less its
+physical half-width), so with R_min = 0.40 m and a 0.25 m robot IN_DISTRESS begins 0.15 m before
+contact, whatever the obstacle's size. The paper's obstacles are points and lines of no width,
+for which this is the paper's formula unchanged; the direction of each force stays the paper's
+(from the point, or from the linear obstacle's centre).
+
+**Eq. 8** (the analysis the paper omits): the robot heads for a gap between two point obstacles
+``2 d_min`` wide along its bisector; at ``x`` before the gap their repulsions push it back with
+``2 K x / (x^2 + d_min^2)^(3/2)``, largest at ``x = d_min / sqrt(2)``, where it is
+``(2 / sqrt 2) / (3/2)^(3/2) K / d_min^2 = 0.7698 K / d_min^2``. The robot passes when the target's
+constant pull A_t exceeds that: ``A_t > 0.770 K / d_min^2`` (the paper rounds the constant to 0.76).
+With K = 18 and A_t = 50, ``d_min = 0.526 m``: the gap must be wider than **1.053 m** between
+centres (the paper says "1 meter"). :func:`passable_gap` computes it, also for obstacles with a
+radius; ``tests/test_pilots.py`` checks in simulation that the pilot passes just above it and
+stops just below.
 
 The loops are plain Python on purpose: with the dozen obstacles of the paper's rooms a per-obstacle
 loop costs less than numpy's call overhead (see the issue note for the measurement).
@@ -32,25 +52,29 @@ from .base import Avoidance, Pilot
 NUMPY_FROM = 32  # obstacles: where numpy's occlusion test overtakes the loop (navcli bench --occlusion)
 
 
-def point_force(o: Point, K: float, R_min: float) -> tuple[float, float, float, bool]:
-    """Force of a point obstacle at ``o`` on the robot at the origin: (fx, fy, |F|, in_distress).
+def point_force(o: Point, K: float, R_min: float, radius: float = 0.0) -> tuple[float, float, float, bool]:
+    """Force of a point obstacle at ``o`` (of physical ``radius``) on the robot at the origin:
+    (fx, fy, |F|, in_distress).
 
     Eq. 2 with Q = q_o = 1: ``F = K / d**2 * u``, ``u`` the unit vector from the obstacle to the
-    robot; eq. 3-4: inside the grown circle (``d <= R_min``) the constant ``F_max = K / R_min**2``.
+    robot, ``d`` measured from the obstacle's surface; eq. 3-4: inside the prohibited area
+    (``d <= R_min``) the constant ``F_max = K / R_min**2``.
     """
-    d = math.hypot(o[0], o[1])
-    if d < 1e-12:
+    c = math.hypot(o[0], o[1])
+    if c < 1e-12:
         return 0.0, 0.0, K / (R_min * R_min), True  # on top of it: no direction to flee in
+    d = c - radius
     distress = d <= R_min
     mag = K / (R_min * R_min) if distress else K / (d * d)  # eq. 3 / eq. 2
-    return -o[0] / d * mag, -o[1] / d * mag, mag, distress
+    return -o[0] / c * mag, -o[1] / c * mag, mag, distress
 
 
-def linear_force(a: Point, b: Point, K: float, R_min: float) -> tuple[float, float, float, bool]:
-    """Force of a linear obstacle ``ab`` (section 3.2): the magnitude of eq. 4 taken at the
-    segment's nearest point, the direction from the segment's centre (Figure 6)."""
+def linear_force(a: Point, b: Point, K: float, R_min: float, radius: float = 0.0) -> tuple[float, float, float, bool]:
+    """Force of a linear obstacle ``ab`` of half-width ``radius`` (section 3.2): the magnitude of
+    eq. 4 taken at the segment's nearest point (less the half-width), the direction from the
+    segment's centre (Figure 6)."""
     q = closest_on_segment(ORIGIN, a, b)
-    d = math.hypot(q[0], q[1])
+    d = math.hypot(q[0], q[1]) - radius
     distress = d <= R_min
     mag = K / (R_min * R_min) if distress else K / (d * d)
     cx, cy = (a[0] + b[0]) / 2, (a[1] + b[1]) / 2
@@ -65,11 +89,57 @@ def linear_force(a: Point, b: Point, K: float, R_min: float) -> tuple[float, flo
     return -cx / dc * mag, -cy / dc * mag, mag, distress
 
 
+def wall_window(o: KnownObstacle, length: float) -> KnownObstacle:
+    """A wall as the stretch of it, at most ``length`` long, centred on its point nearest the
+    robot and clipped to its ends (our design).
+
+    Section 3.2 takes a linear obstacle's direction from its centre, which is right for the paper's
+    obstacles (a few metres long, met from the side) but not for a room's walls: near a long wall
+    the force would point along it, and a corner would become a sink where both walls push the
+    robot further in. A bounded stretch around the nearest point keeps section 3.2's rule (its
+    centre gives the direction) while the direction stays away from the wall, and turns away from
+    a corner near a wall's end."""
+    (ax, ay), (bx, by) = o.a, o.b
+    L = math.hypot(bx - ax, by - ay)
+    if L <= length:
+        return o
+    q = closest_on_segment(ORIGIN, o.a, o.b)
+    t = math.hypot(q[0] - ax, q[1] - ay)
+    lo = min(max(t - length / 2, 0.0), L - length)
+    ux, uy = (bx - ax) / L, (by - ay) / L
+    return KnownObstacle(o.key, (ax + lo * ux, ay + lo * uy), (ax + (lo + length) * ux, ay + (lo + length) * uy),
+                         o.radius, o.wall)
+
+
 def obstacle_force(o: KnownObstacle, p: PilotParams) -> tuple[float, float, float, bool]:
-    """Eq. 4 for a point obstacle, section 3.2 for a linear one."""
+    """Eq. 4 for a point obstacle, section 3.2 for a linear one (a wall through :func:`wall_window`)."""
     if o.is_point:
-        return point_force(o.a, p.K, p.R_min)
-    return linear_force(o.a, o.b, p.K, p.R_min)
+        return point_force(o.a, p.K, p.R_min, o.radius)
+    return linear_force(o.a, o.b, p.K, p.R_min, o.radius)
+
+
+def passable_gap(K: float, A_t: float, radius: float = 0.0) -> float:
+    """The narrowest gap (m, between the two obstacles' centres) the robot passes heading
+    straight for the gap between two point obstacles of ``radius`` (eq. 8, derived in the module
+    docstring): the half-gap ``d`` at which the largest push-back of the pair along the bisector,
+    ``max_x 2 K x / (s (s - radius)^2)`` with ``s = hypot(x, d)``, equals A_t.
+
+    >>> round(passable_gap(18.0, 50.0), 3)  # 2 sqrt(0.7698 K / A_t)
+    1.053
+    """
+    def push(d: float) -> float:
+        best, x = 0.0, 0.0
+        while x < 4.0 * d + 1.0:  # the maximum lies near x = d / sqrt(2)
+            s = math.hypot(x, d)
+            best = max(best, 2.0 * K * x / (s * (s - radius) ** 2))
+            x += d / 2000.0
+        return best
+
+    lo, hi = radius + 1e-6, 100.0
+    for _ in range(60):  # bisection: push() falls as the gap widens
+        mid = (lo + hi) / 2
+        lo, hi = (mid, hi) if push(mid) > A_t else (lo, mid)
+    return 2.0 * hi
 
 
 def target_force(t: Point, A_t: float) -> tuple[float, float]:
@@ -219,21 +289,21 @@ class Field:
 def field(beliefs_target: Point | None, target_line: tuple[Point, Point] | None,
           obstacles: tuple[KnownObstacle, ...] | list[KnownObstacle], p: PilotParams) -> Field:
     """Net force, turn angle and bid for the robot at the origin (eq. 4-7 and 9, section 5)."""
+    obstacles = [wall_window(o, p.wall_window) if o.wall else o for o in obstacles]
     face = facing(obstacles)
     forces = []
     rx = ry = 0.0
     g_max = 0.0
-    worst: ObstacleForce | None = None
     for o, f in zip(obstacles, face):
         fx, fy, mag, distress = obstacle_force(o, p)
+        f = f or distress  # our design: the occlusion test never hides what the robot is about to touch
         of = ObstacleForce(o.key, fx, fy, mag, f, distress and f)
         forces.append(of)
         if not f:
             continue
         rx += fx
         ry += fy
-        if mag > g_max:
-            g_max, worst = mag, of
+        g_max = max(g_max, mag)
     in_corridor = None
     if target_line is not None:
         tx, ty, in_corridor = line_target_force(*target_line, p.A_t, p.corridor_margin)
@@ -241,13 +311,15 @@ def field(beliefs_target: Point | None, target_line: tuple[Point, Point] | None,
         tx, ty = target_force(beliefs_target, p.A_t)
     else:
         tx = ty = 0.0
-    in_distress = worst is not None and worst.in_distress
+    in_distress = any(of.in_distress for of in forces)
     passed = False
     if in_distress:
-        # Section 5: the offending obstacle weighs 1.5 times; the target is ignored.
+        # Section 5: each obstacle that caused IN_DISTRESS weighs 1.5 times; the target is ignored.
         k = p.distress_gain - 1.0
-        rx += k * worst.fx
-        ry += k * worst.fy
+        for of in forces:
+            if of.in_distress:
+                rx += k * of.fx
+                ry += k * of.fy
         nx, ny = rx, ry
     else:
         if rx * tx + ry * ty > 0.0 and (rx or ry):
@@ -263,14 +335,15 @@ def field(beliefs_target: Point | None, target_line: tuple[Point, Point] | None,
 class PotentialFieldPilot(Pilot):
     """``--pilot potential-field``: steers along the net virtual force and bids eq. 9.
 
-    The turn angle is averaged with the previous one (section 5, 'abrupt turns'), except when
-    IN_DISTRESS. The previous angle is carried into the present frame through odometry, so the
-    average is taken between two headings of the same frame.
+    Section 5, 'abrupt turns': the turn angle is the mean of the angle computed now and the one
+    computed in the previous step (not a running filter: raw angles 0, 90, 90, 90 degrees give
+    0, 45, 90, 90), except when IN_DISTRESS. The previous angle is carried into the present frame
+    through odometry, so the mean is taken between two headings of the same frame.
     """
 
     def __init__(self, params: PilotParams, robot: RobotParams):
         super().__init__(params, robot)
-        self._prev_heading: float | None = None  # previous turn as an odometry-frame heading
+        self._prev_heading: float | None = None  # the previous step's computed turn, as an odometry-frame heading
 
     def avoid(self, beliefs: Beliefs, obstacles: list[KnownObstacle], request: Move | None) -> Avoidance:
         f = field(beliefs.target, beliefs.target_line, obstacles, self.params)
@@ -278,8 +351,8 @@ class PotentialFieldPilot(Pilot):
         turn = f.turn
         if self._prev_heading is not None and not f.in_distress:
             prev = wrap_angle(self._prev_heading - theta)
-            turn = wrap_angle(prev + wrap_angle(turn - prev) / 2)  # section 5: average with the previous
-        self._prev_heading = theta + turn
+            turn = wrap_angle(prev + wrap_angle(turn - prev) / 2)  # section 5: the mean with the previous
+        self._prev_heading = theta + f.turn
         info = {
             "turn_deg": math.degrees(turn),
             "raw_turn_deg": math.degrees(f.turn),

@@ -11,7 +11,8 @@ as a physical sensor's errors are), and the fuzzy support is exactly that bound,
 value always lies in the 0 % cut; the distance's spread grows with the distance. Landmarks and
 the target markers are identified by id; plain obstacles are only "an obstacle": a circle as a
 point, a segment by the end points of each stretch of it in view (a linear obstacle; a point if
-only a sliver shows).
+only a sliver shows). A stretch of the room's walls is reported as a ``wall`` (our design: a wall
+is told apart from the obstacles in the room by its size, and the Pilot treats it as such).
 """
 
 from __future__ import annotations
@@ -50,7 +51,7 @@ class Detection:
     """
 
     key: str
-    kind: str  # "landmark" | "target" | "obstacle"
+    kind: str  # "landmark" | "target" | "obstacle" | "wall" (a stretch of the room's wall: big, flat, told apart)
     points: tuple[Sighting, ...]
     radius: float
 
@@ -151,7 +152,8 @@ class Camera:
             for o in self.objects:
                 if o.kind in ("segment", "wall"):
                     for run in self.visible_runs(pose, o):
-                        out.append(Detection("", "obstacle", tuple(self.measure(pose, p) for p in run), o.radius))
+                        kind = "wall" if o.kind == "wall" and len(run) == 2 else "obstacle"
+                        out.append(Detection("", kind, tuple(self.measure(pose, p) for p in run), o.radius))
                 elif self.visible(pose, o.a, o.key):
                     key = "" if o.kind == "circle" else o.key
                     kind = "obstacle" if o.kind == "circle" else o.kind

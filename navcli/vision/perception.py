@@ -28,55 +28,69 @@ from .camera import Camera, Detection
 from .visual_memory import Remembered, Spot, VisualMemory
 
 
-class OraclePerception:
+class _Senses:
+    """What both perceptions share: the camera, and what the agents hear of the last tick (the
+    pan of the image taken, the bumps felt, whether the bumper stayed pressed)."""
+
+    def __init__(self, scenario: Scenario, rng: np.random.Generator, params: VisionParams):
+        self.scenario = scenario
+        self.params = params
+        self.camera = Camera(scenario, rng, params)
+        self._looked: float | None = None
+        self._bumps: tuple[Bump, ...] = ()
+        self._touching = False
+
+    def _beliefs(self, time: float, odometry: Pose, target, line, obstacles, spread: float) -> Beliefs:
+        return Beliefs(time, odometry, target, line, tuple(obstacles), spread, self._looked, self._bumps,
+                       self._touching)
+
+    def look(self, time: float, truth: Pose, request: Look | None) -> list[Detection] | None:
+        """Carry out the winning look; the detections if an image was taken."""
+        dets = self.camera.step(time, truth, request, CONTROL_DT)
+        self._looked = self.camera.pan if dets is not None else None
+        return dets
+
+    def moved(self, before: Pose, after: Pose, bumps: tuple[Bump, ...], touching: bool = False,
+              slip: float = 0.0) -> None:
+        """Odometry says the robot went from ``before`` to ``after``; ``bumps`` began and the
+        bumper was ``touching`` during the tick; ``slip`` (m) is how far it may have slid along
+        what it touched, unmeasured."""
+        self._bumps, self._touching = bumps, touching
+
+    def snapshot(self) -> tuple[Remembered, ...] | None:
+        """What is remembered, as values for the log (nothing, without a memory)."""
+        return None
+
+
+class OraclePerception(_Senses):
     """Ground truth for the agents (see the module docstring)."""
 
     name = "oracle"
 
     def __init__(self, scenario: Scenario, rng: np.random.Generator, params: VisionParams = VISION):
-        self.scenario = scenario
-        self.camera = Camera(scenario, rng, params)
-        self._looked: float | None = None
-        self._bumps: tuple[Bump, ...] = ()
+        super().__init__(scenario, rng, params)
         # everything physical the camera could ever see, landmarks keyed as the memory keys them
         order = {"circle": 0, "segment": 0, "landmark": 1, "wall": 2}  # obstacles, landmarks, walls
-        self._objects = [(f"L{o.key}" if o.kind == "landmark" else o.key, o.a, o.b, o.radius)
+        self._objects = [(f"L{o.key}" if o.kind == "landmark" else o.key, o.a, o.b, o.radius, o.kind == "wall")
                          for o in sorted(self.camera.objects, key=lambda o: order.get(o.kind, 3))
                          if o.kind != "target"]
 
     def observe(self, time: float, truth: Pose, odometry: Pose) -> Beliefs:
-        seen = tuple(KnownObstacle(k, truth.to_local(a), truth.to_local(b), r) for k, a, b, r in self._objects)
+        seen = [KnownObstacle(k, truth.to_local(a), truth.to_local(b), r, w) for k, a, b, r, w in self._objects]
         t = self.scenario.target
         line = (truth.to_local(t.line[0]), truth.to_local(t.line[1])) if t.line else None
-        return Beliefs(time, odometry, truth.to_local(t.point), line, seen, 0.0, self._looked, self._bumps)
-
-    def look(self, time: float, truth: Pose, request: Look | None) -> list[Detection] | None:
-        dets = self.camera.step(time, truth, request, CONTROL_DT)
-        self._looked = self.camera.pan if dets is not None else None
-        return dets
-
-    def moved(self, before: Pose, after: Pose, bumps: tuple[Bump, ...], slip: float = 0.0) -> None:
-        """The oracle needs no memory; it passes the bumps on."""
-        self._bumps = bumps
-
-    def snapshot(self) -> None:
-        """The oracle remembers nothing."""
-        return None
+        return self._beliefs(time, odometry, truth.to_local(t.point), line, seen, 0.0)
 
 
-class VisionPerception:
+class VisionPerception(_Senses):
     """The camera and the visual memory (see the module docstring)."""
 
     name = "vision"
 
     def __init__(self, scenario: Scenario, rng: np.random.Generator, params: VisionParams = VISION,
                  robot: RobotParams = ROBOT):
-        self.scenario = scenario
-        self.params = params
+        super().__init__(scenario, rng, params)
         self.robot = robot
-        self.camera = Camera(scenario, rng, params)
-        self._looked: float | None = None
-        self._bumps: tuple[Bump, ...] = ()
         self.memory = VisualMemory(scenario.noise.odometry, params)
         start = Pose(*scenario.robot.start, scenario.robot.heading)
         told = params.distance_floor  # what the robot is told is precise to a couple of cm
@@ -99,7 +113,8 @@ class VisionPerception:
                 continue
             a = (m.spots[0].x, m.spots[0].y)
             b = (m.spots[1].x, m.spots[1].y) if len(m.spots) == 2 else a
-            obstacles.append(KnownObstacle(m.key if m.kind != "landmark" else f"L{m.key}", a, b, m.radius))
+            obstacles.append(KnownObstacle(m.key if m.kind != "landmark" else f"L{m.key}", a, b, m.radius,
+                                           m.kind == "wall"))
         line = None
         if self.scenario.target.kind == "line":
             a, b = items["target-a"].spots[0], items["target-b"].spots[0]
@@ -110,12 +125,11 @@ class VisionPerception:
             m = items.get(self._target_key) or items["target"]
             s = m.spots[0]
             target, spread = (s.x, s.y), s.heading().width()
-        return Beliefs(time, odometry, target, line, tuple(obstacles), spread, self._looked, self._bumps)
+        return self._beliefs(time, odometry, target, line, obstacles, spread)
 
     def look(self, time: float, truth: Pose, request: Look | None) -> list[Detection] | None:
         """Carry out the winning look; fold an image's detections into the memory."""
-        dets = self.camera.step(time, truth, request, CONTROL_DT)
-        self._looked = self.camera.pan if dets is not None else None
+        dets = super().look(time, truth, request)
         if dets:
             self.memory.observe(dets, time)
         return dets
@@ -124,11 +138,11 @@ class VisionPerception:
         """The memory as values, for the log."""
         return self.memory.snapshot()
 
-    def moved(self, before: Pose, after: Pose, bumps: tuple[Bump, ...], slip: float = 0.0) -> None:
-        """Odometry says the robot went from ``before`` to ``after``: move the memory; widen it
-        by ``slip`` (m), how far the robot may have slid unmeasured along something it touched;
-        add what the bumpers found (at the robot's rim, in the direction of the contact); forget."""
-        self._bumps = bumps
+    def moved(self, before: Pose, after: Pose, bumps: tuple[Bump, ...], touching: bool = False,
+              slip: float = 0.0) -> None:
+        """Move the memory by the odometry; widen it by ``slip``; add what the bumpers found (at
+        the robot's rim, in the direction of the contact); forget what became too imprecise."""
+        super().moved(before, after, bumps, touching, slip)
         mem = self.memory
         mem.move(*motion_between(before, after))
         if slip:

@@ -273,15 +273,16 @@ class VisualMemory:
                     m.spots = [fuse(a, b) for a, b in zip(m.spots, spots)]
                     m.seen = time
                 continue
-            self._observe_obstacle(spots, det.radius, time)
+            self._observe_obstacle(spots, det.radius, time, det.kind)
 
-    def _observe_obstacle(self, spots: list[Spot], radius: float, time: float) -> None:
-        """Associate a plain obstacle's sighting with what is remembered, or remember it.
+    def _observe_obstacle(self, spots: list[Spot], radius: float, time: float, kind: str = "obstacle") -> None:
+        """Associate a plain obstacle's (or a wall's) sighting with what is remembered, or remember it.
 
-        A linear sighting joins the remembered linear obstacle it lies along (within the
-        supports), which then spans both; a point sighting is absorbed by a linear obstacle it
-        lies on, or fused with the remembered point whose support it meets (nearest first)."""
-        lines = [m for m in self.items.values() if m.kind == "obstacle" and len(m.spots) == 2]
+        A linear sighting joins the remembered linear obstacle of its kind it lies along (within
+        the supports), which then spans both; a point sighting is absorbed by a linear obstacle or
+        wall it lies on, or fused with the remembered point whose support it meets (nearest first)."""
+        lines = [m for m in self.items.values() if len(m.spots) == 2 and m.kind in ("obstacle", "wall")
+                 and (len(spots) == 1 or m.kind == kind)]
         for m in lines:
             if all(_near_line(s, m.spots) for s in spots):
                 _extend(m, spots)
@@ -300,7 +301,7 @@ class VisualMemory:
             for k in [k for k, m in self.items.items() if m.kind in ("obstacle", "bump") and len(m.spots) == 1
                       and _near_line(m.spots[0], spots)]:
                 del self.items[k]
-        self.add_found("obstacle", spots, radius, time)
+        self.add_found(kind, spots, radius, time)
 
 
 def _meets(a: Spot, b: Spot) -> bool:
