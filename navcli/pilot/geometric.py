@@ -13,9 +13,11 @@ area, [it] bid[s] to move tangentially to the grown obstacle". Our rules, in ful
    that prohibited area within ``geometric_lookahead`` metres, steer along the tangent of it
    (grown by a further ``geometric_clearance``, so the path passes beside the area's edge rather
    than grazing it) on the side nearer the requested heading, and bid 0.9 (the Pilot's cap, which
-   beats any Navigation bid) while that holds. The side is chosen when the obstacle starts blocking and
-   kept until it no longer does (without this the robot dithers in front of a long obstacle
-   seen square on, where both sides are equally near).
+   beats any Navigation bid) while that holds. The side is chosen when avoidance starts and kept,
+   whichever obstacle is nearest, until the way is clear: without this the robot dithers in front
+   of a long obstacle seen square on, where both sides are equally near, and spins in place where
+   the memory holds a long obstacle as several pieces and the nearest one keeps changing (each
+   turn in place costs heading precision, and a few dozen lose the target).
 4. Otherwise propose nothing: the Navigation system's request is safe.
 
 Reflexes, backward turns and the look-ahead bid are the shared ones of :class:`navcli.pilot.base.Pilot`.
@@ -70,7 +72,7 @@ class GeometricPilot(Pilot):
 
     def __init__(self, *args, **kw):
         super().__init__(*args, **kw)
-        self._side: dict[str, str] = {}  # the side chosen to pass the obstacle being avoided
+        self._side: str | None = None  # the side chosen to pass what is being avoided, until the way is clear
 
     def avoid(self, beliefs: Beliefs, obstacles: list[KnownObstacle], request: Move | None) -> Avoidance:
         p = self.params
@@ -92,12 +94,11 @@ class GeometricPilot(Pilot):
         h = request.heading if request is not None else 0.0
         if request is None or clearance > p.geometric_lookahead or \
                 not ray_enters(h, best, R, clearance + R + best.radius + p.geometric_lookahead):
-            self._side = {}
+            self._side = None
             return Avoidance(None, 0.0, info | {"rule": "clear"})
         right, left = blocked_interval(best, R + p.geometric_clearance)  # rule 3: steer along the nearer tangent...
-        side = self._side.get(best.key)
-        if side is None:  # ...chosen once per obstacle, so the robot does not dither between sides
-            side = "right" if abs(wrap_angle(h - right)) <= abs(wrap_angle(h - left)) else "left"
-            self._side = {best.key: side}
-        turn = right if side == "right" else left
-        return Avoidance(Move(turn, self.max_speed), cap, info | {"rule": "tangent", "turn_deg": math.degrees(turn)})
+        if self._side is None:  # ...chosen once, so the robot does not dither between sides
+            self._side = "right" if abs(wrap_angle(h - right)) <= abs(wrap_angle(h - left)) else "left"
+        turn = right if self._side == "right" else left
+        return Avoidance(Move(turn, self.max_speed), cap,
+                         info | {"rule": "tangent", "side": self._side, "turn_deg": math.degrees(turn)})

@@ -283,10 +283,21 @@ class VisualMemory:
         wall it lies on, or fused with the remembered point whose support it meets (nearest first)."""
         lines = [m for m in self.items.values() if len(m.spots) == 2 and m.kind in ("obstacle", "wall")
                  and (len(spots) == 1 or m.kind == kind)]
-        for m in lines:
-            if all(_near_line(s, m.spots) for s in spots):
-                _extend(m, spots)
-                m.radius, m.seen = radius, time
+        if len(spots) == 1:
+            for m in lines:
+                if _near_line(spots[0], m.spots):  # a sliver of a linear obstacle already known
+                    _extend(m, spots)
+                    m.radius, m.seen = radius, time
+                    return
+        else:
+            same = [m for m in lines if _same_line(m.spots, spots, gap=math.inf if kind == "wall" else None)]
+            if same:  # the stretch seen extends what is known, and may join two known stretches
+                keep = same[0]
+                _extend(keep, spots)
+                for other in same[1:]:
+                    _extend(keep, other.spots)
+                    del self.items[other.key]
+                keep.radius, keep.seen = radius, time
                 return
         if len(spots) == 1:
             s = spots[0]
@@ -306,6 +317,28 @@ class VisualMemory:
 
 def _meets(a: Spot, b: Spot) -> bool:
     return math.hypot(a.x - b.x, a.y - b.y) <= a.r0 + b.r0
+
+
+def _same_line(ends: list[Spot], spots: list[Spot], gap: float | None = None) -> bool:
+    """Is the sighted stretch ``spots`` part of the same linear obstacle as the remembered
+    ``ends``? Both sighted ends lie on the remembered one's line (within the supports) and the two
+    stretches overlap along it, or leave a gap of at most ``gap`` metres (default: the supports; a
+    wall, being one straight thing, takes any gap)."""
+    a, b = ends
+    ux, uy = b.x - a.x, b.y - a.y
+    L = math.hypot(ux, uy)
+    if L < 1e-9:
+        return False
+    ux, uy = ux / L, uy / L
+    tol = max(a.r0, b.r0)
+    along = []
+    for s in spots:
+        rx, ry = s.x - a.x, s.y - a.y
+        if abs(rx * uy - ry * ux) > s.r0 + tol:  # off the line
+            return False
+        along.append(rx * ux + ry * uy)
+    reach = (max(s.r0 for s in spots) + tol) if gap is None else gap
+    return min(along) <= L + reach and max(along) >= -reach
 
 
 def _near_line(s: Spot, ends: list[Spot]) -> bool:
