@@ -9,6 +9,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from .fuzzy import FuzzyPoint
 from .geometry import Point, Pose
 
 
@@ -52,6 +53,16 @@ class KnownObstacle:
 
 
 @dataclass(frozen=True)
+class KnownLandmark:
+    """A landmark as the visual memory holds it: its id, its fuzzy egocentric position, and the
+    simulated time it was last seen (s)."""
+
+    key: str
+    where: FuzzyPoint
+    seen: float
+
+
+@dataclass(frozen=True)
 class Beliefs:
     """Everything an agent may use at one tick. Positions are egocentric, in metres.
 
@@ -60,6 +71,9 @@ class Beliefs:
     heading) of the image the camera took during the previous tick, ``None`` if it took none;
     ``bumps`` are the bumper contacts that began during the previous tick; ``touching`` says the
     bumper was pressed during the previous tick (a contact that lasts is no new bump).
+    ``landmarks`` are the remembered landmarks with their fuzzy positions; ``target_at`` is the
+    target's fuzzy position as remembered (a point or landmark target), ``target_seen`` when it
+    was last seen (s; 0 when only told).
     """
 
     time: float
@@ -71,3 +85,6 @@ class Beliefs:
     looked: float | None = None
     bumps: tuple[Bump, ...] = ()
     touching: bool = False
+    landmarks: tuple[KnownLandmark, ...] = ()
+    target_at: FuzzyPoint | None = None
+    target_seen: float = 0.0

@@ -236,3 +236,72 @@ def imprecision(i_h: float, i_d: float) -> float:
     0.5523
     """
     return LAMBDA * math.tanh(BETA * i_d) + (1 - LAMBDA) * min(i_h, TWO_PI) / TWO_PI
+
+
+@dataclass(frozen=True)
+class FuzzyPoint:
+    """A fuzzy position as nested discs: a crisp egocentric centre ``(x, y)`` (m) and the radius
+    (m) of each cut at ``ALPHAS`` (the support first, the core last; non-increasing).
+
+    It is how the visual memory holds a remembered point and how the Map Manager returns a
+    recalled landmark; read as the papers read positions, it gives a fuzzy distance and a fuzzy
+    heading, and their 70 % cuts give the imprecision I(l).
+
+    >>> p = FuzzyPoint(3.0, 4.0, (1.0, 0.7, 0.3, 0.0))
+    >>> p.distance().support, p.distance().core  # 5 m away, +- 1 m
+    ((4.0, 6.0), (5.0, 5.0))
+    >>> round(p.imprecision(), 4)  # 70 % cut: r = 0.3, so 0.2 tanh(0.6) + 0.8 * 2 asin(0.3 / 5) / 2 pi
+    0.1227
+    """
+
+    x: float
+    y: float
+    radii: tuple[float, ...]
+
+    def radius(self, alpha: float) -> float:
+        """The cut's radius at ``alpha``, interpolated between the stored levels."""
+        for k in range(len(ALPHAS) - 1):
+            a0, a1 = ALPHAS[k], ALPHAS[k + 1]
+            if alpha <= a1:
+                return self.radii[k] + (alpha - a0) / (a1 - a0) * (self.radii[k + 1] - self.radii[k])
+        return self.radii[-1]
+
+    def distance(self) -> Fuzzy:
+        d = math.hypot(self.x, self.y)
+        return Fuzzy(tuple((max(0.0, d - r), d + r) for r in self.radii))
+
+    def heading(self) -> FuzzyAngle:
+        d = math.hypot(self.x, self.y)
+        h = math.atan2(self.y, self.x)
+        return FuzzyAngle(Fuzzy(tuple((h - _half_angle(r, d), h + _half_angle(r, d)) for r in self.radii)))
+
+    def imprecision(self) -> float:
+        """I(l) (section 5.1) from the 70 % cut: the widths of heading and distance, read off the
+        disc directly (what :meth:`heading` and :meth:`distance` give, without building them)."""
+        r = self.radius(CUT)
+        return imprecision(2.0 * _half_angle(r, math.hypot(self.x, self.y)), 2.0 * r)
+
+    def coords(self) -> tuple[Fuzzy, Fuzzy]:
+        """The fuzzy Cartesian coordinates: each cut's disc enclosed in its box."""
+        return (Fuzzy(tuple((self.x - r, self.x + r) for r in self.radii)),
+                Fuzzy(tuple((self.y - r, self.y + r) for r in self.radii)))
+
+    @classmethod
+    def enclosing(cls, x: Fuzzy, y: Fuzzy) -> FuzzyPoint:
+        """The nested discs that hold the boxes ``x`` x ``y`` cut by cut, centred on the core's
+        centre (so a true point inside a box stays inside its disc)."""
+        cx, cy = x.centre, y.centre
+        radii = []
+        for (xlo, xhi), (ylo, yhi) in zip(x.cuts, y.cuts):
+            radii.append(math.hypot(max(cx - xlo, xhi - cx), max(cy - ylo, yhi - cy)))
+        for k in range(len(radii) - 2, -1, -1):  # rounding must not un-nest them
+            radii[k] = max(radii[k], radii[k + 1])
+        return cls(cx, cy, tuple(radii))
+
+    def contains(self, p: tuple[float, float], alpha: float = 0.0) -> bool:
+        return math.hypot(p[0] - self.x, p[1] - self.y) <= self.radius(alpha) + 1e-9
+
+
+def _half_angle(r: float, d: float) -> float:
+    """Half the angle a disc of radius ``r`` at distance ``d`` spans, seen from the origin."""
+    return math.pi if r >= d else math.asin(r / d)

@@ -15,7 +15,7 @@ and the look), step the world (physics, odometry, bumps), and record (the :class
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -24,7 +24,7 @@ from .beliefs import Beliefs, Bump
 from .bidding import Bid, Resource, arbitrate
 from .config import RunSpec
 from .geometry import Pose, segments_intersect
-from .navigation import NavigationOutput, NavigationSystem
+from .navigation import MapSnapshot, NavigationOutput, NavigationSystem
 from .params import CONTROL_DT
 from .pilot import PilotOutput, make_pilot
 from .vision.camera import Detection
@@ -62,6 +62,8 @@ class Tick:
     camera: tuple[float, str]  # pan (rad, relative to the heading) and state: idle | panning | processing
     detections: tuple[Detection, ...] | None  # what the image taken this tick showed, if one was
     memory: tuple[Remembered, ...] | None = None  # the visual memory, every vision.draw_every ticks
+    navigation: NavigationOutput | None = None  # what the Navigation system decided, and why
+    map: MapSnapshot | None = None  # the Map Manager's map, every vision.draw_every ticks
 
 
 class Mission:
@@ -75,7 +77,10 @@ class Mission:
         self.world = World(spec.scenario, self.rng, p.robot)
         self.perception = make_perception(spec.perception, spec.scenario, self.rng, p)
         self.pilot = make_pilot(spec.pilot, p.pilot, p.robot)
-        self.navigation = NavigationSystem(p.navigation, p.robot, p.pilot)
+        t = spec.scenario.target
+        self.navigation = NavigationSystem(p.navigation, p.robot, p.pilot, target_key=t.landmark or "target",
+                                           line_target=t.kind == "line", rng=self.rng,
+                                           pan_limit=spec.scenario.camera.pan_limit)
         self.ticks = 0
         self.outcome: str | None = None
         self.reason = ""
@@ -100,10 +105,12 @@ class Mission:
 
     def bid(self, beliefs: Beliefs) -> tuple[NavigationOutput, PilotOutput]:
         """The Navigation system bids first; the Pilot hears its motion request (to carry it out
-        when it is safe) and bids."""
+        when it is safe) and its current target (a diverting target replaces the original one),
+        and bids."""
         nav = self.navigation.bid(beliefs)
         request = next((b.action for b in nav.bids if b.resource == "motion"), None)
-        return nav, self.pilot.decide(beliefs, request)
+        for_pilot = replace(beliefs, target=nav.target, target_line=nav.target_line)
+        return nav, self.pilot.decide(for_pilot, request)
 
     def act(self, winners: dict[Resource, Bid | None], before: Pose) -> tuple[tuple[float, float], list[Detection] | None]:
         """The Pilot turns the winning motion bid into a wheel command; Vision carries out the
@@ -138,13 +145,14 @@ class Mission:
         bumps = self.step_world(command)
         self.ticks += 1
         after = world.pose
-        self._check_end(before, after)
-        return self._record(command, bids, nav, winners, pilot_out, bumps, detections)
+        self._check_end(before, after, nav.give_up)
+        return self._record(command, bids, nav, winners, pilot_out, bumps, detections, beliefs)
 
     def _record(self, command, bids, nav: NavigationOutput, winners, pilot_out: PilotOutput, bumps: list[Bump],
-                detections) -> Tick:
+                detections, beliefs: Beliefs) -> Tick:
         world = self.world
         events = self.drain_events()
+        events += [Event(world.time, agent, level, m) for agent, level, m in nav.events]
         events += [Event(world.time, "pilot", "info", m) for m in pilot_out.events]
         for b in bumps:
             events.append(Event(b.time, "pilot", "warning",
@@ -152,14 +160,18 @@ class Mission:
         if self.outcome is not None:
             events.append(Event(world.time, "mission", "info" if self.outcome == "reached" else "warning", self.reason))
         cam = self.perception.camera
-        memory = self.perception.snapshot() if self.ticks % self.spec.params.vision.draw_every == 0 else None
+        draw = self.ticks % self.spec.params.vision.draw_every == 0
+        memory = self.perception.snapshot() if draw else None
+        map_ = self.navigation.snapshot(beliefs) if draw else None
         return Tick(self.ticks, world.time_ns, world.pose, world.odometry.pose, command, bids, nav.agent_bids,
                     winners, pilot_out, tuple(events), (cam.pan, cam.state),
-                    tuple(detections) if detections is not None else None, memory)
+                    tuple(detections) if detections is not None else None, memory, nav, map_)
 
-    def _check_end(self, before: Pose, after: Pose) -> None:
+    def _check_end(self, before: Pose, after: Pose, give_up: str | None = None) -> None:
         if self._reached(before, after):
             self._end("reached", f"target reached after {self.world.time:.1f} s")
+        elif give_up is not None:
+            self._end("blocked", f"blocked after {self.world.time:.1f} s: {give_up}")
         elif self.world.time >= self.spec.time_limit - 1e-9:
             self._end("timeout", f"time limit of {self.spec.time_limit:g} s reached")
 
@@ -201,6 +213,7 @@ class Mission:
             "collisions": w.bumps,
             "camera_looks": self.camera_looks,
             "ticks": self.ticks,
+            "diverting_targets": self.navigation.rescuer.diverting_targets,
             "navcli_version": __version__,
             "run_id": self.spec.run_id,
         }

@@ -90,14 +90,42 @@ class PilotParams:
 
 @dataclass(frozen=True)
 class NavigationParams:
-    """Parameters of the Navigation system's agents."""
+    """Parameters of the Navigation system's agents (learning-agent paper section 3; notes,
+    sections 1-4). The bidding parameters default to the thesis' GA-tuned values for task cluster
+    C1 (targets reachable without obstacles, Table 5.2); :data:`NAVIGATION_C2` holds cluster C2's
+    (targets behind obstacles). The rest is our design, each with its reason."""
 
-    # Target Tracker (notes, section 2, with the thesis' GA-tuned values for cluster C1, Table 5.2)
+    # Target Tracker (notes, section 2)
     kappa1: float = _p(0.314, at_most=1.0)  # move bid with a precisely known target
     alpha: float = _p(1.731)  # how fast that bid falls with the target's imprecision I_a
     kappa2: float = _p(0.493, at_most=1.0)  # the look bid's peak
     beta: float = _p(2.03, above=0.0)  # I_a = (eps / 2 pi) ** beta, eps the width of the heading's 70 % cut
-    I_a_bar: float = _p(0.386, above=0.0, below=1.0)  # I_a at which the look bid peaks (the Rescuer's threshold)
+    I_a_bar: float = _p(0.386, above=0.0, below=1.0)  # I_a at which the look bid peaks; above it the Rescuer takes over
+    # Distance Estimator: kappa * tanh(I_d), I_d the width (m) of the target distance's 70 % cut
+    kappa: float = _p(0.355, at_most=1.0)
+    # Risk Manager: R = 1 - min(1, q_A (|A|/6)^gamma_A + q_B (|B|/6)^gamma_B); look bid R^gamma_R when R > R_bar
+    gamma_A: float = _p(0.240)
+    gamma_B: float = _p(0.521)
+    gamma_R: float = _p(0.054, above=0.0)
+    R_bar: float = _p(0.215, at_most=1.0)
+    ahead_deg: float = _p(90.0, above=0.0, at_most=180.0)  # landmarks within this bearing are "ahead" (set A)
+    # Communicator (notes, section 1): bids are collected over this window; a later bid replaces an earlier one
+    communicator_window_s: float = _p(0.2)
+    # Rescuer (notes, section 2): blocked, lost, diverting targets
+    rescuer_bid: float = _p(1.0, at_most=1.0)  # its stop, look and turn bids: an emergency, above every other bid
+    blocked_window_s: float = _p(40.0, above=0.0)  # no progress toward the target for this long: blocked
+    blocked_progress: float = _p(0.5, above=0.0)  # m closer to the target that counts as progress
+    blocked_bumps: int = _p(3, at_least=1)  # or this many bumps within the window: blocked
+    diverting_timeout_s: float = _p(90.0, above=0.0)  # a diverting target not crossed by then has failed
+    max_diverting_failures: int = _p(3, at_least=1)  # failed diverting targets before the mission ends "blocked"
+    random_turn_deg: float = _p(120.0, above=0.0, at_most=180.0)  # with no diverting target: turn by up to this much
+    scan_pans_deg: tuple[float, ...] = (-90.0, -45.0, 0.0, 45.0, 90.0)  # the looks of a scan (initial sweep, lost)
+    # Map Manager (notes, sections 3-4)
+    map_encode_imprecision: float = _p(0.25, above=0.0, at_most=1.0)  # landmarks at most this imprecise are encoded
+    map_units_per_landmark: int = _p(6, at_least=1)  # beta-units kept per landmark (the sharpest)
+    map_recall_every: int = _p(5, at_least=1)  # ticks between two recalls of a landmark from the network
+    virtual_distance: float = _p(10.0, above=0.0)  # m: virtual landmarks beyond the hull edges
+    blocked_cost: float = _p(1000.0, above=1.0)  # cost of a region arc known to be blocked
 
 
 @dataclass(frozen=True)
@@ -140,6 +168,10 @@ class Defaults:
 ROBOT = RobotParams()
 PILOT = PilotParams()
 NAVIGATION = NavigationParams()
+NAVIGATION_C2 = dataclasses.replace(NAVIGATION, alpha=1.231, beta=2.12, kappa1=1.0, kappa2=0.564, kappa=0.178,
+                                    gamma_A=1.377, gamma_B=4.39, gamma_R=0.707, I_a_bar=0.871, R_bar=0.906)
+"""The thesis' GA-tuned bidding parameters for task cluster C2 (targets behind obstacles, Table 5.2)."""
+CLUSTERS = {"C1": NAVIGATION, "C2": NAVIGATION_C2}
 VISION = VisionParams()
 DEFAULTS = Defaults()
 

@@ -41,9 +41,11 @@ def test_non_finite_moves_and_looks_are_refused(bad):
 def test_an_agent_that_computes_nan_is_stopped_at_its_bid():
     """An agent's arithmetic going wrong (0/0) surfaces as an error at the bid, not in the world."""
     from navcli.beliefs import Beliefs
+    from navcli.fuzzy import FuzzyPoint
     from navcli.geometry import Pose
-    from navcli.navigation import TargetTracker
+    from navcli.navigation import Situation, TargetTracker
 
-    lost = Beliefs(0.0, Pose(0, 0, 0), (float("nan"), 1.0), None, ())
+    b = Beliefs(0.0, Pose(0, 0, 0), (float("nan"), 1.0), None, ())
+    broken = Situation(b, FuzzyPoint(float("nan"), 1.0, (0.0,) * 4), None, "memory", 0.0)
     with pytest.raises(ValueError, match="finite heading"):
-        TargetTracker().bid(lost)
+        TargetTracker().bid(broken)

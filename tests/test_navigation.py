@@ -1,65 +1,240 @@
-"""The Navigation system's agents against hand-worked bids."""
+"""The Navigation system: each agent against hand-worked bids, the Communicator, the Rescuer's
+states, and whole missions that need a diverting target."""
 
 from __future__ import annotations
 
 import math
 
+import numpy as np
 import pytest
 
-from navcli.beliefs import Beliefs
+from analysis import read_log
+from conftest import SCENARIOS
+from navcli.beliefs import Beliefs, Bump
+from navcli.bidding import Bid, Look, Move
+from navcli.config import RunSpec
+from navcli.fuzzy import FuzzyPoint
 from navcli.geometry import Pose
-from navcli.navigation import NavigationSystem, TargetTracker
+from navcli.navigation import Communicator, DistanceEstimator, NavigationSystem, RiskManager, Situation, TargetTracker
+from navcli.navigation.regions import Crossing
+from navcli.navigation.rescuer import Rescuer
 from navcli.params import NAVIGATION, PILOT
+from navcli.runner import run_mission
+from navcli.scenario import load_scenario
 
-P = NAVIGATION  # kappa1 0.314, alpha 1.731, kappa2 0.493, beta 2.03, I_a_bar 0.386
-
-
-def seen(target=(3.0, 4.0), spread=0.0, line=None):
-    return Beliefs(0.0, Pose(0.0, 0.0, 0.0), target, line, (), spread)
-
-
-def bids_of(beliefs):
-    return {b.resource: b for b in TargetTracker(P, 0.3).bid(beliefs)}
+P = NAVIGATION  # kappa1 0.314, alpha 1.731, kappa2 0.493, beta 2.03, I_a_bar 0.386, kappa 0.355 ...
+CRISP = (0.0, 0.0, 0.0, 0.0)
 
 
+def situation(target=(3.0, 4.0), I_a=0.0, line=None, landmarks=None, ahead=(), q_ahead=0.0, q_around=0.0,
+              radii=CRISP, time=0.0, odometry=Pose(0.0, 0.0, 0.0), looked=None, bumps=()):
+    b = Beliefs(time, odometry, target, line, (), 0.0, looked, tuple(bumps))
+    t = None if target is None else FuzzyPoint(*target, radii)
+    return Situation(b, t, line, "memory", I_a, landmarks or {}, ahead, q_ahead, q_around)
+
+
+def bids_of(agent, s):
+    return {b.resource: b for b in agent.bid(s)}
+
+
+# -- Target Tracker -----------------------------------------------------------------------------
 def test_a_precisely_known_target_gets_kappa1_to_move_toward_it_and_no_look():
-    b = bids_of(seen())
+    b = bids_of(TargetTracker(P, 0.3), situation())
     assert b["motion"].value == pytest.approx(0.314)  # I_a = 0: kappa1 (1 - 0)^alpha
     assert b["motion"].action.heading == pytest.approx(math.atan2(4.0, 3.0)) and b["motion"].action.speed == 0.3
     assert "camera" not in b  # the look bid kappa2 * 0 / I_a_bar is 0: not offered
 
 
-def test_bids_from_the_target_imprecision():
-    spread = math.pi  # half a turn: I_a = 0.5 ** 2.03 = 0.2449
-    i_a = 0.5 ** 2.03
-    b = bids_of(seen(spread=spread))
-    assert b["motion"].value == pytest.approx(0.314 * (1 - i_a) ** 1.731)  # 0.1931
+def test_the_target_trackers_imprecision_and_bids():
+    tt = TargetTracker(P, 0.3)
+    i_a = tt.imprecision(math.pi)  # half a turn: 0.5 ** 2.03
+    assert i_a == pytest.approx(0.5 ** 2.03) and i_a == pytest.approx(0.2449, abs=1e-4)
+    b = bids_of(tt, situation(I_a=i_a))
+    assert b["motion"].value == pytest.approx(0.314 * (1 - i_a) ** 1.731)
     assert b["motion"].value == pytest.approx(0.1931, abs=1e-4)
     assert b["camera"].value == pytest.approx(0.493 * i_a / 0.386)  # rising: 0.3128
     assert b["camera"].action.pan == pytest.approx(math.atan2(4.0, 3.0))
-    wide = bids_of(seen(spread=0.8 * 2 * math.pi))  # I_a = 0.8 ** 2.03 = 0.6357 > I_a_bar: falling again
-    i_a = 0.8 ** 2.03
-    assert wide["camera"].value == pytest.approx(0.493 * (1 - i_a) / (1 - 0.386))
+    i_a = tt.imprecision(0.8 * 2 * math.pi)  # 0.6357 > I_a_bar: falling again
+    assert bids_of(tt, situation(I_a=i_a))["camera"].value == pytest.approx(0.493 * (1 - i_a) / (1 - 0.386))
 
 
 def test_a_lost_target_gets_no_motion_bid_at_all():
-    b = bids_of(seen(spread=2 * math.pi))  # heading unknown: I_a = 1
-    assert "motion" not in b and "camera" not in b
-    assert TargetTracker().bid(seen(target=None)) == []
+    assert bids_of(TargetTracker(P, 0.3), situation(I_a=1.0)) == {}  # heading unknown: no bid of 0
+    assert TargetTracker().bid(situation(target=None)) == []
 
 
 def test_a_line_target_is_headed_for_through_the_pilots_corridor():
-    line = ((2.0, -3.0), (2.0, 3.0))  # in front, the robot inside the corridor: straight across
-    b = bids_of(seen(target=(2.0, 0.0), line=line))
+    tt = TargetTracker(P, 0.3, PILOT.corridor_margin)
+    b = bids_of(tt, situation(target=(2.0, 0.0), line=((2.0, -3.0), (2.0, 3.0))))  # inside the corridor
     assert b["motion"].action.heading == pytest.approx(0.0)
-    line = ((2.0, 0.2), (2.0, 4.0))  # beside the end: for the line's centre (2, 2.1)
-    b = TargetTracker(P, 0.3, PILOT.corridor_margin).bid(seen(target=(2.0, 2.1), line=line))
-    assert b[0].action.heading == pytest.approx(math.atan2(2.1, 2.0))
+    b = bids_of(tt, situation(target=(2.0, 2.1), line=((2.0, 0.2), (2.0, 4.0))))  # beside the end: the centre
+    assert b["motion"].action.heading == pytest.approx(math.atan2(2.1, 2.0))
 
 
-def test_the_communicator_forwards_the_winning_agent_bids_as_the_systems():
+# -- Risk Manager -------------------------------------------------------------------------------
+def test_risk_from_the_landmarks_ahead_and_around():
+    rm = RiskManager(P)
+    lm = {k: FuzzyPoint(x, y, CRISP) for k, (x, y) in {"a": (2, 1), "b": (2, -1), "c": (3, 0), "d": (-2, 0)}.items()}
+    s = situation(landmarks=lm, ahead=("a", "b", "c"), q_ahead=0.5, q_around=0.8)
+    want = 1 - min(1.0, 0.5 * (3 / 6) ** 0.240 + 0.8 * (4 / 6) ** 0.521)  # eq. 9 of the thesis, "+" read in
+    assert rm.risk(s) == pytest.approx(want)
+    assert rm.bid(s) == []  # 1 - 0.42 - 0.65 < 0: no risk, no bid
+    lonely = situation(landmarks={"a": lm["a"]}, ahead=("a",))  # one landmark: R = 1
+    (b,) = rm.bid(lonely)
+    assert rm.risk(lonely) == 1.0 and b.value == pytest.approx(1.0) and b.resource == "camera"
+    # the least-known reachable sector: "a" is ahead-left (in the 0-degree sector); the empty +-60 ones
+    # tie, the camera goes to +60 (listed first)
+    assert b.action.pan == pytest.approx(math.radians(60))
+
+
+# -- Distance Estimator -------------------------------------------------------------------------
+def test_distance_estimator_bids_to_move_across_the_target_when_its_distance_is_imprecise():
+    de = DistanceEstimator(P, 0.3)
+    assert de.bid(situation()) == []  # the distance is known exactly: tanh(0) = 0
+    s = situation(target=(4.0, 0.0), radii=(1.0, 0.7, 0.3, 0.0))  # 70 % cut: 4 +- 0.3 m, I_d = 0.6
+    b = bids_of(de, s)
+    assert b["motion"].value == pytest.approx(0.355 * math.tanh(0.6))
+    assert abs(b["motion"].action.heading) == pytest.approx(math.pi / 2)  # at right angles to the target
+    assert b["camera"].action.pan == pytest.approx(0.0)  # and looking at it
+    assert de.bid(situation(target=(2.0, 0.0), line=((2.0, -1.0), (2.0, 1.0)), radii=(1.0, 0.7, 0.3, 0.0))) == []
+
+
+# -- Communicator -------------------------------------------------------------------------------
+def test_the_communicator_keeps_each_agents_latest_bid_within_its_window():
+    c = Communicator(window=0.25)
+    go, stop = Move(0.0, 0.3), Move(0.0, 0.0)
+    out = c.forward([Bid("tracker", "motion", go, 0.3), Bid("rescuer", "motion", stop, 0.5)], 0.0)
+    assert [(b.resource, b.value, b.action) for b in out] == [("motion", 0.5, stop)]
+    out = c.forward([Bid("rescuer", "motion", stop, 0.1)], 0.1)  # a later bid replaces the rescuer's 0.5
+    assert [(b.value, b.action) for b in out] == [(0.3, go)]  # the tracker's, still within the window
+    out = c.forward([Bid("risk", "camera", Look(1.0), 0.2)], 0.3)  # 0.3 s on: the first bids have expired
+    assert {b.resource: b.value for b in out} == {"motion": 0.1, "camera": 0.2}
+    assert {b.bidder for b in out} == {"navigation"}
+
+
+# -- Rescuer ------------------------------------------------------------------------------------
+def _sweep(r: Rescuer):
+    """Carry out the initial sweep: the camera reports each look the Rescuer asks for."""
+    looked, t = None, 0.0
+    for _ in range(20):
+        out = r.decide(situation(time=t, looked=looked), lambda failed: None)
+        if r.state != "sweep":
+            return t
+        look = next(b for b in out.bids if b.resource == "camera")
+        assert next(b for b in out.bids if b.resource == "motion").action == Move(0.0, 0.0)  # stopped
+        looked, t = look.action.pan, t + 0.1
+    raise AssertionError("the sweep never ended")
+
+
+def test_rescuer_sweeps_then_blocked_diverts_crosses_and_restores_the_original_target():
+    p = NAVIGATION
+    r = Rescuer(p, np.random.default_rng(0))
+    t = _sweep(r)
+    assert r.state == "normal"
+    asked = []
+    crossing = Crossing("L", "R", (1.0, 1.0), (1.0, -1.0), 3.0)
+
+    def ask(failed):
+        asked.append(failed)
+        return crossing
+
+    # no progress toward the target (3, 4) for the whole window: blocked, a diverting target is set
+    out = None
+    while not asked:
+        t += 0.1
+        out = r.decide(situation(time=t), ask)
+    assert t - 0.1 == pytest.approx(p.blocked_window_s + 0.3, abs=0.2) and asked == [None]
+    assert out.diverting == ((1.0, 1.0), (1.0, -1.0)) and r.diverting_targets == 1
+    assert any("diverting target set" in m for _, m in out.events)
+    # the robot drives across the line (the landmarks come nearer and pass behind)
+    marks = {}
+    for x in (1.0, 0.5, 0.1, -0.1):
+        t += 0.1
+        marks = {"L": FuzzyPoint(x, 1.0, CRISP), "R": FuzzyPoint(x, -1.0, CRISP)}
+        out = r.decide(situation(time=t, landmarks=marks), ask)
+    assert out.diverting is None and any("crossed" in m for _, m in out.events)
+    assert r.failures == 0
+
+
+def test_rescuer_abandons_a_diverting_target_that_cannot_be_reached_and_finally_gives_up():
+    p = NAVIGATION
+    r = Rescuer(p, np.random.default_rng(0))
+    t = _sweep(r)
+    crossings = iter([Crossing("A", "B", (2.0, 1.0), (2.0, -1.0), 2.0), Crossing("C", "D", (0.0, 3.0), (1.0, 3.0), 2.0),
+                      Crossing("E", "F", (-1.0, 2.0), (-2.0, 1.0), 2.0)])
+    failed_edges = []
+
+    def ask(failed):
+        failed_edges.append(failed)
+        return next(crossings)
+
+    bumps_at = 0.0
+    events, give_up = [], None
+    while give_up is None and t < 1000:
+        t += 0.1
+        bumps = ()
+        if t - bumps_at > 1.0:  # the robot keeps hitting something, never crossing
+            bumps, bumps_at = (Bump(t, "obstacle 0", (0.0, 0.0), 0.0),), t
+        out = r.decide(situation(time=t, bumps=bumps), ask)
+        events += [m for _, m in out.events]
+        give_up = out.give_up
+    assert give_up == f"{p.max_diverting_failures} diverting targets failed"
+    assert failed_edges == [None, frozenset({"A", "B"}), frozenset({"C", "D"})]  # the map hears of each failure
+    assert sum("abandoned" in m for m in events) == p.max_diverting_failures
+    assert t < 3 * p.blocked_window_s  # each failure took blocked_bumps bumps, not the time limit
+
+
+def test_rescuer_stops_and_scans_when_the_target_is_lost_then_turns():
+    r = Rescuer(NAVIGATION, np.random.default_rng(0))
+    t = _sweep(r)
+    out = r.decide(situation(time=t + 0.1, I_a=0.9), lambda f: None)
+    assert r.state == "lost" and any("target lost" in m for _, m in out.events)
+    pans = []
+    looked = None
+    for k in range(30):
+        out = r.decide(situation(time=t + 0.2 + k / 10, I_a=0.9, looked=looked), lambda f: None)
+        if r.state != "lost":
+            break
+        look = next(b for b in out.bids if b.resource == "camera")
+        pans.append(round(math.degrees(look.action.pan)))
+        looked = look.action.pan
+    assert sorted(set(pans)) == sorted(NAVIGATION.scan_pans_deg) and r.state == "turn"
+    out = r.decide(situation(time=10.0, I_a=0.9), lambda f: None)
+    (turn,) = out.bids
+    assert turn.action.speed == 0.0 and turn.value == NAVIGATION.rescuer_bid  # turning in place
+
+
+# -- whole missions -----------------------------------------------------------------------------
+def test_blocked_wall_is_reached_through_a_diverting_target(tmp_path):
+    """A fence across the room between start and target: the Rescuer sets diverting targets
+    through the gap landmarks and the robot gets there, touching the fence at most 3 times."""
+    sc = load_scenario(SCENARIOS / "blocked-wall.yaml")
+    res = run_mission(RunSpec.build(sc, pilot="geometric"), out=tmp_path / "bw.mcap")
+    assert res.summary["outcome"] == "reached" and res.summary["collisions"] <= 3
+    assert res.summary["diverting_targets"] >= 1
+    events = read_log(res.log, topics=["/events"])["/events"]
+    set_ = events[events["message"].str.startswith("diverting target set")]
+    assert len(set_) == res.summary["diverting_targets"] and set(set_["name"]) == {"rescuer"}
+
+
+def test_a_trap_with_no_way_out_ends_blocked_well_before_its_time_limit():
+    from navcli.mission import Mission
+
+    sc = load_scenario(SCENARIOS / "trap-box.yaml")
+    m = Mission(RunSpec.build(sc, pilot="geometric"))
+    while m.outcome is None:
+        m.step()
+    assert m.outcome == "blocked" and "diverting targets failed" in m.reason
+    assert m.time < sc.mission.time_limit / 2
+    assert m.navigation.rescuer.failures == NAVIGATION.max_diverting_failures
+
+
+def test_the_navigation_system_lists_its_agents_and_forwards_their_bids():
     nav = NavigationSystem()
-    out = nav.bid(seen(spread=math.pi))
-    assert [a.name for a in nav.agents] == ["target-tracker"]
-    assert {b.bidder for b in out.bids} == {"navigation"} and {b.bidder for b in out.agent_bids} == {"target-tracker"}
-    assert sorted((b.resource, b.value) for b in out.bids) == sorted((b.resource, b.value) for b in out.agent_bids)
+    assert [a.name for a in nav.agents] == ["target-tracker", "risk-manager", "distance-estimator"]
+    b = Beliefs(0.0, Pose(0, 0, 0), (3.0, 4.0), None, (), 0.0, target_at=FuzzyPoint(3.0, 4.0, CRISP))
+    out = nav.bid(b)  # the first tick: the Rescuer's initial sweep (stop, look) wins both resources
+    assert {x.bidder for x in out.bids} == {"navigation"}
+    assert {(x.resource, x.value) for x in out.bids} == {("motion", 1.0), ("camera", 1.0)}
+    assert {x.bidder for x in out.agent_bids} >= {"rescuer", "target-tracker"}
+    assert out.target == pytest.approx((3.0, 4.0)) and out.info["rescuer"] == "sweep"

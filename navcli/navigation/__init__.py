@@ -1,40 +1,131 @@
 """The Navigation system (learning-agent paper, section 3; notes, sections 1-4): agents that bid
-among themselves for what the robot should do next, and the Communicator that forwards the
-winners to the Pilot and to Vision. Today's agent is the Target Tracker; each agent is an
-:class:`~navcli.bidding.Agent` in a module of its own."""
+among themselves for what the robot should do next, the Map Manager that answers their questions,
+and the Communicator that forwards the winners to the Pilot and to Vision.
+
+One tick, in order:
+
+1. the Map Manager learns from the image taken last tick (:mod:`.map_manager`);
+2. the original target is located: the least imprecise of the visual memory and the map;
+3. the Rescuer (:mod:`.rescuer`) decides: sweep, scan when lost, or, when blocked, a diverting
+   target from the Map Manager, which becomes the current target;
+4. the bidding agents bid on the :class:`~.situation.Situation`: Target Tracker
+   (:mod:`.target_tracker`), Risk Manager (:mod:`.risk_manager`), Distance Estimator
+   (:mod:`.distance_estimator`), and the Rescuer's own bids;
+5. the Communicator (:mod:`.communicator`) forwards the highest Move/Stop and Look bids.
+
+The output carries the current target for the Pilot (the mission hands it over), the events, and
+a reason to end the mission as ``blocked`` when the Rescuer gives up.
+"""
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
 
 from ..beliefs import Beliefs
 from ..bidding import Agent, Bid
+from ..fuzzy import FuzzyPoint
+from ..geometry import Point
 from ..params import NAVIGATION, PILOT, ROBOT, NavigationParams, PilotParams, RobotParams
 from .communicator import Communicator
+from .distance_estimator import DistanceEstimator
+from .map_manager import TARGET, MapManager, MapSnapshot
+from .rescuer import Rescuer
+from .risk_manager import RiskManager
+from .situation import Situation
 from .target_tracker import TargetTracker
 
-__all__ = ["Communicator", "NavigationOutput", "NavigationSystem", "TargetTracker"]
+__all__ = ["Communicator", "DistanceEstimator", "MapManager", "NavigationOutput", "NavigationSystem", "Rescuer",
+           "RiskManager", "Situation", "TargetTracker"]
 
 
 @dataclass(frozen=True)
 class NavigationOutput:
-    """The system's bids to the robot's arbiter, and the agents' bids they were chosen from."""
+    """The system's bids to the robot's arbiter, the agents' bids they were chosen from, the
+    current target for the Pilot (egocentric point, or a line to cross), and what explains it."""
 
     bids: tuple[Bid, ...]
     agent_bids: tuple[Bid, ...]
+    target: Point | None = None
+    target_line: tuple[Point, Point] | None = None
+    diverting: bool = False
+    events: tuple[tuple[str, str, str], ...] = ()  # (agent, level, message)
+    give_up: str | None = None
+    info: dict = field(default_factory=dict)
 
 
 class NavigationSystem:
-    """The agents plus the Communicator."""
+    """The agents, the Map Manager and the Communicator (see the module docstring).
+
+    ``target_key`` is how the visual memory names the target (``target`` for a point, the
+    landmark's id for a landmark); ``line_target`` for a mission whose target is a line."""
 
     name = "navigation"
 
     def __init__(self, params: NavigationParams = NAVIGATION, robot: RobotParams = ROBOT,
-                 pilot: PilotParams = PILOT):
-        self.agents: tuple[Agent, ...] = (TargetTracker(params, robot.max_speed, pilot.corridor_margin),)
-        self.communicator = Communicator(self.name)
+                 pilot: PilotParams = PILOT, target_key: str = TARGET, line_target: bool = False,
+                 rng: np.random.Generator | None = None, pan_limit: float = math.radians(100.0)):
+        self.params = params
+        self.target_key = target_key
+        self.line_target = line_target
+        self.map = MapManager(params, target_key)
+        self.tracker = TargetTracker(params, robot.max_speed, pilot.corridor_margin)
+        self.risk = RiskManager(params, pan_limit)
+        self.estimator = DistanceEstimator(params, robot.max_speed)
+        self.rescuer = Rescuer(params, rng)
+        self.agents: tuple[Agent, ...] = (self.tracker, self.risk, self.estimator)
+        self.communicator = Communicator(self.name, params.communicator_window_s)
+
+    def situation(self, beliefs: Beliefs, line: tuple[Point, Point] | None = None) -> Situation:
+        """What the agents see: the current target (``line``, a diverting target, replaces the
+        original one), its imprecision, and the landmarks with the Map Manager's quality."""
+        known = {k: p for k, p in self.map.memory_points(beliefs).items() if k != TARGET}
+        if line is not None or self.line_target:
+            # a diverting line is held by the Rescuer and taken as given (our design); a line
+            # target is as imprecise as the memory's worse end
+            spread = 0.0 if line is not None else beliefs.target_spread
+            line = line or beliefs.target_line
+            target, source = FuzzyPoint(*_mid(line), (0.0,) * 4), "line"
+        else:
+            found = self.map.locate(self.target_key, beliefs)
+            target, source = found if found is not None else (None, "none")
+            spread = target.heading().width() if target is not None else 2 * math.pi
+        ahead_lim = math.radians(self.params.ahead_deg)
+        ahead = tuple(k for k, p in known.items() if abs(math.atan2(p.y, p.x)) <= ahead_lim)
+        return Situation(beliefs, target, line, source, self.tracker.imprecision(spread), known, ahead,
+                         self.map.quality([known[k] for k in ahead]), self.map.quality(list(known.values())))
 
     def bid(self, beliefs: Beliefs) -> NavigationOutput:
-        """Every agent bids; the Communicator forwards each resource's winner."""
-        agent_bids = tuple(b for agent in self.agents for b in agent.bid(beliefs))
-        return NavigationOutput(tuple(self.communicator.forward(agent_bids)), agent_bids)
+        """One tick of the Navigation system (see the module docstring)."""
+        self.map.observe(beliefs)
+        original = self.situation(beliefs)
+        rescue = self.rescuer.decide(original, lambda failed: self._ask(beliefs, original, failed))
+        s = original if rescue.diverting is None else self.situation(beliefs, rescue.diverting)
+        agent_bids = rescue.bids + tuple(b for agent in self.agents for b in agent.bid(s))  # the Rescuer first: it wins ties
+        bids = tuple(self.communicator.forward(agent_bids, beliefs.time))
+        info = {"I_a": s.I_a, "risk": self.risk.risk(s), "quality_ahead": s.quality_ahead,
+                "quality_around": s.quality_around, "landmarks_known": len(s.landmarks),
+                "landmarks_ahead": len(s.ahead), "target_source": s.target_source,
+                "rescuer": self.rescuer.state, "diverting_targets": self.rescuer.diverting_targets,
+                "failures": self.rescuer.failures, "beta_units": len(self.map.network)}
+        events = tuple((self.rescuer.name, level, msg) for level, msg in rescue.events)
+        return NavigationOutput(bids, agent_bids, s.aim, s.target_line, rescue.diverting is not None, events,
+                                rescue.give_up, info)
+
+    def _ask(self, beliefs: Beliefs, original: Situation, failed):
+        """The Rescuer's word to the Map Manager: the edge of a diverting target that failed (its
+        arc becomes costly), and the question: a diverting target toward the original target."""
+        if failed is not None:
+            self.map.report_blocked(failed)
+        aim = original.aim if original.target_line is None else _mid(original.target_line)
+        return None if aim is None else self.map.diverting_target(beliefs, aim)
+
+    def snapshot(self, beliefs: Beliefs) -> MapSnapshot:
+        return self.map.snapshot(beliefs)
+
+
+def _mid(line: tuple[Point, Point]) -> Point:
+    return (line[0][0] + line[1][0]) / 2, (line[0][1] + line[1][1]) / 2
+

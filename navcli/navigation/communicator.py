@@ -1,30 +1,44 @@
-"""The Communicator: the Navigation system's voice to the Pilot and to Vision (notes, section 1).
+"""The Communicator: the Navigation system's voice to the Pilot and to Vision (notes, section 1;
+thesis node 44).
 
-It holds the Navigation agents' own auction: of the bids the agents made, the highest Move/Stop
-bid and the highest Look bid are forwarded, with their values, as the Navigation system's bids
-for the motion and camera resources.
+It collects the agents' bids over a time window; a later bid from the same agent for the same
+action type (Move/Stop or Look) replaces the earlier one; it then forwards the highest Move/Stop
+bid to the Pilot and the highest Look bid to Vision, with their values, as the Navigation
+system's bids.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from typing import Iterable
 
-from ..bidding import Bid, arbitrate
+from ..bidding import Bid, Resource, arbitrate
 
 
-@dataclass(frozen=True)
 class Communicator:
-    name: str = "navigation"
+    """See the module docstring. ``window`` is in simulated seconds; 0 keeps only this tick's bids."""
 
-    def forward(self, agent_bids: Iterable[Bid]) -> list[Bid]:
-        """Each resource's winning agent bid, re-signed as the Navigation system's.
+    def __init__(self, name: str = "navigation", window: float = 0.0):
+        self.name = name
+        self.window = window
+        self._held: dict[tuple[str, Resource], tuple[float, Bid]] = {}
+
+    def forward(self, agent_bids: Iterable[Bid], time: float = 0.0) -> list[Bid]:
+        """Take this tick's bids (at ``time``, s) and return each resource's winning bid among
+        those held within the window, re-signed as the Navigation system's.
 
         >>> from navcli.bidding import Look, Move
+        >>> c = Communicator(window=0.2)
         >>> bids = [Bid("a", "motion", Move(0.0, 0.3), 0.2), Bid("b", "motion", Move(1.0, 0.3), 0.4),
         ...         Bid("a", "camera", Look(0.5), 0.1)]
-        >>> [(b.bidder, b.resource, b.value) for b in Communicator().forward(bids)]
+        >>> [(b.bidder, b.resource, b.value) for b in c.forward(bids, 0.0)]
         [('navigation', 'motion', 0.4), ('navigation', 'camera', 0.1)]
+        >>> [(b.resource, b.value) for b in c.forward([Bid("b", "motion", Move(1.0, 0.3), 0.1)], 0.1)]
+        [('motion', 0.2), ('camera', 0.1)]
+        >>> [(b.resource, b.value) for b in c.forward([], 0.35)]  # all older than the window
+        []
         """
-        winners = arbitrate(agent_bids)
+        for b in agent_bids:
+            self._held[(b.bidder, b.resource)] = (time, b)  # a later bid replaces the earlier
+        self._held = {k: (t, b) for k, (t, b) in self._held.items() if t >= time - self.window - 1e-9}
+        winners = arbitrate(b for _, b in self._held.values())
         return [Bid(self.name, r, b.action, b.value) for r, b in winners.items() if b is not None]

@@ -6,11 +6,11 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from ..beliefs import Beliefs
 from ..bidding import Bid, Look, Move
 from ..fuzzy import TWO_PI
 from ..geometry import corridor_aim
 from ..params import NAVIGATION, PILOT, ROBOT, NavigationParams
+from .situation import Situation
 
 
 @dataclass(frozen=True)
@@ -30,7 +30,9 @@ class TargetTracker:
     pilot's parameter, so both aim at the same point); ``max_speed`` (m/s) is the speed asked for.
     A bid of 0 is not offered: once the target is lost (its heading unknown, I_a = 1) the tracker
     asks for no motion at all, so a silent Pilot leaves the wheels still instead of driving toward
-    a heading nobody knows (finding the target again is the Rescuer's job).
+    a heading nobody knows (finding the target again is the Rescuer's job). The target's estimate
+    is the least imprecise of the visual memory's and the Map Manager's (the system asks the map
+    whenever the target is out of sight); I_a is computed from it (:meth:`imprecision`).
     """
 
     params: NavigationParams = NAVIGATION
@@ -38,18 +40,18 @@ class TargetTracker:
     corridor_margin: float = PILOT.corridor_margin
     name: str = "target-tracker"
 
-    def imprecision(self, beliefs: Beliefs) -> float:
-        """I_a in [0, 1]."""
-        return min(1.0, beliefs.target_spread / TWO_PI) ** self.params.beta
+    def imprecision(self, spread: float) -> float:
+        """I_a in [0, 1] from the width ``spread`` (rad) of the heading's 70 % cut (thesis eq. 6)."""
+        return min(1.0, spread / TWO_PI) ** self.params.beta
 
-    def bid(self, beliefs: Beliefs) -> list[Bid]:
-        if beliefs.target is None:
+    def bid(self, s: Situation) -> list[Bid]:
+        if s.aim is None:
             return []
         p = self.params
-        x, y = beliefs.target
-        if beliefs.target_line is not None:  # a line to cross: through the safe corridor
-            (x, y), _ = corridor_aim(*beliefs.target_line, self.corridor_margin)
-        i_a = self.imprecision(beliefs)
+        x, y = s.aim
+        if s.target_line is not None:  # a line to cross: through the safe corridor
+            (x, y), _ = corridor_aim(*s.target_line, self.corridor_margin)
+        i_a = s.I_a
         move = p.kappa1 * (1.0 - i_a) ** p.alpha
         look = p.kappa2 * (i_a / p.I_a_bar if i_a <= p.I_a_bar else (1.0 - i_a) / (1.0 - p.I_a_bar))
         heading = math.atan2(y, x)

@@ -19,13 +19,17 @@ import math
 
 import numpy as np
 
-from ..beliefs import Beliefs, Bump, KnownObstacle
+from ..beliefs import Beliefs, Bump, KnownLandmark, KnownObstacle
+from ..fuzzy import ALPHAS, FuzzyPoint
 from ..bidding import Look
 from ..geometry import Pose, motion_between
 from ..params import CONTROL_DT, ROBOT, VISION, Params, RobotParams, VisionParams
 from ..scenario import Scenario
 from .camera import Camera, Detection
 from .visual_memory import Remembered, Spot, VisualMemory
+
+
+_CRISP = (0.0,) * len(ALPHAS)  # what the oracle knows, it knows exactly
 
 
 class _Senses:
@@ -40,9 +44,11 @@ class _Senses:
         self._bumps: tuple[Bump, ...] = ()
         self._touching = False
 
-    def _beliefs(self, time: float, odometry: Pose, target, line, obstacles, spread: float) -> Beliefs:
+    def _beliefs(self, time: float, odometry: Pose, target, line, obstacles, spread: float,
+                 landmarks: tuple[KnownLandmark, ...] = (), target_at: FuzzyPoint | None = None,
+                 target_seen: float = 0.0) -> Beliefs:
         return Beliefs(time, odometry, target, line, tuple(obstacles), spread, self._looked, self._bumps,
-                       self._touching)
+                       self._touching, landmarks, target_at, target_seen)
 
     def look(self, time: float, truth: Pose, request: Look | None) -> list[Detection] | None:
         """Carry out the winning look; the detections if an image was taken."""
@@ -79,7 +85,11 @@ class OraclePerception(_Senses):
         seen = [KnownObstacle(k, truth.to_local(a), truth.to_local(b), r, w) for k, a, b, r, w in self._objects]
         t = self.scenario.target
         line = (truth.to_local(t.line[0]), truth.to_local(t.line[1])) if t.line else None
-        return self._beliefs(time, odometry, truth.to_local(t.point), line, seen, 0.0)
+        landmarks = tuple(KnownLandmark(lm.id, FuzzyPoint(*truth.to_local(lm.at), _CRISP), time)
+                          for lm in self.scenario.landmarks)
+        target = truth.to_local(t.point)
+        return self._beliefs(time, odometry, target, line, seen, 0.0, landmarks,
+                             None if line else FuzzyPoint(*target, _CRISP), time)
 
 
 class VisionPerception(_Senses):
@@ -115,7 +125,7 @@ class VisionPerception(_Senses):
             b = (m.spots[1].x, m.spots[1].y) if len(m.spots) == 2 else a
             obstacles.append(KnownObstacle(m.key if m.kind != "landmark" else f"L{m.key}", a, b, m.radius,
                                            m.kind == "wall"))
-        line = None
+        line, target_at, seen = None, None, 0.0
         if self.scenario.target.kind == "line":
             a, b = items["target-a"].spots[0], items["target-b"].spots[0]
             line = ((a.x, a.y), (b.x, b.y))
@@ -123,9 +133,11 @@ class VisionPerception(_Senses):
             spread = max(a.heading().width(), b.heading().width())
         else:
             m = items.get(self._target_key) or items["target"]
-            s = m.spots[0]
-            target, spread = (s.x, s.y), s.heading().width()
-        return self._beliefs(time, odometry, target, line, obstacles, spread)
+            target_at, seen = m.spots[0].point(), m.seen
+            target, spread = (target_at.x, target_at.y), target_at.heading().width()
+        landmarks = tuple(KnownLandmark(m.key, m.spots[0].point(), m.seen) for m in items.values()
+                          if m.kind == "landmark")
+        return self._beliefs(time, odometry, target, line, obstacles, spread, landmarks, target_at, seen)
 
     def look(self, time: float, truth: Pose, request: Look | None) -> list[Detection] | None:
         """Carry out the winning look; fold an image's detections into the memory."""

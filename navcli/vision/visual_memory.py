@@ -27,7 +27,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-from ..fuzzy import ALPHAS, CUT, TWO_PI, Fuzzy, FuzzyAngle, imprecision
+from ..fuzzy import ALPHAS, CUT, Fuzzy, FuzzyAngle, FuzzyPoint
 from ..geometry import distance_to_segment
 from ..params import VISION, VisionParams
 from .camera import Detection, Sighting
@@ -66,19 +66,15 @@ class Spot:
     def radius(self, alpha: float) -> float:
         return self.r0 + alpha * (self.r1 - self.r0)
 
+    def point(self) -> FuzzyPoint:
+        """The spot as a value: its centre and the radius of each cut (linear in alpha)."""
+        return FuzzyPoint(self.x, self.y, tuple(self.radius(a) for a in ALPHAS))
+
     def distance(self) -> Fuzzy:
-        d = math.hypot(self.x, self.y)
-        return Fuzzy(tuple((max(0.0, d - r), d + r) for r in (self.radius(a) for a in ALPHAS)))
+        return self.point().distance()
 
     def heading(self) -> FuzzyAngle:
-        d = math.hypot(self.x, self.y)
-        h = math.atan2(self.y, self.x)
-        cuts = []
-        for a in ALPHAS:
-            r = self.radius(a)
-            half = math.pi if r >= d else math.asin(r / d)
-            cuts.append((h - half, h + half))
-        return FuzzyAngle(Fuzzy(tuple(cuts)))
+        return self.point().heading()
 
     def contains(self, p: tuple[float, float], alpha: float = 0.0) -> bool:
         return math.hypot(p[0] - self.x, p[1] - self.y) <= self.radius(alpha) + 1e-9
@@ -112,11 +108,8 @@ class Memory:
 
 
 def _imprecision(s: Spot) -> float:
-    """I(l) of a spot from its 70 % cut: the widths of its heading and distance, read off the disc
-    directly (what :meth:`Spot.heading` and :meth:`Spot.distance` would give, without building them)."""
-    r = s.radius(CUT)
-    d = math.hypot(s.x, s.y)
-    return imprecision(TWO_PI if r >= d else 2.0 * math.asin(r / d), 2.0 * r)
+    """I(l) of a spot from its 70 % cut (:meth:`navcli.fuzzy.FuzzyPoint.imprecision`)."""
+    return s.point().imprecision()
 
 
 def _sighting_spot(s: Sighting) -> Spot:
@@ -295,6 +288,8 @@ class VisualMemory:
                 keep = same[0]
                 _extend(keep, spots)
                 for other in same[1:]:
+                    if len(keep.spots) != 2:
+                        break  # it shrank to a point: nothing to join
                     _extend(keep, other.spots)
                     del self.items[other.key]
                 keep.radius, keep.seen = radius, time

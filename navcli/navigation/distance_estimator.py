@@ -1,0 +1,38 @@
+"""The Distance Estimator: keeps the error in the distance to the target low (notes, section 2;
+thesis nodes 48-49). In the thesis' simulation vision gave bearings only, and distance came from
+the change of bearing across viewframes, so the agent bid "very high to move the robot
+orthogonally to the line connecting it to the target and looking to the target"."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from ..bidding import Bid, Look, Move
+from ..fuzzy import CUT
+from ..params import NAVIGATION, ROBOT, NavigationParams
+from .situation import Situation
+
+
+@dataclass(frozen=True)
+class DistanceEstimator:
+    """Our substitute bid (the thesis' formula was not available): ``kappa * tanh(I_d)``, ``I_d``
+    the width (m) of the 70 % cut of the target's fuzzy distance, to move at right angles to the
+    target's bearing (on the side needing the smaller turn) and to look at the target. Silent for
+    a line target, whose crossing needs no distance."""
+
+    params: NavigationParams = NAVIGATION
+    max_speed: float = ROBOT.max_speed
+    name: str = "distance-estimator"
+
+    def bid(self, s: Situation) -> list[Bid]:
+        if s.target is None or s.target_line is not None:
+            return []
+        value = self.params.kappa * math.tanh(s.target.distance().width(CUT))
+        if value <= 0.0:
+            return []
+        bearing = s.bearing
+        side = math.remainder(bearing + math.pi / 2, 2 * math.pi), math.remainder(bearing - math.pi / 2, 2 * math.pi)
+        heading = min(side, key=abs)
+        return [Bid(self.name, "motion", Move(heading, self.max_speed), value),
+                Bid(self.name, "camera", Look(bearing), value)]

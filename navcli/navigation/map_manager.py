@@ -1,0 +1,159 @@
+"""The Map Manager (notes, section 2; thesis node 40): keeps the landmark map and answers the other
+agents' questions. It makes no bids.
+
+- **Learning**: after every image that showed landmarks, the precise landmarks of the visual
+  memory form a viewframe; each landmark the image showed is encoded in the beta-coefficient
+  network (:mod:`.beta_map`) when at least four are known.
+- **Locating** a landmark or the target: the least imprecise (lowest I(l)) of what the visual
+  memory holds and what the network recalls from three landmarks the memory holds now. A recall
+  is recomputed every ``map_recall_every`` ticks and carried between times by odometry (our
+  design: a recall costs about a quarter of a millisecond per unit; the half-second of drift it
+  ignores is small beside a recall's own imprecision).
+- **Quality** of a landmark set for the Risk Manager: ``q_S = max(1 - Col(S'))`` over its triples
+  (the notes' ``Col``; the six best-known landmarks are enough, since the risk saturates at six).
+- **Diverting targets** for the Rescuer: the regions of :mod:`.regions` over the mapped landmarks,
+  arcs blocked when a known linear obstacle (or wall) crosses their edge or a diverting target
+  through them failed, and the first edge of the cheapest path to the target's region.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from dataclasses import dataclass
+
+from ..beliefs import Beliefs
+from ..fuzzy import FuzzyPoint
+from ..geometry import Point, Pose, segments_intersect
+from ..params import CONTROL_DT, NAVIGATION, NavigationParams
+from .beta_map import BetaNetwork, collinearity
+from .regions import Crossing, Edge, first_crossing, triangulate
+
+TARGET = "target"  # the key of a point target's marker, as the visual memory holds it
+
+
+@dataclass
+class _Recalled:
+    x: float  # in the odometry frame
+    y: float
+    radii: tuple[float, ...]
+    tick: int
+    unit: str
+
+
+@dataclass(frozen=True)
+class MapSnapshot:
+    """What the map holds, for the log: landmark estimates (egocentric), beta-units as triangles
+    of ids, region triangles, blocked edges."""
+
+    landmarks: dict[str, FuzzyPoint]
+    units: tuple[tuple[str, str, str, str], ...]
+    regions: tuple[tuple[Point, Point, Point], ...]
+    blocked: tuple[tuple[str, str], ...]
+
+
+class MapManager:
+    name = "map-manager"
+
+    def __init__(self, params: NavigationParams = NAVIGATION, target_key: str = TARGET):
+        self.params = params
+        self.network = BetaNetwork(params.map_units_per_landmark)
+        self.target_key = target_key
+        self.blocked: dict[Edge, float] = {}
+        self._recalled: dict[str, _Recalled] = {}
+        self._tick = 0
+
+    # -- learning
+    def observe(self, beliefs: Beliefs) -> int:
+        """Learn from the image taken last tick, if any; returns the units added."""
+        self._tick += 1
+        if beliefs.looked is None:
+            return 0
+        known = self.memory_points(beliefs)
+        fresh = beliefs.time - CONTROL_DT - 1e-6
+        shown = {k for k, lm in self._landmarks(beliefs) if lm[1] >= fresh}
+        if not shown:
+            return 0
+        viewframe = {k: p for k, p in known.items() if p.imprecision() <= self.params.map_encode_imprecision}
+        if len(viewframe) < 4:
+            return 0
+        return len(self.network.learn(viewframe, targets=shown & set(viewframe)))
+
+    def _landmarks(self, beliefs: Beliefs):
+        for lm in beliefs.landmarks:
+            yield lm.key, (lm.where, lm.seen)
+        if beliefs.target_at is not None and (self.target_key == TARGET or
+                                              all(lm.key != self.target_key for lm in beliefs.landmarks)):
+            yield self.target_key, (beliefs.target_at, beliefs.target_seen)  # a point target, or a landmark told of
+
+    def memory_points(self, beliefs: Beliefs) -> dict[str, FuzzyPoint]:
+        """Landmarks (and the target's marker) as the visual memory holds them."""
+        return {k: p for k, (p, _) in self._landmarks(beliefs)}
+
+    # -- answering
+    def locate(self, key: str, beliefs: Beliefs) -> tuple[FuzzyPoint, str] | None:
+        """The least imprecise estimate of ``key``, egocentric, and where it came from
+        (``memory`` or ``map:<unit>``)."""
+        known = self.memory_points(beliefs)
+        best = (known[key], "memory") if key in known else None
+        recalled = self._recall(key, known, beliefs.odometry)
+        if recalled is not None and (best is None or recalled[0].imprecision() < best[0].imprecision()):
+            best = recalled
+        return best
+
+    def _recall(self, key: str, known: dict[str, FuzzyPoint], odo: Pose) -> tuple[FuzzyPoint, str] | None:
+        r = self._recalled.get(key)
+        if r is None or self._tick - r.tick >= self.params.map_recall_every:
+            basis = {k: p for k, p in known.items() if k != key}
+            found = self.network.locate(key, basis)
+            if found is None:
+                self._recalled.pop(key, None)
+                return None
+            p, unit = found
+            wx, wy = odo.to_world((p.x, p.y))
+            r = self._recalled[key] = _Recalled(wx, wy, p.radii, self._tick, unit.name)
+        x, y = odo.to_local((r.x, r.y))
+        return FuzzyPoint(x, y, r.radii), f"map:{r.unit}"
+
+    def quality(self, points: list[FuzzyPoint]) -> float:
+        """``q_S = max(1 - Col(S'))`` over the triples of the six best-known points; 0 below three."""
+        best = sorted(points, key=lambda p: p.imprecision())[:6]
+        return max((1.0 - collinearity(*((p.x, p.y) for p in t)) for t in itertools.combinations(best, 3)),
+                   default=0.0)
+
+    def landmark_estimates(self, beliefs: Beliefs) -> dict[str, FuzzyPoint]:
+        """Every mapped landmark (memory or recall), egocentric."""
+        out = {}
+        for k in self.network.landmarks | set(self.memory_points(beliefs)):
+            found = self.locate(k, beliefs)
+            if found is not None and k != self.target_key:
+                out[k] = found[0]
+        return out
+
+    def diverting_target(self, beliefs: Beliefs, target: Point) -> Crossing | None:
+        """The first edge to cross toward ``target`` (egocentric), or ``None``."""
+        marks = {k: (p.x, p.y) for k, p in self.landmark_estimates(beliefs).items()}
+        regions = triangulate(marks, self.params.virtual_distance)
+        if regions is None:
+            return None
+        blocked = dict(self.blocked)
+        lines = [(o.a, o.b) for o in beliefs.obstacles if not o.is_point]
+        for _, _, e in regions.edges():
+            u, v = sorted(e)
+            if u.startswith("~") or v.startswith("~"):
+                continue
+            a, b = marks[u], marks[v]
+            if any(segments_intersect(a, b, p, q) for p, q in lines):
+                blocked[e] = blocked.get(e, 0.0) + 1.0
+        return first_crossing(regions, (0.0, 0.0), target, blocked, self.params.blocked_cost)
+
+    def report_blocked(self, edge: Edge) -> None:
+        """A diverting target through ``edge`` failed: make its arc costly."""
+        self.blocked[edge] = self.blocked.get(edge, 0.0) + 1.0
+
+    def snapshot(self, beliefs: Beliefs) -> MapSnapshot:
+        marks = self.landmark_estimates(beliefs)
+        units = tuple((*basis, target) for target, per in self.network.units.items() for basis in per)
+        r = triangulate({k: (p.x, p.y) for k, p in marks.items()}, self.params.virtual_distance)
+        tris = () if r is None else tuple(tuple(tuple(map(float, r.points[v])) for v in t) for t in r.triangles)
+        return MapSnapshot(marks, units, tris, tuple(tuple(sorted(e)) for e in self.blocked))

@@ -1,0 +1,234 @@
+"""The Rescuer: recovers from blocked situations and from losing the target (notes, section 2;
+thesis nodes 43 and 79-81).
+
+What the thesis says, and how we do it:
+
+- **Initial sweep** at the start: stop and look around (the pans of ``scan_pans_deg``).
+- **Lost** (``I_a > I_a_bar``): stop and scan. Our design: a scan that leaves the target lost is
+  followed by a turn of a random angle (the pan unit cannot look behind) and another scan.
+- **Blocked**: the robot makes no progress toward its target (``blocked_progress`` metres closer
+  within ``blocked_window_s``), or it hits something ``blocked_bumps`` times within that window
+  (the Pilot's report of an obstacle it cannot easily avoid). The Rescuer asks the Map Manager for
+  a **diverting target**, a pair of landmarks to pass between, and broadcasts it as the current
+  target (the Pilot crosses it through its safe corridor). When it is crossed the original target
+  is restored. If none can be computed: turn by a random angle. If one is not crossed within
+  ``diverting_timeout_s`` (or the robot is blocked again on the way), its edge is reported blocked
+  to the Map Manager and another is asked for.
+- **Giving up** (ours): after ``max_diverting_failures`` failed or impossible diverting targets the
+  mission ends with the outcome ``blocked`` and the reason, instead of grinding on until the time
+  limit.
+
+The Rescuer bids ``rescuer_bid`` (1.0, our design: its actions are the emergencies of the
+Navigation system, and a stop is always safe) to stop while it sweeps or scans, to look at each
+pan, and to turn; it is heard first, so it wins ties. Random angles come from the run's seeded
+generator.
+"""
+
+from __future__ import annotations
+
+import math
+from collections import deque
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+
+from ..bidding import Bid, Look, Move
+from ..geometry import Point, Pose, wrap_angle
+from ..params import NAVIGATION, NavigationParams
+from .regions import Crossing, Edge
+from .situation import Situation
+
+PAN_MATCH = math.radians(5.0)  # a reported look within this of the pan asked for counts as it
+
+
+@dataclass(frozen=True)
+class Rescue:
+    """The Rescuer's decision this tick: its bids, the diverting target (egocentric line, left end
+    first) if one is set, events ``(level, message)``, and a reason to end the mission as blocked."""
+
+    bids: tuple[Bid, ...] = ()
+    diverting: tuple[Point, Point] | None = None
+    events: tuple[tuple[str, str], ...] = ()
+    give_up: str | None = None
+    abandoned: Edge | None = None  # the edge of a diverting target given up this tick
+
+
+class Rescuer:
+    name = "rescuer"
+
+    def __init__(self, params: NavigationParams = NAVIGATION, rng: np.random.Generator | None = None):
+        self.params = params
+        self.rng = rng if rng is not None else np.random.default_rng(0)
+        self.state = "sweep"
+        self._scan = 0  # index into scan_pans_deg
+        self._turn_to: float | None = None  # odometry-frame heading to turn to
+        self._crossing: Crossing | None = None
+        self._crossing_world: tuple[Point, Point] | None = None  # its ends in the odometry frame
+        self._crossing_since = 0.0
+        self._side: float | None = None  # which side of the diverting line the robot is on
+        self.failures = 0
+        self.diverting_targets = 0
+        self._progress_best = math.inf
+        self._progress_since = 0.0
+        self._bumps: deque[float] = deque()
+
+    # -- the state machine
+    def decide(self, s: Situation, ask: Callable[[Edge | None], Crossing | None]) -> Rescue:
+        """``ask(failed_edge)`` tells the Map Manager of the edge of a failed diverting target (if
+        any) and asks it for a diverting target toward the original target."""
+        b = s.beliefs
+        events: list[tuple[str, str]] = []
+        for bump in b.bumps:
+            self._bumps.append(bump.time)
+        while self._bumps and self._bumps[0] < s.time - self.params.blocked_window_s:
+            self._bumps.popleft()
+
+        if self.state == "sweep":
+            if self._scanned(b.looked):
+                self._enter("normal", s)
+                events.append(("info", "initial sweep done"))
+            else:
+                return Rescue(self._scan_bids(), events=tuple(events))
+
+        if self.state == "turn":
+            err = wrap_angle(self._turn_to - b.odometry.theta)
+            if abs(err) > math.radians(10.0):
+                return Rescue((Bid(self.name, "motion", Move(err, 0.0), self.params.rescuer_bid),),
+                              events=tuple(events))
+            self._enter("normal", s)
+
+        if self.state == "lost":
+            if s.I_a <= self.params.I_a_bar:
+                self._enter("normal", s)
+                events.append(("info", f"target found again (I_a = {s.I_a:.2f})"))
+            elif self._scanned(b.looked):
+                self._start_turn(b.odometry, events, "target still lost after a scan")
+                return Rescue(events=tuple(events))
+            else:
+                return Rescue(self._scan_bids(), events=tuple(events))
+
+        if self.state == "normal" and self._crossing is None and s.I_a > self.params.I_a_bar:
+            self.state, self._scan = "lost", 0
+            events.append(("warning", f"target lost (I_a = {s.I_a:.2f} > {self.params.I_a_bar:g}): stopping to scan"))
+            return Rescue(self._scan_bids(), events=tuple(events))
+
+        line = self._diverting_line(s)
+        if line is not None and self._crossed(line):
+            events.append(("info", f"diverting target crossed between {self._crossing.left} and "
+                                   f"{self._crossing.right}: back to the original target"))
+            self._clear_crossing(s)
+            line = None
+        if not self._blocked(s):
+            return Rescue((), line, tuple(events))
+        abandoned = None
+        if self._crossing is not None:
+            self.failures += 1
+            c = self._crossing
+            events.append(("warning", f"diverting target between {c.left} and {c.right} abandoned "
+                                      f"({self.failures} failed)"))
+            abandoned = c.edge
+            self._clear_crossing(s)
+        else:
+            events.append(("warning", "blocked: no progress toward the target"))
+        if self.failures >= self.params.max_diverting_failures:
+            give_up = f"{self.failures} diverting targets failed"
+            events.append(("error", f"giving up: {give_up}"))
+            return Rescue(events=tuple(events), give_up=give_up, abandoned=abandoned)
+        crossing = ask(abandoned)
+        if crossing is None:
+            self.failures += 1
+            self._start_turn(b.odometry, events, "no diverting target can be computed")
+            self._reset_progress(s)
+            return Rescue(events=tuple(events), abandoned=abandoned)
+        self._set_crossing(crossing, s)
+        self.diverting_targets += 1
+        events.append(("info", f"diverting target set: cross between {crossing.left} (left) and "
+                               f"{crossing.right} (right)"))
+        line = self._diverting_line(s)
+        stop = Bid(self.name, "motion", Move(0.0, 0.0), self.params.rescuer_bid)  # one stop per request
+        return Rescue((stop,), line, tuple(events), abandoned=abandoned)
+
+    # -- scans and turns
+    def _scan_bids(self) -> tuple[Bid, ...]:
+        pan = math.radians(self.params.scan_pans_deg[self._scan])
+        v = self.params.rescuer_bid
+        return (Bid(self.name, "motion", Move(0.0, 0.0), v), Bid(self.name, "camera", Look(pan), v))
+
+    def _scanned(self, looked: float | None) -> bool:
+        """Advance the scan when the camera reports the look asked for; True when all are done."""
+        pans = self.params.scan_pans_deg
+        if looked is not None and self._scan < len(pans) and abs(looked - math.radians(pans[self._scan])) < PAN_MATCH:
+            self._scan += 1
+        return self._scan >= len(pans)
+
+    def _start_turn(self, odo: Pose, events: list, why: str) -> None:
+        lim = math.radians(self.params.random_turn_deg)
+        angle = float(self.rng.uniform(-lim, lim))
+        self._turn_to = wrap_angle(odo.theta + angle)
+        self.state = "turn"
+        events.append(("warning", f"{why}: turning by {math.degrees(angle):.0f} deg"))
+
+    def _enter(self, state: str, s: Situation) -> None:
+        self.state, self._scan = state, 0
+        self._reset_progress(s)
+
+    # -- diverting targets
+    def _set_crossing(self, c: Crossing, s: Situation) -> None:
+        odo = s.beliefs.odometry
+        self._crossing = c
+        self._crossing_world = (odo.to_world(c.left_at), odo.to_world(c.right_at))
+        self._crossing_since = s.time
+        self._side = None
+        self._reset_progress(s)
+
+    def _clear_crossing(self, s: Situation) -> None:
+        self._crossing = self._crossing_world = None
+        self._side = None
+        self._reset_progress(s)
+
+    def _diverting_line(self, s: Situation) -> tuple[Point, Point] | None:
+        """The diverting line, egocentric: its landmarks where the map puts them now (a virtual
+        end where it was set, carried by odometry)."""
+        if self._crossing is None:
+            return None
+        c, odo = self._crossing, s.beliefs.odometry
+        ends = []
+        for key, world in zip((c.left, c.right), self._crossing_world):
+            p = s.landmarks.get(key)
+            ends.append((p.x, p.y) if p is not None else odo.to_local(world))
+        return ends[0], ends[1]
+
+    def _crossed(self, line: tuple[Point, Point]) -> bool:
+        """Has the robot (the origin) passed from one side of the line to the other, between its ends?"""
+        (ax, ay), (bx, by) = line
+        side = (bx - ax) * (0.0 - ay) - (by - ay) * (0.0 - ax)
+        L2 = (bx - ax) ** 2 + (by - ay) ** 2
+        t = ((0.0 - ax) * (bx - ax) + (0.0 - ay) * (by - ay)) / L2 if L2 > 0 else -1.0
+        crossed = self._side is not None and side * self._side < 0 and 0.0 <= t <= 1.0
+        if side != 0.0:
+            self._side = side
+        return crossed
+
+    # -- blocked
+    def _reset_progress(self, s: Situation) -> None:
+        self._progress_best = math.inf
+        self._progress_since = s.time
+        self._bumps.clear()
+
+    def _blocked(self, s: Situation) -> bool:
+        """No progress toward the current target within the window, too many bumps, or a diverting
+        target held too long."""
+        p = self.params
+        aim = s.aim if self._crossing is None else _middle(self._diverting_line(s))
+        if aim is None:
+            return False
+        d = math.hypot(*aim)
+        if d < self._progress_best - p.blocked_progress:
+            self._progress_best, self._progress_since = d, s.time
+        too_long = self._crossing is not None and s.time - self._crossing_since > p.diverting_timeout_s
+        return too_long or s.time - self._progress_since > p.blocked_window_s or len(self._bumps) >= p.blocked_bumps
+
+
+def _middle(line: tuple[Point, Point] | None) -> Point | None:
+    return None if line is None else ((line[0][0] + line[1][0]) / 2, (line[0][1] + line[1][1]) / 2)

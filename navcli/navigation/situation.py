@@ -1,0 +1,47 @@
+"""What the Navigation agents know at one tick: the robot's beliefs and the Map Manager's answers."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+from ..beliefs import Beliefs
+from ..fuzzy import FuzzyPoint
+from ..geometry import Point
+
+
+@dataclass(frozen=True)
+class Situation:
+    """The Navigation agents' input (they see nothing else).
+
+    ``target`` is the current target's best estimate (egocentric fuzzy point: the original
+    target, or the middle of a diverting line) and ``target_source`` where it came from
+    (``memory``, ``map:ABC/D``); ``target_line`` the line to cross (a diverting target, or a
+    line target); ``I_a`` the target's heading imprecision (Target Tracker, eq. 6 of the thesis);
+    ``landmarks`` the known landmarks (egocentric fuzzy points); ``quality_ahead`` and
+    ``quality_around`` the Map Manager's ``q_S`` of those ahead and of all.
+    """
+
+    beliefs: Beliefs
+    target: FuzzyPoint | None
+    target_line: tuple[Point, Point] | None
+    target_source: str
+    I_a: float
+    landmarks: dict[str, FuzzyPoint] = field(default_factory=dict)
+    ahead: tuple[str, ...] = ()
+    quality_ahead: float = 0.0
+    quality_around: float = 0.0
+
+    @property
+    def time(self) -> float:
+        return self.beliefs.time
+
+    @property
+    def aim(self) -> Point | None:
+        """Where the target is (the crisp centre), egocentric."""
+        return None if self.target is None else (self.target.x, self.target.y)
+
+    @property
+    def bearing(self) -> float | None:
+        a = self.aim
+        return None if a is None else math.atan2(a[1], a[0])
