@@ -178,6 +178,9 @@ def bench(
     param: ParamOption = None,
     perception: Annotated[Optional[PerceptionName], typer.Option(help="vision or oracle (default: the scenario's).")] = None,
     objects: Annotated[bool, typer.Option(help="Instead: cost per tick with 12, 50 and 200 objects in the room.")] = False,
+    long: Annotated[bool, typer.Option(
+        "--long", help="Instead: cost per tick in the last minute of a 20-minute run against the first "
+                       "(the map must not slow a long run down; try scenarios/trap-box.yaml).")] = False,
 ) -> None:
     """Real-time factor (simulated s per wall s) of a full mission, with logging on and off."""
     if occlusion:
@@ -187,8 +190,11 @@ def bench(
         return
     spec = _spec(scenario, param, seed=seed, pilot=pilot.value if pilot else None,
                  perception=perception.value if perception else None)
-    from .experiments.bench import benchmark, objects_benchmark
+    from .experiments.bench import benchmark, long_run_benchmark, objects_benchmark
 
+    if long:
+        long_run_benchmark(spec, echo=typer.echo)
+        return
     if objects:
         objects_benchmark(spec, echo=typer.echo)
         return

@@ -91,3 +91,40 @@ def objects_benchmark(spec: RunSpec, *, sizes=(12, 50, 200), ticks: int = 300,
             wall = time.perf_counter() - t0
             rec.finish(m.summary(), m.world.time_ns)
         echo(f"{len(base) + len(sc.landmarks) + len(extra):>8} {wall / k * 1e6:>9.0f} {m.time / wall:>11.0f}x")
+
+
+def long_run_benchmark(spec: RunSpec, *, minutes: float = 20.0, window_s: float = 60.0,
+                       echo: Callable[[str], None] = print) -> float:
+    """Does a tick cost more late in a long run than early? Runs ``spec`` for ``minutes`` of
+    simulated time (logging on; the Rescuer never gives up, so the map keeps working), and compares
+    the median wall time per tick of the last ``window_s`` with that of the first (after the
+    initial sweep). Returns late / early; the Map Manager's cost must not grow with the run."""
+    import time
+
+    from ..mission import Mission
+    from ..recorder import Recorder
+
+    spec = spec.replace(time_limit=minutes * 60.0,
+                        params=spec.params.override({"navigation.max_diverting_failures": 10 ** 6}))
+    with tempfile.TemporaryDirectory() as tmp:
+        m = Mission(spec)
+        rec = Recorder(Path(tmp) / "long.mcap")
+        rec.start(spec, m.world.pose, m.world.odometry.pose)
+        costs: list[tuple[float, float]] = []
+        while m.outcome is None:
+            t0 = time.perf_counter()
+            tick = m.step()
+            rec.tick(tick)
+            costs.append((m.time, time.perf_counter() - t0))
+        rec.finish(m.summary(), m.world.time_ns)
+    end = costs[-1][0]
+    early = [c for t, c in costs if 10.0 <= t < 10.0 + window_s]
+    late = [c for t, c in costs if t >= end - window_s]
+    if not early or not late:
+        echo(f"the run ended after {end:.0f} s ({m.outcome}): too short to compare")
+        return float("nan")
+    e, lt = statistics.median(early) * 1e6, statistics.median(late) * 1e6
+    echo(f"{spec.scenario.name}: {m.outcome} after {end:.0f} s, {len(costs)} ticks; "
+         f"median {e:.0f} us/tick in the first minute, {lt:.0f} us/tick in the last: {lt / e:.2f}x "
+         f"({len(m.navigation.map.network)} beta-units, {m.navigation.rescuer.diverting_targets} diverting targets)")
+    return lt / e

@@ -205,12 +205,13 @@ class BetaNetwork:
                 added.append(unit)
         return added
 
-    def locate(self, target: str, known: dict[str, FuzzyPoint]) -> tuple[FuzzyPoint, BetaUnit] | None:
-        """The least imprecise recall of ``target`` from the units whose basis is ``known`` now."""
+    def locate(self, target: str, known: dict[str, FuzzyPoint], tries: int = 3) -> tuple[FuzzyPoint, BetaUnit] | None:
+        """The least imprecise recall of ``target`` from the ``tries`` sharpest units whose basis
+        is ``known`` now."""
         best = None
-        for basis, unit in self.units.get(target, {}).items():
-            if all(k in known for k in basis):
-                p = recall(unit, known)
-                if best is None or p.imprecision() < best[0].imprecision():
-                    best = (p, unit)
+        usable = [u for b, u in self.units.get(target, {}).items() if all(k in known for k in b)]
+        for unit in sorted(usable, key=lambda u: u.spread)[:tries]:
+            p = recall(unit, known)
+            if best is None or p.imprecision() < best[0].imprecision():
+                best = (p, unit)
         return best

@@ -91,19 +91,23 @@ class MapManager:
         return {k: p for k, (p, _) in self._landmarks(beliefs)}
 
     # -- answering
-    def locate(self, key: str, beliefs: Beliefs) -> tuple[FuzzyPoint, str] | None:
+    def locate(self, key: str, beliefs: Beliefs, recall: bool = True) -> tuple[FuzzyPoint, str] | None:
         """The least imprecise estimate of ``key``, egocentric, and where it came from
-        (``memory`` or ``map:<unit>``)."""
+        (``memory`` or ``map:<unit>``). The network is asked only when the memory's estimate is
+        missing or no sharper than what the map is trusted with (``map_encode_imprecision``);
+        ``recall=False`` uses only recalls already made."""
         known = self.memory_points(beliefs)
         best = (known[key], "memory") if key in known else None
-        recalled = self._recall(key, known, beliefs.odometry)
+        if best is not None and best[0].imprecision() <= self.params.map_encode_imprecision:
+            return best
+        recalled = self._recall(key, known, beliefs.odometry, recall)
         if recalled is not None and (best is None or recalled[0].imprecision() < best[0].imprecision()):
             best = recalled
         return best
 
-    def _recall(self, key: str, known: dict[str, FuzzyPoint], odo: Pose) -> tuple[FuzzyPoint, str] | None:
+    def _recall(self, key: str, known: dict[str, FuzzyPoint], odo: Pose, fresh: bool = True) -> tuple[FuzzyPoint, str] | None:
         r = self._recalled.get(key)
-        if r is None or self._tick - r.tick >= self.params.map_recall_every:
+        if fresh and (r is None or self._tick - r.tick >= self.params.map_recall_every):
             basis = {k: p for k, p in known.items() if k != key}
             found = self.network.locate(key, basis)
             if found is None:
@@ -112,6 +116,8 @@ class MapManager:
             p, unit = found
             wx, wy = odo.to_world((p.x, p.y))
             r = self._recalled[key] = _Recalled(wx, wy, p.radii, self._tick, unit.name)
+        if r is None:
+            return None
         x, y = odo.to_local((r.x, r.y))
         return FuzzyPoint(x, y, r.radii), f"map:{r.unit}"
 
@@ -121,11 +127,11 @@ class MapManager:
         return max((1.0 - collinearity(*((p.x, p.y) for p in t)) for t in itertools.combinations(best, 3)),
                    default=0.0)
 
-    def landmark_estimates(self, beliefs: Beliefs) -> dict[str, FuzzyPoint]:
+    def landmark_estimates(self, beliefs: Beliefs, recall: bool = True) -> dict[str, FuzzyPoint]:
         """Every mapped landmark (memory or recall), egocentric."""
         out = {}
         for k in self.network.landmarks | set(self.memory_points(beliefs)):
-            found = self.locate(k, beliefs)
+            found = self.locate(k, beliefs, recall)
             if found is not None and k != self.target_key:
                 out[k] = found[0]
         return out
@@ -152,7 +158,8 @@ class MapManager:
         self.blocked[edge] = self.blocked.get(edge, 0.0) + 1.0
 
     def snapshot(self, beliefs: Beliefs) -> MapSnapshot:
-        marks = self.landmark_estimates(beliefs)
+        """For the log: what the map knows now, from the memory and the recalls already made."""
+        marks = self.landmark_estimates(beliefs, recall=False)
         units = tuple((*basis, target) for target, per in self.network.units.items() for basis in per)
         r = triangulate({k: (p.x, p.y) for k, p in marks.items()}, self.params.virtual_distance)
         tris = () if r is None else tuple(tuple(tuple(map(float, r.points[v])) for v in t) for t in r.triangles)

@@ -142,7 +142,7 @@ def first_crossing(regions: Regions, robot: Point, target: Point, blocked: dict[
         step = int(pred[step])
     shared = next(e for i, j, e in arcs if {i, j} == {start, step})
     u, v = sorted(shared)
-    pu, pv = (tuple(regions.points[regions.ids.index(k)]) for k in (u, v))
+    pu, pv = (tuple(map(float, regions.points[regions.ids.index(k)])) for k in (u, v))
     # left/right as seen from the robot looking across the edge
     if (pu[0] - robot[0]) * (pv[1] - robot[1]) - (pu[1] - robot[1]) * (pv[0] - robot[0]) > 0:
         right, left, right_at, left_at = u, v, pu, pv
