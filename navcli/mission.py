@@ -63,7 +63,7 @@ class Tick:
     detections: tuple[Detection, ...] | None  # what the image taken this tick showed, if one was
     memory: tuple[Remembered, ...] | None = None  # the visual memory, every vision.draw_every ticks
     navigation: NavigationOutput | None = None  # what the Navigation system decided, and why
-    map: MapSnapshot | None = None  # the Map Manager's map, every vision.draw_every ticks
+    map: MapSnapshot | None = None  # the Map Manager's map, every navigation.map_draw_every ticks
 
 
 class Mission:
@@ -160,9 +160,9 @@ class Mission:
         if self.outcome is not None:
             events.append(Event(world.time, "mission", "info" if self.outcome == "reached" else "warning", self.reason))
         cam = self.perception.camera
-        draw = self.ticks % self.spec.params.vision.draw_every == 0
-        memory = self.perception.snapshot() if draw else None
-        map_ = self.navigation.snapshot(beliefs) if draw else None
+        p = self.spec.params
+        memory = self.perception.snapshot() if self.ticks % p.vision.draw_every == 0 else None
+        map_ = self.navigation.snapshot(beliefs) if self.ticks % p.navigation.map_draw_every == 0 else None
         return Tick(self.ticks, world.time_ns, world.pose, world.odometry.pose, command, bids, nav.agent_bids,
                     winners, pilot_out, tuple(events), (cam.pan, cam.state),
                     tuple(detections) if detections is not None else None, memory, nav, map_)

@@ -124,6 +124,7 @@ class NavigationParams:
     map_encode_imprecision: float = _p(0.25, above=0.0, at_most=1.0)  # landmarks at most this imprecise are encoded
     map_units_per_landmark: int = _p(6, at_least=1)  # beta-units kept per landmark (the sharpest)
     map_recall_every: int = _p(5, at_least=1)  # ticks between two recalls of a landmark from the network
+    map_draw_every: int = _p(20, at_least=1)  # ticks between two /map/scene updates
     virtual_distance: float = _p(10.0, above=0.0)  # m: virtual landmarks beyond the hull edges
     blocked_cost: float = _p(1000.0, above=1.0)  # cost of a region arc known to be blocked
 

@@ -93,7 +93,7 @@ def test_distance_estimator_bids_to_move_across_the_target_when_its_distance_is_
     assert de.bid(situation()) == []  # the distance is known exactly: tanh(0) = 0
     s = situation(target=(4.0, 0.0), radii=(1.0, 0.7, 0.3, 0.0))  # 70 % cut: 4 +- 0.3 m, I_d = 0.6
     b = bids_of(de, s)
-    assert b["motion"].value == pytest.approx(0.355 * math.tanh(0.6))
+    assert b["motion"].value == pytest.approx(0.355 * math.tanh(0.6 / 4.0))
     assert abs(b["motion"].action.heading) == pytest.approx(math.pi / 2)  # at right angles to the target
     assert b["camera"].action.pan == pytest.approx(0.0)  # and looking at it
     assert de.bid(situation(target=(2.0, 0.0), line=((2.0, -1.0), (2.0, 1.0)), radii=(1.0, 0.7, 0.3, 0.0))) == []

@@ -95,7 +95,7 @@ class NavigationSystem:
         ahead_lim = math.radians(self.params.ahead_deg)
         ahead = tuple(k for k, p in known.items() if abs(math.atan2(p.y, p.x)) <= ahead_lim)
         return Situation(beliefs, target, line, source, self.tracker.imprecision(spread), known, ahead,
-                         self.map.quality([known[k] for k in ahead]), self.map.quality(list(known.values())))
+                         self.map.quality({k: known[k] for k in ahead}), self.map.quality(known))
 
     def bid(self, beliefs: Beliefs) -> NavigationOutput:
         """One tick of the Navigation system (see the module docstring)."""

@@ -62,6 +62,8 @@ class MapManager:
         self.blocked: dict[Edge, float] = {}
         self._recalled: dict[str, _Recalled] = {}
         self._tick = 0
+        self._images = 0
+        self._quality: dict[tuple, float] = {}
 
     # -- learning
     def observe(self, beliefs: Beliefs) -> int:
@@ -69,6 +71,7 @@ class MapManager:
         self._tick += 1
         if beliefs.looked is None:
             return 0
+        self._images += 1
         known = self.memory_points(beliefs)
         fresh = beliefs.time - CONTROL_DT - 1e-6
         shown = {k for k, lm in self._landmarks(beliefs) if lm[1] >= fresh}
@@ -121,11 +124,22 @@ class MapManager:
         x, y = odo.to_local((r.x, r.y))
         return FuzzyPoint(x, y, r.radii), f"map:{r.unit}"
 
-    def quality(self, points: list[FuzzyPoint]) -> float:
-        """``q_S = max(1 - Col(S'))`` over the triples of the six best-known points; 0 below three."""
-        best = sorted(points, key=lambda p: p.imprecision())[:6]
-        return max((1.0 - collinearity(*((p.x, p.y) for p in t)) for t in itertools.combinations(best, 3)),
-                   default=0.0)
+    def quality(self, points: dict[str, FuzzyPoint]) -> float:
+        """``q_S = max(1 - Col(S'))`` over the triples of the six best-known points; 0 below three.
+
+        Collinearity does not change when the whole memory is carried by odometry (a rigid
+        motion), only when something is seen again: so it is computed again only after an image
+        or when the set changes (our design, to keep it off the per-tick cost)."""
+        key = (frozenset(points), self._images)
+        cached = self._quality.get(key)
+        if cached is None:
+            best = sorted(points.values(), key=lambda p: p.imprecision())[:6]
+            cached = max((1.0 - collinearity(*((p.x, p.y) for p in t)) for t in itertools.combinations(best, 3)),
+                         default=0.0)
+            if len(self._quality) > 64:
+                self._quality.clear()
+            self._quality[key] = cached
+        return cached
 
     def landmark_estimates(self, beliefs: Beliefs, recall: bool = True) -> dict[str, FuzzyPoint]:
         """Every mapped landmark (memory or recall), egocentric."""
