@@ -142,7 +142,7 @@ def test_param_overrides_any_parameter_and_is_recorded_as_json(tmp_path):
 
 def test_bad_param_exits_2_naming_it():
     for bad, words in (("Q=1", "unknown parameter 'Q'"), ("K=1", "did you mean pilot.K?"),
-                       ("pilot.K=abc", "'abc' is not a number"), ("pilot.R_min=0", "pilot.R_min must be above 0"),
+                       ("pilot.K=abc", "'abc' is not a number"), ("pilot.R_min=0", "pilot.R_min must be at least 0.01"),
                        ("pilot.K", "expected NAME=VALUE"), ("pilot.K=nan", "finite number"),
                        ("navigation.kappa1=1.5", "at most 1"), ("vision.forget_every=2.5", "whole number")):
         r = invoke("run", SCENARIOS / "open-arena.yaml", "--param", bad)
