@@ -74,7 +74,7 @@ def test_unwritable_log_path_is_a_clear_error(tmp_path):
     blocker = tmp_path / "file"
     blocker.write_text("")
     r = invoke("run", SCENARIOS / "open-arena.yaml", "--out", blocker / "run.mcap")
-    assert r.exit_code == 1 and "error:" in r.output and "Traceback" not in r.output
+    assert r.exit_code == 2 and f"cannot create the folder {blocker}" in r.output and "Traceback" not in r.output
 
 
 def test_validate_reports_each_file(write_scenario):
