@@ -322,7 +322,7 @@ def compare_pilots(
     for r in failed:
         j = r.job.spec
         typer.echo(f"  failed: {j.scenario.name} {j.pilot} seed {j.seed}: {r.outcome} {r.message} ({r.job.log})")
-    _report(out, names[-1], out)
+    _report(out, names[-1], out, [j.log for j in work])  # the runs planned, not every log under --out
 
 
 @app.command()
@@ -338,16 +338,23 @@ def report(
     _report(logdir, baseline, out or logdir)
 
 
-def _report(logdir: Path, baseline: str, out: Path) -> None:
+def _report(logdir: Path, baseline: str, out: Path, logs: list[str] | None = None) -> None:
+    """The table of the logs under ``logdir`` (or of ``logs``); an unreadable log is skipped with a
+    line naming it; the same run twice, or no readable log at all, exits 2."""
     from analysis import LogError
     from analysis.tables import load_runs, write_report
 
+    skipped: list[tuple[str, str]] = []
     try:
-        runs = load_runs(logdir)
+        runs = load_runs(logdir, paths=logs, skipped=skipped)
     except LogError as e:
+        for path, why in skipped:
+            _err(f"skipped {path}: {why}")
         _err(f"error: {e}")
         raise typer.Exit(EXIT_BAD_INPUT) from None
-    files = write_report(runs, out, baseline)
+    for path, why in skipped:
+        _err(f"skipped {path}: {why}")
+    files = write_report(runs, out, baseline, skipped)
     typer.echo("")
     typer.echo(files["markdown"].read_text())
     typer.echo(f"wrote {', '.join(str(p) for p in files.values())}")
