@@ -361,6 +361,17 @@ def _report(logdir: Path, baseline: str, out: Path, logs: list[str] | None = Non
 
 
 @app.command()
+def schema() -> None:
+    """Print the scenario format as a JSON Schema, for editors (the YAML language server:
+    `# yaml-language-server: $schema=scenario.schema.json` at the top of a scenario)."""
+    import json
+
+    from .scenario import json_schema
+
+    typer.echo(json.dumps(json_schema(), indent=2))
+
+
+@app.command()
 def recover(
     partial: Annotated[Path, typer.Argument(help="The .partial file a killed run left (or a .partial-<n> kept aside).")],
     out: Annotated[Optional[Path], typer.Option(help="The log to write (default: the name without .partial).")] = None,
