@@ -4,7 +4,7 @@ Heavy modules (numpy, pymunk, foxglove, pandas, matplotlib) are imported inside 
 that ``navcli --help`` answers at once. Exit codes: 0 success (mission reached its target),
 1 an internal error (the log is still closed and marked ``error``), 2 bad input (a refused
 scenario, a bad option), 3 the mission ended without reaching its target (timeout, blocked),
-130 interrupted by Ctrl-C (the log is closed and marked ``interrupted``).
+130 interrupted by Ctrl-C, 143 stopped by SIGTERM (the log is closed and marked ``interrupted``).
 """
 
 from __future__ import annotations

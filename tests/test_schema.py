@@ -10,9 +10,9 @@ import pytest
 import yaml
 from typer.testing import CliRunner
 
-from conftest import SCENARIOS, scenario_dict
+from conftest import ROOT, SCENARIOS, scenario_dict
 from navcli.cli import app
-from navcli.scenario import ScenarioError, json_schema, parse_scenario
+from navcli.scenario import RANGES, ScenarioError, json_schema, parse_scenario
 
 
 @pytest.fixture(scope="module")
@@ -56,3 +56,11 @@ def test_what_the_schema_rejects_the_loader_refuses(validator, case):
 def test_the_schema_and_the_loader_share_their_ranges():
     speed = json_schema()["properties"]["robot"]["properties"]["max_speed"]
     assert speed["maximum"] == 2.0 and speed["exclusiveMinimum"] == 0.0
+
+
+def test_the_documented_ranges_are_the_loaders():
+    rows = [ln.split("|")[1:5] for ln in (ROOT / "docs" / "scenario-format.md").read_text().splitlines()
+            if ln.startswith("| `") and "≤" in ln]
+    documented = {f.strip().strip("`"): (lo.strip(), hi.strip(), unit.strip()) for f, lo, hi, unit in rows}
+    assert documented == {k: (("> " if r.lo_open else "≥ ") + f"{r.lo:g}", f"≤ {r.hi:d}" if isinstance(r.hi, int)
+                              else f"≤ {r.hi:g}", r.unit or "-") for k, r in RANGES.items()}
