@@ -141,8 +141,8 @@ def run(
         _err(f"serving the run live on {where} (open it in Foxglove: Open connection)")
     try:
         res = run_mission(spec, out=out, live=live, port=port, on_tick=progress)
-    except LogPathError as e:
-        _err(f"error: --out: {e}")
+    except LogPathError as e:  # another run holds the log, or the --live port is taken
+        _err(f"error: {e}")
         raise typer.Exit(EXIT_BAD_INPUT) from None
     except Terminated:
         progress.close()

@@ -1,4 +1,9 @@
-"""Scenario files: YAML in, frozen dataclasses out (the scenario format, version 1, in the README).
+"""Scenario files: YAML in, frozen dataclasses out (the scenario format, version 1, in
+docs/scenario-format.md).
+
+What is read is bounded before it is built (size, depth, aliases expanded, value length), and
+every number is finite and within its documented range (:data:`RANGES`), so that whatever loads
+can be simulated.
 
 Every refusal names the file, the line and the field, says what is wrong and what was expected,
 so that ``navcli validate`` and ``navcli run`` can print it and exit non-zero without a

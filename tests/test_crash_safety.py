@@ -20,6 +20,7 @@ from typer.testing import CliRunner
 from navcli.cli import app
 from navcli.config import RunSpec
 from navcli.recorder import FLUSH_EVERY_NS, RECOVERED_REASON, LogPathError, Recorder
+from navcli.runner import run_mission
 from navcli.scenario import load_scenario
 
 # A wall across the room: the run lasts until its (long) time limit, long enough to be killed.
@@ -87,7 +88,6 @@ def test_sigterm_is_logged_as_such_and_exits_143(write_scenario, tmp_path):
 
 
 def test_a_killed_runs_partial_is_kept_aside_and_a_locked_log_refused(tmp_path):
-    spec = RunSpec.build(load_scenario(SCENARIOS / "open-arena.yaml"), time_limit=1)
     out = tmp_path / "run.mcap"
     (tmp_path / "run.mcap.partial").write_bytes(b"the remains of a killed run")
     rec = Recorder(out)
@@ -97,7 +97,6 @@ def test_a_killed_runs_partial_is_kept_aside_and_a_locked_log_refused(tmp_path):
     rec.finish({"outcome": "interrupted"}, 0)
     assert not (tmp_path / "run.mcap.lock").exists()
     Recorder(out).finish({"outcome": "interrupted"}, 0)  # free again
-    del spec
 
 
 @pytest.mark.parametrize("out, words", [("", "not a file name"), ("/", "not a file name"), (".", "not a file name"),
@@ -120,3 +119,21 @@ def test_the_scenario_file_itself_is_never_the_log(tmp_path):
     with pytest.raises(LogPathError, match="scenario file itself"):
         Recorder(sc, protect=(str(sc),))
     assert sc.read_text() == "x"
+
+
+def test_a_run_stopped_inside_a_tick_logs_its_pose_at_the_summarys_time(tmp_path, monkeypatch):
+    """The world has stepped, the tick is not yet logged: the summary's time is still the last pose's."""
+    spec = RunSpec.build(load_scenario(SCENARIOS / "open-arena.yaml"))
+    real_tick = Recorder.tick
+
+    def tick(self, t):
+        if t.index == 25:
+            raise KeyboardInterrupt
+        real_tick(self, t)
+
+    monkeypatch.setattr(Recorder, "tick", tick)
+    with pytest.raises(KeyboardInterrupt):
+        run_mission(spec, out=tmp_path / "run.mcap")
+    log = read_log(tmp_path / "run.mcap")
+    assert log.summary["time_s"] == pytest.approx(2.5) == log["/robot/pose"]["time_s"].iloc[-1]
+    assert list(load_runs(tmp_path)["outcome"]) == ["interrupted"]
