@@ -14,6 +14,13 @@ Statistics, chosen to need nothing beyond numpy:
   random sign assignments, with the observed one counted), exact in the limit and free of the
   normality a t-test assumes.
 The random draws are seeded, so the same logs always give the same table.
+
+Runs are never mixed up (our design): a row of the table is one *condition*, every run of one
+configuration but the pilot and the seed (scenario text by sha256, perception, time limit, every
+parameter); the same run (run id) twice is refused; interrupted runs are kept out of the success
+rates and counted apart; an unreadable log is skipped by name when the caller asks for it.
+Whatever the table cannot say (too few pairs for the test, an unknown baseline, no reached run)
+is said in its notes.
 """
 
 from __future__ import annotations
@@ -31,37 +38,66 @@ RESAMPLES = 10_000
 PATH_TOLERANCE = 0.01  # the summary's path length must match the poses' within 1 %
 
 
-def load_runs(logdir: str | Path) -> pd.DataFrame:
-    """One row per ``.mcap`` under ``logdir`` (recursively): the summary, the run's configuration
-    (perception, time limit and every parameter as ``params.<group>.<name>`` columns, so runs can
-    be grouped by them), plus the path length and time recomputed from ``/robot/pose``, whose x,
-    y are kept in ``xy`` for plots. Raises :class:`LogError` naming a log whose
-    summary disagrees with its poses, or that has no summary."""
+def load_runs(logdir: str | Path | None = None, *, paths: list[str | Path] | None = None,
+              skipped: list[tuple[str, str]] | None = None) -> pd.DataFrame:
+    """One row per ``.mcap`` under ``logdir`` (recursively), or per file of ``paths``: the
+    summary, the run's configuration (scenario sha256, perception, time limit and every
+    parameter as ``params.<group>.<name>`` columns, so runs can be grouped by them), plus the path
+    length and time recomputed from ``/robot/pose``, whose x, y are kept in ``xy`` for plots.
+
+    A log that cannot be read, has no summary, or whose summary disagrees with its poses raises
+    :class:`LogError` naming it, or, if ``skipped`` is a list, is appended to it as (path, why)
+    and left out. The same run (run id) found twice raises :class:`LogError` naming both files."""
     rows = []
-    for path in sorted(Path(logdir).rglob("*.mcap")):
-        log = read_log(path, topics=["/robot/pose"])
-        s = log.summary
-        if not s:
-            raise LogError(f"{path}: no /mission/summary (the run was killed before it could close its log)")
-        poses = log["/robot/pose"]
-        walked = path_length(poses)
-        last = float(poses["time_s"].iloc[-1])
-        if abs(walked - s["path_length_m"]) > PATH_TOLERANCE * max(walked, 0.01):
-            raise LogError(f"{path}: summary path length {s['path_length_m']:.3f} m disagrees with "
-                           f"its poses ({walked:.3f} m)")
-        if abs(last - s["time_s"]) > 1e-6:
-            raise LogError(f"{path}: summary time {s['time_s']} s disagrees with its last pose ({last} s)")
-        config = log.config
-        rows.append({"log": str(path), "run_id": s.get("run_id"), "scenario": s["scenario"], "pilot": s["pilot"],
-                     "seed": s["seed"], "perception": config.get("perception"),
-                     "time_limit_s": config.get("time_limit_s"),
-                     "outcome": s["outcome"], "reached": s["outcome"] == "reached", "time_s": s["time_s"],
-                     "path_m": s["path_length_m"], "path_cm": 100.0 * s["path_length_m"],
-                     "collisions": s["collisions"], "camera_looks": s["camera_looks"], "ticks": s["ticks"],
-                     "poses_path_m": walked, "xy": poses[["x", "y"]].to_numpy()} | config_columns(config))
+    seen: dict[str, str] = {}
+    files = sorted(Path(logdir).rglob("*.mcap")) if paths is None else [Path(p) for p in paths]
+    for path in files:
+        try:
+            row = _run_row(path)
+        except LogError as e:
+            if skipped is None:
+                raise
+            skipped.append((str(path), str(e).removeprefix(f"{path}: ")))
+            continue
+        rid = row["run_id"]
+        if rid and rid in seen:
+            raise LogError(f"{path} and {seen[rid]} are the same run (run id {rid[:8]}); a run counts once: "
+                           "remove one, or report on the folders separately")
+        if rid:
+            seen[rid] = str(path)
+        rows.append(row)
     if not rows:
-        raise LogError(f"{logdir}: no .mcap logs found")
+        where = logdir if paths is None else "the runs given"
+        raise LogError(f"{where}: no readable .mcap logs found")
     return pd.DataFrame(rows)
+
+
+def _run_row(path: Path) -> dict:
+    """One run's row of :func:`load_runs`; :class:`LogError` for a log it cannot count."""
+    log = read_log(path, topics=["/robot/pose"])
+    s = log.summary
+    if not s:
+        raise LogError(f"{path}: no /mission/summary (the run was killed before it could close its log; "
+                       "`navcli recover` makes a readable log of a .partial)")
+    if "/robot/pose" not in log.topics:
+        raise LogError(f"{path}: no /robot/pose")
+    poses = log["/robot/pose"]
+    walked = path_length(poses)
+    last = float(poses["time_s"].iloc[-1])
+    if abs(walked - s["path_length_m"]) > PATH_TOLERANCE * max(walked, 0.01):
+        raise LogError(f"{path}: summary path length {s['path_length_m']:.3f} m disagrees with "
+                       f"its poses ({walked:.3f} m)")
+    if abs(last - s["time_s"]) > 1e-6:
+        raise LogError(f"{path}: summary time {s['time_s']} s disagrees with its last pose ({last} s)")
+    config = log.config
+    run_id = s.get("run_id") or log.metadata.get("run", {}).get("run_id")
+    return {"log": str(path), "run_id": run_id, "scenario": s["scenario"], "pilot": s["pilot"], "seed": s["seed"],
+            "scenario_sha256": config.get("scenario", {}).get("sha256"), "perception": config.get("perception"),
+            "time_limit_s": config.get("time_limit_s"),
+            "outcome": s["outcome"], "reached": s["outcome"] == "reached", "time_s": s["time_s"],
+            "path_m": s["path_length_m"], "path_cm": 100.0 * s["path_length_m"],
+            "collisions": s["collisions"], "camera_looks": s["camera_looks"], "ticks": s["ticks"],
+            "poses_path_m": walked, "xy": poses[["x", "y"]].to_numpy()} | config_columns(config)
 
 
 def wilson_interval(successes: int, n: int, z: float = 1.96) -> tuple[float, float]:
@@ -79,14 +115,40 @@ def wilson_interval(successes: int, n: int, z: float = 1.96) -> tuple[float, flo
     return max(0.0, centre - half), min(1.0, centre + half)
 
 
-CONDITION = ["scenario", "perception", "pilot"]
-"""What a row of the table is: one pilot on one scenario with one perception."""
+CONFIG = ["scenario", "scenario_sha256", "perception", "time_limit_s"]
+"""With every ``params.*`` column: what makes a condition (a run's configuration but pilot and seed)."""
+MIN_PAIRS = 6
+"""Fewer pairs than this and the sign-flip test cannot reach p < 0.05 (its smallest two-sided
+p-value is 2 / 2**pairs = 0.0625 with 5 pairs); the table says so."""
 
 
 def _conditions(runs: pd.DataFrame) -> pd.DataFrame:
+    """``runs`` with a ``condition`` column: the scenario and perception, and whatever else tells
+    this condition from another of the same scenario (``time limit 5 s``, ``pilot.K=30``,
+    ``scenario sha256 1a2b3c4d`` for an edited file)."""
     runs = runs.copy()
-    runs["perception"] = runs["perception"].fillna("?") if "perception" in runs else "?"
+    for col in CONFIG:
+        runs[col] = runs[col].fillna("?") if col in runs else "?"
+    keys = CONFIG + sorted(c for c in runs if c.startswith("params."))
+    for c in keys:
+        runs[c] = runs[c].map(lambda v: "?" if v is None or (isinstance(v, float) and math.isnan(v)) else v)
+    labels = {}
+    for scenario, g in runs.groupby("scenario", sort=True):
+        varying = [c for c in keys[2:] if g[c].astype(str).nunique() > 1]
+        for key, _ in g.groupby(keys, sort=True):
+            d = dict(zip(keys, key))
+            extra = [f"scenario sha256 {str(d['scenario_sha256'])[:8]}" if c == "scenario_sha256"
+                     else f"time limit {d[c]:g} s" if c == "time_limit_s" and d[c] != "?"
+                     else f"{c.removeprefix('params.')}={d[c]}" for c in varying if c != "perception"]
+            labels[key] = f"{scenario} ({d['perception']} perception{''.join(', ' + e for e in extra)})"
+    runs["condition"] = [labels[tuple(r)] for r in runs[keys].itertuples(index=False)]
     return runs
+
+
+def counted(runs: pd.DataFrame) -> pd.DataFrame:
+    """The runs a success rate counts: all but the interrupted (stopped by a person or a crash, not
+    by the pilot). Errors are navcli's failures in a run and stay counted as failed."""
+    return runs[runs["outcome"] != "interrupted"]
 
 
 def pilot_table(runs: pd.DataFrame) -> pd.DataFrame:
@@ -96,27 +158,31 @@ def pilot_table(runs: pd.DataFrame) -> pd.DataFrame:
     hidden by leaving them out, the mean time with every failed run counted at its time limit
     (``time_fail_at_limit_mean``)."""
     out = []
-    for (scenario, perception, pilot), g in _conditions(runs).groupby(CONDITION, sort=True):
+    runs = _conditions(runs)
+    for (condition, pilot), g_all in runs.groupby(["condition", "pilot"], sort=True):
+        g = counted(g_all)
         ok = g[g["reached"]]
         n, k = len(g), int(g["reached"].sum())
         lo, hi = wilson_interval(k, n)
-        row = {"scenario": scenario, "perception": perception, "pilot": pilot, "runs": n, "reached": k,
-               "failed": n - k, "success_rate": k / n, "success_ci_low": lo, "success_ci_high": hi}
+        row = {"condition": condition, "scenario": g_all["scenario"].iloc[0],
+               "perception": g_all["perception"].iloc[0], "pilot": pilot, "runs": n, "reached": k,
+               "failed": n - k, "interrupted": len(g_all) - n, "success_rate": k / n if n else math.nan,
+               "success_ci_low": lo, "success_ci_high": hi}
         for col in ("time_s", "path_cm", "collisions", "camera_looks"):
             row[f"{col}_mean"] = float(ok[col].mean()) if len(ok) else math.nan
             row[f"{col}_std"] = float(ok[col].std(ddof=1)) if len(ok) > 1 else math.nan
         limit = g["time_limit_s"].fillna(g["time_s"]) if "time_limit_s" in g else g["time_s"]
-        row["time_fail_at_limit_mean"] = float(g["time_s"].where(g["reached"], limit).mean())
-        row["collisions_all_mean"] = float(g["collisions"].mean())
+        row["time_fail_at_limit_mean"] = float(g["time_s"].where(g["reached"], limit).mean()) if n else math.nan
+        row["collisions_all_mean"] = float(g["collisions"].mean()) if n else math.nan
         out.append(row)
     return pd.DataFrame(out)
 
 
 def improvements(runs: pd.DataFrame, baseline: str) -> pd.DataFrame:
-    """Per scenario, pilot (other than ``baseline``) and metric: the paired improvement over the
+    """Per condition, pilot (other than ``baseline``) and metric: the paired improvement over the
     baseline in %, its bootstrap 95 % CI, the permutation p-value, and the number of pairs."""
     out = []
-    for (scenario, perception), g in _conditions(runs).groupby(["scenario", "perception"], sort=True):
+    for condition, g in _conditions(runs).groupby("condition", sort=True):
         base = g[(g["pilot"] == baseline) & g["reached"]].set_index("seed")
         for pilot in sorted(set(g["pilot"]) - {baseline}):
             other = g[(g["pilot"] == pilot) & g["reached"]].set_index("seed")
@@ -125,11 +191,40 @@ def improvements(runs: pd.DataFrame, baseline: str) -> pd.DataFrame:
                 b = base.loc[seeds, metric].to_numpy(float)
                 p = other.loc[seeds, metric].to_numpy(float)
                 imp, lo, hi, pval = paired_improvement(b, p)
-                out.append({"scenario": scenario, "perception": perception, "pilot": pilot, "baseline": baseline,
+                out.append({"condition": condition, "pilot": pilot, "baseline": baseline,
                             "metric": metric,
                             "pairs": len(seeds), "improvement_pct": imp, "ci95_low": lo, "ci95_high": hi,
                             "p_value": pval})
-    return pd.DataFrame(out)
+    return pd.DataFrame(out, columns=["condition", "pilot", "baseline", "metric", "pairs", "improvement_pct",
+                                      "ci95_low", "ci95_high", "p_value"])
+
+
+def notes(runs: pd.DataFrame, table: pd.DataFrame, imps: pd.DataFrame, baseline: str,
+          skipped: list[tuple[str, str]] = ()) -> list[str]:
+    """What the table cannot say, in words: skipped logs, interrupted runs left out, an unknown
+    baseline, a single pilot, too few pairs for the test, no reached run."""
+    out = [f"skipped {path}: {why}" for path, why in skipped]
+    pilots = sorted(set(runs["pilot"]))
+    for r in table.itertuples():
+        if r.interrupted:
+            out.append(f"{r.condition}, {r.pilot}: {r.interrupted} interrupted run(s) left out of the success rate")
+        if r.runs and not r.reached:
+            out.append(f"{r.condition}, {r.pilot}: no run reached the target, so no time or path averages")
+    if baseline not in pilots:
+        out.append(f"baseline {baseline!r} is not among the pilots of these runs ({', '.join(pilots)}): "
+                   "no improvements table (--baseline names one of them)")
+    elif len(pilots) == 1:
+        out.append(f"only one pilot ({pilots[0]}): nothing to compare it with")
+    for (condition, pilot), g in imps.groupby(["condition", "pilot"], sort=True) if len(imps) else ():
+        pairs = int(g["pairs"].iloc[0])
+        if pairs < 2:
+            out.append(f"{condition}, {pilot} vs {baseline}: {pairs} pair(s) where both reached the target; "
+                       "at least 2 are needed for an improvement with an interval")
+        elif pairs < MIN_PAIRS:
+            out.append(f"{condition}, {pilot} vs {baseline}: only {pairs} pairs; with fewer than {MIN_PAIRS} the "
+                       f"paired test cannot reach p < 0.05 (its least p is 2/2^{pairs} = {2 / 2 ** pairs:.3g}) "
+                       "and the bootstrap interval is too narrow to trust")
+    return out
 
 
 def paired_improvement(base: np.ndarray, pilot: np.ndarray, seed: int = 0) -> tuple[float, float, float, float]:
@@ -155,13 +250,13 @@ def _fmt(mean: float, std: float, digits: int = 2) -> tuple[str, str]:
     return f(mean), f(std)
 
 
-def markdown(table: pd.DataFrame, imps: pd.DataFrame) -> str:
+def markdown(table: pd.DataFrame, imps: pd.DataFrame, remarks: list[str] = ()) -> str:
     """The comparison as Markdown: Table 1's layout (times and paths over the reached runs), the
     success rate with its interval and the time with failures counted at the limit beside it;
     then the improvements."""
     lines = []
-    for (scenario, perception), g in table.groupby(["scenario", "perception"], sort=True):
-        lines += [f"### {scenario} ({perception} perception)", "",
+    for condition, g in table.groupby("condition", sort=True):
+        lines += [f"### {condition}", "",
                   "| pilot | reached | success (95 % CI) | time avg (s) | time std | path avg (cm) | path std "
                   "| time, failures at the limit (s) | collisions avg (all runs) | camera looks avg |",
                   "| --- | --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"]
@@ -171,10 +266,11 @@ def markdown(table: pd.DataFrame, imps: pd.DataFrame) -> str:
             tl, _ = _fmt(r.time_fail_at_limit_mean, 0.0)
             c, _ = _fmt(r.collisions_all_mean, 0.0)
             k, _ = _fmt(r.camera_looks_mean, 0.0, 1)
-            rate = f"{100 * r.success_rate:.0f} % [{100 * r.success_ci_low:.0f}, {100 * r.success_ci_high:.0f}]"
+            rate = "-" if not r.runs else \
+                f"{100 * r.success_rate:.0f} % [{100 * r.success_ci_low:.0f}, {100 * r.success_ci_high:.0f}]"
             lines.append(f"| {r.pilot} | {r.reached}/{r.runs} | {rate} | {t} | {ts} | {p} | {ps} | {tl} | {c} | {k} |")
         lines.append("")
-        gi = imps[(imps["scenario"] == scenario) & (imps["perception"] == perception)] if len(imps) else imps
+        gi = imps[imps["condition"] == condition] if len(imps) else imps
         if len(gi):
             lines += ["| pilot vs baseline | metric | pairs (both reached) | improvement | 95 % CI | p (paired) |",
                       "| --- | --- | ---: | ---: | --- | ---: |"]
@@ -186,23 +282,26 @@ def markdown(table: pd.DataFrame, imps: pd.DataFrame) -> str:
                                  f"{r.improvement_pct:+.1f} % | [{r.ci95_low:+.1f}, {r.ci95_high:+.1f}] % | "
                                  f"{r.p_value:.4f} |")
             lines.append("")
+    if remarks:
+        lines += ["Notes:", ""] + [f"- {n}" for n in remarks] + [""]
     return "\n".join(lines)
 
 
-def write_report(runs: pd.DataFrame, out: str | Path, baseline: str = "geometric") -> dict[str, Path]:
-    """Table (CSV, Markdown), trajectories and box plots into ``out``; returns what was written."""
+def write_report(runs: pd.DataFrame, out: str | Path, baseline: str = "geometric",
+                 skipped: list[tuple[str, str]] = ()) -> dict[str, Path]:
+    """Table (CSV, Markdown with its notes), trajectories and box plots into ``out``; returns what
+    was written."""
     from . import plots
 
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     table = pilot_table(runs)
-    imps = improvements(runs, baseline) if baseline in set(runs["pilot"]) else \
-        pd.DataFrame(columns=["scenario", "perception"])
+    imps = improvements(runs, baseline) if baseline in set(runs["pilot"]) else improvements(runs.iloc[:0], baseline)
     files = {"runs": out / "runs.csv", "table": out / "table.csv", "improvements": out / "improvements.csv",
              "markdown": out / "table.md"}
     runs.drop(columns=["xy"]).to_csv(files["runs"], index=False)
     table.to_csv(files["table"], index=False)
     imps.to_csv(files["improvements"], index=False)
-    files["markdown"].write_text(markdown(table, imps))
+    files["markdown"].write_text(markdown(table, imps, notes(runs, table, imps, baseline, skipped)))
     files.update(plots.comparison_plots(runs, out))
     return files

@@ -4,7 +4,7 @@ Heavy modules (numpy, pymunk, foxglove, pandas, matplotlib) are imported inside 
 that ``navcli --help`` answers at once. Exit codes: 0 success (mission reached its target),
 1 an internal error (the log is still closed and marked ``error``), 2 bad input (a refused
 scenario, a bad option), 3 the mission ended without reaching its target (timeout, blocked),
-130 interrupted by Ctrl-C (the log is closed and marked ``interrupted``).
+130 interrupted by Ctrl-C, 143 stopped by SIGTERM (the log is closed and marked ``interrupted``).
 """
 
 from __future__ import annotations
@@ -27,7 +27,7 @@ app = typer.Typer(
 
 PilotName = Enum("PilotName", {n.replace("-", "_"): n for n in PILOT_NAMES}, type=str)
 PerceptionName = Enum("PerceptionName", {n: n for n in PERCEPTIONS}, type=str)
-EXIT_BAD_INPUT, EXIT_FAILED_MISSION, EXIT_INTERRUPTED = 2, 3, 130
+EXIT_BAD_INPUT, EXIT_FAILED_MISSION, EXIT_INTERRUPTED, EXIT_TERMINATED = 2, 3, 130, 143
 
 
 def _err(msg: str) -> None:
@@ -116,19 +116,38 @@ def run(
     """Run one mission, record it to an MCAP log and print how it ended."""
     spec = _spec(scenario, param, seed=seed, pilot=pilot.value if pilot else None, time_limit=time_limit,
                  perception=perception.value if perception else None)
-    from .runner import run_mission
+    from .recorder import LogPathError, check_log_path
+    from .runner import Terminated, run_mission
+
+    try:
+        out = check_log_path(out if out is not None else spec.default_log_path(), (str(scenario),))
+    except LogPathError as e:
+        _err(f"error: --out: {e}")
+        raise typer.Exit(EXIT_BAD_INPUT) from None
 
     import signal
 
     def _terminate(signum, frame):  # a kill from a scheduler ends the run like Ctrl-C: log closed, marked
-        raise KeyboardInterrupt
+        raise Terminated
 
     signal.signal(signal.SIGTERM, _terminate)
     progress = _Progress(spec.time_limit, spec.scenario.name)
+    partial = out.with_name(out.name + ".partial")
+    if partial.is_file():
+        _err(f"note: {partial} is the unfinished log of an earlier run; it is kept, renamed {partial.name}-<n> "
+             f"(`navcli recover` makes a readable log of it)")
     if live:
-        _err(f"serving the run live on ws://127.0.0.1:{port} (open it in Foxglove: Open connection)")
+        where = f"ws://127.0.0.1:{port}" if port else "a free port of 127.0.0.1"
+        _err(f"serving the run live on {where} (open it in Foxglove: Open connection)")
     try:
         res = run_mission(spec, out=out, live=live, port=port, on_tick=progress)
+    except LogPathError as e:  # another run holds the log, or the --live port is taken
+        _err(f"error: {e}")
+        raise typer.Exit(EXIT_BAD_INPUT) from None
+    except Terminated:
+        progress.close()
+        _err("terminated (SIGTERM): the log is closed and marked 'interrupted'")
+        raise typer.Exit(EXIT_TERMINATED) from None
     except KeyboardInterrupt:
         progress.close()
         _err("interrupted: the log is closed and marked 'interrupted'")
@@ -309,7 +328,7 @@ def compare_pilots(
     for r in failed:
         j = r.job.spec
         typer.echo(f"  failed: {j.scenario.name} {j.pilot} seed {j.seed}: {r.outcome} {r.message} ({r.job.log})")
-    _report(out, names[-1], out)
+    _report(out, names[-1], out, [j.log for j in work])  # the runs planned, not every log under --out
 
 
 @app.command()
@@ -325,19 +344,58 @@ def report(
     _report(logdir, baseline, out or logdir)
 
 
-def _report(logdir: Path, baseline: str, out: Path) -> None:
+def _report(logdir: Path, baseline: str, out: Path, logs: list[str] | None = None) -> None:
+    """The table of the logs under ``logdir`` (or of ``logs``); an unreadable log is skipped with a
+    line naming it; the same run twice, or no readable log at all, exits 2."""
     from analysis import LogError
     from analysis.tables import load_runs, write_report
 
+    skipped: list[tuple[str, str]] = []
     try:
-        runs = load_runs(logdir)
+        runs = load_runs(logdir, paths=logs, skipped=skipped)
     except LogError as e:
+        for path, why in skipped:
+            _err(f"skipped {path}: {why}")
         _err(f"error: {e}")
         raise typer.Exit(EXIT_BAD_INPUT) from None
-    files = write_report(runs, out, baseline)
+    for path, why in skipped:
+        _err(f"skipped {path}: {why}")
+    files = write_report(runs, out, baseline, skipped)
     typer.echo("")
     typer.echo(files["markdown"].read_text())
     typer.echo(f"wrote {', '.join(str(p) for p in files.values())}")
+
+
+@app.command()
+def schema() -> None:
+    """Print the scenario format as a JSON Schema, for editors (the YAML language server:
+    `# yaml-language-server: $schema=scenario.schema.json` at the top of a scenario)."""
+    import json
+
+    from .scenario import json_schema
+
+    typer.echo(json.dumps(json_schema(), indent=2))
+
+
+@app.command()
+def recover(
+    partial: Annotated[Path, typer.Argument(help="The .partial file a killed run left (or a .partial-<n> kept aside).")],
+    out: Annotated[Optional[Path], typer.Option(help="The log to write (default: the name without .partial).")] = None,
+) -> None:
+    """Make a readable log of a run killed outright: its complete chunks (all but at most the last
+    simulated second), marked interrupted, "recovered after an abrupt end"."""
+    from .recorder import LogPathError, RecoverError, recover as recover_log
+
+    if not partial.is_file():
+        _err(f"error: {partial}: no such file")
+        raise typer.Exit(EXIT_BAD_INPUT)
+    try:
+        path, s = recover_log(partial, out)
+    except (RecoverError, LogPathError) as e:
+        _err(f"error: {e}")
+        raise typer.Exit(EXIT_BAD_INPUT) from None
+    typer.echo(f"recovered {s['ticks']} ticks, {s['time_s']:.1f} simulated s, into {path} (outcome interrupted); "
+               f"{partial} is left as it was")
 
 
 @app.command()

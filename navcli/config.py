@@ -19,7 +19,7 @@ from typing import Any, Mapping
 
 from . import __version__
 from .params import CONTROL_DT, PERCEPTIONS, PHYSICS_DT, PILOT_NAMES, Params
-from .scenario import Scenario, parse_scenario
+from .scenario import RANGES, Scenario, parse_scenario
 
 LOG_ROOT = Path("logs")
 
@@ -46,8 +46,15 @@ class RunSpec:
             raise ConfigError(f"unknown perception {self.perception!r} (expected one of: {', '.join(PERCEPTIONS)})")
         if not (isinstance(self.seed, int) and 0 <= self.seed < 2 ** 64):
             raise ConfigError(f"the seed must be a whole number from 0 to 2**64 - 1, got {self.seed!r}")
-        if not (0.0 < self.time_limit < float("inf")):
-            raise ConfigError(f"the time limit must be a positive number of seconds, got {self.time_limit!r}")
+        limit = RANGES["mission.time_limit"]
+        if not (0.0 < self.time_limit <= limit.hi):
+            raise ConfigError(f"the time limit must be more than 0 and at most {limit.hi:g} simulated seconds, "
+                              f"got {self.time_limit!r}")
+        bound = self.params.vision.noise_bound
+        noise = self.scenario.noise
+        for name, sd in (("noise.odometry", noise.odometry), ("noise.vision_distance", noise.vision_distance)):
+            if sd * bound >= 1.0:  # a relative error clipped at this many deviations could reach -100 %
+                raise ConfigError(f"{name} ({sd:g}) times vision.noise_bound ({bound:g}) must be below 1")
 
     @classmethod
     def build(cls, scenario: Scenario, *, seed: int | None = None, pilot: str | None = None,

@@ -46,8 +46,8 @@ class RobotParams:
     """Body and drive limits of the differential-drive robot (a Pioneer-sized disc); a scenario's
     ``robot:`` block sets ``radius`` and ``max_speed``."""
 
-    radius: float = _p(0.25, above=0.0)  # m
-    max_speed: float = _p(0.3, above=0.0)  # m/s
+    radius: float = _p(0.25, at_least=0.05, at_most=1.0)  # m
+    max_speed: float = _p(0.3, above=0.0, at_most=2.0)  # m/s; the physics step holds walls up to 2 m/s (tests/test_world.py)
     max_accel: float = _p(0.5, above=0.0)  # m/s^2
     max_turn_rate: float = _p(math.radians(90.0), above=0.0)  # rad/s
     max_turn_accel: float = _p(math.radians(180.0), above=0.0)  # rad/s^2
@@ -58,9 +58,9 @@ class PilotParams:
     """Parameters of the Pilot (pilot paper, sections 3.4 and 4); a scenario's ``pilot:`` block
     sets ``K``, ``A_t`` and ``R_min``."""
 
-    K: float = _p(18.0)  # eq. 2: repulsion constant
-    A_t: float = _p(50.0)  # eq. 5: constant target attraction
-    R_min: float = _p(0.40, above=0.0)  # m, radius of the grown obstacles (eq. 3-4)
+    K: float = _p(18.0, at_most=1000.0)  # eq. 2: repulsion constant
+    A_t: float = _p(50.0, at_most=1000.0)  # eq. 5: constant target attraction
+    R_min: float = _p(0.40, at_least=0.01, at_most=5.0)  # m, radius of the grown obstacles (eq. 3-4)
     bid_cap: float = _p(0.9, at_most=1.0)  # eq. 9: the Pilot never bids above this
     heading_gain: float = _p(1.5)  # 1/s: turn rate per radian of heading error
     turn_in_place: float = _p(math.radians(45.0))  # above this heading error the robot stops to turn

@@ -6,11 +6,19 @@ reaches the file. The file is written under ``<name>.partial`` and renamed when 
 finished name is always a complete file; a run ended by Ctrl-C or an error still closes its file
 properly, with a summary whose outcome says ``interrupted`` or ``error`` and why.
 
+Crash safety (our design): the writer finishes its chunk every simulated second
+(:data:`FLUSH_EVERY_NS`), so a run killed outright (SIGKILL, power loss) leaves a ``.partial``
+whose complete chunks hold all but at most the last simulated second; :func:`recover` rewrites
+them into a valid log marked ``interrupted``. A lock file (``<name>.lock``, held while the run
+writes) keeps two runs from writing one log; the ``.partial`` of a killed run is never deleted,
+only renamed aside (``<name>.partial-1`` ...) for :func:`recover`.
+
 With ``live`` the same Foxglove context also feeds a WebSocket server on localhost.
 """
 
 from __future__ import annotations
 
+import fcntl
 import math
 import os
 from pathlib import Path
@@ -52,6 +60,8 @@ if TYPE_CHECKING:
     from .mission import Event, Tick
     from .vision.visual_memory import Remembered
 
+FLUSH_EVERY_NS = 1_000_000_000  # a chunk is finished every simulated second: what a hard kill can lose
+RECOVERED_REASON = "recovered after an abrupt end"
 GROWN_REFRESH_NS = 1_000_000_000  # grown obstacles are redrawn on change, or every simulated second
 ARROW_MIN = 2.0  # force units: weaker forces are not drawn (2 cm at 100 units per metre)
 SYSTEMS = ("pilot", "navigation")  # the bidders at the robot-level auction, always in /bids
@@ -132,20 +142,99 @@ def _json(msg: dict) -> bytes:
     return orjson.dumps(msg)
 
 
+class LogPathError(ValueError):
+    """A log path that cannot be written (a folder, not ``.mcap``, being written by another run)."""
+
+
+def check_log_path(path: Path, protect: tuple[str, ...] = ()) -> Path:
+    """``path`` as a log file name, or :class:`LogPathError` saying why not: it must end in
+    ``.mcap``, not be a folder, not be one of ``protect`` (the scenario file), and its folder
+    must be creatable and writable. Checked before a mission starts, so a bad ``--out`` costs
+    nothing."""
+    if str(path) in ("", ".") or path.name in ("", ".", ".."):
+        raise LogPathError(f"{str(path)!r} is not a file name")
+    if path.is_dir():
+        raise LogPathError(f"{path} is a folder; give a file name ending in .mcap")
+    if path.suffix != ".mcap":
+        raise LogPathError(f"{path}: a log file name ends in .mcap")
+    for other in protect:
+        if other and path.exists() and Path(other).exists() and path.samefile(other):
+            raise LogPathError(f"{path} is the scenario file itself")
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+    except OSError as e:
+        raise LogPathError(f"cannot create the folder {path.parent}: {e.strerror or e}") from None
+    if not os.access(path.parent, os.W_OK | os.X_OK):
+        raise LogPathError(f"cannot write in the folder {path.parent} (permission denied)")
+    if path.exists() and not os.access(path, os.W_OK):
+        raise LogPathError(f"cannot overwrite {path} (permission denied)")
+    return path
+
+
+class _Lock:
+    """An exclusive, non-blocking ``flock`` on ``<log>.lock`` for the life of a run; the file is
+    removed on release (re-checked by inode, so a run never holds a lock on a removed file)."""
+
+    def __init__(self, path: Path):
+        self.path = path
+        while True:
+            fd = os.open(path, os.O_RDWR | os.O_CREAT, 0o644)
+            try:
+                fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            except OSError:
+                os.close(fd)
+                raise LogPathError(f"{path.with_suffix('')} is being written by another run") from None
+            try:
+                same = os.fstat(fd).st_ino == os.stat(path).st_ino
+            except FileNotFoundError:
+                same = False
+            if same:
+                self.fd = fd
+                return
+            os.close(fd)  # the file was removed by the run that held it: take the new one
+
+    def release(self) -> None:
+        if self.fd is not None:
+            try:
+                os.unlink(self.path)
+            finally:
+                os.close(self.fd)
+                self.fd = None
+
+
+def _aside(partial: Path) -> Path:
+    """The first free ``<partial>-<n>``: where the ``.partial`` of a killed run is kept."""
+    n = 1
+    while partial.with_name(f"{partial.name}-{n}").exists():
+        n += 1
+    return partial.with_name(f"{partial.name}-{n}")
+
+
 class Recorder:
     """Writes one run to ``path`` (see module docstring). Use :meth:`start`, :meth:`tick` per
     control tick, then :meth:`finish` exactly once, also after an interruption."""
 
-    def __init__(self, path: str | Path, *, live: bool = False, port: int = 8765):
-        self.path = Path(path)
+    def __init__(self, path: str | Path, *, live: bool = False, port: int = 8765, protect: tuple[str, ...] = ()):
+        self.path = check_log_path(Path(path), protect)
         self.partial = self.path.with_name(self.path.name + ".partial")
-        self.path.parent.mkdir(parents=True, exist_ok=True)
-        if self.partial.exists():
-            self.partial.unlink()  # the remains of a run that was killed outright
-        ctx = foxglove.Context()
-        self.ctx = ctx
-        self.writer = foxglove.open_mcap(self.partial, context=ctx)
-        self.server = foxglove.start_server(name="navcli", port=port, context=ctx) if live else None
+        self.lock = _Lock(self.path.with_name(self.path.name + ".lock"))
+        self.kept_aside: Path | None = None  # where a killed run's .partial was moved
+        try:
+            if self.partial.exists():
+                self.kept_aside = _aside(self.partial)
+                os.replace(self.partial, self.kept_aside)
+            ctx = foxglove.Context()
+            self.ctx = ctx
+            self.writer = foxglove.open_mcap(self.partial, context=ctx)
+            try:
+                self.server = foxglove.start_server(name="navcli", port=port, context=ctx) if live else None
+            except Exception as e:
+                self.writer.close()
+                os.unlink(self.partial)
+                raise LogPathError(f"cannot serve on port {port}: {e}") from None
+        except BaseException:
+            self.lock.release()
+            raise
         self.tf = FrameTransformsChannel("/tf", context=ctx)
         self.pose = PoseInFrameChannel("/robot/pose", context=ctx)
         self.odom = PoseInFrameChannel("/robot/odometry", context=ctx)
@@ -163,6 +252,8 @@ class Recorder:
         self._R_min = 0.0
         self._fov = (0.0, 0.0)  # camera field of view (rad) and range (m)
         self._pan_drawn: float | None = None
+        self._flushed_ns = 0
+        self.pose_ns = -1  # the time of the last pose written
 
     @property
     def port(self) -> int | None:
@@ -189,6 +280,7 @@ class Recorder:
         self._pose_msgs(pose, odometry, 0)
 
     def _pose_msgs(self, truth: Pose, odom: Pose, ns: int) -> None:
+        self.pose_ns = ns
         ts = _ts(ns)
         q = _yaw(truth.theta)
         self.tf.log(FrameTransforms(transforms=[FrameTransform(
@@ -226,23 +318,32 @@ class Recorder:
                                               entities=_memory_entities(t.memory, ns)), log_time=ns)
         for e in t.events:
             self.event(e, ns)
+        if ns - self._flushed_ns >= FLUSH_EVERY_NS:
+            self.writer.flush()
+            self._flushed_ns = ns
 
     def event(self, e: Event, ns: int) -> None:
         self.events.log(Log(timestamp=_ts(ns), level=_LEVEL[e.level], message=e.message, name=e.source),
                         log_time=ns)
 
-    def finish(self, summary: dict, ns: int) -> Path:
-        """Write the summary, close the file and give it its final name. Idempotent."""
+    def finish(self, summary: dict, ns: int, poses: tuple[Pose, Pose] | None = None) -> Path:
+        """Write the summary, close the file and give it its final name. Idempotent.
+
+        ``poses`` (truth, odometry) at ``ns`` are written first if no pose was written at that
+        time (a run stopped inside a tick), so the summary's time is always the last pose's."""
         if self._closed:
             return self.path
         self._closed = True
         try:
+            if poses is not None and self.pose_ns != ns:
+                self._pose_msgs(*poses, ns)
             self.summary.log(_json(summary), log_time=ns)
         finally:
             self.writer.close()
             if self.server is not None:
                 self.server.stop()
             os.replace(self.partial, self.path)
+            self.lock.release()
         return self.path
 
 
@@ -361,3 +462,97 @@ def _arena_entities(sc: Scenario) -> list[SceneEntity]:
         target = {"cylinders": [_cylinder(*tg.point, r, 0.0, 0.02, _GREEN)]}
     ents.append(SceneEntity(timestamp=ts, frame_id="world", id="target", **target))
     return ents
+
+
+class RecoverError(ValueError):
+    """A file :func:`recover` cannot make a log of (not an MCAP, no navcli run in it)."""
+
+
+def recover(partial: str | Path, out: str | Path | None = None) -> tuple[Path, dict]:
+    """Rewrite the complete chunks of a killed run's ``.partial`` into a valid log; return its
+    path and summary.
+
+    Records are read in order with CRCs checked, up to the first incomplete or damaged one (the
+    chunk being written when the process died); schemas, channels, messages, the ``run``
+    metadata and the scenario attachment are copied unchanged. A ``/mission/summary`` is added,
+    outcome ``interrupted``, reason :data:`RECOVERED_REASON`, at the time of the last pose kept,
+    with the path length of the poses kept, the bumper contacts of ``/events``, the images of
+    ``/vision`` and the ticks of ``/pilot``, so it agrees with the poses by construction.
+    ``out`` defaults to the name without ``.partial`` (or ``-<n>``); an existing file is never
+    overwritten."""
+    from mcap.records import Attachment, Channel, Message, Metadata, Schema
+    from mcap.stream_reader import StreamReader
+    from mcap.writer import Writer
+    from mcap_protobuf.decoder import DecoderFactory
+
+    src = Path(partial)
+    if out is None:
+        stem = src.name.rpartition(".partial")[0] if ".partial" in src.name else src.stem + "-recovered"
+        out = src.with_name(stem if stem.endswith(".mcap") else stem + ".mcap")
+    out = check_log_path(Path(out), (str(src),))
+    if out.exists():
+        raise RecoverError(f"{out} exists; give another --out")
+    schemas, channels, messages, metadata, attachments = {}, {}, [], [], []
+    try:
+        with src.open("rb") as f:
+            try:
+                for r in StreamReader(f, validate_crcs=True).records:
+                    if isinstance(r, Schema):
+                        schemas[r.id] = r
+                    elif isinstance(r, Channel):
+                        channels[r.id] = r
+                    elif isinstance(r, Message):
+                        messages.append(r)
+                    elif isinstance(r, Metadata):
+                        metadata.append(r)
+                    elif isinstance(r, Attachment):
+                        attachments.append(r)
+            except Exception:  # the record being written when the run died: everything before it is kept
+                pass
+    except OSError as e:
+        raise RecoverError(f"{src}: cannot be read ({e.strerror or e})") from None
+    run = next((m.metadata for m in metadata if m.name == "run"), None)
+    if run is None or not channels:
+        raise RecoverError(f"{src}: no navcli run found in it (not a navcli log, or killed before its first chunk)")
+    topic = {cid: c.topic for cid, c in channels.items()}
+    if any(topic.get(m.channel_id) == "/mission/summary" for m in messages):
+        raise RecoverError(f"{src}: already holds a summary; it is a complete log, rename it")
+    pose_channel = next((cid for cid, t in topic.items() if t == "/robot/pose"), None)
+    decode = DecoderFactory().decoder_for("protobuf", schemas[channels[pose_channel].schema_id]) \
+        if pose_channel is not None else None
+    poses = [(m.log_time, decode(m.data).pose.position) for m in messages if m.channel_id == pose_channel]
+    if not poses:
+        raise RecoverError(f"{src}: no pose was written before the run died")
+    poses.sort(key=lambda tp: tp[0])
+    end_ns = poses[-1][0]
+    messages = [m for m in messages if m.log_time <= end_ns]
+    events = [m for m in messages if topic[m.channel_id] == "/events"]
+    log_dec = DecoderFactory().decoder_for("protobuf", schemas[channels[events[0].channel_id].schema_id]) if events else None
+    summary = {
+        "scenario": run.get("scenario", ""), "seed": int(run.get("seed", 0)), "pilot": run.get("pilot", ""),
+        "outcome": "interrupted", "reason": RECOVERED_REASON, "time_s": end_ns / 1e9,
+        "path_length_m": sum(math.hypot(b.x - a.x, b.y - a.y) for (_, a), (_, b) in zip(poses, poses[1:])),
+        "collisions": sum(1 for m in events if log_dec(m.data).message.startswith("bumper contact")),
+        "camera_looks": sum(1 for m in messages if topic[m.channel_id] == "/vision" and orjson.loads(m.data).get("image")),
+        "ticks": sum(1 for m in messages if topic[m.channel_id] == "/pilot"),
+        "navcli_version": run.get("navcli_version", ""), "run_id": run.get("run_id", ""),
+    }
+    tmp = out.with_name(out.name + ".recovering")  # never the source, which may be <out>.partial
+    with tmp.open("wb") as f:
+        w = Writer(f)
+        w.start(profile="", library="navcli recover")
+        schema_ids = {sid: w.register_schema(s.name, s.encoding, s.data) for sid, s in schemas.items()}
+        channel_ids = {cid: w.register_channel(c.topic, c.message_encoding, schema_ids.get(c.schema_id, 0), c.metadata)
+                       for cid, c in channels.items()}
+        for m in metadata:
+            w.add_metadata(m.name, m.metadata)
+        for a in attachments:
+            w.add_attachment(a.create_time, a.log_time, a.name, a.media_type, a.data)
+        for m in messages:
+            w.add_message(channel_ids[m.channel_id], m.log_time, m.data, m.publish_time, m.sequence)
+        sid = w.register_schema(SUMMARY_SCHEMA["title"], "jsonschema", orjson.dumps(SUMMARY_SCHEMA))
+        cid = w.register_channel("/mission/summary", "json", sid)
+        w.add_message(cid, end_ns, _json(summary), end_ns)
+        w.finish()
+    os.replace(tmp, out)
+    return out, summary

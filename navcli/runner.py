@@ -7,13 +7,34 @@ exception) the recorder is finished with a summary that says so, and the file ge
 
 from __future__ import annotations
 
+import signal
+import threading
 import time
+from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable
 
 from .config import RunSpec
 from .mission import Event, Mission, Tick
+
+
+class Terminated(KeyboardInterrupt):
+    """SIGTERM (a scheduler's or a shell's kill): ends a run like Ctrl-C, and is logged as such."""
+
+
+@contextmanager
+def _signals_held():
+    """Ctrl-C and SIGTERM wait while a log is being closed (a second Ctrl-C a millisecond after
+    the first must not leave the file half-renamed); they are delivered right after."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    old = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT, signal.SIGTERM})
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, old)
 
 
 @dataclass(frozen=True)
@@ -36,17 +57,18 @@ def run_mission(spec: RunSpec, *, out: Path | None = None, record: bool = True, 
     ``record=False`` runs without a log (the benchmark's baseline). ``live`` serves the run to
     Foxglove on ``ws://localhost:<port>`` and paces it to real time. ``on_tick`` is called after
     every tick (progress display; tests use it to interrupt a run). A ``KeyboardInterrupt`` ends
-    the run as ``interrupted`` and is re-raised after the log is closed; any other exception ends
-    it as ``error`` and is re-raised likewise.
+    the run as ``interrupted`` (:class:`Terminated`: by SIGTERM) and is re-raised after the log is
+    closed; any other exception ends it as ``error`` and is re-raised likewise. A log path that
+    cannot be written raises :class:`~navcli.recorder.LogPathError` before the mission starts.
     """
     from .recorder import Recorder  # foxglove is imported only when a log is written
 
-    mission = Mission(spec)
     path = None
     recorder = None
     if record or live:
         path = out or spec.default_log_path()
-        recorder = Recorder(path, live=live, port=port)
+        recorder = Recorder(path, live=live, port=port, protect=(spec.scenario.source,))
+    mission = Mission(spec)
     t0 = time.perf_counter()
     try:
         if recorder:
@@ -64,16 +86,21 @@ def run_mission(spec: RunSpec, *, out: Path | None = None, record: bool = True, 
                 if lag > 0:
                     time.sleep(lag)
     except BaseException as e:
-        if isinstance(e, KeyboardInterrupt):
+        if isinstance(e, Terminated):
+            mission.abort("interrupted", "stopped by SIGTERM")
+        elif isinstance(e, KeyboardInterrupt):
             mission.abort("interrupted", "stopped by the user (Ctrl-C)")
         else:
             mission.abort("error", f"{type(e).__name__}: {e}")
         if recorder:
-            ns = mission.world.time_ns
-            recorder.event(Event(mission.time, "mission", "error", mission.reason), ns)
-            recorder.finish(mission.summary(), ns)
+            with _signals_held():
+                w = mission.world
+                ns = w.time_ns
+                recorder.event(Event(mission.time, "mission", "error", mission.reason), ns)
+                recorder.finish(mission.summary(), ns, (w.pose, w.odometry.pose))
         raise
     wall = time.perf_counter() - t0
     if recorder:
-        recorder.finish(mission.summary(), mission.world.time_ns)
+        with _signals_held():
+            recorder.finish(mission.summary(), mission.world.time_ns)
     return RunResult(mission.summary(), path if record or live else None, wall)

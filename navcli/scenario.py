@@ -1,4 +1,9 @@
-"""Scenario files: YAML in, frozen dataclasses out (the scenario format, version 1, in the README).
+"""Scenario files: YAML in, frozen dataclasses out (the scenario format, version 1, in
+docs/scenario-format.md).
+
+What is read is bounded before it is built (size, depth, aliases expanded, value length), and
+every number is finite and within its documented range (:data:`RANGES`), so that whatever loads
+can be simulated.
 
 Every refusal names the file, the line and the field, says what is wrong and what was expected,
 so that ``navcli validate`` and ``navcli run`` can print it and exit non-zero without a
@@ -8,6 +13,7 @@ in the dataclasses; lengths are metres.
 
 from __future__ import annotations
 
+import dataclasses
 import hashlib
 import math
 import re
@@ -21,7 +27,71 @@ from .geometry import Point, distance_to_segment
 from .params import DEFAULTS, PERCEPTIONS, PILOT_NAMES, Params
 
 SUPPORTED_VERSIONS = (1,)
-NAME_RE = re.compile(r"^[a-z0-9-]+$")
+NAME_RE = re.compile(r"[a-z0-9-]{1,64}")
+"""A scenario's name: it names a folder and log files, so 1 to 64 of a-z, 0-9 and '-' (matched whole)."""
+MAX_ITEMS = 1000
+"""Most obstacles, and most landmarks, in one scenario (the benchmark measures 200 objects)."""
+MAX_ID = 64
+"""Longest landmark id (characters)."""
+
+
+@dataclass(frozen=True)
+class Range:
+    """The values a number field accepts: ``lo <= v <= hi`` (``lo < v`` if ``lo_open``), in
+    ``unit``. Chosen so that anything accepted can be simulated (our design, see docs/scenario-format.md)."""
+
+    lo: float
+    hi: float
+    unit: str = ""
+    lo_open: bool = False
+
+    def problem(self, v: float) -> str | None:
+        """Why ``v`` is out of range, or None."""
+        if (v <= self.lo if self.lo_open else v < self.lo) or v > self.hi:
+            u = f" {self.unit}" if self.unit else ""
+            low = f"greater than {self.lo:g}" if self.lo_open else f"at least {self.lo:g}"
+            if v <= 0 < self.lo or (self.lo_open and self.lo == 0 and v <= 0):  # a size of zero or less
+                return f"must be greater than zero, found {v:g}"
+            return f"must be {low} and at most {self.hi:g}{u}, found {v:g}{u}"
+        return None
+
+
+def _param_range(name: str, unit: str) -> Range:
+    """The range of a parameter a scenario block may set, as declared in :mod:`navcli.params`."""
+    group, _, key = name.partition(".")
+    m = next(f for f in dataclasses.fields(getattr(Params(), group)) if f.name == key).metadata
+    lo, lo_open = (m["above"], True) if m.get("above") is not None else (m["at_least"], False)
+    return Range(lo, m["at_most"], unit, lo_open)
+
+
+RANGES: dict[str, Range] = {
+    "arena.width": Range(1.0, 100.0, "m"),
+    "arena.height": Range(1.0, 100.0, "m"),
+    "point": Range(0.0, 100.0, "m"),  # any coordinate, before it is checked against the arena
+    "robot.heading_deg": Range(-360.0, 360.0, "deg"),
+    "robot.radius": _param_range("robot.radius", "m"),
+    "robot.max_speed": _param_range("robot.max_speed", "m/s"),
+    "target.tolerance": Range(0.01, 10.0, "m"),
+    "circle.radius": Range(0.01, 50.0, "m"),
+    "segment.thickness": Range(0.01, 1.0, "m"),
+    "landmark.radius": Range(0.01, 5.0, "m"),
+    "mission.time_limit": Range(0.0, 86_400.0, "s", lo_open=True),  # up to a simulated day
+    "mission.seed": Range(0, 2 ** 64 - 1),
+    # noise * NOISE_BOUND < 1, so a clipped error never turns a distance or a scale negative
+    "noise.odometry": Range(0.0, 0.3),
+    "noise.vision_heading_deg": Range(0.0, 20.0, "deg"),
+    "noise.vision_distance": Range(0.0, 0.3),
+    "camera.fov_deg": Range(0.0, 360.0, "deg", lo_open=True),
+    "camera.range": Range(0.1, 100.0, "m"),
+    "camera.pan_limit_deg": Range(0.0, 180.0, "deg"),
+    "camera.pan_speed_deg": Range(0.0, 3600.0, "deg/s", lo_open=True),
+    "camera.look_time": Range(0.0, 10.0, "s"),
+    "pilot.K": _param_range("pilot.K", ""),
+    "pilot.A_t": _param_range("pilot.A_t", ""),
+    "pilot.R_min": _param_range("pilot.R_min", "m"),
+}
+"""Every number field's range, by its field (``circle.radius`` for ``obstacles[i].circle.radius``);
+``navcli schema`` and docs/scenario-format.md show the same table."""
 
 
 # --- The values a scenario is made of -------------------------------------------------------
@@ -193,19 +263,57 @@ class ScenarioError(ValueError):
 
     def __init__(self, problems: list[Problem]):
         self.problems = problems
-        super().__init__("\n".join(str(p) for p in problems))
+        shown = [str(p) for p in problems[:MAX_PROBLEMS]]
+        if len(problems) > MAX_PROBLEMS:
+            shown.append(f"... and {len(problems) - MAX_PROBLEMS} more problems in {problems[0].file}")
+        super().__init__("\n".join(shown))
 
 
 # --- Loading -------------------------------------------------------------------------------
+# What the loader reads at most, checked before the YAML is built into values (our design: a
+# scenario is a few kilobytes; these bounds are hundreds of times that, and each keeps a hostile
+# file from costing more than a fraction of a second or a few megabytes).
+MAX_BYTES = 256_000
+"""Largest scenario file read (bytes)."""
+MAX_DEPTH = 32
+"""Deepest nesting of mappings and lists (a scenario needs 5)."""
+MAX_NODES = 20_000
+"""Most values (keys, items, scalars) in the document, every alias counted as what it expands to,
+so an alias bomb is refused before it is expanded."""
+MAX_SCALAR = 10_000
+"""Longest single value (characters)."""
+MAX_DIGITS = 30
+"""Longest plain number (characters); a longer one cannot be a seed or a size."""
+MAX_PROBLEMS = 20
+"""Problems printed for one file; the rest are counted."""
+_NOT_YAML_CHARS = re.compile("[^\x09\x0A\x0D\x20-\x7E\x85\xA0-\uD7FF\uE000-\uFFFD\U00010000-\U0010FFFF]")
+_CONTROL = re.compile("[\x00-\x08\x0b-\x1f\x7f-\x9f]")
+_SURROGATE = re.compile("[\ud800-\udfff]")
+_LONG_NUMBER = re.compile(r"^[-+]?[0-9_.,:]+([eE][-+]?[0-9]+)?$")
+_Loader = getattr(yaml, "CSafeLoader", yaml.SafeLoader)
+"""libyaml's safe loader when PyYAML was built with it (about 10x faster, and its nodes keep
+their line); PyYAML's pure-Python safe loader otherwise. Both refuse every ``!!python`` tag."""
+
+
 def load_scenario(path: str | Path) -> Scenario:
     """Read and validate a scenario file; raise :class:`ScenarioError` on any refusal."""
     p = Path(path)
     try:
-        text = p.read_text(encoding="utf-8")
+        if p.is_dir():
+            raise ScenarioError([Problem(str(p), None, "", "is a folder, expected a scenario file")])
+        with p.open("rb") as f:
+            data = f.read(MAX_BYTES + 1)
     except FileNotFoundError:
         raise ScenarioError([Problem(str(p), None, "", "no such file")]) from None
-    except (OSError, UnicodeDecodeError) as e:
-        raise ScenarioError([Problem(str(p), None, "", f"cannot be read ({e})")]) from None
+    except OSError as e:
+        raise ScenarioError([Problem(str(p), None, "", f"cannot be read ({e.strerror or e})")]) from None
+    if len(data) > MAX_BYTES:
+        raise ScenarioError([Problem(str(p), None, "", f"is larger than {MAX_BYTES:,} bytes; a scenario is a few kilobytes")])
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError as e:
+        line = data[:e.start].count(b"\n") + 1
+        raise ScenarioError([Problem(str(p), line, "", f"is not UTF-8 text (byte 0x{data[e.start]:02x})")]) from None
     return parse_scenario(text, str(p))
 
 
@@ -215,19 +323,84 @@ def parse_scenario(text: str, source: str = "<string>") -> Scenario:
     return _Reader(source, lines).scenario(data, text)
 
 
+def _refuse(source: str, line: int | None, message: str, field: str = "") -> ScenarioError:
+    return ScenarioError([Problem(source, line, field, message)])
+
+
+def _bounded(text: str, source: str) -> None:
+    """Refuse, before anything is built, a text that breaks one of the bounds above: characters
+    YAML forbids, too deep, too many values (aliases expanded), an alias to itself, a value too
+    long. One pass over the parser's events: linear in the file, whatever its aliases."""
+    if len(text) > MAX_BYTES:
+        raise _refuse(source, None, f"is larger than {MAX_BYTES:,} characters; a scenario is a few kilobytes")
+    bad = _NOT_YAML_CHARS.search(text)
+    if bad:
+        line = text.count("\n", 0, bad.start()) + 1
+        raise _refuse(source, line, f"holds the character U+{ord(bad.group()):04X}, which a YAML file may not hold")
+    loader = _Loader(text)
+    try:
+        depth = nodes = 0
+        sizes: dict[str, int] = {}  # anchor -> values it stands for
+        open_: list[tuple[str | None, int]] = []  # collections being read: (anchor, nodes before it)
+        while loader.check_event():
+            ev = loader.get_event()
+            line = ev.start_mark.line + 1 if ev.start_mark else None
+            if isinstance(ev, (yaml.MappingStartEvent, yaml.SequenceStartEvent)):
+                depth += 1
+                if depth > MAX_DEPTH:
+                    raise _refuse(source, line, f"is nested more than {MAX_DEPTH} levels deep")
+                open_.append((ev.anchor, nodes))
+                nodes += 1
+            elif isinstance(ev, (yaml.MappingEndEvent, yaml.SequenceEndEvent)):
+                depth -= 1
+                anchor, before = open_.pop()
+                if anchor is not None:
+                    sizes[anchor] = nodes - before
+            elif isinstance(ev, yaml.ScalarEvent):
+                if len(ev.value) > MAX_SCALAR:
+                    raise _refuse(source, line, f"holds a value of {len(ev.value):,} characters (at most {MAX_SCALAR:,})")
+                if not ev.style and len(ev.value) > MAX_DIGITS and _LONG_NUMBER.match(ev.value):
+                    raise _refuse(source, line, f"holds a number of {len(ev.value)} characters, too large for any field")
+                nodes += 1
+                if ev.anchor is not None:
+                    sizes[ev.anchor] = 1
+            elif isinstance(ev, yaml.AliasEvent):
+                if ev.anchor not in sizes:
+                    inside = any(a == ev.anchor for a, _ in open_)
+                    raise _refuse(source, line, f"the alias *{ev.anchor} " + (
+                        "refers to the value that holds it (a loop)" if inside else "names no anchor defined before it"))
+                nodes += sizes[ev.anchor]
+            if nodes > MAX_NODES:
+                raise _refuse(source, line, f"holds more than {MAX_NODES:,} values (aliases expanded)")
+    except yaml.MarkedYAMLError as e:
+        raise _yaml_problem(e, source) from None
+    except yaml.YAMLError as e:
+        raise _refuse(source, None, f"not valid YAML: {e}") from None
+    finally:
+        loader.dispose()
+
+
+def _yaml_problem(e: yaml.MarkedYAMLError, source: str) -> ScenarioError:
+    mark = e.problem_mark or e.context_mark
+    line = mark.line + 1 if mark else None
+    what = e.problem or e.context or "malformed"
+    return _refuse(source, line, f"not valid YAML: {what}")
+
+
 def _parse_yaml(text: str, source: str) -> tuple[Any, dict[tuple, int]]:
-    """Safe-load ``text`` once, keeping the line of every key and item (1-based)."""
-    loader = yaml.SafeLoader(text)
+    """Safe-load ``text`` once it is known to be bounded, keeping the line of every key and item
+    (1-based)."""
+    _bounded(text, source)
+    loader = _Loader(text)
     try:
         root = loader.get_single_node()
         data = loader.construct_document(root) if root is not None else None
     except yaml.MarkedYAMLError as e:
-        mark = e.problem_mark or e.context_mark
-        line = mark.line + 1 if mark else None
-        what = e.problem or e.context or "malformed"
-        raise ScenarioError([Problem(source, line, "", f"not valid YAML: {what}")]) from None
+        raise _yaml_problem(e, source) from None
     except yaml.YAMLError as e:
-        raise ScenarioError([Problem(source, None, "", f"not valid YAML: {e}")]) from None
+        raise _refuse(source, None, f"not valid YAML: {e}") from None
+    except ValueError as e:  # a value the constructor cannot build (a date out of range ...)
+        raise _refuse(source, None, f"not valid YAML: {e}") from None
     finally:
         loader.dispose()
     if root is None:
@@ -243,6 +416,9 @@ def _parse_yaml(text: str, source: str) -> tuple[Any, dict[tuple, int]]:
             seen: set = set()
             for k, v in node.value:
                 key = k.value
+                if not isinstance(key, str):  # a list or mapping used as a key
+                    problems.append(Problem(source, k.start_mark.line + 1, _dotted(path), "a key must be a name"))
+                    continue
                 if key in seen:
                     problems.append(Problem(source, k.start_mark.line + 1, _dotted(path + (key,)), "appears twice in the same mapping"))
                 seen.add(key)
@@ -264,6 +440,19 @@ def _dotted(path: tuple) -> str:
     for p in path:
         out += f"[{p}]" if isinstance(p, int) else (f".{p}" if out else str(p))
     return out
+
+
+def _number_hint(v: Any) -> str:
+    """The YAML 1.1 pitfall: ``1e-3`` (no point, or no sign in the exponent) is text, not a number."""
+    if isinstance(v, str):
+        try:
+            float(v.replace("_", ""))
+        except ValueError:
+            return ""
+        if v.strip().lower() not in ("nan", "inf", "-inf", "+inf", "infinity", "-infinity"):
+            return ("; YAML 1.1 reads a number written like 1e-3 as text: write it with a point and a signed "
+                    "exponent, 1.0e-3 or 1.0e+3 (or plainly, 0.001)")
+    return ""
 
 
 def _type_name(v: Any) -> str:
@@ -322,31 +511,49 @@ class _Reader:
                 raise self.fail(path, f"missing required field {k!r}")
         return v
 
-    def number(self, v: Any, path: tuple, *, positive: bool = False, nonneg: bool = False) -> float:
-        if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
-            raise self.fail(path, f"expected a number, found {_type_name(v)}")
-        if positive and v <= 0:
-            raise self.fail(path, f"must be greater than zero, found {v}")
-        if nonneg and v < 0:
-            raise self.fail(path, f"must not be negative, found {v}")
-        return float(v)
+    def number(self, v: Any, path: tuple, rng: str | None = None) -> float:
+        """A finite number within ``RANGES[rng]``."""
+        if isinstance(v, bool) or not isinstance(v, (int, float)):
+            raise self.fail(path, f"expected a number, found {_type_name(v)}{_number_hint(v)}")
+        try:
+            f = float(v)
+        except OverflowError:
+            raise self.fail(path, f"expected a number of sensible size, found one of {len(str(v))} digits") from None
+        if not math.isfinite(f):
+            raise self.fail(path, f"expected a finite number, found {v}")
+        problem = RANGES[rng].problem(f) if rng else None
+        if problem:
+            raise self.fail(path, problem)
+        return f
 
-    def integer(self, v: Any, path: tuple) -> int:
+    def integer(self, v: Any, path: tuple, rng: str) -> int:
         if isinstance(v, bool) or not isinstance(v, int):
             raise self.fail(path, f"expected a whole number, found {_type_name(v)}")
-        if v < 0:
-            raise self.fail(path, f"must not be negative, found {v}")
+        r = RANGES[rng]
+        if not r.lo <= v <= r.hi:
+            raise self.fail(path, f"must be a whole number from {r.lo} to {r.hi} (2**64 - 1), found {v}")
         return v
 
     def text(self, v: Any, path: tuple) -> str:
         if not isinstance(v, str):
             raise self.fail(path, f"expected text, found {_type_name(v)}")
+        if _CONTROL.search(v) or _SURROGATE.search(v):
+            raise self.fail(path, f"holds a control character or an unpaired surrogate ({v[:40]!r})")
         return v
 
     def point(self, v: Any, path: tuple) -> Point:
         if not isinstance(v, list) or len(v) != 2:
             raise self.fail(path, f"expected a point [x, y] in metres, found {_type_name(v)}")
-        return (self.number(v[0], path + (0,)), self.number(v[1], path + (1,)))
+        return (self.number(v[0], path + (0,), "point"), self.number(v[1], path + (1,), "point"))
+
+    def ident(self, v: Any, path: tuple) -> str:
+        """A landmark id: text or a whole number, printable, at most MAX_ID characters."""
+        if isinstance(v, bool) or not isinstance(v, (str, int)):
+            raise self.fail(path, f"expected a landmark id, found {_type_name(v)}")
+        s = self.text(str(v), path)
+        if not s.strip() or len(s) > MAX_ID or not s.isprintable():
+            raise self.fail(path, f"a landmark id is 1 to {MAX_ID} printable characters, found {s[:80]!r}")
+        return s
 
     def opt(self, m: dict, key: str, path: tuple, getter, default, **kw):
         return getter(m[key], path + (key,), **kw) if key in m else default
@@ -391,14 +598,14 @@ class _Reader:
 
     def name(self, v: Any) -> str:
         s = self.text(v, ("name",))
-        if not NAME_RE.match(s):
-            raise self.fail(("name",), f"{s!r} may hold only a-z, 0-9 and '-' (it names log files)")
+        if not NAME_RE.fullmatch(s):
+            raise self.fail(("name",), f"{s[:80]!r} may hold only a-z, 0-9 and '-', 1 to 64 of them (it names log files)")
         return s
 
     def arena(self, v: Any) -> Arena:
         m = self.mapping(v, ("arena",), ("width", "height"), ())
-        w = self.number(m["width"], ("arena", "width"), positive=True)
-        h = self.number(m["height"], ("arena", "height"), positive=True)
+        w = self.number(m["width"], ("arena", "width"), "arena.width")
+        h = self.number(m["height"], ("arena", "height"), "arena.height")
         return Arena(w, h)
 
     def robot(self, v: Any) -> tuple[RobotSpec, dict[str, float]]:
@@ -406,8 +613,9 @@ class _Reader:
         P = ("robot",)
         m = self.mapping(v, P, ("start",), ("heading_deg", "radius", "max_speed"))
         spec = RobotSpec(start=self.point(m["start"], P + ("start",)),
-                         heading=math.radians(self.opt(m, "heading_deg", P, self.number, DEFAULTS.heading_deg)))
-        return spec, {f"robot.{k}": self.number(m[k], P + (k,), positive=True) for k in ("radius", "max_speed") if k in m}
+                         heading=math.radians(self.opt(m, "heading_deg", P, self.number, DEFAULTS.heading_deg,
+                                                       rng="robot.heading_deg")))
+        return spec, {f"robot.{k}": self.number(m[k], P + (k,), f"robot.{k}") for k in ("radius", "max_speed") if k in m}
 
     def target(self, v: Any, landmarks: tuple[Landmark, ...]) -> Target:
         P = ("target",)
@@ -416,14 +624,11 @@ class _Reader:
         if len(forms) != 1:
             found = " and ".join(forms) if forms else "none"
             raise self.fail(P, f"needs exactly one of 'at', 'landmark' or 'line', found {found}")
-        tol = self.opt(m, "tolerance", P, self.number, DEFAULTS.target_tolerance, positive=True)
+        tol = self.opt(m, "tolerance", P, self.number, DEFAULTS.target_tolerance, rng="target.tolerance")
         if "at" in m:
             return Target("point", self.point(m["at"], P + ("at",)), tol)
         if "landmark" in m:
-            lid = m["landmark"]
-            if isinstance(lid, bool) or not isinstance(lid, (str, int)):
-                raise self.fail(P + ("landmark",), f"expected a landmark id, found {_type_name(lid)}")
-            lid = str(lid)
+            lid = self.ident(m["landmark"], P + ("landmark",))
             by_id = {lm.id: lm for lm in landmarks}
             if lid not in by_id:
                 known = ", ".join(sorted(by_id)) or "none defined"
@@ -441,6 +646,8 @@ class _Reader:
         P = ("obstacles",)
         if not isinstance(v, list):
             raise self.fail(P, f"expected a list of obstacles, found {_type_name(v)}")
+        if len(v) > MAX_ITEMS:
+            raise self.fail(P, f"holds {len(v)} obstacles, at most {MAX_ITEMS}")
         out = []
         for i, item in enumerate(v):
             out.append(self.guard(self.obstacle, item, P + (i,)))
@@ -453,19 +660,21 @@ class _Reader:
         if "circle" in m:
             c = self.mapping(m["circle"], P + ("circle",), ("center", "radius"), ())
             return Circle(self.point(c["center"], P + ("circle", "center")),
-                          self.number(c["radius"], P + ("circle", "radius"), positive=True))
+                          self.number(c["radius"], P + ("circle", "radius"), "circle.radius"))
         s = self.mapping(m["segment"], P + ("segment",), ("from", "to"), ("thickness",))
         a = self.point(s["from"], P + ("segment", "from"))
         b = self.point(s["to"], P + ("segment", "to"))
         if math.dist(a, b) < 1e-6:
             raise self.fail(P + ("segment",), "is degenerate: 'from' and 'to' are the same point")
-        t = self.opt(s, "thickness", P + ("segment",), self.number, DEFAULTS.segment_thickness, positive=True)
+        t = self.opt(s, "thickness", P + ("segment",), self.number, DEFAULTS.segment_thickness, rng="segment.thickness")
         return Segment(a, b, t)
 
     def landmarks(self, v: Any) -> tuple[Landmark, ...]:
         P = ("landmarks",)
         if not isinstance(v, list):
             raise self.fail(P, f"expected a list of landmarks, found {_type_name(v)}")
+        if len(v) > MAX_ITEMS:
+            raise self.fail(P, f"holds {len(v)} landmarks, at most {MAX_ITEMS}")
         out: list[Landmark] = []
         seen: dict[str, int] = {}
         for i, item in enumerate(v):
@@ -481,11 +690,8 @@ class _Reader:
 
     def landmark(self, v: Any, P: tuple) -> Landmark:
         m = self.mapping(v, P, ("id", "at"), ("radius",))
-        lid = m["id"]
-        if isinstance(lid, bool) or not isinstance(lid, (str, int)):
-            raise self.fail(P + ("id",), f"expected a name, found {_type_name(lid)}")
-        return Landmark(str(lid), self.point(m["at"], P + ("at",)),
-                        self.opt(m, "radius", P, self.number, DEFAULTS.landmark_radius, positive=True))
+        return Landmark(self.ident(m["id"], P + ("id",)), self.point(m["at"], P + ("at",)),
+                        self.opt(m, "radius", P, self.number, DEFAULTS.landmark_radius, rng="landmark.radius"))
 
     def mission(self, v: Any) -> MissionSpec:
         P = ("mission",)
@@ -497,38 +703,58 @@ class _Reader:
         if perception not in PERCEPTIONS:
             raise self.fail(P + ("perception",),
                             f"unknown perception {perception!r} (expected one of: {', '.join(PERCEPTIONS)})")
-        return MissionSpec(pilot, self.opt(m, "time_limit", P, self.number, DEFAULTS.time_limit, positive=True),
-                           self.opt(m, "seed", P, self.integer, DEFAULTS.seed), perception)
+        return MissionSpec(pilot, self.opt(m, "time_limit", P, self.number, DEFAULTS.time_limit, rng="mission.time_limit"),
+                           self.opt(m, "seed", P, self.integer, DEFAULTS.seed, rng="mission.seed"), perception)
 
     def noise(self, v: Any) -> Noise:
         P = ("noise",)
         m = self.mapping(v, P, (), ("odometry", "vision_heading_deg", "vision_distance"))
-        return Noise(self.opt(m, "odometry", P, self.number, DEFAULTS.odometry_noise, nonneg=True),
-                     math.radians(self.opt(m, "vision_heading_deg", P, self.number, DEFAULTS.vision_heading_deg, nonneg=True)),
-                     self.opt(m, "vision_distance", P, self.number, DEFAULTS.vision_distance, nonneg=True))
+        def get(key: str, default: float) -> float:
+            return self.opt(m, key, P, self.number, default, rng=f"noise.{key}")
+
+        return Noise(get("odometry", DEFAULTS.odometry_noise),
+                     math.radians(get("vision_heading_deg", DEFAULTS.vision_heading_deg)),
+                     get("vision_distance", DEFAULTS.vision_distance))
 
     def camera(self, v: Any) -> CameraSpec:
         P = ("camera",)
         m = self.mapping(v, P, (), ("fov_deg", "range", "pan_limit_deg", "pan_speed_deg", "look_time"))
-        fov = self.opt(m, "fov_deg", P, self.number, DEFAULTS.camera_fov_deg, positive=True)
-        if fov > 360:
-            raise self.fail(P + ("fov_deg",), f"must be at most 360 degrees, found {fov}")
-        pan = self.opt(m, "pan_limit_deg", P, self.number, DEFAULTS.camera_pan_limit_deg, nonneg=True)
-        if pan > 180:
-            raise self.fail(P + ("pan_limit_deg",), f"must be at most 180 degrees, found {pan}")
-        return CameraSpec(math.radians(fov), self.opt(m, "range", P, self.number, DEFAULTS.camera_range, positive=True),
-                          math.radians(pan),
-                          math.radians(self.opt(m, "pan_speed_deg", P, self.number, DEFAULTS.camera_pan_speed_deg,
-                                                positive=True)),
-                          self.opt(m, "look_time", P, self.number, DEFAULTS.camera_look_time, nonneg=True))
+        def get(key: str, default: float) -> float:
+            return self.opt(m, key, P, self.number, default, rng=f"camera.{key}")
+
+        return CameraSpec(math.radians(get("fov_deg", DEFAULTS.camera_fov_deg)), get("range", DEFAULTS.camera_range),
+                          math.radians(get("pan_limit_deg", DEFAULTS.camera_pan_limit_deg)),
+                          math.radians(get("pan_speed_deg", DEFAULTS.camera_pan_speed_deg)),
+                          get("look_time", DEFAULTS.camera_look_time))
 
     def pilot(self, v: Any) -> dict[str, float]:
         """The pilot parameters the block sets."""
         P = ("pilot",)
         m = self.mapping(v, P, (), ("K", "A_t", "R_min"))
-        return {f"pilot.{k}": self.number(m[k], P + (k,), positive=True) for k in ("K", "A_t", "R_min") if k in m}
+        return {f"pilot.{k}": self.number(m[k], P + (k,), f"pilot.{k}") for k in ("K", "A_t", "R_min") if k in m}
 
     # -- where things are
+    def reachable(self, sc: Scenario) -> None:
+        """A point target the robot's centre can come within ``tolerance`` of: one obstacle (or
+        wall) alone must not keep the robot's body from it. The robot's centre keeps ``r`` from a
+        surface, so a target whose clearance ``c`` to a convex thing is below ``r - tolerance``
+        can never be reached (the whole room is not searched: that is the mission's job)."""
+        t = sc.target
+        if t.kind != "point":
+            return
+        r, tol, p = sc.params.robot.radius, t.tolerance, t.point
+        W, H = sc.arena.width, sc.arena.height
+        P = ("target", "at")
+        if min(p[0], p[1], W - p[0], H - p[1]) < r - tol:
+            self.fail(P, f"the target [{p[0]:g}, {p[1]:g}] is too close to a wall: the robot (radius {r:g} m) "
+                         f"cannot come within its tolerance ({tol:g} m)")
+        for o in sc.objects:
+            if o.kind in ("circle", "segment", "landmark") and o.clearance(p) < r - tol:
+                what = f"obstacles[{o.key[1:]}]" if o.kind != "landmark" else f"landmark {o.key!r}"
+                inside = "lies inside" if o.clearance(p) < 0 else "is too close to"
+                self.fail(P, f"the target [{p[0]:g}, {p[1]:g}] {inside} {what}: the robot (radius {r:g} m) cannot "
+                             f"come within its tolerance ({tol:g} m)")
+
     def placement(self, sc: Scenario) -> None:
         """Every point inside the arena; the robot's start clear of walls, obstacles, landmarks."""
         W, H = sc.arena.width, sc.arena.height
@@ -552,6 +778,21 @@ class _Reader:
                 inside(o.end, ("obstacles", i, "segment", "to"))
         for i, lm in enumerate(sc.landmarks):
             inside(lm.at, ("landmarks", i, "at"))
+        if self.problems:
+            return
+
+        def within_walls(p: Point, radius: float, path: tuple, what: str) -> None:
+            out = -min(p[0], p[1], W - p[0], H - p[1]) + radius
+            if out > 1e-9:
+                self.fail(path, f"{what} of radius {radius:g} m at [{p[0]:g}, {p[1]:g}] sticks {out:.3g} m through "
+                                f"a wall (expected at least {radius:g} m from every wall)")
+
+        for i, o in enumerate(sc.obstacles):
+            if isinstance(o, Circle):
+                within_walls(o.center, o.radius, ("obstacles", i, "circle", "center"), "the circle")
+        for i, lm in enumerate(sc.landmarks):
+            within_walls(lm.at, lm.radius, ("landmarks", i, "at"), "the landmark")
+        self.reachable(sc)
 
         s, r = sc.robot.start, sc.params.robot.radius
         P = ("robot", "start")
@@ -562,3 +803,69 @@ class _Reader:
             if o.kind in ("circle", "segment", "landmark") and o.clearance(s) < r:
                 what = f"obstacles[{o.key[1:]}]" if o.kind != "landmark" else f"landmark {o.key!r}"
                 self.fail(P, f"the robot (radius {r:g} m) at [{s[0]:g}, {s[1]:g}] overlaps {what}")
+
+
+# --- The format as a JSON Schema (for editors: the YAML language server) ---------------------
+def json_schema() -> dict[str, Any]:
+    """The scenario format as a JSON Schema (draft-07), built from the same ranges the loader
+    checks. It catches what a schema can (fields, types, ranges, names); where things are
+    (inside the arena, clear of obstacles, a reachable target) only the loader checks."""
+
+    def num(key: str, description: str) -> dict:
+        r = RANGES[key]
+        d: dict[str, Any] = {"type": "number", "description": description, "maximum": r.hi}
+        d["exclusiveMinimum" if r.lo_open else "minimum"] = r.lo
+        return d
+
+    def obj(props: dict, required: tuple[str, ...] = (), description: str = "") -> dict:
+        d = {"type": "object", "properties": props, "additionalProperties": False, "required": list(required)}
+        return d | ({"description": description} if description else {})
+
+    point = {"type": "array", "description": "[x, y] in metres, inside the arena", "minItems": 2, "maxItems": 2,
+             "items": num("point", "metres")}
+    ident = {"type": ["string", "integer"], "description": "a landmark id", "minLength": 1, "maxLength": MAX_ID}
+    target = obj({"at": point, "landmark": ident,
+                  "line": {"type": "array", "minItems": 2, "maxItems": 2, "items": point,
+                           "description": "a diverting target: the line to cross"},
+                  "tolerance": num("target.tolerance", "metres: how close to a point target counts as reached")},
+                 description="exactly one of at, landmark, line")
+    target["oneOf"] = [{"required": [k]} for k in ("at", "landmark", "line")]
+    return {
+        "$schema": "http://json-schema.org/draft-07/schema#",
+        "$id": "https://navcli/scenario-v1.schema.json",
+        "title": "navcli scenario, version 1",
+        "description": "Metres, seconds, degrees in keys ending _deg. Write exponents with a point and a sign "
+                       "(1.0e-3): YAML 1.1 reads 1e-3 as text.",
+        **obj({
+            "version": {"const": 1},
+            "name": {"type": "string", "pattern": f"^{NAME_RE.pattern}$", "not": {"pattern": "\n"},  # no trailing newline
+                     "description": "names the log folder"},
+            "description": {"type": "string", "maxLength": MAX_SCALAR},
+            "arena": obj({"width": num("arena.width", "metres"), "height": num("arena.height", "metres")},
+                         ("width", "height")),
+            "robot": obj({"start": point, "heading_deg": num("robot.heading_deg", "degrees, counter-clockwise from +x"),
+                          "radius": num("robot.radius", "metres"), "max_speed": num("robot.max_speed", "m/s")},
+                         ("start",)),
+            "target": target,
+            "obstacles": {"type": "array", "maxItems": MAX_ITEMS, "items": {"oneOf": [
+                obj({"circle": obj({"center": point, "radius": num("circle.radius", "metres")},
+                                   ("center", "radius"))}, ("circle",)),
+                obj({"segment": obj({"from": point, "to": point,
+                                     "thickness": num("segment.thickness", "metres")}, ("from", "to"))},
+                    ("segment",))]}},
+            "landmarks": {"type": "array", "maxItems": MAX_ITEMS, "items": obj(
+                {"id": ident, "at": point, "radius": num("landmark.radius", "metres")}, ("id", "at"))},
+            "mission": obj({"pilot": {"enum": list(PILOT_NAMES)}, "perception": {"enum": list(PERCEPTIONS)},
+                            "time_limit": num("mission.time_limit", "simulated seconds"),
+                            "seed": {"type": "integer", "minimum": 0, "maximum": 2 ** 64 - 1}}),
+            "noise": obj({"odometry": num("noise.odometry", "relative standard deviation"),
+                          "vision_heading_deg": num("noise.vision_heading_deg", "degrees, standard deviation"),
+                          "vision_distance": num("noise.vision_distance", "relative standard deviation")}),
+            "camera": obj({k: num(f"camera.{k}", u) for k, u in (
+                ("fov_deg", "degrees"), ("range", "metres"), ("pan_limit_deg", "degrees either side of ahead"),
+                ("pan_speed_deg", "degrees per second"), ("look_time", "seconds of processing per look"))}),
+            "pilot": obj({"K": num("pilot.K", "eq. 2: repulsion constant"),
+                          "A_t": num("pilot.A_t", "eq. 5: target attraction"),
+                          "R_min": num("pilot.R_min", "metres: prohibited area beyond an obstacle's surface")}),
+        }, ("version", "name", "arena", "robot", "target")),
+    }

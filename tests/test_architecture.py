@@ -68,7 +68,7 @@ def test_only_the_world_imports_pymunk():
 
 def test_only_the_recorder_writes_logs():
     assert _who_imports("foxglove") == {"navcli.recorder"}
-    assert _who_imports("mcap.writer") == set()
+    assert _who_imports("mcap.writer") == {"navcli.recorder"}  # recover() rewrites a killed run's chunks
 
 
 def test_analysis_never_imports_the_simulator():

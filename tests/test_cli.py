@@ -74,7 +74,7 @@ def test_unwritable_log_path_is_a_clear_error(tmp_path):
     blocker = tmp_path / "file"
     blocker.write_text("")
     r = invoke("run", SCENARIOS / "open-arena.yaml", "--out", blocker / "run.mcap")
-    assert r.exit_code == 1 and "error:" in r.output and "Traceback" not in r.output
+    assert r.exit_code == 2 and f"cannot create the folder {blocker}" in r.output and "Traceback" not in r.output
 
 
 def test_validate_reports_each_file(write_scenario):
@@ -142,7 +142,7 @@ def test_param_overrides_any_parameter_and_is_recorded_as_json(tmp_path):
 
 def test_bad_param_exits_2_naming_it():
     for bad, words in (("Q=1", "unknown parameter 'Q'"), ("K=1", "did you mean pilot.K?"),
-                       ("pilot.K=abc", "'abc' is not a number"), ("pilot.R_min=0", "pilot.R_min must be above 0"),
+                       ("pilot.K=abc", "'abc' is not a number"), ("pilot.R_min=0", "pilot.R_min must be at least 0.01"),
                        ("pilot.K", "expected NAME=VALUE"), ("pilot.K=nan", "finite number"),
                        ("navigation.kappa1=1.5", "at most 1"), ("vision.forget_every=2.5", "whole number")):
         r = invoke("run", SCENARIOS / "open-arena.yaml", "--param", bad)
