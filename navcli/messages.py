@@ -187,7 +187,7 @@ def json_schema(cls: type[Struct]) -> dict[str, Any]:
     def fix(node: dict[str, Any]) -> dict[str, Any]:
         if "$ref" in node:
             node = defs[node["$ref"].rsplit("/", 1)[1]] | {k: v for k, v in node.items() if k != "$ref"}
-        out = {k: v for k, v in node.items() if k not in ("title", "default")}
+        out = {k: v for k, v in node.items() if k not in ("title", "default", "$defs")}
         if "properties" in out:
             out["properties"] = {k: fix(v) for k, v in out["properties"].items()}
         for key in ("additionalProperties", "items"):

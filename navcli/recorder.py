@@ -73,7 +73,7 @@ _FOV = Color(r=0.3, g=0.8, b=0.95, a=0.8)
 _MEMORY_RGB = {"landmark": (0.2, 0.45, 0.9), "obstacle": (0.85, 0.3, 0.25), "bump": (1.0, 0.1, 0.1),
                "target": (0.2, 0.75, 0.3)}
 _MEMORY = {k: (Color(r=r, g=g, b=b, a=0.45), Color(r=r, g=g, b=b, a=0.3)) for k, (r, g, b) in _MEMORY_RGB.items()}
-_RING = [2 * math.pi * k / 24 for k in range(24)]  # rad: the vertices of a support ring
+_RING = [2 * math.pi * k / 16 for k in range(16)]  # rad: the vertices of a support ring
 
 def _ts(ns: int) -> Timestamp:
     return Timestamp(ns // 1_000_000_000, ns % 1_000_000_000)
