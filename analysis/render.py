@@ -188,12 +188,14 @@ def render(log_path: str | Path, out: str | Path, *, speed: float = 10.0, start:
                                    color=colour, zorder=7))
         cursor.set_xdata([t, t])
         clock.set_text(f"t = {t:5.1f} s")
-        return []
 
-    anim = animation.FuncAnimation(fig, draw, frames=len(times), blit=False)
     out.parent.mkdir(parents=True, exist_ok=True)
-    anim.save(out, writer=writer, dpi=dpi,
-              progress_callback=(lambda i, n: progress(i + 1, n)) if progress else None)
+    with writer.saving(fig, str(out), dpi):  # one draw per frame (FuncAnimation.save draws each twice)
+        for k in range(len(times)):
+            draw(k)
+            writer.grab_frame()
+            if progress:
+                progress(k + 1, len(times))
     size = tuple(int(v) for v in fig.canvas.get_width_height())
     plt.close(fig)
     return Rendered(out, len(times), size)
