@@ -20,7 +20,6 @@ from typing import Annotated, Any, Literal
 import msgspec
 from msgspec import UNSET, Meta, Struct, UnsetType
 
-M = Annotated[float, Meta(description="m")]
 DEG = Annotated[float, Meta(description="degrees; 0 = straight ahead, positive to the left (egocentric)")]
 BID = Annotated[float, Meta(ge=0.0, le=1.0, description="bid in [0, 1]")]
 FORCE = Annotated[float, Meta(description="force units (eq. 2-6 of the pilot paper), egocentric: x ahead, y left")]

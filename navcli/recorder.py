@@ -75,6 +75,7 @@ _MEMORY_RGB = {"landmark": (0.2, 0.45, 0.9), "obstacle": (0.85, 0.3, 0.25), "bum
 _MEMORY = {k: (Color(r=r, g=g, b=b, a=0.45), Color(r=r, g=g, b=b, a=0.3)) for k, (r, g, b) in _MEMORY_RGB.items()}
 _RING = [2 * math.pi * k / 16 for k in range(16)]  # rad: the vertices of a support ring
 
+
 def _ts(ns: int) -> Timestamp:
     return Timestamp(ns // 1_000_000_000, ns % 1_000_000_000)
 
