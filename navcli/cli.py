@@ -420,5 +420,72 @@ def params(
         typer.echo(f"{name:34s} {value}")
 
 
+LayoutFormat = Enum("LayoutFormat", {"app": "app", "sdk": "sdk"}, type=str)
+
+
+@app.command()
+def layout(
+    out: Annotated[Optional[Path], typer.Option(help="Write the layout here (default: print it).")] = None,
+    format: Annotated[LayoutFormat, typer.Option(
+        "--format", help="app: the file Foxglove's Layouts > Import from file reads (also Lichtblick, Foxglove "
+                         "Studio 1.x); sdk: foxglove-sdk's layout JSON (foxglove.layouts, notebooks).")] = LayoutFormat.app,
+) -> None:
+    """Write a Foxglove layout for navcli logs and --live runs: the arena in 2D top-down (frame
+    world), bids per resource, the pilot's forces, the events and the summary."""
+    import json
+
+    from .layout import app_json, sdk_json
+
+    text = json.dumps(app_json() if format is LayoutFormat.app else sdk_json(), indent=1)
+    if out is None:
+        typer.echo(text)
+        return
+    out.parent.mkdir(parents=True, exist_ok=True)
+    out.write_text(text + "\n")
+    typer.echo(f"wrote {out}")
+
+
+@app.command()
+def render(
+    log: Annotated[Path, typer.Argument(help="A navcli log (.mcap).")],
+    out: Annotated[Optional[Path], typer.Option(help="run.gif or run.mp4 (MP4 needs ffmpeg); default: the log's name with .gif.")] = None,
+    speed: Annotated[float, typer.Option(min=0.01, help="Simulated seconds per second of video.")] = 10.0,
+    start: Annotated[Optional[float], typer.Option("--from", min=0.0, help="First simulated second shown.")] = None,
+    end: Annotated[Optional[float], typer.Option("--to", min=0.0, help="Last simulated second shown.")] = None,
+    fps: Annotated[float, typer.Option(min=1.0, max=60.0, help="Frames per second of video.")] = 10.0,
+    dpi: Annotated[int, typer.Option(min=20, max=300, help="Pixels per inch of the 5 x 6.4 inch frame.")] = 80,
+) -> None:
+    """A video of a run from its log alone: the true arena and path, the robot's beliefs (the
+    visual memory), the pilot's force arrows, and the bids per resource under it."""
+    from analysis import LogError
+    from analysis.render import RenderError, render as render_video
+
+    target = out or log.with_suffix(".gif")
+    bar = None
+    if sys.stderr.isatty():
+        from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
+
+        bar = Progress(TextColumn("frames"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(), transient=True)
+    task = None
+
+    def progress(i: int, n: int) -> None:
+        nonlocal task
+        if bar is not None:
+            if task is None:
+                bar.start()
+                task = bar.add_task("render", total=n)
+            bar.update(task, completed=i)
+
+    try:
+        res = render_video(log, target, speed=speed, start=start, end=end, fps=fps, dpi=dpi, progress=progress)
+    except (LogError, RenderError) as e:
+        _err(f"error: {e}")
+        raise typer.Exit(EXIT_BAD_INPUT) from None
+    finally:
+        if bar is not None:
+            bar.stop()
+    typer.echo(f"wrote {res.path} ({res.frames} frames, {res.size[0]}x{res.size[1]} px)")
+
+
 def main() -> None:
     app()

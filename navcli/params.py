@@ -33,6 +33,9 @@ PHYSICS_SUBSTEPS = 5
 """Physics steps per control tick: the world steps at CONTROL_DT / PHYSICS_SUBSTEPS (50 Hz)."""
 PHYSICS_DT = CONTROL_DT / PHYSICS_SUBSTEPS
 PHYSICS_DT_NS = round(PHYSICS_DT * 1e9)
+SCENE_REFRESH = 1.0
+"""Seconds between two publications of the log's state topics (the arena, the robot's body, the
+camera's field of view): a viewer that seeks, or joins a live run late, shows them within this time."""
 
 
 def _p(default: Any, *, at_least: float | None = 0.0, above: float | None = None,

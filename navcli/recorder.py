@@ -13,7 +13,13 @@ them into a valid log marked ``interrupted``. A lock file (``<name>.lock``, held
 writes) keeps two runs from writing one log; the ``.partial`` of a killed run is never deleted,
 only renamed aside (``<name>.partial-1`` ...) for :func:`recover`.
 
-With ``live`` the same Foxglove context also feeds a WebSocket server on localhost.
+
+The JSON messages and their schemas are defined once, in :mod:`navcli.messages`. State a viewer
+needs at any time (the arena, the robot's body, the camera's field of view) has topics of its own,
+republished every ``params.SCENE_REFRESH`` s (see :meth:`Recorder._state`).
+
+With ``live`` the same Foxglove context also feeds a WebSocket server on localhost, which
+advertises the time capability and broadcasts simulation time every tick.
 """
 
 from __future__ import annotations
@@ -25,7 +31,8 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 import foxglove
-import orjson
+import msgspec
+from foxglove.websocket import Capability
 from foxglove.channels import FrameTransformsChannel, LogChannel, PoseInFrameChannel, SceneUpdateChannel
 from foxglove.messages import (
     ArrowPrimitive,
@@ -52,10 +59,14 @@ from foxglove.messages import (
 )
 
 from .bidding import RESOURCES
+from .messages import (XY, Action, AgentBid, Bids, DetectionMsg, Forwarded, MissionSummary, Navigation, Pilot, ResourceBids,
+                       Vision, encode, json_schema, pilot_message)
+from .params import SCENE_REFRESH
 from .scenario import Scenario
 
 if TYPE_CHECKING:
     from .config import RunSpec
+    from .navigation.map_manager import MapSnapshot
     from .geometry import Pose
     from .mission import Event, Tick
     from .vision.visual_memory import Remembered
@@ -74,48 +85,8 @@ _GROWN = Color(r=0.95, g=0.5, b=0.1, a=0.25)
 _FOV = Color(r=0.3, g=0.8, b=0.95, a=0.8)
 _MEMORY_RGB = {"landmark": (0.2, 0.45, 0.9), "obstacle": (0.85, 0.3, 0.25), "bump": (1.0, 0.1, 0.1),
                "target": (0.2, 0.75, 0.3)}
-_MEMORY = {k: (Color(r=r, g=g, b=b, a=0.4), Color(r=r, g=g, b=b, a=0.12)) for k, (r, g, b) in _MEMORY_RGB.items()}
-
-PILOT_SCHEMA = {
-    "title": "navcli.Pilot",
-    "description": "The Pilot's decision this tick: turn angle, speed, bid and the forces behind them.",
-    "type": "object",
-    "properties": {
-        "mode": {"type": "string"},
-        "turn_deg": {"type": "number"},
-        "bid": {"type": "number"},
-        "in_distress": {"type": "boolean"},
-        "command": {"type": "object", "properties": {"v": {"type": "number"}, "omega_deg": {"type": "number"}}},
-    },
-}
-BIDS_SCHEMA = {
-    "title": "navcli.Bids",
-    "description": "Per resource: every system's bid (0 when it did not bid), the winner and its action; "
-                   "'agents' holds the Navigation agents' bids to their Communicator.",
-    "type": "object",
-    "properties": {r: {"type": "object"} for r in RESOURCES} | {"agents": {"type": "object"}},
-}
-VISION_SCHEMA = {
-    "title": "navcli.Vision",
-    "description": "The camera each tick: pan, state, and the detections of an image taken this tick, "
-                   "with fuzzy heading (deg) and distance (m) as cuts: lo0/hi0 the support, lo70/hi70 the 70 % cut.",
-    "type": "object",
-    "properties": {"pan_deg": {"type": "number"}, "state": {"type": "string"}, "image": {"type": "boolean"},
-                   "detections": {"type": "object"}},
-}
-SUMMARY_SCHEMA = {
-    "title": "navcli.MissionSummary",
-    "description": "How the mission ended.",
-    "type": "object",
-    "properties": {
-        "scenario": {"type": "string"}, "seed": {"type": "integer"}, "pilot": {"type": "string"},
-        "outcome": {"type": "string", "enum": ["reached", "timeout", "blocked", "interrupted", "error"]},
-        "reason": {"type": "string"}, "time_s": {"type": "number"}, "path_length_m": {"type": "number"},
-        "collisions": {"type": "integer"}, "camera_looks": {"type": "integer"}, "ticks": {"type": "integer"},
-    },
-    "required": ["scenario", "seed", "pilot", "outcome", "time_s", "path_length_m", "collisions",
-                 "camera_looks", "ticks"],
-}
+_MEMORY = {k: (Color(r=r, g=g, b=b, a=0.45), Color(r=r, g=g, b=b, a=0.3)) for k, (r, g, b) in _MEMORY_RGB.items()}
+_RING = [2 * math.pi * k / 16 for k in range(16)]  # rad: the vertices of a support ring
 
 
 def _ts(ns: int) -> Timestamp:
@@ -134,12 +105,6 @@ def _cylinder(x: float, y: float, radius: float, bottom: float, height: float, c
     """An upright cylinder (or flat disc) of ``radius`` standing on ``z = bottom`` at (x, y)."""
     return CylinderPrimitive(pose=_pose(x, y, z=bottom + height / 2), size=Vector3(x=2 * radius, y=2 * radius, z=height),
                              bottom_scale=1.0, top_scale=1.0, color=color)
-
-
-def _json(msg: dict) -> bytes:
-    """Compact JSON, by orjson (8x faster than the standard library on a /pilot message, the
-    largest cost of logging). orjson writes NaN and infinity as null, so none reaches the file."""
-    return orjson.dumps(msg)
 
 
 class LogPathError(ValueError):
@@ -227,7 +192,8 @@ class Recorder:
             self.ctx = ctx
             self.writer = foxglove.open_mcap(self.partial, context=ctx)
             try:
-                self.server = foxglove.start_server(name="navcli", port=port, context=ctx) if live else None
+                self.server = foxglove.start_server(name="navcli", port=port, context=ctx,
+                                                    capabilities=[Capability.Time]) if live else None
             except Exception as e:
                 self.writer.close()
                 os.unlink(self.partial)
@@ -240,12 +206,16 @@ class Recorder:
         self.odom = PoseInFrameChannel("/robot/odometry", context=ctx)
         self.world_scene = SceneUpdateChannel("/world/scene", context=ctx)
         self.robot_scene = SceneUpdateChannel("/robot/scene", context=ctx)
+        self.robot_body = SceneUpdateChannel("/robot/body", context=ctx)
+        self.camera_scene = SceneUpdateChannel("/robot/camera", context=ctx)
         self.events = LogChannel("/events", context=ctx)
-        self.pilot = foxglove.Channel("/pilot", schema=PILOT_SCHEMA, context=ctx)
-        self.bids = foxglove.Channel("/bids", schema=BIDS_SCHEMA, context=ctx)
-        self.summary = foxglove.Channel("/mission/summary", schema=SUMMARY_SCHEMA, context=ctx)
-        self.vision = foxglove.Channel("/vision", schema=VISION_SCHEMA, context=ctx)
+        self.pilot = foxglove.Channel("/pilot", schema=json_schema(Pilot), context=ctx)
+        self.bids = foxglove.Channel("/bids", schema=json_schema(Bids), context=ctx)
+        self.summary = foxglove.Channel("/mission/summary", schema=json_schema(MissionSummary), context=ctx)
+        self.vision = foxglove.Channel("/vision", schema=json_schema(Vision), context=ctx)
         self.memory_scene = SceneUpdateChannel("/memory/scene", context=ctx)
+        self.navigation = foxglove.Channel("/navigation", schema=json_schema(Navigation), context=ctx)
+        self.map_scene = SceneUpdateChannel("/map/scene", context=ctx)
         self._closed = False
         self._grown_keys: tuple = ()
         self._grown_ns = 0
@@ -254,6 +224,11 @@ class Recorder:
         self._pan_drawn: float | None = None
         self._flushed_ns = 0
         self.pose_ns = -1  # the time of the last pose written
+        self._scenario: Scenario | None = None
+        self._radius = 0.0
+        self._state_ns = 0  # when the state topics were last published
+        self._map = None  # the Map Manager's last snapshot
+        self._diverting_drawn = False
 
     @property
     def port(self) -> int | None:
@@ -269,15 +244,30 @@ class Recorder:
         self.writer.write_metadata("run", spec.metadata())
         self.writer.attach(log_time=0, create_time=0, name=Path(sc.source).name or f"{sc.name}.yaml",
                            media_type="application/yaml", data=sc.text.encode())
-        self.world_scene.log(SceneUpdate(entities=_arena_entities(sc)), log_time=0)
-        r = spec.params.robot.radius
+        self._scenario, self._radius = sc, spec.params.robot.radius
+        self._state(0, 0.0)
+        self._pose_msgs(pose, odometry, 0)
+
+    def _state(self, ns: int, pan: float) -> None:
+        """The state a viewer needs at any time, each on a topic of its own and complete in every
+        message: the arena (``/world/scene``), the robot's body (``/robot/body``) and the camera's
+        field of view (``/robot/camera``). Published at the start and every ``SCENE_REFRESH`` s,
+        so a viewer that seeks or joins late finds them (a viewer restores the latest message of
+        each topic); the field of view also when the pan changes."""
+        self.world_scene.log(SceneUpdate(entities=_arena_entities(self._scenario, ns)), log_time=ns)
+        r = self._radius
         body = SceneEntity(
-            timestamp=_ts(0), frame_id="base_link", id="robot", frame_locked=True,
+            timestamp=_ts(ns), frame_id="base_link", id="robot", frame_locked=True,
             cylinders=[_cylinder(0.0, 0.0, r, 0.0, 0.3, _ROBOT)],
             arrows=[ArrowPrimitive(pose=_pose(0, 0, z=0.32), shaft_length=r, shaft_diameter=0.04,
                                    head_length=0.1, head_diameter=0.1, color=_ROBOT)])
-        self.robot_scene.log(SceneUpdate(entities=[body]), log_time=0)
-        self._pose_msgs(pose, odometry, 0)
+        self.robot_body.log(SceneUpdate(entities=[body]), log_time=ns)
+        self._camera(ns, pan)
+        self._state_ns = ns
+
+    def _camera(self, ns: int, pan: float) -> None:
+        self.camera_scene.log(SceneUpdate(entities=[_field_of_view(pan, *self._fov, ns)]), log_time=ns)
+        self._pan_drawn = pan
 
     def _pose_msgs(self, truth: Pose, odom: Pose, ns: int) -> None:
         self.pose_ns = ns
@@ -294,28 +284,41 @@ class Recorder:
     def tick(self, t: Tick) -> None:
         ns = t.time_ns
         self._pose_msgs(t.pose, t.odometry, ns)
+        if self.server is not None:
+            self.server.broadcast_time(ns)
         v, w = t.command
-        self.pilot.log(_json(t.pilot.info | {"command": {"v": v, "omega_deg": math.degrees(w)}}), log_time=ns)
-        self.bids.log(_json(bids_record(t)), log_time=ns)
+        self.pilot.log(encode(pilot_message(t.pilot.info, v, math.degrees(w))), log_time=ns)
+        self.bids.log(encode(bids_record(t)), log_time=ns)
         ents = [_force_arrows(t.pilot.arrows, ns)] if t.pilot.arrows else []
         keys = tuple(o.key for o in t.pilot.obstacles)
         if keys != self._grown_keys or ns - self._grown_ns >= GROWN_REFRESH_NS:
             ents.append(_grown(t.pilot.obstacles, t.pose, self._R_min, ns))
             self._grown_keys, self._grown_ns = keys, ns
-        pan, state = t.camera
-        if pan != self._pan_drawn:
-            ents.append(_field_of_view(pan, *self._fov, ns))
-            self._pan_drawn = pan
         if ents:
             self.robot_scene.log(SceneUpdate(entities=ents), log_time=ns)
-        dets = {}
-        for i, d in enumerate(t.detections or ()):
-            dets[d.key or f"obstacle{i}"] = d.as_json()
-        self.vision.log(_json({"pan_deg": math.degrees(pan), "state": state, "image": t.detections is not None,
-                               "detections": dets}), log_time=ns)
+        pan, state = t.camera
+        if ns - self._state_ns >= round(SCENE_REFRESH * 1e9):
+            self._state(ns, pan)
+        elif pan != self._pan_drawn:
+            self._camera(ns, pan)
+        dets = {d.key or f"obstacle{i}": msgspec.convert(d.as_json(), DetectionMsg)
+                for i, d in enumerate(t.detections or ())}
+        self.vision.log(encode(Vision(pan_deg=math.degrees(pan), state=state, image=t.detections is not None,
+                                      detections=dets)), log_time=ns)
         if t.memory is not None:
             self.memory_scene.log(SceneUpdate(deletions=[SceneEntityDeletion(timestamp=_ts(ns), type=SceneEntityDeletionType.All)],
                                               entities=_memory_entities(t.memory, ns)), log_time=ns)
+        if t.navigation is not None:
+            self.navigation.log(encode(navigation_record(t)), log_time=ns)
+            if t.map is not None or t.navigation.diverting != self._diverting_drawn:
+                self._diverting_drawn = t.navigation.diverting
+                if t.map is not None:
+                    self._map = t.map
+                if self._map is not None:
+                    self.map_scene.log(SceneUpdate(
+                        deletions=[SceneEntityDeletion(timestamp=_ts(ns), type=SceneEntityDeletionType.All)],
+                        entities=_map_entities(self._map, t.navigation.target_line if t.navigation.diverting else None,
+                                               ns)), log_time=ns)
         for e in t.events:
             self.event(e, ns)
         if ns - self._flushed_ns >= FLUSH_EVERY_NS:
@@ -337,7 +340,7 @@ class Recorder:
         try:
             if poses is not None and self.pose_ns != ns:
                 self._pose_msgs(*poses, ns)
-            self.summary.log(_json(summary), log_time=ns)
+            self.summary.log(encode(msgspec.convert(summary, MissionSummary)), log_time=ns)
         finally:
             self.writer.close()
             if self.server is not None:
@@ -347,25 +350,22 @@ class Recorder:
         return self.path
 
 
-def bids_record(t: Tick) -> dict:
+def bids_record(t: Tick) -> Bids:
     """The ``/bids`` message: fixed keys per resource so every value is plottable in Foxglove."""
-    out: dict = {}
+    per: dict = {}
     for r in RESOURCES:
-        rec: dict = {s: 0.0 for s in SYSTEMS}
+        values = dict.fromkeys(SYSTEMS, 0.0)
         actions = {}
         for b in t.bids:
             if b.resource == r:
-                rec[b.bidder] = b.value
-                actions[b.bidder] = b.action.as_json()
+                values[b.bidder] = b.value
+                actions[b.bidder] = msgspec.convert(b.action.as_json(), Action)
         win = t.winners[r]
-        rec["winner"] = win.bidder if win else None
-        rec["actions"] = actions
-        out[r] = rec
+        per[r] = ResourceBids(**values, actions=actions, winner=win.bidder if win else msgspec.UNSET)
     agents: dict = {}
     for b in t.agent_bids:
         agents.setdefault(b.bidder, {})[b.resource] = b.value
-    out["agents"] = agents
-    return out
+    return Bids(**per, agents=agents)
 
 
 def _force_arrows(arrows: list[tuple[str, float, float]], ns: int) -> SceneEntity:
@@ -392,9 +392,71 @@ def _field_of_view(pan: float, fov: float, rng: float, ns: int) -> SceneEntity:
                        lines=[LinePrimitive(type=LinePrimitiveLineType.LineStrip, thickness=0.02, color=_FOV, points=pts)])
 
 
+def navigation_record(t: Tick) -> Navigation:
+    """The ``/navigation`` message: every agent's bids, what was forwarded, and why."""
+    nav = t.navigation
+    agents: dict[str, AgentBid] = {}
+    for b in nav.agent_bids:
+        a = agents.setdefault(b.bidder, AgentBid())
+        setattr(a, b.resource, max(getattr(a, b.resource), b.value))
+    fwd = Forwarded()
+    for b in nav.bids:
+        setattr(fwd, b.resource, b.value)
+        owner = next((a.bidder for a in nav.agent_bids if a.resource == b.resource and a.value == b.value), None)
+        if owner is not None:
+            setattr(fwd, f"{b.resource}_agent", owner)
+    i = nav.info
+    msg = Navigation(agents=agents, forwarded=fwd, I_a=i["I_a"], risk=i["risk"], quality_ahead=i["quality_ahead"],
+                     quality_around=i["quality_around"], landmarks_known=i["landmarks_known"],
+                     landmarks_ahead=i["landmarks_ahead"], target_source=i["target_source"], rescuer=i["rescuer"],
+                     diverting=nav.diverting, diverting_targets=i["diverting_targets"], failures=i["failures"],
+                     beta_units=i["beta_units"])
+    if nav.target is not None:
+        msg.target = XY(*nav.target)
+    if nav.target_line is not None:
+        msg.line_a, msg.line_b = XY(*nav.target_line[0]), XY(*nav.target_line[1])
+    return msg
+
+
+_MAP = Color(r=0.55, g=0.3, b=0.85, a=0.9)
+_MAP_FAINT = Color(r=0.55, g=0.3, b=0.85, a=0.35)
+_BLOCKED = Color(r=0.9, g=0.1, b=0.1, a=0.9)
+_DIVERTING = Color(r=0.1, g=0.8, b=0.3, a=1.0)
+
+
+def _map_entities(m: MapSnapshot, diverting, ns: int) -> list[SceneEntity]:
+    """The Map Manager's map in ``base_link``: each mapped landmark with the disc of its 70 % cut
+    and its name, the regions' triangles (faint), the beta-units as lines from the encoded landmark
+    to its three basis landmarks, blocked edges in red, and the diverting line in green."""
+    ts = _ts(ns)
+    z = 0.06
+    P = lambda xy: Point3(x=xy[0], y=xy[1], z=z)  # noqa: E731
+    marks = {k: (p.x, p.y) for k, p in m.landmarks.items()}
+    cyl = [_cylinder(p.x, p.y, max(p.radius(0.7), 0.05), z - 0.01, 0.02, _MAP) for p in m.landmarks.values()]
+    texts = [TextPrimitive(pose=_pose(p.x, p.y, z=0.7), billboard=True, font_size=12.0, scale_invariant=True,
+                           color=_MAP, text=f"{k}'") for k, p in m.landmarks.items()]
+    lines = [LinePrimitive(type=LinePrimitiveLineType.LineLoop, thickness=0.01, color=_MAP_FAINT,
+                           points=[P(v) for v in tri]) for tri in m.regions]
+    for a, b, c, d in m.units:
+        if d in marks and all(k in marks for k in (a, b, c)):
+            lines.append(LinePrimitive(type=LinePrimitiveLineType.LineList, thickness=0.008, color=_MAP_FAINT,
+                                       points=[P(marks[d]), P(marks[a]), P(marks[d]), P(marks[b]),
+                                               P(marks[d]), P(marks[c])]))
+    for u, v in m.blocked:
+        if u in marks and v in marks:
+            lines.append(LinePrimitive(type=LinePrimitiveLineType.LineStrip, thickness=0.04, color=_BLOCKED,
+                                       points=[P(marks[u]), P(marks[v])]))
+    if diverting is not None:
+        lines.append(LinePrimitive(type=LinePrimitiveLineType.LineStrip, thickness=0.06, color=_DIVERTING,
+                                   points=[P(diverting[0]), P(diverting[1])]))
+    return [SceneEntity(timestamp=ts, frame_id="base_link", id="map", frame_locked=True, cylinders=cyl,
+                        texts=texts, lines=lines)]
+
+
 def _memory_entities(memory: tuple[Remembered, ...], ns: int) -> list[SceneEntity]:
     """The visual memory in ``base_link``: per remembered point a disc the size of its 70 % cut
-    and a fainter one for its support, so Foxglove shows belief (here) next to truth (/world/scene)."""
+    (the visible belief) and a faint thin ring for its support, which is often 1-2 m wide and would
+    hide the arena if filled, so Foxglove shows belief (here) next to truth (/world/scene)."""
     ents = []
     ts = _ts(ns)
     for m in memory:
@@ -402,7 +464,8 @@ def _memory_entities(memory: tuple[Remembered, ...], ns: int) -> list[SceneEntit
         color, faint = _MEMORY.get(m.kind, _MEMORY["obstacle"])
         for x, y, r70, r0 in m.spots:
             cyl.append(_cylinder(x, y, max(r70, 0.03), 0.015, 0.03, color))
-            cyl.append(_cylinder(x, y, r0, 0.005, 0.01, faint))
+            lines.append(LinePrimitive(type=LinePrimitiveLineType.LineLoop, thickness=0.01, color=faint, points=[
+                Point3(x=x + r0 * math.cos(a), y=y + r0 * math.sin(a), z=0.01) for a in _RING]))
         if len(m.spots) == 2:
             (ax, ay, *_), (bx, by, *_) = m.spots
             lines.append(LinePrimitive(type=LinePrimitiveLineType.LineStrip, thickness=0.03, color=color,
@@ -430,9 +493,9 @@ def _grown(obstacles, pose: Pose, R: float, ns: int) -> SceneEntity:
     return SceneEntity(timestamp=_ts(ns), frame_id="world", id="grown-obstacles", cylinders=cyl, cubes=cubes)
 
 
-def _arena_entities(sc: Scenario) -> list[SceneEntity]:
+def _arena_entities(sc: Scenario, ns: int) -> list[SceneEntity]:
     W, H, t = sc.arena.width, sc.arena.height, 0.1
-    ts = _ts(0)
+    ts = _ts(ns)
     walls = [CubePrimitive(pose=_pose(x, y, z=HEIGHT / 2), size=Vector3(x=sx, y=sy, z=HEIGHT), color=_GREY)
              for x, y, sx, sy in ((W / 2, -t / 2, W + 2 * t, t), (W / 2, H + t / 2, W + 2 * t, t),
                                   (-t / 2, H / 2, t, H), (W + t / 2, H / 2, t, H))]
@@ -533,7 +596,7 @@ def recover(partial: str | Path, out: str | Path | None = None) -> tuple[Path, d
         "outcome": "interrupted", "reason": RECOVERED_REASON, "time_s": end_ns / 1e9,
         "path_length_m": sum(math.hypot(b.x - a.x, b.y - a.y) for (_, a), (_, b) in zip(poses, poses[1:])),
         "collisions": sum(1 for m in events if log_dec(m.data).message.startswith("bumper contact")),
-        "camera_looks": sum(1 for m in messages if topic[m.channel_id] == "/vision" and orjson.loads(m.data).get("image")),
+        "camera_looks": sum(1 for m in messages if topic[m.channel_id] == "/vision" and msgspec.json.decode(m.data).get("image")),
         "ticks": sum(1 for m in messages if topic[m.channel_id] == "/pilot"),
         "navcli_version": run.get("navcli_version", ""), "run_id": run.get("run_id", ""),
     }
@@ -550,9 +613,10 @@ def recover(partial: str | Path, out: str | Path | None = None) -> tuple[Path, d
             w.add_attachment(a.create_time, a.log_time, a.name, a.media_type, a.data)
         for m in messages:
             w.add_message(channel_ids[m.channel_id], m.log_time, m.data, m.publish_time, m.sequence)
-        sid = w.register_schema(SUMMARY_SCHEMA["title"], "jsonschema", orjson.dumps(SUMMARY_SCHEMA))
+        schema = json_schema(MissionSummary)
+        sid = w.register_schema(schema["title"], "jsonschema", msgspec.json.encode(schema))
         cid = w.register_channel("/mission/summary", "json", sid)
-        w.add_message(cid, end_ns, _json(summary), end_ns)
+        w.add_message(cid, end_ns, encode(msgspec.convert(summary, MissionSummary)), end_ns)
         w.finish()
     os.replace(tmp, out)
     return out, summary

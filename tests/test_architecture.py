@@ -67,7 +67,10 @@ def test_only_the_world_imports_pymunk():
 
 
 def test_only_the_recorder_writes_logs():
-    assert _who_imports("foxglove") == {"navcli.recorder"}
+    writers = {m for m, deps in MODULES.items()
+               if any((d == "foxglove" or d.startswith("foxglove.")) and d != "foxglove.layouts" for d in deps)}
+    assert writers == {"navcli.recorder"}
+    assert _who_imports("foxglove.layouts") == {"navcli.layout"}  # builds a viewer layout, writes no log
     assert _who_imports("mcap.writer") == {"navcli.recorder"}  # recover() rewrites a killed run's chunks
 
 

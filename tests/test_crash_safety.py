@@ -88,15 +88,20 @@ def test_sigterm_is_logged_as_such_and_exits_143(write_scenario, tmp_path):
 
 
 def test_a_killed_runs_partial_is_kept_aside_and_a_locked_log_refused(tmp_path):
+    from navcli.config import RunSpec
+    from navcli.mission import Mission
+    from navcli.scenario import load_scenario
+
+    summary = Mission(RunSpec.build(load_scenario(SCENARIOS / "open-arena.yaml"))).summary()  # not started
     out = tmp_path / "run.mcap"
     (tmp_path / "run.mcap.partial").write_bytes(b"the remains of a killed run")
     rec = Recorder(out)
     assert (tmp_path / "run.mcap.partial-1").read_bytes() == b"the remains of a killed run"
     with pytest.raises(LogPathError, match="being written by another run"):
         Recorder(out)
-    rec.finish({"outcome": "interrupted"}, 0)
+    rec.finish(summary, 0)
     assert not (tmp_path / "run.mcap.lock").exists()
-    Recorder(out).finish({"outcome": "interrupted"}, 0)  # free again
+    Recorder(out).finish(summary, 0)  # free again
 
 
 @pytest.mark.parametrize("out, words", [("", "not a file name"), ("/", "not a file name"), (".", "not a file name"),

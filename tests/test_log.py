@@ -15,7 +15,7 @@ from navcli.runner import run_mission
 from navcli.scenario import load_scenario
 
 TOPICS = {"/tf", "/robot/pose", "/robot/odometry", "/world/scene", "/robot/scene", "/pilot", "/bids",
-          "/events", "/mission/summary", "/vision", "/memory/scene"}
+          "/events", "/mission/summary", "/vision", "/memory/scene", "/robot/body", "/robot/camera"}
 
 
 @pytest.fixture(scope="module")
@@ -29,6 +29,22 @@ def open_run(tmp_path_factory):
 def test_every_topic_is_present(open_run):
     _, _, log = open_run
     assert TOPICS <= set(log.topics)
+
+
+def test_state_a_viewer_needs_is_complete_in_every_message_and_repeated(open_run):
+    """A viewer restores the latest message per topic after a seek or a late join: the arena,
+    the robot's body and the camera's field of view are each on a topic of their own, whole in
+    every message, and repeated at least every SCENE_REFRESH seconds until the end."""
+    from navcli.params import SCENE_REFRESH
+
+    sc, res, log = open_run
+    arena = {"walls", "target"} | {f"landmark-{o.key}" for o in sc.objects if o.kind == "landmark"}
+    end = res.summary["time_s"]
+    for topic, ids in (("/world/scene", arena), ("/robot/body", {"robot"}), ("/robot/camera", {"camera"})):
+        df = log[topic]
+        assert all(set(e) == ids for e in df["entities"]), topic
+        t = df["time_s"].to_numpy()
+        assert t[0] == 0.0 and (t[1:] - t[:-1]).max() <= SCENE_REFRESH + 1e-9 and end - t[-1] <= SCENE_REFRESH, topic
 
 
 def test_log_time_is_simulation_time(open_run):

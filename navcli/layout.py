@@ -1,0 +1,83 @@
+"""The Foxglove layout that comes with navcli (``navcli layout``).
+
+Built once with the SDK's layout builder (:mod:`foxglove.layouts`): a 3D panel in the 2D top-down
+view on frame ``world`` with the scene topics, a Plot of the bids per resource, a Plot of the
+pilot's forces and turn, the events Log and the raw summary. Two forms are written:
+
+- ``sdk``: the SDK's own JSON (``Layout.to_json``), for Foxglove's notebook widget and tools that
+  read that schema;
+- ``app`` (default): the layout file format that Foxglove's *Import from file…* reads (the format
+  the app exports: ``configById`` and a tree of splits), which Lichtblick and Foxglove Studio 1.x
+  import too. It is converted from the same SDK objects (our design: the SDK has no such export).
+"""
+
+from __future__ import annotations
+
+import json
+from typing import Any
+
+SCENE_TOPICS = ("/world/scene", "/robot/body", "/robot/camera", "/robot/scene", "/memory/scene")
+BID_PATHS = ("/bids.motion.pilot", "/bids.motion.navigation", "/bids.camera.pilot", "/bids.camera.navigation")
+FORCE_PATHS = ("/pilot.net.x", "/pilot.net.y", "/pilot.repulsive.x", "/pilot.target.x", "/pilot.turn_deg")
+_APP_PANEL = {"ThreeDee": "3D", "Log": "RosOut"}  # SDK panel type -> the app's
+
+
+def build(arena: tuple[float, float] = (8.0, 8.0)):
+    """The layout as :mod:`foxglove.layouts` objects; ``arena`` (m) centres the top-down view."""
+    import foxglove.layouts as fl
+
+    w, h = arena
+    three_d = fl.ThreeDeePanel(title="Arena (2D top-down, frame world)", config=fl.ThreeDeeConfig(
+        follow_tf="world", follow_mode="follow-none",
+        camera_state=fl.ThreeDeeCameraState(perspective=False, distance=1.5 * max(w, h), phi=0.0, theta_offset=0.0,
+                                            target_offset=(w / 2, h / 2, 0.0)),
+        topics={t: {"visible": True} for t in SCENE_TOPICS}))
+
+    def plot(title: str, paths: tuple[str, ...]):
+        return fl.PlotPanel(title=title, config=fl.PlotConfig(
+            paths=[fl.PlotSeries(value=p, enabled=True, timestamp_method="receiveTime") for p in paths],
+            show_legend=True, legend_display="floating", is_synced=True, x_axis_val="timestamp"))
+
+    return fl.Layout(content=fl.SplitContainer(direction="row", items=[
+        fl.SplitItem(proportion=1.2, content=three_d),
+        fl.SplitItem(proportion=1.0, content=fl.SplitContainer(direction="column", items=[
+            fl.SplitItem(content=plot("Bids per resource", BID_PATHS)),
+            fl.SplitItem(content=plot("Pilot forces (force units) and turn (deg)", FORCE_PATHS)),
+            fl.SplitItem(content=fl.SplitContainer(direction="row", items=[
+                fl.SplitItem(content=fl.LogPanel(title="Events", config=fl.LogConfig(topic_to_render="/events",
+                                                                                     min_log_level=1))),
+                fl.SplitItem(content=fl.RawMessagesPanel(title="Summary", config=fl.RawMessagesConfig(
+                    topic_path="/mission/summary", expansion="all"))),
+            ])),
+        ])),
+    ]))
+
+
+def sdk_json(arena: tuple[float, float] = (8.0, 8.0)) -> dict[str, Any]:
+    return json.loads(build(arena).to_json())
+
+
+def app_json(arena: tuple[float, float] = (8.0, 8.0)) -> dict[str, Any]:
+    """The same layout in the app's import format: each panel's config under ``<Type>!<id>`` in
+    ``configById``, and the split tree as nested binary splits with percentages."""
+    config_by_id: dict[str, Any] = {}
+
+    def node(n: dict) -> Any:
+        if n["type"] == "panel":
+            kind = _APP_PANEL.get(n["panelType"], n["panelType"])
+            key = f"{kind}!{len(config_by_id) + 1}"
+            config_by_id[key] = n.get("config", {}) | ({"foxglovePanelTitle": n["title"]} if n.get("title") else {})
+            return key
+        items = n["items"]
+        first, rest = items[0], items[1:]
+        if not rest:
+            return node(first["content"])
+        total = sum(i["proportion"] for i in items)
+        head = node(first["content"])
+        second = node({"type": "split", "direction": n["direction"], "items": rest}) if len(rest) > 1 else node(rest[0]["content"])
+        return {"direction": n["direction"], "first": head, "second": second,
+                "splitPercentage": round(100 * first["proportion"] / total, 1)}
+
+    tree = node(sdk_json(arena)["content"])
+    return {"configById": config_by_id, "globalVariables": {}, "userNodes": {}, "playbackConfig": {"speed": 1},
+            "layout": tree}

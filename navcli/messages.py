@@ -1,0 +1,253 @@
+"""The JSON messages of the log (the README's "The log"): one definition per message, which both
+encodes it and yields its JSON Schema.
+
+Each message is a ``msgspec.Struct``: ``encode`` writes it (msgspec, faster than building dicts
+and dumping them), and :func:`json_schema` derives the schema written into the log from the same
+class, so the two cannot drift apart. msgspec's schemas use ``$ref``/``$defs``, enums without a
+``type`` and maps without ``properties``; Foxglove's JSON-schema parser accepts none of these, so
+:func:`json_schema` inlines the references, types the enums and gives every map an empty
+``properties`` (our design: the rules of that parser are checked by ``tests/test_messages.py``).
+
+Fixed shapes are closed (``additionalProperties: false``); maps keyed by an obstacle's or a
+detection's id are open. No message holds a null: an absent value is an absent key.
+Units are in each field's description. Force units are those of the pilot paper's eq. 2-6.
+"""
+
+from __future__ import annotations
+
+from typing import Annotated, Any, Literal
+
+import msgspec
+from msgspec import UNSET, Meta, Struct, UnsetType
+
+DEG = Annotated[float, Meta(description="degrees; 0 = straight ahead, positive to the left (egocentric)")]
+BID = Annotated[float, Meta(ge=0.0, le=1.0, description="bid in [0, 1]")]
+FORCE = Annotated[float, Meta(description="force units (eq. 2-6 of the pilot paper), egocentric: x ahead, y left")]
+
+
+class _Msg(Struct, forbid_unknown_fields=True, omit_defaults=False):
+    pass
+
+
+# --- /pilot -----------------------------------------------------------------------------------
+class Vector(_Msg):
+    """A virtual force, egocentric (x ahead, y to the left), in force units."""
+
+    x: FORCE
+    y: FORCE
+
+
+class ObstacleForce(_Msg):
+    """The repulsion of one remembered obstacle (eq. 2-4)."""
+
+    x: FORCE
+    y: FORCE
+    mag: Annotated[float, Meta(description="magnitude, force units")]
+    facing: Annotated[bool, Meta(description="the obstacle is not occluded and counts in the net force")]
+
+
+class Command(_Msg):
+    """The wheel command sent this tick."""
+
+    v: Annotated[float, Meta(description="forward speed, m/s (negative: backwards)")]
+    omega_deg: Annotated[float, Meta(description="turn rate, deg/s, positive to the left")]
+
+
+class Pilot(_Msg):
+    """The Pilot's decision this tick and the quantities behind it. Every pilot writes mode, bid,
+    look_bid and command; the potential-field pilot adds the forces (turn_deg ... obstacles,
+    in_corridor on a target line), the geometric pilot its rule (nearest, clearance, rule, side,
+    turn_deg); a reflex (section 3.5) writes its phase."""
+
+    mode: Annotated[Literal["avoid", "idle", "reflex"], Meta(
+        description="avoid: the pilot proposes a move; idle: it proposes none; reflex: section 3.5 after a bump or stall")]
+    bid: Annotated[float, Meta(ge=0.0, le=1.0, description="the pilot's motion bid in [0, 1] (eq. 9 for the potential-field pilot)")]
+    look_bid: Annotated[float, Meta(ge=0.0, le=1.0, description="the pilot's look-ahead camera bid in [0, 1] (eq. 1)")]
+    command: Command
+    phase: Annotated[Literal["stop", "look", "backup", "done"], Meta(description="the reflex's phase")] | UnsetType = UNSET
+    turn_deg: Annotated[float, Meta(description="the turn the pilot asks for, degrees, positive to the left")] | UnsetType = UNSET
+    raw_turn_deg: Annotated[float, Meta(description="eq. 7's angle before section 5's mean with the previous, degrees")] | UnsetType = UNSET
+    in_distress: Annotated[bool, Meta(description="inside a prohibited area (grown obstacle)")] | UnsetType = UNSET
+    passed: Annotated[bool, Meta(description="section 5: repulsion from obstacles behind was dropped")] | UnsetType = UNSET
+    g_max: Annotated[float, Meta(description="the largest obstacle force, force units (eq. 9)")] | UnsetType = UNSET
+    net: Vector | UnsetType = UNSET
+    target: Vector | UnsetType = UNSET
+    repulsive: Vector | UnsetType = UNSET
+    obstacles: Annotated[dict[str, ObstacleForce], Meta(
+        description="per remembered obstacle, by its memory key")] | UnsetType = UNSET
+    in_corridor: Annotated[bool, Meta(description="section 3.3: inside the safe corridor of a target line")] | UnsetType = UNSET
+    nearest: Annotated[str, Meta(description="memory key of the nearest prohibited area")] | UnsetType = UNSET
+    clearance: Annotated[float, Meta(description="m from the robot's centre to that area's edge (negative: inside)")] | UnsetType = UNSET
+    rule: Annotated[Literal["escape", "clear", "tangent"], Meta(description="the geometric pilot's rule this tick")] | UnsetType = UNSET
+    side: Annotated[Literal["right", "left"], Meta(description="the side the geometric pilot passes on")] | UnsetType = UNSET
+
+
+def pilot_message(info: dict[str, Any], v: float, omega_deg: float) -> Pilot:
+    """The ``/pilot`` message from a pilot's explanation dict (``PilotOutput.info``); an undeclared
+    key or a wrong type raises, so the schema stays exact. ``None`` values are left out."""
+    return msgspec.convert({k: x for k, x in info.items() if x is not None} | {"command": {"v": v, "omega_deg": omega_deg}},
+                           Pilot)
+
+
+# --- /bids ------------------------------------------------------------------------------------
+class Action(_Msg):
+    """A bid's action: a move (heading_deg, speed) or a look (pan_deg)."""
+
+    type: Literal["move", "look"]
+    heading_deg: DEG | UnsetType = UNSET
+    speed: Annotated[float, Meta(description="m/s, negative backwards")] | UnsetType = UNSET
+    pan_deg: Annotated[float, Meta(description="camera pan, degrees from the heading, positive to the left")] | UnsetType = UNSET
+
+
+class ResourceBids(_Msg):
+    """One resource's auction: each system's bid (0 when it did not bid), the winner, the actions."""
+
+    pilot: BID
+    navigation: BID
+    actions: Annotated[dict[str, Action], Meta(description="the action each bidding system offered, by system")]
+    winner: Annotated[str, Meta(description="the system that won (absent: nobody bid)")] | UnsetType = UNSET
+
+
+class Bids(_Msg):
+    """Per resource, every system's bid, the winner and the actions; ``agents`` holds the
+    Navigation agents' bids to their Communicator (agent -> resource -> bid in [0, 1])."""
+
+    motion: ResourceBids
+    camera: ResourceBids
+    agents: dict[str, dict[str, BID]]
+
+
+# --- /vision ----------------------------------------------------------------------------------
+class Cuts(_Msg):
+    """A fuzzy number by its cuts: lo0/hi0 the support, lo70/hi70 the 70 % cut, core its middle."""
+
+    lo0: float
+    lo70: float
+    core: float
+    hi70: float
+    hi0: float
+
+
+class Sighting(_Msg):
+    """One measured point, egocentric."""
+
+    heading_deg: Annotated[Cuts, Meta(description="degrees, positive to the left")]
+    distance_m: Annotated[Cuts, Meta(description="m")]
+
+
+class DetectionMsg(_Msg):
+    """What one image showed of one object: one point, or both ends of a linear stretch."""
+
+    kind: Literal["landmark", "target", "obstacle", "wall"]
+    points: list[Sighting]
+
+
+class Vision(_Msg):
+    """The camera each tick: pan, state, and the detections of an image taken this tick."""
+
+    pan_deg: Annotated[float, Meta(description="degrees from the heading, positive to the left")]
+    state: Literal["idle", "panning", "processing"]
+    image: Annotated[bool, Meta(description="an image was taken this tick")]
+    detections: Annotated[dict[str, DetectionMsg], Meta(
+        description="by landmark id, target marker, or obstacle<i> for an unidentified obstacle")]
+
+
+# --- /mission/summary -------------------------------------------------------------------------
+class MissionSummary(_Msg):
+    """How the mission ended."""
+
+    scenario: str
+    seed: int
+    pilot: str
+    outcome: Literal["reached", "timeout", "blocked", "interrupted", "error"]
+    reason: str
+    time_s: Annotated[float, Meta(description="simulated seconds")]
+    path_length_m: Annotated[float, Meta(description="m driven (ground truth)")]
+    collisions: Annotated[int, Meta(description="bumper contacts")]
+    camera_looks: Annotated[int, Meta(description="images taken")]
+    ticks: Annotated[int, Meta(description="control ticks of 0.1 s")]
+    navcli_version: str
+    run_id: Annotated[str, Meta(description="sha256 of the run configuration (hex)")]
+    diverting_targets: Annotated[int, Meta(description="diverting targets the Rescuer set")] = 0
+
+
+# --- /navigation ------------------------------------------------------------------------------
+class AgentBid(_Msg):
+    """One Navigation agent's bids this tick (0 where it did not bid)."""
+
+    motion: BID = 0.0
+    camera: BID = 0.0
+
+
+class Forwarded(_Msg):
+    """What the Communicator forwarded as the Navigation system's bids, and whose they were."""
+
+    motion: BID = 0.0
+    camera: BID = 0.0
+    motion_agent: Annotated[str, Meta(description="the agent whose motion bid won (absent: none)")] | UnsetType = UNSET
+    camera_agent: Annotated[str, Meta(description="the agent whose look bid won (absent: none)")] | UnsetType = UNSET
+
+
+class XY(_Msg):
+    """A point, egocentric (x ahead, y to the left), m."""
+
+    x: float
+    y: float
+
+
+class Navigation(_Msg):
+    """The Navigation system this tick: every agent's bids, what the Communicator forwarded, the
+    target's imprecision I_a, the Risk Manager's risk R and qualities, the current target (a
+    diverting one while the Rescuer holds one) and the Rescuer's state."""
+
+    agents: Annotated[dict[str, AgentBid], Meta(description="by agent")]
+    forwarded: Forwarded
+    I_a: Annotated[float, Meta(ge=0.0, le=1.0, description="the target's heading imprecision (eps / 2 pi) ** beta")]
+    risk: Annotated[float, Meta(ge=0.0, le=1.0, description="the Risk Manager's R")]
+    quality_ahead: Annotated[float, Meta(description="q_S of the landmarks ahead, max(1 - Col) over triples")]
+    quality_around: Annotated[float, Meta(description="q_S of all known landmarks")]
+    landmarks_known: Annotated[int, Meta(description="landmarks in the visual memory")]
+    landmarks_ahead: int
+    target_source: Annotated[str, Meta(description="memory, map:<beta-unit>, line, or none")]
+    rescuer: Literal["sweep", "normal", "lost", "turn"]
+    diverting: Annotated[bool, Meta(description="the current target is a diverting target")]
+    diverting_targets: Annotated[int, Meta(description="diverting targets set so far")]
+    failures: Annotated[int, Meta(description="diverting targets failed so far")]
+    beta_units: Annotated[int, Meta(description="units in the beta-coefficient map")]
+    target: Annotated[XY, Meta(description="the current target, egocentric")] | UnsetType = UNSET
+    line_a: Annotated[XY, Meta(description="a line target's left end, egocentric")] | UnsetType = UNSET
+    line_b: Annotated[XY, Meta(description="a line target's right end, egocentric")] | UnsetType = UNSET
+
+
+MESSAGES: dict[str, type[Struct]] = {"/pilot": Pilot, "/bids": Bids, "/vision": Vision,
+                                     "/mission/summary": MissionSummary, "/navigation": Navigation}
+"""The JSON topics of the log and their message types."""
+
+encode = msgspec.json.Encoder().encode
+"""Compact JSON of a message (msgspec writes NaN and infinity as null, which the schemas refuse)."""
+
+
+def json_schema(cls: type[Struct]) -> dict[str, Any]:
+    """The JSON Schema of ``cls`` as Foxglove's parser accepts it, titled ``navcli.<Name>``."""
+    raw = msgspec.json.schema(cls)
+    defs = raw.get("$defs", {})
+
+    def fix(node: dict[str, Any]) -> dict[str, Any]:
+        if "$ref" in node:
+            node = defs[node["$ref"].rsplit("/", 1)[1]] | {k: v for k, v in node.items() if k != "$ref"}
+        out = {k: v for k, v in node.items() if k not in ("title", "default", "$defs")}
+        if "properties" in out:
+            out["properties"] = {k: fix(v) for k, v in out["properties"].items()}
+        for key in ("additionalProperties", "items"):
+            if isinstance(out.get(key), dict):
+                out[key] = fix(out[key])
+        if "description" in out:
+            out["description"] = " ".join(out["description"].split())  # docstrings' line breaks
+        if "enum" in out and "type" not in out:
+            out["type"] = "string" if all(isinstance(v, str) for v in out["enum"]) else "number"
+        if out.get("type") == "object" and "properties" not in out:
+            out["properties"] = {}
+        return out
+
+    schema = fix(raw)
+    return {"title": f"navcli.{cls.__name__}"} | schema

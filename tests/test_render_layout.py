@@ -1,0 +1,96 @@
+"""``navcli render`` (a video from a log alone) and ``navcli layout`` (a Foxglove layout naming
+only what the logs hold)."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+from PIL import Image
+from typer.testing import CliRunner
+
+from analysis.render import RenderError, render
+from conftest import SCENARIOS
+from navcli.cli import app
+from navcli.config import RunSpec
+from navcli.messages import MESSAGES, json_schema
+from navcli.runner import run_mission
+from navcli.scenario import load_scenario
+
+
+@pytest.fixture(scope="module")
+def short_log(tmp_path_factory):
+    """2 s of the 8 m room: 20 ticks, the memory drawn every 0.5 s."""
+    out = tmp_path_factory.mktemp("render") / "short.mcap"
+    run_mission(RunSpec.build(load_scenario(SCENARIOS / "paper-8x8.yaml"), seed=1, time_limit=2.0), out=out)
+    return out
+
+
+def test_render_writes_a_gif_with_one_frame_per_step(short_log, tmp_path):
+    # speed 2 at 5 frames per second: a frame every 0.4 simulated s, 0.0 to 2.0 inclusive = 6;
+    # the 5 x 6.4 inch figure at 30 dpi is 150 x 192 pixels
+    res = render(short_log, tmp_path / "run.gif", speed=2.0, fps=5.0, dpi=30)
+    assert res.frames == 6 and res.size == (150, 192)
+    with Image.open(res.path) as im:
+        assert im.n_frames == 6 and im.size == (150, 192)
+    # --from/--to clip: 0.5 s to 1.5 s at 0.5 s per frame = 3 frames
+    assert render(short_log, tmp_path / "clip.gif", speed=2.5, fps=5.0, start=0.5, end=1.5, dpi=20).frames == 3
+
+
+def test_render_refuses_what_it_cannot_do(short_log, tmp_path, monkeypatch):
+    from matplotlib import animation
+
+    monkeypatch.setattr(animation.writers, "is_available", lambda name: False)
+    with pytest.raises(RenderError, match="a GIF works"):
+        render(short_log, tmp_path / "run.mp4")
+    r = CliRunner().invoke(app, ["render", str(short_log), "--out", str(tmp_path / "run.avi")])
+    assert r.exit_code == 2 and ".gif or .mp4" in r.output
+    r = CliRunner().invoke(app, ["render", str(short_log), "--from", "3"])
+    assert r.exit_code == 2 and "empty time range" in r.output
+
+
+def _declares(topic: str, field: str) -> bool:
+    node = json_schema(MESSAGES[topic])
+    for part in field.split("."):
+        node = node.get("properties", {}).get(part)
+        if node is None:
+            return False
+    return True
+
+
+@pytest.mark.parametrize("fmt", ["app", "sdk"])
+def test_layout_is_json_naming_only_topics_and_fields_the_logs_have(short_log, tmp_path, fmt):
+    from analysis import read_log
+
+    out = tmp_path / "layout.json"
+    r = CliRunner().invoke(app, ["layout", "--out", str(out), "--format", fmt])
+    assert r.exit_code == 0, r.output
+    text = out.read_text()
+    data = json.loads(text)
+    assert ("configById" in data) if fmt == "app" else (data["version"] == 1 and "content" in data)
+    logged = set(read_log(short_log).topics)
+    named = set()
+
+    def walk(node):
+        if isinstance(node, dict):
+            for k, v in node.items():
+                if k == "topics" and isinstance(v, dict):
+                    named.update(v)
+                elif k in ("topicToRender", "topicPath", "value") and isinstance(v, str) and v.startswith("/"):
+                    named.add(v)
+                walk(v)
+        elif isinstance(node, list):
+            for v in node:
+                walk(v)
+
+    walk(data)
+    paths = {n for n in named if "." in n}
+    topics = {n.split(".", 1)[0] for n in named}
+    assert {"/world/scene", "/robot/body", "/bids", "/pilot", "/events", "/mission/summary"} <= topics
+    assert topics <= logged
+    for p in paths:  # every plotted field is declared in its topic's schema
+        topic, field = p.split(".", 1)
+        assert _declares(topic, field), p
+    if fmt == "app":
+        three_d = next(v for k, v in data["configById"].items() if k.startswith("3D!"))
+        assert three_d["followTf"] == "world" and three_d["cameraState"]["perspective"] is False
