@@ -24,7 +24,7 @@ from typing import Any, Literal
 import yaml
 
 from .geometry import Point, distance_to_segment
-from .params import DEFAULTS, PERCEPTIONS, PILOT_NAMES, Params
+from .params import CLUSTERS, DEFAULTS, NAVIGATION, PERCEPTIONS, PILOT_NAMES, ParamError, Params
 
 SUPPORTED_VERSIONS = (1,)
 NAME_RE = re.compile(r"[a-z0-9-]{1,64}")
@@ -562,7 +562,8 @@ class _Reader:
     def scenario(self, d: Any, text: str) -> Scenario:
         try:
             top = self.mapping(d, (), ("version", "name", "arena", "robot", "target"),
-                               ("description", "obstacles", "landmarks", "mission", "noise", "camera", "pilot"))
+                               ("description", "obstacles", "landmarks", "mission", "noise", "camera", "pilot",
+                                "navigation"))
         except _Invalid:
             raise ScenarioError(self.problems) from None
         g = self.guard
@@ -578,9 +579,10 @@ class _Reader:
         noise = g(self.noise, top.get("noise", {}))
         camera = g(self.camera, top.get("camera", {}))
         pilot_params = g(self.pilot, top.get("pilot", {}), default={})
+        nav_params = g(self.navigation, top.get("navigation", {}), default={})
         if self.problems:
             raise ScenarioError(self.problems)
-        params = Params().override(robot_params | pilot_params)
+        params = Params().override(robot_params | pilot_params | nav_params)
         sc = Scenario(version, name, description, arena, robot, target, obstacles, landmarks,
                       mission, noise, camera, params)
         self.placement(sc)
@@ -733,6 +735,30 @@ class _Reader:
         m = self.mapping(v, P, (), ("K", "A_t", "R_min"))
         return {f"pilot.{k}": self.number(m[k], P + (k,), f"pilot.{k}") for k in ("K", "A_t", "R_min") if k in m}
 
+    def navigation(self, v: Any) -> dict[str, float]:
+        """The Navigation system's parameters the block sets: ``cluster`` (``C1``, the default, or
+        ``C2``: the thesis' GA-tuned sets, Table 5.2) and any of ``navigation.*`` by name, checked
+        against its declared range."""
+        P = ("navigation",)
+        fields = {k: v for k, v in Params().flat().items() if k.startswith("navigation.") and not isinstance(v, list)}
+        names = tuple(k.partition(".")[2] for k in fields)
+        m = self.mapping(v, P, (), ("cluster",) + names)
+        out: dict[str, float] = {}
+        if "cluster" in m:
+            c = self.text(m["cluster"], P + ("cluster",))
+            if c not in CLUSTERS:
+                raise self.fail(P + ("cluster",), f"unknown cluster {c!r} (expected one of: {', '.join(CLUSTERS)})")
+            out = {f"navigation.{k}": x for k, x in dataclasses.asdict(CLUSTERS[c]).items() if not isinstance(x, tuple)}
+        for k in names:
+            if k in m:
+                value = self.number(m[k], P + (k,))
+                try:
+                    Params().override({f"navigation.{k}": value})
+                except ParamError as e:
+                    raise self.fail(P + (k,), str(e).partition(" ")[2] or str(e)) from None
+                out[f"navigation.{k}"] = value
+        return out
+
     # -- where things are
     def reachable(self, sc: Scenario) -> None:
         """A point target the robot's centre can come within ``tolerance`` of: one obstacle (or
@@ -806,6 +832,22 @@ class _Reader:
 
 
 # --- The format as a JSON Schema (for editors: the YAML language server) ---------------------
+def _param_schema(f: dataclasses.Field) -> dict[str, Any]:
+    """A parameter's JSON Schema from its declared range (:func:`navcli.params._p`)."""
+    m = f.metadata
+    d: dict[str, Any] = {"type": "integer" if isinstance(f.default, int) else "number", "default": f.default}
+    if m.get("above") is not None:
+        d["exclusiveMinimum"] = m["above"]
+    elif m.get("at_least") is not None:
+        d["minimum"] = m["at_least"]
+    if m.get("at_most") is not None:
+        d["maximum"] = m["at_most"]
+    if m.get("below") is not None:
+        d["exclusiveMaximum"] = m["below"]
+    return d
+
+
+
 def json_schema() -> dict[str, Any]:
     """The scenario format as a JSON Schema (draft-07), built from the same ranges the loader
     checks. It catches what a schema can (fields, types, ranges, names); where things are
@@ -867,5 +909,9 @@ def json_schema() -> dict[str, Any]:
             "pilot": obj({"K": num("pilot.K", "eq. 2: repulsion constant"),
                           "A_t": num("pilot.A_t", "eq. 5: target attraction"),
                           "R_min": num("pilot.R_min", "metres: prohibited area beyond an obstacle's surface")}),
+            "navigation": obj({"cluster": {"enum": list(CLUSTERS), "description": "the thesis' GA-tuned bidding "
+                                           "parameters: C1 (default, targets reachable directly) or C2 (behind obstacles)"}}
+                              | {f.name: _param_schema(f) for f in dataclasses.fields(NAVIGATION)
+                                 if not isinstance(f.default, tuple)}),
         }, ("version", "name", "arena", "robot", "target")),
     }

@@ -118,3 +118,25 @@ def test_not_a_yaml_mapping_is_refused(write_scenario, text, words):
 def test_missing_file_is_refused(tmp_path):
     with pytest.raises(ScenarioError, match="no such file"):
         load_scenario(tmp_path / "nope.yaml")
+
+
+def test_the_navigation_block_picks_a_cluster_and_overrides_parameters(make_scenario):
+    from navcli.params import NAVIGATION, NAVIGATION_C2
+
+    sc = make_scenario(navigation={"cluster": "C2", "kappa1": 0.5})
+    nav = sc.params.navigation
+    assert nav.kappa1 == 0.5  # the override beats the cluster's 1.0
+    assert (nav.gamma_B, nav.I_a_bar) == (NAVIGATION_C2.gamma_B, NAVIGATION_C2.I_a_bar) == (4.39, 0.871)
+    assert make_scenario().params.navigation == NAVIGATION  # C1 by default
+
+
+@pytest.mark.parametrize("block, field, words", [
+    ({"cluster": "C3"}, "navigation.cluster", "unknown cluster 'C3'"),
+    ({"kappa1": 1.5}, "navigation.kappa1", "at most 1"),
+    ({"I_a_bar": 1.0}, "navigation.I_a_bar", "below 1"),
+    ({"kapa1": 0.3}, "navigation.kapa1", "unknown field 'kapa1'"),
+])
+def test_the_navigation_block_refuses_what_cannot_be_run(write_scenario, block, field, words):
+    with pytest.raises(ScenarioError) as e:
+        load_scenario(write_scenario(scenario_dict(navigation=block)))
+    assert any(p.field == field and words in p.message for p in e.value.problems), str(e.value)
