@@ -97,6 +97,7 @@ def _run_row(path: Path) -> dict:
             "outcome": s["outcome"], "reached": s["outcome"] == "reached", "time_s": s["time_s"],
             "path_m": s["path_length_m"], "path_cm": 100.0 * s["path_length_m"],
             "collisions": s["collisions"], "camera_looks": s["camera_looks"], "ticks": s["ticks"],
+            "diverting_targets": s.get("diverting_targets", 0),
             "poses_path_m": walked, "xy": poses[["x", "y"]].to_numpy()} | config_columns(config)
 
 
@@ -174,6 +175,12 @@ def pilot_table(runs: pd.DataFrame) -> pd.DataFrame:
         limit = g["time_limit_s"].fillna(g["time_s"]) if "time_limit_s" in g else g["time_s"]
         row["time_fail_at_limit_mean"] = float(g["time_s"].where(g["reached"], limit).mean()) if n else math.nan
         row["collisions_all_mean"] = float(g["collisions"].mean()) if n else math.nan
+        for outcome in ("reached", "blocked", "timeout", "error"):  # how the counted runs ended
+            row[f"outcome_{outcome}"] = int((g["outcome"] == outcome).sum())
+        row["diverting_targets_mean"] = float(g["diverting_targets"].mean()) if n and "diverting_targets" in g else math.nan
+        for k in (0, 1, 2):  # the thesis' real-robot figures: runs that needed none, one, two diverting targets
+            row[f"diverting_{k}"] = int((g["diverting_targets"] == k).sum()) if "diverting_targets" in g else 0
+        row["diverting_3_or_more"] = int((g["diverting_targets"] >= 3).sum()) if "diverting_targets" in g else 0
         out.append(row)
     return pd.DataFrame(out)
 
@@ -269,6 +276,13 @@ def markdown(table: pd.DataFrame, imps: pd.DataFrame, remarks: list[str] = ()) -
             rate = "-" if not r.runs else \
                 f"{100 * r.success_rate:.0f} % [{100 * r.success_ci_low:.0f}, {100 * r.success_ci_high:.0f}]"
             lines.append(f"| {r.pilot} | {r.reached}/{r.runs} | {rate} | {t} | {ts} | {p} | {ps} | {tl} | {c} | {k} |")
+        lines += ["", "| pilot | reached | blocked | timeout | error | diverting targets avg | runs with 0 / 1 / 2 / 3+ |",
+                  "| --- | ---: | ---: | ---: | ---: | ---: | --- |"]
+        for r in g.itertuples():
+            d, _ = _fmt(r.diverting_targets_mean, 0.0)
+            lines.append(f"| {r.pilot} | {r.outcome_reached} | {r.outcome_blocked} | {r.outcome_timeout} | "
+                         f"{r.outcome_error} | {d} | {r.diverting_0} / {r.diverting_1} / {r.diverting_2} / "
+                         f"{r.diverting_3_or_more} |")
         lines.append("")
         gi = imps[imps["condition"] == condition] if len(imps) else imps
         if len(gi):

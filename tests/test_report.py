@@ -105,3 +105,24 @@ def test_compare_reports_only_the_runs_it_planned(near, tmp_path):
     assert r.exit_code == 0 and "Traceback" not in r.output, r.output
     assert "| geometric | 1/1 |" in r.output and "| potential-field |" not in r.output
     assert "only one pilot (geometric)" in r.output
+
+
+def test_the_table_breaks_outcomes_and_diverting_targets_down_per_pilot():
+    import pandas as pd
+
+    from analysis.tables import markdown
+
+    rows = []
+    for seed, (outcome, diverting) in enumerate([("reached", 0), ("reached", 1), ("reached", 2), ("blocked", 3),
+                                                 ("timeout", 1), ("interrupted", 0)]):
+        rows.append({"log": f"l{seed}", "run_id": f"r{seed}", "scenario": "s", "perception": "vision", "pilot": "pf",
+                     "seed": seed, "time_limit_s": 100.0, "outcome": outcome, "reached": outcome == "reached",
+                     "time_s": 50.0 if outcome == "reached" else 100.0, "path_m": 5.0, "path_cm": 500.0,
+                     "collisions": 0, "camera_looks": 3, "ticks": 500, "diverting_targets": diverting,
+                     "poses_path_m": 5.0, "xy": None})
+    t = pilot_table(pd.DataFrame(rows)).iloc[0]
+    assert (t.outcome_reached, t.outcome_blocked, t.outcome_timeout, t.interrupted) == (3, 1, 1, 1)
+    assert (t.diverting_0, t.diverting_1, t.diverting_2, t.diverting_3_or_more) == (1, 2, 1, 1)  # the 5 counted
+    assert t.diverting_targets_mean == pytest.approx((0 + 1 + 2 + 3 + 1) / 5)
+    md = markdown(pilot_table(pd.DataFrame(rows)), pd.DataFrame(columns=["condition"]))
+    assert "| pf | 3 | 1 | 1 | 0 | 1.40 | 1 / 2 / 1 / 1 |" in md
