@@ -267,6 +267,23 @@ def plot_bids(
     _plot("bids", scenario, out, step, param, walls)
 
 
+@plot_app.command("map")
+def plot_map(
+    log: Annotated[Path, typer.Argument(help="A log of a run (.mcap).")],
+    out: Annotated[Optional[Path], typer.Option(help="PNG file (default: next to the log, <log>-map.png).")] = None,
+) -> None:
+    """The Map Manager's final map (mapped landmarks, regions, blocked edges) over the true arena."""
+    from analysis import LogError
+    from analysis.mapplot import plot_map as draw
+
+    out = out or log.with_name(log.stem + "-map.png")
+    try:
+        typer.echo(f"wrote {draw(log, out)}")
+    except LogError as e:
+        _err(f"error: {e}")
+        raise typer.Exit(EXIT_BAD_INPUT) from None
+
+
 compare_app = typer.Typer(help="Rerun missions with many seeds and compare, from the logs.", no_args_is_help=True)
 app.add_typer(compare_app, name="compare")
 

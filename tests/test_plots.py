@@ -38,3 +38,18 @@ def test_plot_commands_write_png_files(tmp_path):
         r = runner.invoke(app, ["plot", kind, str(SCENARIOS / "paper-fig9.yaml"), "--out", str(out), "--step", "0.3"])
         assert r.exit_code == 0, r.output
         assert out.read_bytes()[:8] == PNG and out.stat().st_size > 10_000
+
+
+def test_plot_map_draws_the_final_map_of_a_log(tmp_path):
+    from navcli.config import RunSpec
+    from navcli.runner import run_mission
+    from navcli.scenario import load_scenario
+
+    sc = load_scenario(SCENARIOS / "landmarks-12.yaml")
+    log = run_mission(RunSpec.build(sc, time_limit=8.0), out=tmp_path / "m.mcap").log  # the sweep maps landmarks
+    r = CliRunner().invoke(app, ["plot", "map", str(log), "--out", str(tmp_path / "map.png")])
+    assert r.exit_code == 0, r.output
+    assert (tmp_path / "map.png").read_bytes().startswith(PNG)
+    short = run_mission(RunSpec.build(sc, time_limit=1.0), out=tmp_path / "s.mcap").log  # before the first map
+    r = CliRunner().invoke(app, ["plot", "map", str(short)])
+    assert r.exit_code == 2 and "no /map/scene" in r.output
