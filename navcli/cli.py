@@ -294,9 +294,11 @@ def compare_pilots(
 
         try:
             run_all(work, workers, done)
-        except KeyboardInterrupt:
+        except KeyboardInterrupt as e:  # Ctrl-C (130) or SIGTERM (143): every worker is stopped
+            from .experiments.executor import exit_code
+
             _err("interrupted: completed logs are kept; run the same command again to resume")
-            raise typer.Exit(EXIT_INTERRUPTED) from None
+            raise typer.Exit(exit_code(e)) from None
     wall = time.perf_counter() - t0
     typer.echo(f"{len(work)} runs ({ran} run now, {len(work) - ran} already complete) in {wall:.1f} s "
                f"on {workers} workers")
