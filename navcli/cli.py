@@ -9,6 +9,7 @@ scenario, a bad option), 3 the mission ended without reaching its target (timeou
 
 from __future__ import annotations
 
+import contextlib
 import sys
 from enum import Enum
 from pathlib import Path
@@ -356,6 +357,94 @@ def params(
             raise typer.Exit(EXIT_BAD_INPUT) from None
     for name, value in values.flat().items():
         typer.echo(f"{name:34s} {value}")
+
+
+# --- sweep and tune: many runs on the local pool or a Dask cluster (navcli/experiments/) -----------
+SchedulerOption = Annotated[Optional[str], typer.Option(
+    metavar="ADDRESS", help="Send the runs to the Dask cluster whose scheduler is at tcp://HOST:PORT instead of "
+                            "local worker processes (needs navcli[cluster]).")]
+JobsOption = Annotated[Optional[int], typer.Option(min=1, help="Local worker processes (default: the machine's cores).")]
+
+
+def _extra(module: str, what: str):
+    """Import a library of the cluster extra or exit saying what to install."""
+    from .experiments.executor import MissingExtra, require
+
+    try:
+        return require(module, what)
+    except MissingExtra as e:
+        _err(f"error: {e}")
+        raise typer.Exit(1) from None
+
+
+@contextlib.contextmanager
+def _executor(jobs: Optional[int], scheduler: Optional[str]):
+    """The execution layer's executor, or exit 2 when the scheduler cannot be reached."""
+    import os
+
+    from .experiments.executor import MissingExtra, executor
+
+    if scheduler:
+        _extra("distributed", "--scheduler")
+    try:
+        with executor(jobs or os.cpu_count() or 1, scheduler) as ex:
+            yield ex
+    except (ConnectionError, MissingExtra) as e:
+        _err(f"error: {e}")
+        raise typer.Exit(EXIT_BAD_INPUT if isinstance(e, ConnectionError) else 1) from None
+
+
+@app.command()
+def sweep(
+    plan: Annotated[Path, typer.Argument(help="Plan file (YAML): scenarios, seeds, a grid or a random sample of "
+                                              "--param values; see the README.")],
+    out: Annotated[Optional[Path], typer.Option(
+        help="Folder for the results table (results.parquet) and the logs (default: logs/sweep/<plan name>); "
+             "on a cluster, a path every worker can write.")] = None,
+    jobs: JobsOption = None,
+    scheduler: SchedulerOption = None,
+    no_logs: Annotated[bool, typer.Option("--no-logs", help="Run without logs; keep only the results table.")] = False,
+    csv: Annotated[bool, typer.Option("--csv", help="Also write the table as results.csv.")] = False,
+) -> None:
+    """Run every scenario x parameter point x seed of a plan; one row per run in a Parquet table.
+    Runs already in the table are not run again (an interrupted sweep resumes)."""
+    import time
+
+    _extra("pyarrow", "navcli sweep (Parquet tables)")
+    from .experiments.executor import exit_code
+    from .experiments.sweep import PlanError, load_plan, plan_runs, run_sweep
+
+    try:
+        p = load_plan(plan)
+    except PlanError as e:
+        _err(f"error: plan refused\n{e}")
+        raise typer.Exit(EXIT_BAD_INPUT) from None
+    out = out or Path("logs") / "sweep" / plan.stem
+    runs = plan_runs(p, None if no_logs else out)
+    table = out / "results.parquet"
+    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeRemainingColumn
+
+    t0 = time.perf_counter()
+    with Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(),
+                  TextColumn("{task.fields[failed]} failed"), TextColumn("ETA"), TimeRemainingColumn(),
+                  transient=True, disable=not sys.stderr.isatty()) as bar:
+        task = bar.add_task(f"{len(runs)} runs", total=len(runs), failed=0)
+
+        def row(r: dict, stats) -> None:
+            bar.update(task, completed=stats.skipped + stats.done, failed=stats.failed)
+
+        with _executor(jobs, scheduler) as ex:
+            try:
+                stats = run_sweep(runs, table, ex, csv=csv, on_row=row)
+            except KeyboardInterrupt as e:
+                _err(f"interrupted: the finished runs are in {table}; run the same command again to resume")
+                raise typer.Exit(exit_code(e)) from None
+    wall = time.perf_counter() - t0
+    typer.echo(f"{stats.total} runs: {stats.done} run now in {wall:.1f} s, {stats.skipped} already in the table; "
+               f"{stats.failed} did not reach the target, {stats.errors} raised an error")
+    typer.echo(f"wrote {table}" + (f" and {table.with_suffix('.csv')}" if csv else ""))
+    if stats.errors:
+        raise typer.Exit(1)
 
 
 def main() -> None:
