@@ -208,6 +208,10 @@ def run_each(fn: Callable[[Any], Any], items: Sequence[Any], ex: Executor,
     with sigterm_interrupts():
         futures: dict[Future, int] = {}
         try:
+            if isinstance(ex, SerialExecutor):  # one at a time, each reported before the next starts
+                for i, item in enumerate(items):
+                    on_done(i, ex.submit(fn, item))
+                return
             for i, item in enumerate(items):
                 futures[ex.submit(fn, item)] = i
             for f in as_completed(futures):
