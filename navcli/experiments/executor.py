@@ -117,6 +117,7 @@ class LocalPool(ProcessPoolExecutor):
 
         ctx = mp.get_context("fork") if "fork" in mp.get_all_start_methods() else None
         super().__init__(max_workers=workers, mp_context=ctx, initializer=_worker_init)
+        self.workers = workers
 
     def submit(self, fn: Callable, /, *args: Any, **kwargs: Any) -> Future:
         assert not kwargs, "LocalPool passes positional arguments only"
@@ -143,7 +144,8 @@ class LocalPool(ProcessPoolExecutor):
 
 @contextlib.contextmanager
 def executor(jobs: int, scheduler: str | None = None) -> Iterator[Executor]:
-    """An executor for ``jobs`` local workers, or for the Dask cluster at ``scheduler``.
+    """An executor for ``jobs`` local workers, or for the Dask cluster at ``scheduler``; its
+    ``workers`` attribute says how many runs it holds at once (a batch of trials).
 
     ``jobs <= 1`` without a scheduler runs in this process (a :class:`SerialExecutor`)."""
     if scheduler:
@@ -153,7 +155,9 @@ def executor(jobs: int, scheduler: str | None = None) -> Iterator[Executor]:
         except OSError as e:
             raise ConnectionError(f"cannot reach the Dask scheduler at {scheduler}: {e}") from None
         try:
-            yield client.get_executor(pure=False, retries=RETRIES)
+            ex = client.get_executor(pure=False, retries=RETRIES)
+            ex.workers = sum(client.nthreads().values()) or 1  # how many runs the cluster holds at once
+            yield ex
         finally:
             client.close()
         return
@@ -171,6 +175,8 @@ def executor(jobs: int, scheduler: str | None = None) -> Iterator[Executor]:
 
 class SerialExecutor(Executor):
     """Runs each submission at once, in this process (one worker, no pool; easy to debug)."""
+
+    workers = 1
 
     def submit(self, fn: Callable, /, *args: Any, **kwargs: Any) -> Future:
         f: Future = Future()
