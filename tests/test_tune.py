@@ -92,3 +92,11 @@ def test_the_thesis_defaults_and_bad_ranges(tiny):
                          ("vision.forget_every=1:9", "cannot be tuned"), ("pilot.k=1:2", "did you mean pilot.K")):
         res = CliRunner().invoke(app, ["tune", str(tiny), "--param", bad])
         assert res.exit_code == 2 and message in res.output, res.output
+
+
+def test_a_missing_library_is_named_with_what_to_install(tiny, monkeypatch):
+    import sys
+
+    monkeypatch.setitem(sys.modules, "optuna", None)  # as if not installed: importing it raises ImportError
+    res = CliRunner().invoke(app, ["tune", str(tiny), "--param", "pilot.K=1:2"])
+    assert res.exit_code == 1 and "needs optuna: pip install 'navcli[cluster]'" in res.output
