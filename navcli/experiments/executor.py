@@ -123,9 +123,6 @@ class LocalPool(ProcessPoolExecutor):
         assert not kwargs, "LocalPool passes positional arguments only"
         return super().submit(_in_worker, fn, args)
 
-    def pids(self) -> list[int]:
-        return list((self._processes or {}).keys())
-
     def stop(self) -> None:
         """Cancel what has not started, SIGTERM the workers, SIGKILL those alive after GRACE_S, reap them."""
         procs = list((self._processes or {}).values())
