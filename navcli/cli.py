@@ -9,6 +9,7 @@ scenario, a bad option), 3 the mission ended without reaching its target (timeou
 
 from __future__ import annotations
 
+import contextlib
 import sys
 from enum import Enum
 from pathlib import Path
@@ -336,9 +337,11 @@ def compare_pilots(
 
         try:
             run_all(work, workers, done)
-        except KeyboardInterrupt:
+        except KeyboardInterrupt as e:  # Ctrl-C (130) or SIGTERM (143): every worker is stopped
+            from .experiments.executor import exit_code
+
             _err("interrupted: completed logs are kept; run the same command again to resume")
-            raise typer.Exit(EXIT_INTERRUPTED) from None
+            raise typer.Exit(exit_code(e)) from None
     wall = time.perf_counter() - t0
     typer.echo(f"{len(work)} runs ({ran} run now, {len(work) - ran} already complete) in {wall:.1f} s "
                f"on {workers} workers")
@@ -502,6 +505,183 @@ def render(
         if bar is not None:
             bar.stop()
     typer.echo(f"wrote {res.path} ({res.frames} frames, {res.size[0]}x{res.size[1]} px)")
+
+
+# --- sweep and tune: many runs on the local pool or a Dask cluster (navcli/experiments/) -----------
+SchedulerOption = Annotated[Optional[str], typer.Option(
+    metavar="ADDRESS", help="Send the runs to the Dask cluster whose scheduler is at tcp://HOST:PORT instead of "
+                            "local worker processes (needs navcli[cluster]).")]
+JobsOption = Annotated[Optional[int], typer.Option(min=1, help="Local worker processes (default: the machine's cores).")]
+
+
+def _extra(module: str, what: str):
+    """Import a library of the cluster extra or exit saying what to install."""
+    from .experiments.executor import MissingExtra, require
+
+    try:
+        return require(module, what)
+    except MissingExtra as e:
+        _err(f"error: {e}")
+        raise typer.Exit(1) from None
+
+
+@contextlib.contextmanager
+def _executor(jobs: Optional[int], scheduler: Optional[str]):
+    """The execution layer's executor, or exit 2 when the scheduler cannot be reached."""
+    import os
+
+    from .experiments.executor import MissingExtra, executor
+
+    if scheduler:
+        _extra("distributed", "--scheduler")
+    try:
+        with executor(jobs or os.cpu_count() or 1, scheduler) as ex:
+            yield ex
+    except (ConnectionError, MissingExtra) as e:
+        _err(f"error: {e}")
+        raise typer.Exit(EXIT_BAD_INPUT if isinstance(e, ConnectionError) else 1) from None
+
+
+@app.command()
+def sweep(
+    plan: Annotated[Path, typer.Argument(help="Plan file (YAML): scenarios, seeds, a grid or a random sample of "
+                                              "--param values; see the README.")],
+    out: Annotated[Optional[Path], typer.Option(
+        help="Folder for the results table (results.parquet) and the logs (default: logs/sweep/<plan name>); "
+             "on a cluster, a path every worker can write.")] = None,
+    jobs: JobsOption = None,
+    scheduler: SchedulerOption = None,
+    no_logs: Annotated[bool, typer.Option("--no-logs", help="Run without logs; keep only the results table.")] = False,
+    csv: Annotated[bool, typer.Option("--csv", help="Also write the table as results.csv.")] = False,
+) -> None:
+    """Run every scenario x parameter point x seed of a plan; one row per run in a Parquet table.
+    Runs already in the table are not run again (an interrupted sweep resumes)."""
+    import time
+
+    _extra("pyarrow", "navcli sweep (Parquet tables)")
+    from .experiments.executor import exit_code
+    from .experiments.sweep import PlanError, load_plan, plan_runs, run_sweep
+
+    try:
+        p = load_plan(plan)
+    except PlanError as e:
+        _err(f"error: plan refused\n{e}")
+        raise typer.Exit(EXIT_BAD_INPUT) from None
+    out = out or Path("logs") / "sweep" / plan.stem
+    runs = plan_runs(p, None if no_logs else out)
+    table = out / "results.parquet"
+    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeRemainingColumn
+
+    t0 = time.perf_counter()
+    with Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(),
+                  TextColumn("{task.fields[failed]} failed"), TextColumn("ETA"), TimeRemainingColumn(),
+                  transient=True, disable=not sys.stderr.isatty()) as bar:
+        task = bar.add_task(f"{len(runs)} runs", total=len(runs), failed=0)
+
+        def row(r: dict, stats) -> None:
+            bar.update(task, completed=stats.skipped + stats.done, failed=stats.failed)
+
+        with _executor(jobs, scheduler) as ex:
+            try:
+                stats = run_sweep(runs, table, ex, csv=csv, on_row=row)
+            except KeyboardInterrupt as e:
+                _err(f"interrupted: the finished runs are in {table}; run the same command again to resume")
+                raise typer.Exit(exit_code(e)) from None
+    wall = time.perf_counter() - t0
+    typer.echo(f"{stats.total} runs: {stats.done} run now in {wall:.1f} s, {stats.skipped} already in the table; "
+               f"{stats.failed} did not reach the target, {stats.errors} raised an error")
+    typer.echo(f"wrote {table}" + (f" and {table.with_suffix('.csv')}" if csv else ""))
+    if stats.errors:
+        raise typer.Exit(1)
+
+
+@app.command()
+def tune(
+    scenarios: Annotated[list[Path], typer.Argument(help="Scenario YAML files; every trial runs each of them.")],
+    param: Annotated[list[str], typer.Option(
+        "--param", metavar="NAME=LOW:HIGH",
+        help="A parameter to tune in [LOW, HIGH] (NAME alone: [0, 5]); NAME=VALUE fixes it for every trial. "
+             "Repeatable; names as `navcli params` lists them.")],
+    algorithm: Annotated[str, typer.Option(help="tpe (Optuna), cmaes (Optuna) or ga (DEAP's eaSimple, the "
+                                                "thesis' generational GA).")] = "tpe",
+    trials: Annotated[int, typer.Option(min=1, help="Finished trials the study should hold (tpe, cmaes).")] = 100,
+    seeds: Annotated[int, typer.Option(min=1, help="Runs per scenario per trial (the same seeds for every trial).")] = 3,
+    objective: Annotated[str, typer.Option(
+        help="fitness (success rate, mean steps and their spread; see navcli/experiments/tune.py), success "
+             "(rate) or time (minus the mean time, failures at the limit). Maximised.")] = "fitness",
+    storage: Annotated[Optional[Path], typer.Option(
+        help="The study's journal file (tpe, cmaes) or the GA's checkpoint; an existing one of the same problem "
+             "is resumed. Default: OUT/study.journal or OUT/ga.json.")] = None,
+    out: Annotated[Path, typer.Option(help="Folder for history.csv, best.json, best.yaml, objective.png.")] =
+        Path("logs/tune"),
+    jobs: JobsOption = None,
+    scheduler: SchedulerOption = None,
+    time_limit: Annotated[Optional[float], typer.Option(min=0.1, help="Override the scenarios' time limit (s).")] = None,
+    perception: Annotated[Optional[PerceptionName], typer.Option(help="vision or oracle for every run.")] = None,
+    seed: Annotated[int, typer.Option(min=0, help="Seed of the optimiser (not of the runs).")] = 1,
+    population: Annotated[int, typer.Option(min=2, help="GA: individuals per generation.")] = 20,
+    generations: Annotated[int, typer.Option(min=1, help="GA: generations.")] = 100,
+    crossover: Annotated[float, typer.Option(min=0.0, max=1.0, help="GA: crossover probability.")] = 0.8,
+    mutation: Annotated[float, typer.Option(min=0.0, max=1.0, help="GA: mutation probability.")] = 0.1,
+) -> None:
+    """Find parameter values that maximise an objective over scenarios and seeds; prints and writes the
+    best values, the history, a plot of the objective against trials and a scenario pilot: block."""
+    import os
+
+    from .experiments.executor import exit_code
+    from .experiments.tune import ALGORITHMS, OBJECTIVES, GASettings, TuneProblem, parse_range
+    from .params import ParamError
+
+    for name, value, allowed in (("--algorithm", algorithm, ALGORITHMS), ("--objective", objective, OBJECTIVES)):
+        if value not in allowed:
+            _err(f"error: {name}: {value!r} is not one of {', '.join(allowed)}")
+            raise typer.Exit(EXIT_BAD_INPUT)
+    try:
+        parsed = [parse_range(p) for p in param]
+    except ParamError as e:
+        _err(f"error: --param: {e}")
+        raise typer.Exit(EXIT_BAD_INPUT) from None
+    tuned = [p for p in parsed if len(p) == 3]
+    if not tuned:
+        _err("error: --param: name at least one parameter to tune, as NAME=LOW:HIGH or NAME")
+        raise typer.Exit(EXIT_BAD_INPUT)
+    fixed = [f"{p[0]}={p[1]}" for p in parsed if len(p) == 2]
+    bases = tuple(_spec(s, fixed, time_limit=time_limit, perception=perception.value if perception else None)
+                  for s in scenarios)
+    problem = TuneProblem(bases, tuple(p[0] for p in tuned), tuple(p[1] for p in tuned),
+                          tuple(p[2] for p in tuned), seeds, objective)
+    _extra("deap" if algorithm == "ga" else "optuna", "navcli tune")
+    storage = storage or out / ("ga.json" if algorithm == "ga" else "study.journal")
+    count = 0
+
+    def trial(r: dict) -> None:
+        nonlocal count
+        count += 1
+        if count % 10 == 0:
+            _err(f"  {count} trials evaluated; last {objective} {r['objective']:.4g}")
+
+    from .experiments import tune as t
+
+    with _executor(jobs, scheduler) as ex:
+        try:
+            if algorithm == "ga":
+                history = t.tune_ga(problem, ex, storage=storage, seed=seed,
+                                    settings=GASettings(population, generations, crossover, mutation), on_trial=trial)
+            else:
+                batch = getattr(ex, "workers", None) or jobs or os.cpu_count() or 1
+                history = t.tune_optuna(problem, ex, algorithm=algorithm, trials=trials, storage=storage,
+                                        batch=batch, seed=seed, on_trial=trial)
+        except KeyboardInterrupt as e:
+            _err(f"interrupted: the finished trials are in {storage}; run the same command again to resume")
+            raise typer.Exit(exit_code(e)) from None
+    files = t.write_results(history, problem, out)
+    import json
+
+    best = json.loads(files["best"].read_text())
+    typer.echo(f"{len(history)} trials; best {objective} {best['value']:.4g} (trial {best['trial']}):")
+    for k, v in best["params"].items():
+        typer.echo(f"  {k} = {v:.6g}")
+    typer.echo(f"wrote {', '.join(str(p) for p in files.values())}; study in {storage}")
 
 
 def main() -> None:

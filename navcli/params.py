@@ -123,6 +123,7 @@ class NavigationParams:
     max_diverting_failures: int = _p(3, at_least=1)  # failed diverting targets before the mission ends "blocked"
     random_turn_deg: float = _p(120.0, above=0.0, at_most=180.0)  # with no diverting target: turn by up to this much
     scan_pans_deg: tuple[float, ...] = (-90.0, -45.0, 0.0, 45.0, 90.0)  # the looks of a scan (initial sweep, lost)
+    initial_sweep: int = _p(1, at_most=1)  # 1: the Rescuer's initial sweep (thesis node 81); 0: none (short experiments)
     # Map Manager (notes, sections 3-4)
     map_encode_imprecision: float = _p(0.25, above=0.0, at_most=1.0)  # landmarks at most this imprecise are encoded
     map_units_per_landmark: int = _p(6, at_least=1)  # beta-units kept per landmark (the sharpest)

@@ -85,28 +85,21 @@ def run_job(job: Job) -> Outcome:
     return Outcome(job, res.summary["outcome"], res.summary.get("reason", ""))
 
 
-def run_all(jobs: list[Job], workers: int, on_done: Callable[[Outcome], None] | None = None) -> list[Outcome]:
-    """Run ``jobs`` on ``workers`` processes (1: in this process), in the order they finish."""
-    results = []
-    if workers <= 1:
-        for j in jobs:
-            r = run_job(j)
-            results.append(r)
-            if on_done:
-                on_done(r)
-        return results
-    import multiprocessing as mp
-    from concurrent.futures import ProcessPoolExecutor, as_completed
+def run_all(jobs: list[Job], workers: int, on_done: Callable[[Outcome], None] | None = None,
+            scheduler: str | None = None) -> list[Outcome]:
+    """Run ``jobs`` on ``workers`` local processes (1: in this process), or on the Dask cluster at
+    ``scheduler``, through :mod:`.executor`; results in the order they finish. Ctrl-C or SIGTERM
+    stops every worker (their logs closed, marked ``interrupted``) and is re-raised."""
+    from .executor import executor, run_each
 
-    from .. import recorder, runner  # noqa: F401  (imported once here, inherited by the forked workers)
+    results: list[Outcome] = []
 
-    # fork: workers start with navcli already imported; nothing is re-imported per run
-    ctx = mp.get_context("fork") if "fork" in mp.get_all_start_methods() else None
-    with ProcessPoolExecutor(max_workers=workers, mp_context=ctx) as pool:
-        futures = [pool.submit(run_job, j) for j in jobs]
-        for f in as_completed(futures):
-            r = f.result()
-            results.append(r)
-            if on_done:
-                on_done(r)
+    def done(i: int, f) -> None:
+        r = f.result()
+        results.append(r)
+        if on_done:
+            on_done(r)
+
+    with executor(workers, scheduler) as ex:
+        run_each(run_job, jobs, ex, done)
     return results

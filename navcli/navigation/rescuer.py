@@ -60,7 +60,7 @@ class Rescuer:
     def __init__(self, params: NavigationParams = NAVIGATION, rng: np.random.Generator | None = None):
         self.params = params
         self.rng = rng if rng is not None else np.random.default_rng(0)
-        self.state = "sweep"
+        self.state = "sweep" if params.initial_sweep else "normal"
         self._scan = 0  # index into scan_pans_deg
         self._turn_to: float | None = None  # odometry-frame heading to turn to
         self._crossing: Crossing | None = None

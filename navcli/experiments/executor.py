@@ -1,0 +1,241 @@
+"""One execution layer for ``compare``, ``sweep``, ``tune`` and training evaluations.
+
+Runs go to any :class:`concurrent.futures.Executor`:
+
+* by default, a **local pool** of worker processes forked from this one (navcli already imported,
+  so a pool starts in milliseconds and each run pays nothing for imports);
+* with ``scheduler="tcp://HOST:PORT"``, an existing **Dask distributed** cluster, through
+  ``Client(address).get_executor(pure=False, retries=...)``. ``pure=False`` because two runs of
+  the same function with equal arguments are still two runs (Dask's default ``pure=True`` would
+  collapse identical submissions into one); ``retries`` lets a run that raised be tried again.
+  A run whose worker dies is rescheduled by the scheduler on another worker, whatever ``retries``.
+
+Dask workers do not inherit the pool's forked imports: every task carries its whole
+:class:`~navcli.config.RunSpec` (the scenario's text included), never a path a worker must
+re-read; only the log path (``--out``) must be writable by every worker.
+
+Stopping: :func:`run_each` turns SIGTERM into :class:`Terminated` (a ``KeyboardInterrupt``) while it
+runs; on Ctrl-C or SIGTERM it cancels what has not started, asks the local workers to stop (each
+closes its log marked ``interrupted``), kills any still alive after a grace period, and re-raises,
+so no process is left behind. The CLI exits 130 for Ctrl-C and 143 for SIGTERM
+(:attr:`Terminated.exit_code`).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import signal
+import time
+from concurrent.futures import Executor, Future, ProcessPoolExecutor, as_completed
+from typing import Any, Callable, Iterable, Iterator, Sequence
+
+CLUSTER_EXTRA = "pip install 'navcli[cluster]'"
+"""What to install for ``--scheduler``, ``sweep`` and ``tune`` (Dask, Optuna, DEAP, pyarrow)."""
+
+RETRIES = 2
+"""Times Dask tries a run again after it raised (a worker's death is retried by the scheduler anyway)."""
+
+GRACE_S = 2.0
+"""Seconds a local worker is given to close its log after SIGTERM before it is killed."""
+
+
+class MissingExtra(RuntimeError):
+    """A library of the ``cluster`` extra is not installed; the message says what to install."""
+
+
+class Terminated(KeyboardInterrupt):
+    """SIGTERM received: handled like Ctrl-C (logs closed, marked ``interrupted``), exit code 143."""
+
+    exit_code = 128 + signal.SIGTERM
+
+
+def exit_code(e: KeyboardInterrupt) -> int:
+    """130 for Ctrl-C, 143 for SIGTERM (the shell's convention, 128 + the signal's number)."""
+    return getattr(e, "exit_code", 128 + signal.SIGINT)
+
+
+def require(module: str, what: str) -> Any:
+    """Import ``module`` or raise :class:`MissingExtra` saying that ``what`` needs the extra."""
+    import importlib
+
+    try:
+        return importlib.import_module(module)
+    except ImportError:
+        raise MissingExtra(f"{what} needs {module.split('.')[0]}: {CLUSTER_EXTRA}") from None
+
+
+# --- the local pool -----------------------------------------------------------------------
+_busy = False  # in a local worker: a run is under way (a signal then ends it, closing its log)
+
+
+def _worker_signal(signum: int, frame: Any) -> None:
+    if not _busy:
+        os._exit(128 + signum)  # idle: nothing to close
+    if _in_physics_callback(frame):  # an exception raised there is printed and swallowed: try again in 10 ms
+        signal.setitimer(signal.ITIMER_REAL, 0.01)
+        return
+    for s in (signal.SIGTERM, signal.SIGINT, signal.SIGALRM):  # the log is closed undisturbed, even by
+        signal.signal(s, signal.SIG_IGN)                        # the pool's terminate() of a broken pool
+    raise KeyboardInterrupt  # ends the run like Ctrl-C: run_mission closes the log marked interrupted
+
+
+def _in_physics_callback(frame: Any) -> bool:
+    """True inside a pymunk callback (called from C through cffi, which swallows exceptions)."""
+    while frame is not None:
+        if "pymunk" in frame.f_code.co_filename:
+            return True
+        frame = frame.f_back
+    return False
+
+
+def _worker_init() -> None:
+    for s in (signal.SIGTERM, signal.SIGINT, signal.SIGALRM):
+        signal.signal(s, _worker_signal)
+
+
+def _in_worker(fn: Callable, args: tuple) -> Any:
+    """Run ``fn(*args)`` in a local worker; an interrupted run ends the worker after its log is closed."""
+    global _busy
+    _busy = True
+    try:
+        return fn(*args)
+    except KeyboardInterrupt:
+        os._exit(128 + signal.SIGINT)
+    finally:
+        _busy = False
+
+
+class LocalPool(ProcessPoolExecutor):
+    """A process pool forked from this process, whose workers stop cleanly on SIGINT/SIGTERM
+    (see the module docstring) and which :meth:`stop` ends without leaving a process behind."""
+
+    def __init__(self, workers: int):
+        import multiprocessing as mp
+
+        from .. import recorder, runner  # noqa: F401  (imported once here, inherited by the forked workers)
+
+        ctx = mp.get_context("fork") if "fork" in mp.get_all_start_methods() else None
+        super().__init__(max_workers=workers, mp_context=ctx, initializer=_worker_init)
+        self.workers = workers
+
+    def submit(self, fn: Callable, /, *args: Any, **kwargs: Any) -> Future:
+        assert not kwargs, "LocalPool passes positional arguments only"
+        return super().submit(_in_worker, fn, args)
+
+    def stop(self) -> None:
+        """Cancel what has not started, SIGTERM the workers, SIGKILL those alive after GRACE_S, reap them."""
+        procs = list((self._processes or {}).values())
+        self.shutdown(wait=False, cancel_futures=True)
+        for p in procs:
+            with contextlib.suppress(ProcessLookupError, OSError):
+                os.kill(p.pid, signal.SIGTERM)
+        deadline = time.monotonic() + GRACE_S
+        for p in procs:
+            p.join(max(0.0, deadline - time.monotonic()))
+        for p in procs:
+            if p.is_alive():
+                p.kill()
+                p.join(1.0)
+
+
+@contextlib.contextmanager
+def executor(jobs: int, scheduler: str | None = None) -> Iterator[Executor]:
+    """An executor for ``jobs`` local workers, or for the Dask cluster at ``scheduler``; its
+    ``workers`` attribute says how many runs it holds at once (a batch of trials).
+
+    ``jobs <= 1`` without a scheduler runs in this process (a :class:`SerialExecutor`)."""
+    if scheduler:
+        distributed = require("distributed", "--scheduler")
+        try:
+            client = distributed.Client(scheduler, timeout="10s", set_as_default=False)
+        except OSError as e:
+            raise ConnectionError(f"cannot reach the Dask scheduler at {scheduler}: {e}") from None
+        try:
+            ex = client.get_executor(pure=False, retries=RETRIES)
+            ex.workers = sum(client.nthreads().values()) or 1  # how many runs the cluster holds at once
+            yield ex
+        finally:
+            client.close()
+        return
+    if jobs <= 1:
+        yield SerialExecutor()
+        return
+    pool = LocalPool(jobs)
+    try:
+        yield pool
+    except BaseException:
+        pool.stop()
+        raise
+    pool.shutdown(wait=True)
+
+
+class SerialExecutor(Executor):
+    """Runs each submission at once, in this process (one worker, no pool; easy to debug)."""
+
+    workers = 1
+
+    def submit(self, fn: Callable, /, *args: Any, **kwargs: Any) -> Future:
+        f: Future = Future()
+        try:
+            f.set_result(fn(*args, **kwargs))
+        except Exception as e:
+            f.set_exception(e)
+        return f
+
+
+@contextlib.contextmanager
+def sigterm_interrupts() -> Iterator[None]:
+    """While inside, SIGTERM raises :class:`Terminated` in the main thread (like Ctrl-C)."""
+    def handler(signum: int, frame: Any) -> None:
+        raise Terminated
+
+    try:
+        old = signal.signal(signal.SIGTERM, handler)
+    except ValueError:  # not the main thread: leave signals alone
+        yield
+        return
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, old)
+
+
+def run_each(fn: Callable[[Any], Any], items: Sequence[Any], ex: Executor,
+             on_done: Callable[[int, Future], None]) -> None:
+    """Submit ``fn(item)`` for every item and call ``on_done(index, future)`` as each finishes
+    (in the order they finish; the future holds the result or the exception).
+
+    On Ctrl-C or SIGTERM the runs not yet finished are cancelled (local workers stopped, see
+    :meth:`LocalPool.stop`) and the interruption is re-raised."""
+    with sigterm_interrupts():
+        futures: dict[Future, int] = {}
+        try:
+            if isinstance(ex, SerialExecutor):  # one at a time, each reported before the next starts
+                for i, item in enumerate(items):
+                    on_done(i, ex.submit(fn, item))
+                return
+            for i, item in enumerate(items):
+                futures[ex.submit(fn, item)] = i
+            for f in as_completed(futures):
+                on_done(futures[f], f)
+        except BaseException:
+            if isinstance(ex, LocalPool):
+                ex.stop()
+            else:
+                for f in futures:
+                    f.cancel()
+            raise
+
+
+def map_ordered(fn: Callable[[Any], Any], items: Iterable[Any], ex: Executor) -> list[Any]:
+    """``[fn(item) for item in items]`` on ``ex``, in order (DEAP's ``toolbox.map``, Optuna batches);
+    stops the workers on Ctrl-C/SIGTERM like :func:`run_each`."""
+    items = list(items)
+    out: list[Any] = [None] * len(items)
+
+    def keep(i: int, f: Future) -> None:
+        out[i] = f.result()
+
+    run_each(fn, items, ex, keep)
+    return out

@@ -1,0 +1,68 @@
+"""The execution layer: Ctrl-C and SIGTERM stop a real `navcli compare` and every worker it forked."""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+from conftest import ROOT, SCENARIOS
+
+
+def _children(pid: int) -> list[int]:
+    """The pids of the direct children of ``pid``, from /proc (every thread's children list)."""
+    out = []
+    for task in Path(f"/proc/{pid}/task").iterdir():
+        with open(task / "children") as f:
+            out += [int(c) for c in f.read().split()]
+    return out
+
+
+def _alive(pid: int) -> bool:
+    """True while ``pid`` exists and is not a zombie (a zombie has exited; only its entry remains)."""
+    try:
+        os.kill(pid, 0)
+        state = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0]
+    except (ProcessLookupError, FileNotFoundError):
+        return False
+    return state not in ("Z", "X")
+
+
+@pytest.mark.skipif(not Path("/proc/self/task").exists(), reason="needs Linux /proc")
+@pytest.mark.parametrize("sig, code", [(signal.SIGTERM, 143), (signal.SIGINT, 130)])
+def test_a_signal_stops_compare_and_all_its_workers(tmp_path, sig, code):
+    env = dict(os.environ, PYTHONPATH=f"{ROOT}{os.pathsep}{os.environ.get('PYTHONPATH', '')}")
+    cmd = [sys.executable, "-m", "navcli", "compare", "pilots", str(SCENARIOS / "paper-8x8.yaml"),
+           "--reruns", "20", "--jobs", "2", "--out", str(tmp_path)]
+    # SIGINT's default disposition, as in a terminal (a shell may start background jobs ignoring it)
+    proc = subprocess.Popen(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    try:
+        deadline = time.monotonic() + 30
+        while len(kids := _children(proc.pid)) < 2 and proc.poll() is None and time.monotonic() < deadline:
+            time.sleep(0.05)
+        assert len(kids) >= 2, "the two workers never started"
+        time.sleep(0.5)  # the workers are in the middle of runs
+        t0 = time.monotonic()
+        proc.send_signal(sig)
+        _, err = proc.communicate(timeout=15)
+        took = time.monotonic() - t0
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.wait()
+    assert proc.returncode == code, err
+    assert took < 5, f"took {took:.1f} s to stop"
+    assert "Traceback" not in err and "interrupted" in err
+    assert not [k for k in kids if _alive(k)]
+    # the runs under way were ended like Ctrl-C: their logs closed, renamed and marked interrupted
+    from analysis import read_log
+
+    assert not list(tmp_path.rglob("*.partial"))
+    outcomes = [read_log(p, topics=[]).summary["outcome"] for p in tmp_path.rglob("*.mcap")]
+    assert outcomes.count("interrupted") >= 1 and set(outcomes) <= {"interrupted", "reached", "timeout", "blocked"}

@@ -1,0 +1,155 @@
+"""navcli sweep: plan files, the results table, resume, and the same table from a Dask cluster."""
+
+from __future__ import annotations
+
+import os
+import signal
+from pathlib import Path
+
+import pandas as pd
+import pytest
+from typer.testing import CliRunner
+
+from conftest import SCENARIOS
+from navcli.cli import app
+from navcli.experiments import sweep
+from navcli.experiments.compare import rerun_seed
+from navcli.experiments.executor import SerialExecutor, executor
+
+distributed = pytest.importorskip("distributed")
+
+ARENA = SCENARIOS / "open-arena.yaml"
+
+
+def _plan(tmp_path: Path, body: str, name: str = "plan.yaml") -> Path:
+    p = tmp_path / name
+    p.write_text(f"version: 1\nscenarios: [{ARENA}]\n" + body)
+    return p
+
+
+GRID = "seeds: 2\ntime_limit: 3\ngrid:\n  robot.max_speed: [0.2, 0.4, 0.6]\n  pilot.K: [10, 30]\n"
+NO_SWEEP = "params: {navigation.initial_sweep: 0}\n"  # 3 s runs: drive at once, no initial look around
+
+
+@pytest.fixture(scope="module")
+def cluster():
+    """A real two-worker Dask cluster of processes on 127.0.0.1, with a client to inspect it."""
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1",
+                                  dashboard_address=None) as c, distributed.Client(c) as client:
+        yield c, client
+
+
+def _sweep(args: list[str]) -> None:
+    res = CliRunner().invoke(app, ["sweep", *args])
+    assert res.exit_code == 0, res.output
+
+
+def test_a_grid_plan_is_every_combination_with_paired_seeds(tmp_path):
+    p = sweep.load_plan(_plan(tmp_path, GRID + "params: {pilot.A_t: 40, navigation.initial_sweep: 0}\n"))
+    runs = sweep.plan_runs(p, None)
+    assert p.size == len(runs) == 3 * 2 * 2
+    combos = {(r.overrides["robot.max_speed"], r.overrides["pilot.K"]) for r in runs}
+    assert combos == {(v, k) for v in (0.2, 0.4, 0.6) for k in (10.0, 30.0)}
+    assert {r.seed for r in (r.spec for r in runs)} == {rerun_seed(1, 0), rerun_seed(1, 1)}
+    spec = runs[-1].spec
+    assert (spec.params.robot.max_speed, spec.params.pilot.K, spec.params.pilot.A_t, spec.time_limit) == (0.6, 30, 40, 3)
+    assert len({r.spec.run_id for r in runs}) == len(runs)
+
+
+def test_a_random_plan_is_a_seeded_sample_within_its_ranges(tmp_path):
+    body = "seeds: 1\nrandom: {samples: 7, seed: 4, ranges: {pilot.K: [5, 9], navigation.kappa1: [0.2, 0.3]}}\n"
+    a, b = (sweep.load_plan(_plan(tmp_path, body)).points for _ in range(2))
+    assert a == b and len(a) == 7 and len({pt["pilot.K"] for pt in a}) == 7
+    assert all(5 <= pt["pilot.K"] <= 9 and 0.2 <= pt["navigation.kappa1"] <= 0.3 for pt in a)
+    other = sweep.load_plan(_plan(tmp_path, body.replace("seed: 4", "seed: 5"))).points
+    assert other != a
+
+
+@pytest.mark.parametrize("body, where, message", [
+    ("seeds: 1\ngrid:\n  pilot.k: [1, 2]\n", ":5: grid.pilot.k", "unknown parameter 'pilot.k' (did you mean pilot.K?)"),
+    ("seeds: 1\ngrid:\n  pilot.R_min: [0.3, 0]\n", ":5: grid.pilot.R_min[1]", "pilot.R_min must be at least 0.01, got 0"),
+    ("seeds: 1\ngrid: {pilot.K: [1]}\nrandom: {samples: 2, ranges: {pilot.K: [1, 2]}}\n", ":5: random",
+     "a grid or a random sample, not both"),
+    ("seeds: 1\nrandom: {samples: 2, ranges: {pilot.K: [3, 2]}}\n", ":4: random.ranges.pilot.K", "low 3 is above high 2"),
+    ("seeds: two\n", ":3: seeds", "expected a whole number"),
+    ("seeds: 1\nseed: 3\n", ":4: seed", "unknown field 'seed'"),
+    ("seeds: 1\npilots: [potential-field, wall-follower]\n", ":4: pilots[1]", "expected one of: potential-field, geometric"),
+    ("seeds: 1\ngrid: {pilot.K: [1, 2}\n", ":4", "not valid YAML"),
+])
+def test_bad_plans_are_refused_with_file_line_and_field(tmp_path, body, where, message):
+    plan = _plan(tmp_path, body)
+    res = CliRunner().invoke(app, ["sweep", str(plan), "--out", str(tmp_path / "out")])
+    assert res.exit_code == 2
+    assert f"{plan}{where}" in res.output and message in res.output and "Traceback" not in res.output
+    assert not (tmp_path / "out").exists()
+
+
+def test_a_missing_scenario_and_a_huge_file_are_refused(tmp_path):
+    plan = tmp_path / "plan.yaml"
+    plan.write_text("version: 1\nseeds: 1\nscenarios: [nope.yaml]\n")
+    res = CliRunner().invoke(app, ["sweep", str(plan)])
+    assert res.exit_code == 2 and f"{plan}:3: scenarios[0]: scenario nope.yaml refused" in res.output
+    assert f"{tmp_path / 'nope.yaml'}: no such file" in res.output
+    plan.write_text("#" * (sweep.MAX_PLAN_BYTES + 1))
+    res = CliRunner().invoke(app, ["sweep", str(plan)])
+    assert res.exit_code == 2 and "larger than 1048576 bytes" in res.output
+
+
+def test_the_table_holds_one_row_per_run_and_resumes_after_an_interruption(tmp_path):
+    p = sweep.load_plan(_plan(tmp_path, GRID + NO_SWEEP))
+    runs = sweep.plan_runs(p, tmp_path / "logs")
+    table = tmp_path / "results.parquet"
+
+    def stop_after_five(row, stats):
+        if stats.done == 5:
+            raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        sweep.run_sweep(runs, table, SerialExecutor(), on_row=stop_after_five)
+    first = sweep.read_table(table)
+    assert len(first) == 5  # what finished before the interruption is kept
+    stats = sweep.run_sweep(runs, table, SerialExecutor())
+    assert (stats.skipped, stats.done) == (5, len(runs) - 5)
+    df = sweep.read_table(table)
+    assert list(df["run_id"]) == [r.spec.run_id for r in runs]  # each once, in plan order
+    assert df.iloc[:5].equals(first)  # not run again
+    fast, slow = df[df["robot.max_speed"] == 0.6], df[df["robot.max_speed"] == 0.2]
+    assert (fast["path_length_m"].to_numpy() > slow["path_length_m"].to_numpy()).all()  # the override took effect
+    assert (df["outcome"] == "timeout").all() and (df["time_s"] == 3.0).all() and (df["error"] == "").all()
+    for r in df.itertuples():  # the log path is the run's own, complete log
+        assert Path(r.log).name.endswith(f"-{r.run_id[:8]}.mcap") and Path(r.log).exists()
+
+
+def test_local_pool_and_dask_cluster_give_the_same_table(tmp_path, cluster):
+    c, _ = cluster
+    plan = _plan(tmp_path, GRID + NO_SWEEP)
+    _sweep([str(plan), "--out", str(tmp_path / "local"), "--jobs", "2", "--no-logs", "--csv"])
+    _sweep([str(plan), "--out", str(tmp_path / "dask"), "--scheduler", c.scheduler_address, "--no-logs"])
+    local, remote = (pd.read_parquet(tmp_path / d / "results.parquet") for d in ("local", "dask"))
+    assert len(local) == 12 and local.equals(remote)
+    assert pd.read_csv(tmp_path / "local" / "results.csv")["run_id"].tolist() == local["run_id"].tolist()
+
+
+def test_a_worker_killed_mid_sweep_loses_and_duplicates_nothing(tmp_path, cluster):
+    c, client = cluster
+    plan = sweep.load_plan(_plan(tmp_path, "seeds: 5\ntime_limit: 4\ngrid: {pilot.K: [10, 20, 30]}\n"))
+    runs = sweep.plan_runs(plan, None)
+    before = client.run(os.getpid)
+    victim = next(iter(before.values()))
+    killed = []
+
+    def kill_one(row, stats):
+        if not killed:
+            os.kill(victim, signal.SIGKILL)
+            killed.append(victim)
+
+    table = tmp_path / "results.parquet"
+    with client.get_executor(pure=False, retries=2) as ex:
+        stats = sweep.run_sweep(runs, table, ex, on_row=kill_one)
+    df = sweep.read_table(table)
+    assert killed and stats.done == len(runs) and stats.errors == 0
+    assert sorted(df["run_id"]) == sorted(r.spec.run_id for r in runs)  # none lost, none twice
+    local = tmp_path / "local.parquet"
+    with executor(2) as ex:
+        sweep.run_sweep(runs, local, ex)
+    assert df.equals(sweep.read_table(local))  # and the runs retried elsewhere gave the same rows

@@ -1,0 +1,103 @@
+"""navcli tune: an objective improves on a tiny scenario, studies resume, the GA's settings reach DEAP."""
+
+from __future__ import annotations
+
+import json
+
+import pandas as pd
+import pytest
+from typer.testing import CliRunner
+
+from conftest import scenario_dict
+from navcli.cli import app
+from navcli.config import RunSpec
+from navcli.experiments import tune
+from navcli.experiments.executor import SerialExecutor, executor
+from navcli.scenario import load_scenario
+
+pytest.importorskip("optuna")
+pytest.importorskip("deap")
+
+SPEED = ("robot.max_speed", 0.05, 1.0)
+
+
+@pytest.fixture
+def tiny(write_scenario):
+    """A target 0.6 m straight ahead, reached within 0.3 m, and 3 s to get there: at a top speed v
+    the 0.3 m take about 0.3 / v s after accelerating at 0.5 m/s^2, so the robot times out below
+    0.1 m/s and arrives sooner the faster it may drive, up to where acceleration limits it."""
+    return write_scenario(scenario_dict(name="tiny", arena={"width": 3.0, "height": 2.0},
+                                        robot={"start": [0.5, 1.0], "heading_deg": 0}, target={"at": [1.1, 1.0]},
+                                        mission={"time_limit": 3, "seed": 1},
+                                        navigation={"initial_sweep": 0}))  # drive at once: no look around first
+
+
+def _problem(path, objective="time", names=(SPEED,)):
+    return tune.TuneProblem((RunSpec.build(load_scenario(path)),), tuple(n for n, _, _ in names),
+                            tuple(lo for _, lo, _ in names), tuple(hi for _, _, hi in names), 1, objective)
+
+
+def test_tpe_improves_on_its_first_trials_and_resumes_from_its_storage(tiny, tmp_path):
+    out = tmp_path / "tune"
+    res = CliRunner().invoke(app, ["tune", str(tiny), "--param", "robot.max_speed=0.05:1", "--objective", "time",
+                                   "--trials", "14", "--seeds", "1", "--jobs", "2", "--out", str(out)])
+    assert res.exit_code == 0, res.output
+    h = pd.read_csv(out / "history.csv")
+    assert len(h) == 14 and h["robot.max_speed"].between(0.05, 1.0).all()
+    # the first 10 are TPE's random start-up trials; the guided ones after them do better on average
+    assert h["objective"].iloc[10:].mean() > h["objective"].iloc[:4].mean()
+    best = json.loads((out / "best.json").read_text())
+    assert best["value"] == h["objective"].max() and best["params"]["robot.max_speed"] > 0.3
+    assert f"robot.max_speed = {best['params']['robot.max_speed']:.6g}" in res.output
+    assert (out / "objective.png").stat().st_size > 0 and "--param robot.max_speed=" in (out / "best.yaml").read_text()
+    # resume: the study in its journal keeps the 14 trials; only 3 more are run
+    ran = []
+    with executor(2) as ex:
+        again = tune.tune_optuna(_problem(tiny), ex, algorithm="tpe", trials=17, storage=out / "study.journal",
+                                 batch=2, on_trial=ran.append)
+    assert len(ran) == 3 and len(again) == 17
+    assert [t["objective"] for t in again[:14]] == h["objective"].tolist()
+
+
+def test_the_ga_settings_reach_deap_and_its_checkpoint_resumes(tiny, tmp_path, monkeypatch):
+    from deap import algorithms
+
+    calls = []
+    real = algorithms.eaSimple
+
+    def spy(population, toolbox, cxpb, mutpb, ngen, **kw):
+        calls.append({"n": len(population), "cxpb": cxpb, "mutpb": mutpb, "ngen": ngen,
+                      "low": toolbox.mate.keywords["low"], "up": toolbox.mutate.keywords["up"],
+                      "indpb": toolbox.mutate.keywords["indpb"]})
+        return real(population, toolbox, cxpb, mutpb, ngen, **kw)
+
+    monkeypatch.setattr(algorithms, "eaSimple", spy)
+    names = (SPEED, ("pilot.K", 0.0, 5.0))
+    problem, storage = _problem(tiny, "fitness", names), tmp_path / "ga.json"
+    settings = tune.GASettings(population=6, generations=2, crossover=0.7, mutation=0.3)
+    history = tune.tune_ga(problem, SerialExecutor(), settings=settings, storage=storage)
+    assert calls == [{"n": 6, "cxpb": 0.7, "mutpb": 0.3, "ngen": 1, "low": [0.05, 0.0], "up": [1.0, 5.0],
+                      "indpb": 0.5}] * 2
+    assert 6 <= len(history) <= 6 * 3  # the first population, then only the changed offspring
+    assert all(0.05 <= r["robot.max_speed"] <= 1.0 and 0 <= r["pilot.K"] <= 5 for r in history)
+    state = json.loads(storage.read_text())
+    assert state["generation"] == 2 and len(state["population"]) == 6
+    more = tune.tune_ga(problem, SerialExecutor(), settings=tune.GASettings(6, 3, 0.7, 0.3), storage=storage)
+    assert len(calls) == 3 and more[:len(history)] == history  # one more generation, the first two kept
+
+
+def test_the_thesis_defaults_and_bad_ranges(tiny):
+    assert tune.GASettings() == tune.GASettings(population=20, generations=100, crossover=0.8, mutation=0.1)
+    assert tune.parse_range("pilot.A_t") == ("pilot.A_t", 0.0, 5.0)
+    for bad, message in (("pilot.K=3:1", "LOW below HIGH"), ("pilot.R_min=0:1", "pilot.R_min must be at least 0.01"),
+                         ("vision.forget_every=1:9", "cannot be tuned"), ("pilot.k=1:2", "did you mean pilot.K")):
+        res = CliRunner().invoke(app, ["tune", str(tiny), "--param", bad])
+        assert res.exit_code == 2 and message in res.output, res.output
+
+
+def test_a_missing_library_is_named_with_what_to_install(tiny, monkeypatch):
+    import sys
+
+    monkeypatch.setitem(sys.modules, "optuna", None)  # as if not installed: importing it raises ImportError
+    res = CliRunner().invoke(app, ["tune", str(tiny), "--param", "pilot.K=1:2"])
+    assert res.exit_code == 1 and "needs optuna: pip install 'navcli[cluster]'" in res.output
