@@ -145,7 +145,7 @@ class VisionParams:
     bump_radius: float = _p(0.10, above=0.0)  # m: support radius of an obstacle found by the bumpers
     forget_above: float = _p(0.35, above=0.0, at_most=1.0)  # I(l) above which an object is forgotten
     forget_every: int = _p(5, at_least=1)  # ticks between two sweeps of the memory for what has become too imprecise
-    draw_every: int = _p(5, at_least=1)  # ticks between two /memory/scene updates
+    draw_every: int = _p(10, at_least=1)  # ticks between two /memory/scene updates (once a simulated second)
 
 
 @dataclass(frozen=True)

@@ -35,7 +35,9 @@ class DistanceEstimator:
         if s.target is None or s.target_line is not None:
             return []
         d = max(math.hypot(s.target.x, s.target.y), 1e-9)
-        value = self.params.kappa * math.tanh(s.target.distance().width(CUT) / d)
+        r = s.target.radius(CUT)
+        i_d = min(d, r) + r  # the width of the distance's 70 % cut, (max(0, d - r), d + r)
+        value = self.params.kappa * math.tanh(i_d / d)
         if value <= 0.0:
             return []
         bearing = s.bearing

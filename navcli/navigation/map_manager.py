@@ -64,6 +64,8 @@ class MapManager:
         self._tick = 0
         self._images = 0
         self._quality: dict[tuple, float] = {}
+        self._points_of: Beliefs | None = None
+        self._points: dict[str, FuzzyPoint] = {}
 
     # -- learning
     def observe(self, beliefs: Beliefs) -> int:
@@ -90,8 +92,10 @@ class MapManager:
             yield self.target_key, (beliefs.target_at, beliefs.target_seen)  # a point target, or a landmark told of
 
     def memory_points(self, beliefs: Beliefs) -> dict[str, FuzzyPoint]:
-        """Landmarks (and the target's marker) as the visual memory holds them."""
-        return {k: p for k, (p, _) in self._landmarks(beliefs)}
+        """Landmarks (and the target's marker) as the visual memory holds them (built once per tick)."""
+        if self._points_of is not beliefs:
+            self._points_of, self._points = beliefs, {k: p for k, (p, _) in self._landmarks(beliefs)}
+        return self._points
 
     # -- answering
     def locate(self, key: str, beliefs: Beliefs, recall: bool = True) -> tuple[FuzzyPoint, str] | None:
