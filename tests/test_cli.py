@@ -147,3 +147,15 @@ def test_bad_param_exits_2_naming_it():
                        ("navigation.kappa1=1.5", "at most 1"), ("vision.forget_every=2.5", "whole number")):
         r = invoke("run", SCENARIOS / "open-arena.yaml", "--param", bad)
         assert r.exit_code == 2 and words in r.output and "Traceback" not in r.output, (bad, r.output)
+
+
+def test_bench_reports_the_floor_and_the_stack_against_it():
+    r = invoke("bench", SCENARIOS / "open-arena.yaml", "--repeat", "1")
+    assert r.exit_code == 0, r.output
+    lines = {ln.split()[0] + (" " + ln.split()[1] if ln.startswith("logging") else ""): ln for ln in r.output.splitlines()}
+    assert {"floor", "logging off", "logging on"} <= set(lines)
+    assert "1.00x floor" in lines["floor"]
+    us = {k: float(re.search(r"(\d+) us/tick", v).group(1)) for k, v in lines.items() if "us/tick" in v}
+    ratio = float(re.search(r"([\d.]+)x floor", lines["logging on"]).group(1))
+    assert ratio == pytest.approx(us["logging on"] / us["floor"], rel=0.02)
+    assert "logging costs" in r.output

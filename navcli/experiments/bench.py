@@ -1,8 +1,10 @@
-"""``navcli bench``: how fast a full mission runs, with logging on and off.
+"""``navcli bench``: how fast a full mission runs, against its own floor.
 
 Each configuration runs ``repeat`` times in this process after one warm-up run; the report gives
-the median real-time factor (simulated seconds per wall second) and the median wall time per
-control tick, because a shared machine's noise hits single runs, not medians.
+the median real-time factor (simulated seconds per wall second), the median wall time per control
+tick and its ratio to the floor (the same scenario's world alone), because figures from different
+machines are not comparable but ratios measured in one session are, and a shared machine's noise
+hits single runs, not medians.
 """
 
 from __future__ import annotations
@@ -16,20 +18,50 @@ from ..config import RunSpec
 from ..runner import run_mission
 
 
+def floor(spec: RunSpec, ticks: int) -> float:
+    """Wall seconds for ``ticks`` control ticks of the scenario's :class:`~navcli.world.World`
+    alone, driven by a scripted wheel command (forward at top speed, weaving): pymunk, odometry
+    and bumpers, no agents, no log. What the stack cannot go below."""
+    import math
+    import time
+
+    import numpy as np
+
+    from ..world import World
+
+    world = World(spec.scenario, np.random.default_rng(spec.seed), spec.params.robot)
+    v = spec.params.robot.max_speed
+    t0 = time.perf_counter()
+    for k in range(ticks):
+        world.step(v, 0.8 * math.sin(k / 15.0))
+    return time.perf_counter() - t0
+
+
 def benchmark(spec: RunSpec, *, repeat: int = 5, echo: Callable[[str], None] = print) -> dict[str, float]:
-    """Print and return the median real-time factor with logging ``on`` and ``off``."""
+    """Print and return, as medians of ``repeat`` runs measured in this session: the floor (the
+    world alone), the stack without logging and with logging, as real-time factors, microseconds
+    per tick and ratios to the floor. (Whether a tick costs more late in a long run than early:
+    :func:`long_run_benchmark`, ``navcli bench --long``.)"""
     results: dict[str, float] = {}
     with tempfile.TemporaryDirectory() as tmp:
         log = Path(tmp) / "bench.mcap"
-        run_mission(spec, out=log)  # warm-up: imports, caches
-        for label, record in (("logging on", True), ("logging off", False)):
+        first = run_mission(spec, out=log)  # warm-up: imports, caches
+        ticks = max(first.summary["ticks"], 1)
+        floor_us = statistics.median(floor(spec, ticks) / ticks * 1e6 for _ in range(repeat))
+        sim_s = ticks * 0.1
+        echo(f"{'floor':12s} {sim_s / (floor_us * ticks / 1e6):8.0f}x real time   {floor_us:7.0f} us/tick   "
+             f"1.00x floor  (the world alone, scripted wheels, {ticks} ticks)")
+        results["floor_us"] = floor_us
+        for label, record in (("logging off", False), ("logging on", True)):
             runs = [run_mission(spec, out=log, record=record) for _ in range(repeat)]
             rtf = statistics.median(r.realtime_factor for r in runs)
             us = statistics.median(r.wall_s / max(r.summary["ticks"], 1) * 1e6 for r in runs)
             s = runs[0].summary
-            echo(f"{label:12s} {rtf:8.0f}x real time   {us:7.0f} us/tick   "
+            echo(f"{label:12s} {rtf:8.0f}x real time   {us:7.0f} us/tick   {us / floor_us:5.2f}x floor  "
                  f"({s['pilot']}, {s['outcome']} after {s['time_s']:.1f} s sim, {s['ticks']} ticks, median of {repeat})")
             results[label.split()[1]] = rtf
+            results[f"{label.split()[1]}_us"] = us
+        echo(f"logging costs {100 * (results['on_us'] / results['off_us'] - 1):.0f} % on top of the stack")
     return results
 
 
