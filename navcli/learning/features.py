@@ -121,7 +121,7 @@ def state_of(index: int) -> tuple[int, int, int, int]:
     """The inverse of :func:`state_index` on the intervals.
 
     >>> state_of(state_index(Features(2.0, 0.05, 0.5, 0.6)))
-    (2, 4, 1, 3)
+    (2, 2, 1, 3)
     """
     out = []
     for n in reversed(SHAPE):
