@@ -68,6 +68,20 @@ def _spec(path: Path, params: list[str] | None = None, **choices):
         raise typer.Exit(EXIT_BAD_INPUT) from None
 
 
+def _check_model(navigation: str) -> None:
+    """Exit 2 naming the file when ``learned:FILE`` is not a usable model."""
+    mode, _, file = navigation.partition(":")
+    if mode != "learned":
+        return
+    from .learning.model_file import ModelError, load_policy
+
+    try:
+        load_policy(Path(file) if file else None)
+    except ModelError as e:
+        _err(f"error: --navigation: {e}")
+        raise typer.Exit(EXIT_BAD_INPUT) from None
+
+
 class _Progress:
     """A progress bar on a terminal, shown only once a run has lasted more than half a second."""
 
@@ -113,10 +127,15 @@ def run(
     perception: Annotated[Optional[PerceptionName], typer.Option(
         help="What the agents know: vision (camera and visual memory) or oracle (ground truth, to isolate the "
              "pilot). Default: the scenario's mission.perception, else vision.")] = None,
+    navigation: Annotated[str, typer.Option(
+        help="Who chooses the Navigation system's moves and looks: agents (its bidding agents), hand-coded "
+             "(the learning paper's hand-coded policy) or learned[:FILE] (the Learning Agent; without FILE "
+             "the model bundled with navcli).")] = "agents",
 ) -> None:
     """Run one mission, record it to an MCAP log and print how it ended."""
     spec = _spec(scenario, param, seed=seed, pilot=pilot.value if pilot else None, time_limit=time_limit,
-                 perception=perception.value if perception else None)
+                 perception=perception.value if perception else None, navigation=navigation)
+    _check_model(spec.navigation)
     from .recorder import LogPathError, check_log_path
     from .runner import Terminated, run_mission
 
@@ -682,6 +701,72 @@ def tune(
     for k, v in best["params"].items():
         typer.echo(f"  {k} = {v:.6g}")
     typer.echo(f"wrote {', '.join(str(p) for p in files.values())}; study in {storage}")
+
+
+@app.command()
+def train(
+    scenario: Annotated[Path, typer.Argument(help="Scenario YAML file (the paper's setting: scenarios/landmarks-12.yaml).")],
+    trials: Annotated[int, typer.Option(min=1, help="Training trials (the paper: 2000).")] = 2000,
+    eval_every: Annotated[int, typer.Option(min=1, help="Evaluate the greedy policy every this many trials.")] = 100,
+    eval_starts: Annotated[int, typer.Option(min=1, help="Fixed test starts of each evaluation (the paper: 99).")] = 99,
+    seed: Annotated[int, typer.Option(min=0, help="Seed of the training starts and of the learner.")] = 1,
+    out: Annotated[Optional[Path], typer.Option(
+        help="Model file (.npz, with FILE.json, FILE-curve.csv and FILE-curve.png beside it; default: "
+             "logs/<scenario>/<algorithm>-seed<N>.npz).")] = None,
+    resume: Annotated[Optional[Path], typer.Option(help="Continue the training saved in this model file.")] = None,
+    algorithm: Annotated[str, typer.Option(help="prioritized-sweeping (the paper's) or q-learning (model-free baseline).")]
+        = "prioritized-sweeping",
+    jobs: Annotated[int, typer.Option(min=1, help="Worker processes for the evaluations.")] = 2,
+    param: ParamOption = None,
+) -> None:
+    """Train the Learning Agent (learning-agent paper, section 6): trials from seeded random starts,
+    the greedy policy evaluated on fixed starts, the model saved (resumable) with its learning curve."""
+    import time
+
+    from .learning.training import ALGORITHMS
+
+    if algorithm not in ALGORITHMS:
+        _err(f"error: --algorithm: unknown {algorithm!r} (expected one of: {', '.join(ALGORITHMS)})")
+        raise typer.Exit(EXIT_BAD_INPUT)
+    spec = _spec(scenario, param)
+    from .learning.features import check_bounds
+    from .learning.model_file import ModelError
+    from .learning.training import train as run_training
+
+    try:
+        check_bounds(spec.params.learning)
+    except ValueError as e:
+        _err(f"error: --param: {e}")
+        raise typer.Exit(EXIT_BAD_INPUT) from None
+    out = out or resume or Path("logs") / spec.scenario.name / f"{algorithm}-seed{seed}.npz"
+    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
+
+    t0 = time.perf_counter()
+    with Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(),
+                  transient=True, disable=not sys.stderr.isatty()) as bar:
+        task = bar.add_task("training", total=trials)
+
+        def on_trial(i, r, result) -> None:
+            last = f"{result.curve[-1].successes}/{eval_starts} at {result.curve[-1].trials}" if result.curve else "-"
+            bar.update(task, advance=1, description=f"training (test successes {last})")
+
+        try:
+            res = run_training(spec, trials=trials, eval_every=eval_every, eval_starts=eval_starts, seed=seed,
+                               algorithm=algorithm, out=out, resume=resume, workers=jobs, on_trial=on_trial)
+        except ModelError as e:
+            _err(f"error: --resume: {e}")
+            raise typer.Exit(EXIT_BAD_INPUT) from None
+        except KeyboardInterrupt:
+            _err(f"interrupted: the model saved at the last evaluation is in {out}; --resume {out} continues")
+            raise typer.Exit(EXIT_INTERRUPTED) from None
+    typer.echo(f"{res.trials} trials ({trials} now) in {time.perf_counter() - t0:.0f} s: training {res.train_s:.0f} s, "
+               f"evaluations {res.eval_s:.0f} s of worker time on {jobs} workers")
+    typer.echo(f"training outcomes: {res.outcomes}")
+    typer.echo("trials  successes/{}  reward/trial  actions/trial".format(eval_starts))
+    for p in res.curve:
+        typer.echo(f"{p.trials:6d}  {p.successes:12d}  {p.reward:12.1f}  {p.actions:13.1f}")
+    typer.echo(f"hand-coded policy: {res.hand_coded}/{eval_starts}")
+    typer.echo(f"wrote {out}, {out.with_suffix('.json')}, {out.with_suffix('')}-curve.csv, {out.with_suffix('')}-curve.png")
 
 
 def main() -> None:

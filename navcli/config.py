@@ -18,7 +18,7 @@ from pathlib import Path
 from typing import Any, Mapping
 
 from . import __version__
-from .params import CONTROL_DT, PERCEPTIONS, PHYSICS_DT, PILOT_NAMES, Params
+from .params import CONTROL_DT, NAVIGATIONS, PERCEPTIONS, PHYSICS_DT, PILOT_NAMES, Params
 from .scenario import RANGES, Scenario, parse_scenario
 
 LOG_ROOT = Path("logs")
@@ -38,12 +38,17 @@ class RunSpec:
     perception: str
     time_limit: float  # simulated seconds
     params: Params
+    navigation: str = NAVIGATIONS[0]  # agents | hand-coded | learned[:FILE] (the Learning Agent's policy)
 
     def __post_init__(self) -> None:
         if self.pilot not in PILOT_NAMES:
             raise ConfigError(f"unknown pilot {self.pilot!r} (expected one of: {', '.join(PILOT_NAMES)})")
         if self.perception not in PERCEPTIONS:
             raise ConfigError(f"unknown perception {self.perception!r} (expected one of: {', '.join(PERCEPTIONS)})")
+        mode, _, file = self.navigation.partition(":")
+        if mode not in NAVIGATIONS or (file and mode != "learned"):
+            raise ConfigError(f"unknown navigation {self.navigation!r} (expected agents, hand-coded, learned "
+                              f"or learned:FILE)")
         if not (isinstance(self.seed, int) and 0 <= self.seed < 2 ** 64):
             raise ConfigError(f"the seed must be a whole number from 0 to 2**64 - 1, got {self.seed!r}")
         limit = RANGES["mission.time_limit"]
@@ -59,13 +64,13 @@ class RunSpec:
     @classmethod
     def build(cls, scenario: Scenario, *, seed: int | None = None, pilot: str | None = None,
               perception: str | None = None, time_limit: float | None = None,
-              overrides: Mapping[str, Any] | None = None) -> RunSpec:
+              overrides: Mapping[str, Any] | None = None, navigation: str | None = None) -> RunSpec:
         """The scenario's own choices, with any of them replaced, and ``overrides`` (dotted
         parameter names, ``{"pilot.K": 30}``) applied on top of the scenario's parameters."""
         m = scenario.mission
         return cls(scenario, m.seed if seed is None else seed, pilot or m.pilot, perception or m.perception,
                    float(m.time_limit if time_limit is None else time_limit),
-                   scenario.params.override(overrides or {}))
+                   scenario.params.override(overrides or {}), navigation or NAVIGATIONS[0])
 
     def replace(self, **changes: Any) -> RunSpec:
         """A copy with some fields changed (``seed=2``, ``pilot="geometric"``)."""
@@ -77,7 +82,7 @@ class RunSpec:
         sc = self.scenario
         return {"scenario": {"name": sc.name, "file": sc.source, "sha256": sc.sha256},
                 "seed": self.seed, "pilot": self.pilot, "perception": self.perception,
-                "time_limit_s": self.time_limit, "params": self.params.to_json()}
+                "time_limit_s": self.time_limit, "params": self.params.to_json(), "navigation": self.navigation}
 
     @classmethod
     def from_json(cls, d: Mapping[str, Any], scenario_text: str) -> RunSpec:
@@ -86,7 +91,7 @@ class RunSpec:
         if sc.sha256 != d["scenario"]["sha256"]:
             raise ConfigError("the scenario text does not match the configuration's sha256")
         return cls(sc, int(d["seed"]), d["pilot"], d["perception"], float(d["time_limit_s"]),
-                   Params.from_json(d["params"]))
+                   Params.from_json(d["params"]), d.get("navigation", NAVIGATIONS[0]))
 
     @property
     def run_id(self) -> str:
@@ -112,5 +117,5 @@ class RunSpec:
         return {"run_id": self.run_id, "config": json.dumps(self.to_json(), sort_keys=True),
                 "scenario": sc.name, "scenario_file": sc.source, "scenario_sha256": sc.sha256,
                 "seed": str(self.seed), "pilot": self.pilot, "perception": self.perception,
-                "time_limit_s": repr(self.time_limit), "navcli_version": __version__,
+                "time_limit_s": repr(self.time_limit), "navigation": self.navigation, "navcli_version": __version__,
                 "control_dt_s": repr(CONTROL_DT), "physics_dt_s": repr(PHYSICS_DT)}

@@ -153,6 +153,15 @@ class Vision(_Msg):
 
 
 # --- /mission/summary -------------------------------------------------------------------------
+class LearningSummary(_Msg):
+    """What the Learning Agent (or the hand-coded policy) did: actions taken, their total reward
+    (learning-agent paper, section 5.3) and the count of each action."""
+
+    actions: int
+    reward: float
+    action_counts: Annotated[dict[str, int], Meta(description="by action: MB, MLL, MOT, MVL, MVT")]
+
+
 class MissionSummary(_Msg):
     """How the mission ended."""
 
@@ -169,6 +178,10 @@ class MissionSummary(_Msg):
     navcli_version: str
     run_id: Annotated[str, Meta(description="sha256 of the run configuration (hex)")]
     diverting_targets: Annotated[int, Meta(description="diverting targets the Rescuer set")] = 0
+    navigation: Annotated[str, Meta(description="who chose the Navigation system's actions: agents, hand-coded, "
+                                                "learned[:FILE]")] = "agents"
+    learning: Annotated[LearningSummary, Meta(description="the Learning Agent's or hand-coded policy's "
+                                                          "actions and reward")] | UnsetType = UNSET
 
 
 # --- /navigation ------------------------------------------------------------------------------

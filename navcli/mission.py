@@ -69,7 +69,8 @@ class Tick:
 class Mission:
     """A scenario being run with one configuration."""
 
-    def __init__(self, spec: RunSpec):
+    def __init__(self, spec: RunSpec, policy_agent=None):
+        """``policy_agent`` replaces the agent of ``spec.navigation`` (a trainer's Learning Agent)."""
         self.spec = spec
         self.scenario = spec.scenario
         p = spec.params
@@ -78,9 +79,15 @@ class Mission:
         self.perception = make_perception(spec.perception, spec.scenario, self.rng, p)
         self.pilot = make_pilot(spec.pilot, p.pilot, p.robot)
         t = spec.scenario.target
+        self.policy_agent = policy_agent
+        if policy_agent is None and spec.navigation != "agents":
+            from .learning import policy_agent  # the Learning Agent or the hand-coded policy
+
+            self.policy_agent = policy_agent(spec.navigation, p.learning, max_speed=p.robot.max_speed,
+                                             pan_limit=spec.scenario.camera.pan_limit, target_key=t.landmark)
         self.navigation = NavigationSystem(p.navigation, p.robot, p.pilot, target_key=t.landmark or "target",
                                            line_target=t.kind == "line", rng=self.rng,
-                                           pan_limit=spec.scenario.camera.pan_limit)
+                                           pan_limit=spec.scenario.camera.pan_limit, policy_agent=self.policy_agent)
         self.ticks = 0
         self.outcome: str | None = None
         self.reason = ""
@@ -202,10 +209,12 @@ class Mission:
     def summary(self) -> dict:
         """The ``/mission/summary`` record (the log format in the README)."""
         w = self.world
+        learning = {"learning": self.policy_agent.info()} if self.policy_agent is not None else {}
         return {
             "scenario": self.scenario.name,
             "seed": self.spec.seed,
             "pilot": self.spec.pilot,
+            "navigation": self.spec.navigation,
             "outcome": self.outcome or "interrupted",
             "reason": self.reason,
             "time_s": w.time,
@@ -216,4 +225,4 @@ class Mission:
             "diverting_targets": self.navigation.rescuer.diverting_targets,
             "navcli_version": __version__,
             "run_id": self.spec.run_id,
-        }
+        } | learning

@@ -4,7 +4,7 @@ The papers' values live here (K = 18, A_t = 50, R_min = 0.40 m, bid cap 0.9 ...)
 blocks and the command line override them; nothing else in the code base repeats a default.
 Units: metres, seconds, radians, unless a name says otherwise.
 
-The four parameter sets a run is made with (robot, pilot, navigation, vision) travel together as
+The five parameter sets a run is made with (robot, pilot, navigation, vision, learning) travel together as
 one :class:`Params`, addressed by dotted names (``pilot.K``, ``navigation.kappa1``) from the
 command line (``--param``), plan files and the log's metadata. Each field declares the range it
 may take (``at_least``, ``above``, ``at_most``): an override outside it is refused by name.
@@ -25,6 +25,9 @@ PILOT_NAMES = ("potential-field", "geometric")
 """The pilots a scenario or ``--pilot`` may name; the first is the default."""
 PERCEPTIONS = ("vision", "oracle")
 """What the agents may know: the camera and visual memory (default), or ground truth."""
+NAVIGATIONS = ("agents", "hand-coded", "learned")
+"""Who chooses the Navigation system's moves and looks: its bidding agents (default), the hand-coded
+policy or the Learning Agent (``learned:FILE`` names a model; plain ``learned`` the bundled one)."""
 
 # --- Timing: both rates in one place --------------------------------------------------------
 CONTROL_DT = 0.1
@@ -149,6 +152,63 @@ class VisionParams:
 
 
 @dataclass(frozen=True)
+class LearningParams:
+    """The Learning Agent (learning-agent paper, sections 4-6): its belief-state features, its
+    actions and Prioritized Sweeping. The paper gives the number of intervals of each feature
+    (5, 7, 4, 7: 980 states), the actions and their rewards; the interval bounds, how long one
+    action lasts and the learner's settings are our design, each with its reason:
+
+    - **Target distance** D(t) (m, the centre of the fuzzy distance): bounds 0.9, 1.5, 3, 5. The
+      robot has reached landmark T within 0.7 m of its centre (tolerance 0.3 + landmark 0.15 +
+      robot 0.25), so the first interval is "at the target, one action away"; the others double
+      roughly, so that one action (0.3 m at full speed) changes the interval often near the
+      target and the far intervals still part a 8 m room (the paper's "state-action deviation"
+      worry: an action must often change the state).
+    - **Target imprecision** I(t) (the paper's I(l) of the target's fuzzy position): bounds 0.02,
+      0.04, 0.07, 0.1, 0.15, 0.25. The camera's 5 % distance error dominates: a fresh sighting
+      gives about 0.02 at 1 m and 0.1 at 4-5 m; odometry blurs it as the robot drives; the visual
+      memory forgets above 0.35; the last interval also holds a lost target (I = 1).
+    - **Landmark count** C-bar (the mean of N(s) = min(4, |L(s)|) over the six sectors): bounds
+      0.34, 0.67, 1.0, i.e. up to 2, 4, 6 or more known landmarks spread one to a sector; 12
+      landmarks in the paper's room (11 besides the target) keep C-bar below 2.
+    - **Landmark imprecision** I-bar (the mean over the six sectors of the mean I(l) of Best(4,
+      L(s))): an empty sector counts as 1, the imprecision of a landmark whose place is unknown
+      (I(l) = 1 for a heading spread of 2 pi and an infinite distance spread), so the paper's
+      1/6 sum stays defined. Bounds 0.2, 0.35, 0.5, 0.65, 0.8, 0.95: each empty sector adds
+      1/6, so the intervals follow how many sectors are blank, and within them how sharp the rest is.
+    - **Action length** ``action_s`` = 1 s (10 control ticks): long enough for the camera to pan
+      and take two or three images (0.3 s of processing each), and for the robot to drive 0.3 m,
+      so the features can change; 500 actions (the paper's trial limit) are then 500 s, a little
+      more than the scenario's own time limit.
+    - **bid**: the Learning Agent bids this for the wheels and the camera: above the Pilot's quiet
+      bids (its look-ahead look, eq. 1, early on) and below its danger bids (up to 0.9), so the
+      Pilot still overrules when it must; the Rescuer's 1.0 overrules both.
+    - **Prioritized Sweeping**: ``gamma`` 0.99 (the paper sums rewards undiscounted; a
+      discount just below 1 keeps values finite where the model has never seen the target
+      reached, and changes little over 50-150 actions); ``backups`` k = 20 per real step and
+      ``threshold`` 1e-3 (the notes' starting points for 980 states, rewards of size 1-10);
+      ``explore`` 2: an action tried fewer times than this in a state is preferred there
+      (Moore & Atkeson's exploration of rarely tried actions, locally).
+    - **Q-learning** (the model-free baseline): ``q_alpha`` 0.1, ``q_epsilon`` 0.1, the usual
+      textbook values.
+    """
+
+    distance_bounds: tuple[float, ...] = (0.9, 1.5, 3.0, 5.0)  # m: 5 intervals
+    imprecision_bounds: tuple[float, ...] = (0.02, 0.04, 0.07, 0.1, 0.15, 0.25)  # I(t): 7 intervals
+    count_bounds: tuple[float, ...] = (0.34, 0.67, 1.0)  # C-bar: 4 intervals
+    landmark_bounds: tuple[float, ...] = (0.2, 0.35, 0.5, 0.65, 0.8, 0.95)  # I-bar: 7 intervals
+    action_s: float = _p(1.0, above=0.0)  # s one action lasts
+    max_actions: int = _p(500, at_least=1)  # actions before a trial ends (the paper's 500)
+    bid: float = _p(0.5, above=0.0, at_most=1.0)  # its bids for the wheels and the camera
+    gamma: float = _p(0.99, above=0.0, at_most=1.0)
+    backups: int = _p(20, at_least=0)  # k: backups per real step
+    threshold: float = _p(1e-3, above=0.0)  # priorities at or below this are not queued
+    explore: int = _p(2, at_least=0)  # tries of each action in a state before it is judged on its values
+    q_alpha: float = _p(0.1, above=0.0, at_most=1.0)  # Q-learning's step size
+    q_epsilon: float = _p(0.1, at_most=1.0)  # Q-learning's exploration rate
+
+
+@dataclass(frozen=True)
 class Defaults:
     """Defaults of the optional scenario blocks other than the parameter sets (the scenario format)."""
 
@@ -178,6 +238,7 @@ NAVIGATION_C2 = dataclasses.replace(NAVIGATION, alpha=1.231, beta=2.12, kappa1=1
 """The thesis' GA-tuned bidding parameters for task cluster C2 (targets behind obstacles, Table 5.2)."""
 CLUSTERS = {"C1": NAVIGATION, "C2": NAVIGATION_C2}
 VISION = VisionParams()
+LEARNING = LearningParams()
 DEFAULTS = Defaults()
 
 
@@ -187,7 +248,7 @@ class ParamError(ValueError):
 
 @dataclass(frozen=True)
 class Params:
-    """The four parameter sets of one run; see the module docstring for the dotted names.
+    """The five parameter sets of one run; see the module docstring for the dotted names.
 
     >>> p = Params().override({"pilot.K": 30, "navigation.kappa1": 0.5})
     >>> p.pilot.K, p.navigation.kappa1, p.pilot.A_t
@@ -203,8 +264,9 @@ class Params:
     pilot: PilotParams = PILOT
     navigation: NavigationParams = NAVIGATION
     vision: VisionParams = VISION
+    learning: LearningParams = LEARNING
 
-    GROUPS = ("robot", "pilot", "navigation", "vision")
+    GROUPS = ("robot", "pilot", "navigation", "vision", "learning")
 
     def to_json(self) -> dict[str, dict[str, Any]]:
         """``{"pilot": {"K": 18.0, ...}, ...}``: plain JSON values (tuples as lists)."""

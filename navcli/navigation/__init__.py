@@ -66,7 +66,8 @@ class NavigationSystem:
 
     def __init__(self, params: NavigationParams = NAVIGATION, robot: RobotParams = ROBOT,
                  pilot: PilotParams = PILOT, target_key: str = TARGET, line_target: bool = False,
-                 rng: np.random.Generator | None = None, pan_limit: float = math.radians(100.0)):
+                 rng: np.random.Generator | None = None, pan_limit: float = math.radians(100.0),
+                 policy_agent: Agent | None = None):
         self.params = params
         self.target_key = target_key
         self.line_target = line_target
@@ -76,6 +77,11 @@ class NavigationSystem:
         self.estimator = DistanceEstimator(params, robot.max_speed)
         self.rescuer = Rescuer(params, rng)
         self.agents: tuple[Agent, ...] = (self.tracker, self.risk, self.estimator)
+        # the Learning Agent (or the hand-coded policy) replaces the three (learning-agent paper,
+        # section 4); it waits for the Rescuer's initial sweep, so its actions are its own
+        self.policy_agent = policy_agent
+        if policy_agent is not None:
+            self.agents = (policy_agent,)
         self.communicator = Communicator(self.name, params.communicator_window_s)
 
     def situation(self, beliefs: Beliefs, line: tuple[Point, Point] | None = None) -> Situation:
@@ -103,7 +109,8 @@ class NavigationSystem:
         original = self.situation(beliefs)
         rescue = self.rescuer.decide(original, lambda failed: self._ask(beliefs, original, failed))
         s = original if rescue.diverting is None else self.situation(beliefs, rescue.diverting)
-        agent_bids = rescue.bids + tuple(b for agent in self.agents for b in agent.bid(s))  # the Rescuer first: it wins ties
+        agents = () if self.policy_agent is not None and self.rescuer.state == "sweep" else self.agents
+        agent_bids = rescue.bids + tuple(b for agent in agents for b in agent.bid(s))  # the Rescuer first: it wins ties
         bids = tuple(self.communicator.forward(agent_bids, beliefs.time))
         info = {"I_a": s.I_a, "risk": self.risk.risk(s), "quality_ahead": s.quality_ahead,
                 "quality_around": s.quality_around, "landmarks_known": len(s.landmarks),

@@ -1,0 +1,96 @@
+"""The Learning Agent's five actions and their rewards (learning-agent paper, section 5.3).
+
+Each action is a motion and (except MB) a look, carried out through the Pilot and Vision by bids
+like any Navigation agent's (the Pilot still overrules when it must, the Rescuer's scans overrule
+both):
+
+====  ===========================================  =======================================  ======
+name  motion                                       camera                                   reward
+====  ===========================================  =======================================  ======
+MB    toward the target                            none (left to the Pilot)                 -1
+MLL   toward the target                            the sector with the fewest known          -10
+                                                   landmarks: look for new ones
+MOT   orthogonally to the target                   at the target                            -6
+MVL   toward the target                            the sector whose landmarks are the        -5
+                                                   most imprecise (highest I-bar(s)):
+                                                   re-acquire them
+MVT   toward the target                            at the target                            -5
+====  ===========================================  =======================================  ======
+
+Reaching the target gives 0 (it ends the trial). "Toward the target" is the centre of the target's
+fuzzy heading; when the target is lost the paper takes the centre of [0, 2 pi], pi: the robot
+turns back ("paces"). Our camera returns every object in view whatever the look is for, so "look
+for new landmarks" and "re-acquire known ones" differ here by where they point and what they
+cost, not by the image processing (our design). Looks are clipped to the pan unit's limit; a
+sector the camera cannot reach (behind) is not chosen by MLL and MVL.
+"""
+
+from __future__ import annotations
+
+import math
+
+from ..bidding import Bid, Look, Move
+from ..navigation.risk_manager import SECTORS
+from ..navigation.situation import Situation
+from .features import BEST, landmarks_of, sector_imprecision, sectors
+
+ACTIONS = ("MB", "MLL", "MOT", "MVL", "MVT")
+"""The actions in the order of the action index."""
+MB, MLL, MOT, MVL, MVT = range(5)
+REWARDS = (-1.0, -10.0, -6.0, -5.0, -5.0)
+"""The immediate reward of each action (section 5.3: MB -1, MLL -10, MOT -6, MVL -5, MVT -5)."""
+AT_TARGET = 0.0
+"""The reward on reaching the target."""
+
+
+def target_bearing(s: Situation) -> float:
+    """The heading (rad, egocentric) the target is believed to lie at; pi when it is lost."""
+    b = s.bearing
+    return math.pi if b is None else b
+
+
+def least_known_sector(s: Situation, pan_limit: float, target_key: str | None = None) -> float:
+    """The centre (rad) of the reachable sector with the fewest known landmarks (nearest ahead on a tie)."""
+    per = sectors(landmarks_of(s, target_key))
+    reach = [i for i, c in enumerate(SECTORS) if abs(c) <= pan_limit + 1e-9]
+    return SECTORS[min(reach, key=lambda i: (min(BEST, len(per[i])), abs(SECTORS[i])))]
+
+
+def most_imprecise_sector(s: Situation, pan_limit: float, target_key: str | None = None) -> float:
+    """The centre (rad) of the reachable sector, among those with known landmarks, whose I-bar(s)
+    is highest; straight ahead when none is known there."""
+    per = sectors(landmarks_of(s, target_key))
+    reach = [i for i, c in enumerate(SECTORS) if abs(c) <= pan_limit + 1e-9 and per[i]]
+    if not reach:
+        return 0.0
+    return SECTORS[max(reach, key=lambda i: (sector_imprecision(per[i]), -abs(SECTORS[i])))]
+
+
+def action_bids(action: int, s: Situation, *, bidder: str, value: float, speed: float, pan_limit: float,
+                target_key: str | None = None, side: float = 1.0) -> list[Bid]:
+    """The bids that carry out ``action`` in situation ``s``: a move at ``speed`` (m/s) and a look,
+    each bid at ``value``. ``side`` (+1 left, -1 right) is MOT's side of the target."""
+    bearing = target_bearing(s)
+    heading = bearing
+    look: float | None = None
+    if action == MOT:
+        heading = math.remainder(bearing + side * math.pi / 2, 2 * math.pi)
+        look = bearing
+    elif action == MVT:
+        look = bearing
+    elif action == MLL:
+        look = least_known_sector(s, pan_limit, target_key)
+    elif action == MVL:
+        look = most_imprecise_sector(s, pan_limit, target_key)
+    elif action != MB:
+        raise ValueError(f"unknown action {action}")
+    bids = [Bid(bidder, "motion", Move(heading, speed), value)]
+    if look is not None:
+        bids.append(Bid(bidder, "camera", Look(max(-pan_limit, min(pan_limit, look))), value))
+    return bids
+
+
+def orthogonal_side(s: Situation) -> float:
+    """MOT's side: the one needing the smaller turn (+1 left of the target, -1 right)."""
+    b = target_bearing(s)
+    return 1.0 if abs(math.remainder(b + math.pi / 2, 2 * math.pi)) <= abs(math.remainder(b - math.pi / 2, 2 * math.pi)) else -1.0

@@ -1,0 +1,90 @@
+"""The Learning Agent (learning-agent paper, section 4): one Navigation agent in place of the
+Target Tracker, the Risk Manager and the Distance Estimator, choosing one of five actions
+(:mod:`.actions`) from the belief state (:mod:`.features`) by a policy: a learned table, the
+hand-coded policy of section 6, or, while training, whatever the trainer sets.
+
+An action lasts ``action_s`` simulated seconds (:class:`~navcli.params.LearningParams`; our
+design, its reason there): every tick the agent re-aims the action at the current target (the
+Rescuer may have set a diverting one) and bids for it; at the end of an action it reads the state
+and chooses again. It counts the actions it took and the reward they cost.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Callable
+
+import numpy as np
+
+from ..bidding import Bid
+from ..navigation.situation import Situation
+from ..params import CONTROL_DT, LEARNING, ROBOT, LearningParams
+from .actions import ACTIONS, REWARDS, action_bids, orthogonal_side
+from .features import features, state_index
+from .hand_coded import hand_coded_action
+
+Policy = Callable[[int], int]
+
+
+def table_policy(table: np.ndarray) -> Policy:
+    """A policy from a table of actions indexed by state (a learned model's greedy policy)."""
+    t = np.asarray(table, dtype=np.int64)
+    return lambda state: int(t[state])
+
+
+class LearningAgent:
+    """See the module docstring. ``policy`` maps a state to an action; ``None`` leaves the choice
+    to whoever sets :attr:`next_action` (the trainer)."""
+
+    name = "learning-agent"
+
+    def __init__(self, policy: Policy | None = None, params: LearningParams = LEARNING,
+                 max_speed: float = ROBOT.max_speed, pan_limit: float = math.radians(100.0),
+                 target_key: str | None = None, label: str = "learned"):
+        self.policy = policy
+        self.params = params
+        self.max_speed = max_speed
+        self.pan_limit = pan_limit
+        self.target_key = target_key
+        self.label = label
+        self.ticks_per_action = max(1, round(params.action_s / CONTROL_DT))
+        self.action: int | None = None
+        self.next_action: int | None = None
+        self.state: int | None = None  # the belief state read at the latest tick
+        self.counts = [0] * len(ACTIONS)
+        self.reward = 0.0
+        self._left = 0  # ticks left of the current action
+        self._side = 1.0
+
+    @property
+    def actions_taken(self) -> int:
+        return sum(self.counts)
+
+    def observe(self, s: Situation) -> int:
+        """Read (and remember) the belief state of ``s``."""
+        self.state = state_index(features(s, self.target_key), self.params)
+        return self.state
+
+    def bid(self, s: Situation) -> list[Bid]:
+        state = self.observe(s)
+        if self._left <= 0:
+            a = self.policy(state) if self.policy is not None else self.next_action
+            if a is None:
+                return []
+            self.action, self._left = a, self.ticks_per_action
+            self._side = orthogonal_side(s)
+            self.counts[a] += 1
+            self.reward += REWARDS[a]
+        self._left -= 1
+        return action_bids(self.action, s, bidder=self.name, value=self.params.bid, speed=self.max_speed,
+                           pan_limit=self.pan_limit, target_key=self.target_key, side=self._side)
+
+    def info(self) -> dict:
+        """For the mission summary: the actions taken, of each kind, and their reward."""
+        return {"actions": self.actions_taken, "reward": self.reward,
+                "action_counts": dict(zip(ACTIONS, self.counts))}
+
+
+def hand_coded_agent(**kw) -> LearningAgent:
+    """The hand-coded policy of section 6 as an agent."""
+    return LearningAgent(hand_coded_action, label="hand-coded", **kw)

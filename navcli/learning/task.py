@@ -1,0 +1,120 @@
+"""The Learning Agent's task as trials, action by action (learning-agent paper, section 6): the
+robot starts at a random place of the scenario's room and must reach the target; a trial ends
+when it has (reward 0), after ``max_actions`` actions, or when the Rescuer gives up (blocked).
+
+:class:`NavigationTask` runs a :class:`~navcli.mission.Mission` without a log, its Navigation
+system's Learning Agent told each action by the caller (:meth:`NavigationTask.step`), and
+reports the belief state after it, the action's reward and whether the trial ended: what both
+learners and the Gymnasium environment (:mod:`navcli.envs`) step through.
+
+Our design: a trial "reaches the target" as the mission does (the robot's body within the
+target's tolerance of the landmark); the robot is confident of it then, since the target was told
+at the start and is tracked by its own sightings. The initial sweep of the Rescuer comes before
+the first action and is not counted. A blocked trial and one cut at ``max_actions`` are not
+terminal for the learner (the target was not reached; values are not pulled toward 0).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..config import RunSpec
+from ..geometry import Point, distance_to_segment
+from ..mission import Mission
+from ..scenario import Scenario
+from .actions import REWARDS
+
+START_CLEARANCE = 0.3  # m between the robot's body and any wall, landmark or obstacle at a start
+START_MIN_DISTANCE = 1.5  # m from the target at least: a trial that starts at the target teaches nothing
+
+
+@dataclass(frozen=True)
+class Start:
+    """Where a trial starts: position (m), heading (rad), and the mission's seed (sensor noise)."""
+
+    x: float
+    y: float
+    heading: float
+    seed: int
+
+
+def random_starts(scenario: Scenario, n: int, seed: int, robot_radius: float) -> list[Start]:
+    """``n`` starts drawn uniformly over the free floor of ``scenario`` (clear of walls, landmarks
+    and obstacles by :data:`START_CLEARANCE`, at least :data:`START_MIN_DISTANCE` from the
+    target), with headings uniform and seeds, all from ``seed``."""
+    rng = np.random.default_rng(seed)
+    a, r = scenario.arena, robot_radius + START_CLEARANCE
+    out: list[Start] = []
+    while len(out) < n:
+        x, y = rng.uniform(r, a.width - r), rng.uniform(r, a.height - r)
+        if math.dist((x, y), scenario.target.point) < START_MIN_DISTANCE or not _clear(scenario, (x, y), r):
+            continue
+        out.append(Start(float(x), float(y), float(rng.uniform(-math.pi, math.pi)), int(rng.integers(2 ** 31))))
+    return out
+
+
+def _clear(scenario: Scenario, p: Point, r: float) -> bool:
+    for o in scenario.objects:
+        if o.kind in ("wall", "target"):
+            continue
+        if distance_to_segment(p, o.a, o.b) < r + o.radius:
+            return False
+    return True
+
+
+def spec_at(base: RunSpec, start: Start) -> RunSpec:
+    """``base`` with the robot at ``start`` and its seed."""
+    sc = base.scenario
+    robot = dataclasses.replace(sc.robot, start=(start.x, start.y), heading=start.heading)
+    return base.replace(scenario=dataclasses.replace(sc, robot=robot), seed=start.seed)
+
+
+class NavigationTask:
+    """Trials of ``base`` (a :class:`RunSpec`; its navigation is set to the trainer's) from
+    starts given to :meth:`reset`."""
+
+    def __init__(self, base: RunSpec):
+        self.base = base
+        self.params = base.params.learning
+        self.mission: Mission | None = None
+        self.actions = 0
+        self.outcome: str | None = None
+
+    def reset(self, start: Start) -> int:
+        """Start a trial at ``start``; runs the initial sweep; returns the first belief state."""
+        from . import LearningAgent
+
+        spec = spec_at(self.base, start)
+        p = spec.params
+        agent = LearningAgent(None, p.learning, max_speed=p.robot.max_speed, pan_limit=spec.scenario.camera.pan_limit,
+                              target_key=spec.scenario.target.landmark, label="training")
+        m = Mission(spec, policy_agent=agent)
+        nav = m.navigation
+        self.mission, self.agent, self.actions, self.outcome = m, agent, 0, None
+        while m.outcome is None and (agent.state is None or nav.rescuer.state == "sweep"):
+            m.step()
+        return agent.state if agent.state is not None else 0
+
+    def step(self, action: int) -> tuple[int, float, bool, bool]:
+        """Carry out ``action`` for one action's length: (state, reward, reached, ended otherwise)."""
+        m, agent = self.mission, self.agent
+        if m is None or self.outcome is not None:
+            raise RuntimeError("the trial has ended: reset it")
+        if m.outcome is None:
+            agent.next_action, agent._left = action, 0
+            taken = agent.actions_taken
+            m.step()
+            while m.outcome is None and not (agent.actions_taken > taken and agent._left == 0):
+                m.step()
+            agent.next_action = None
+        self.actions += 1
+        reward = REWARDS[action]  # the action is paid for; reaching the target adds AT_TARGET (0)
+        reached = m.outcome == "reached"
+        ended = not reached and (m.outcome is not None or self.actions >= self.params.max_actions)
+        if reached or ended:
+            self.outcome = m.outcome or "timeout"
+        return agent.state, reward, reached, ended

@@ -1,0 +1,240 @@
+"""``navcli train``: the Learning Agent's training (learning-agent paper, section 6).
+
+Trials run one after another from seeded random starts (trial ``i`` of seed ``N`` always starts at
+the same place), each until the target is reached, ``max_actions`` actions, or the Rescuer gives
+up; the learner (Prioritized Sweeping, or Q-learning for the model-free baseline) learns from
+every action. Every ``eval_every`` trials its greedy policy runs the same fixed test starts
+(:data:`EVAL_SEED`, whatever the training seed), in worker processes while training goes on; the
+hand-coded policy runs them once for its level. The model is saved after every evaluation, with
+the learning curve so far, so an interrupted training resumes from its file (``--resume``).
+Trials run without logs.
+"""
+
+from __future__ import annotations
+
+import csv
+import time
+from concurrent.futures import Future, ProcessPoolExecutor
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+from typing import Callable
+
+import numpy as np
+
+from ..config import RunSpec
+from .actions import ACTIONS
+from .features import N_STATES, check_bounds
+from .hand_coded import hand_coded_action
+from .task import NavigationTask, Start, random_starts
+
+ALGORITHMS = ("prioritized-sweeping", "q-learning")
+EVAL_SEED = 99
+"""The test starts come from this seed, the same for every training run (the paper: "the same set
+of 99 starting locations was employed in each testing period")."""
+
+
+@dataclass(frozen=True)
+class TrialResult:
+    """One trial: how it ended, its actions, its reward and the count of each action."""
+
+    outcome: str
+    actions: int
+    reward: float
+    counts: tuple[int, ...]
+
+    @property
+    def success(self) -> bool:
+        return self.outcome == "reached"
+
+
+def run_trial(task: NavigationTask, start: Start, choose: Callable[[int], int],
+              learn: Callable[[int, int, float, int, bool], None] | None = None) -> TrialResult:
+    """One trial from ``start``, actions chosen by ``choose(state)``; ``learn(s, a, r, s', reached)``
+    hears every step."""
+    s = task.reset(start)
+    counts = [0] * len(ACTIONS)
+    reward = 0.0
+    while task.outcome is None and task.mission.outcome is None:
+        a = choose(s)
+        s2, r, reached, _ = task.step(a)
+        counts[a] += 1
+        reward += r
+        if learn is not None:
+            learn(s, a, r, s2, reached)
+        s = s2
+    return TrialResult(task.outcome or task.mission.outcome, task.actions, reward, tuple(counts))
+
+
+def evaluate(spec: RunSpec, policy: np.ndarray, starts: list[Start]) -> list[TrialResult]:
+    """The policy (an action per state) from each start, in this process."""
+    task = NavigationTask(spec)
+    table = np.asarray(policy, dtype=np.int64)
+    return [run_trial(task, st, lambda s: int(table[s])) for st in starts]
+
+
+def make_learner(algorithm: str, spec: RunSpec, seed: int):
+    from .prioritized_sweeping import PrioritizedSweeping
+    from .q_learning import QLearning
+
+    p = spec.params.learning
+    rng = np.random.default_rng([seed, 1])
+    if algorithm == "prioritized-sweeping":
+        return PrioritizedSweeping(N_STATES, len(ACTIONS), gamma=p.gamma, backups=p.backups, threshold=p.threshold,
+                                   explore=p.explore, optimistic=0.0, rng=rng)
+    if algorithm == "q-learning":
+        return QLearning(N_STATES, len(ACTIONS), alpha=p.q_alpha, gamma=p.gamma, epsilon=p.q_epsilon, rng=rng)
+    raise ValueError(f"unknown algorithm {algorithm!r} (expected one of: {', '.join(ALGORITHMS)})")
+
+
+def hand_coded_table() -> np.ndarray:
+    return np.array([hand_coded_action(s) for s in range(N_STATES)], dtype=np.int8)
+
+
+@dataclass
+class Point:
+    """One evaluation of the learning curve."""
+
+    trials: int
+    successes: int
+    reward: float  # mean per trial
+    actions: float  # mean per trial
+
+
+@dataclass
+class Training:
+    """What ``navcli train`` did: the curve, the hand-coded level, and where its time went (s)."""
+
+    algorithm: str
+    seed: int
+    trials: int
+    curve: list[Point] = field(default_factory=list)
+    hand_coded: int | None = None
+    train_s: float = 0.0  # wall time in training trials (this process)
+    eval_s: float = 0.0  # summed wall time of the evaluations (worker processes, overlapping training)
+    wall_s: float = 0.0
+    outcomes: dict[str, int] = field(default_factory=dict)
+
+
+def _eval_job(spec: RunSpec, policy: np.ndarray, starts: list[Start]) -> tuple[list[TrialResult], float]:
+    t0 = time.perf_counter()
+    return evaluate(spec, policy, starts), time.perf_counter() - t0
+
+
+def train(spec: RunSpec, *, trials: int = 2000, eval_every: int = 100, eval_starts: int = 99, seed: int = 1,
+          algorithm: str = "prioritized-sweeping", out: Path, resume: Path | None = None, workers: int = 2,
+          on_trial: Callable[[int, TrialResult, Training], None] | None = None) -> Training:
+    """Train (see the module docstring); writes ``out`` (.npz + .json), ``out``-curve.csv and -curve.png."""
+    from . import model_file
+
+    check_bounds(spec.params.learning)
+    learner = make_learner(algorithm, spec, seed)
+    result = Training(algorithm, seed, 0)
+    if resume is not None:
+        arrays, meta = model_file.load(resume)
+        if meta.get("algorithm") != algorithm or meta.get("scenario_sha256") != spec.scenario.sha256:
+            raise model_file.ModelError(f"{resume}: made by {meta.get('algorithm')} on another scenario or "
+                                        f"with another algorithm; cannot resume it here")
+        learner.load_arrays(arrays)
+        seed = result.seed = int(meta["seed"])
+        learner.rng = np.random.default_rng([seed, 1, int(meta["trials"])])
+        result.trials = int(meta["trials"])
+        result.curve = [Point(**p) for p in meta.get("curve", [])]
+        result.hand_coded = meta.get("hand_coded")
+        result.outcomes = dict(meta.get("outcomes", {}))
+    test = random_starts(spec.scenario, eval_starts, EVAL_SEED, spec.params.robot.radius)
+    task = NavigationTask(spec)
+    t_start = time.perf_counter()
+
+    import multiprocessing as mp
+
+    ctx = mp.get_context("fork") if "fork" in mp.get_all_start_methods() else None
+    chunks = max(1, workers)
+    pending: list[tuple[int, list[Future]]] = []
+    hand: list[Future] = []
+
+    def submit(pool, policy: np.ndarray) -> list[Future]:
+        return [pool.submit(_eval_job, spec, policy, test[i::chunks]) for i in range(chunks)]
+
+    def collect(futures: list[Future]) -> list[TrialResult]:
+        res = []
+        for f in futures:
+            r, dt = f.result()
+            res += r
+            result.eval_s += dt
+        return res
+
+    def harvest(block: bool) -> None:
+        while pending and (block or all(f.done() for f in pending[0][1])):
+            n, fs = pending.pop(0)
+            rs = collect(fs)
+            result.curve.append(Point(n, sum(r.success for r in rs), float(np.mean([r.reward for r in rs])),
+                                      float(np.mean([r.actions for r in rs]))))
+        if hand and (block or all(f.done() for f in hand)):
+            result.hand_coded = sum(r.success for r in collect(hand))
+            hand.clear()
+
+    def save() -> None:
+        meta = {"algorithm": algorithm, "scenario": spec.scenario.name, "scenario_sha256": spec.scenario.sha256,
+                "seed": seed, "trials": result.trials, "eval_every": eval_every, "eval_starts": eval_starts,
+                "eval_seed": EVAL_SEED, "params": spec.params.to_json(), "curve": [asdict(p) for p in result.curve],
+                "hand_coded": result.hand_coded, "outcomes": result.outcomes}
+        model_file.save(out, learner, meta)
+
+    with ProcessPoolExecutor(max_workers=workers, mp_context=ctx) as pool:
+        if result.hand_coded is None:
+            hand = submit(pool, hand_coded_table())
+        if result.trials == 0:  # the untrained policy: the curve's first point
+            pending.append((0, submit(pool, learner.greedy_policy())))
+        end = result.trials + trials
+        while result.trials < end:
+            i = result.trials
+            start = random_starts(spec.scenario, 1, np.random.SeedSequence([seed, i]).generate_state(1)[0],
+                                  spec.params.robot.radius)[0]
+            t0 = time.perf_counter()
+            r = run_trial(task, start, learner.act, learner.observe)
+            result.train_s += time.perf_counter() - t0
+            result.trials += 1
+            result.outcomes[r.outcome] = result.outcomes.get(r.outcome, 0) + 1
+            if result.trials % eval_every == 0 or result.trials == end:
+                pending.append((result.trials, submit(pool, learner.greedy_policy())))
+                harvest(False)
+                save()
+            if on_trial:
+                on_trial(i, r, result)
+        harvest(True)
+    result.curve.sort(key=lambda p: p.trials)
+    result.wall_s = time.perf_counter() - t_start
+    save()
+    write_curve(result, out)
+    return result
+
+
+def write_curve(result: Training, out: Path) -> dict[str, Path]:
+    """The learning curve (the paper's Figure 3) as CSV and PNG beside ``out``."""
+    stem = out.with_suffix("")
+    csv_path, png_path = Path(f"{stem}-curve.csv"), Path(f"{stem}-curve.png")
+    with csv_path.open("w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["trials", "successes", "reward_per_trial", "actions_per_trial", "hand_coded_successes"])
+        for p in result.curve:
+            w.writerow([p.trials, p.successes, f"{p.reward:.2f}", f"{p.actions:.2f}", result.hand_coded])
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(6, 4))
+    ax.plot([p.trials for p in result.curve], [p.successes for p in result.curve], "o-",
+            label=f"learned ({result.algorithm})")
+    if result.hand_coded is not None:
+        ax.axhline(result.hand_coded, color="grey", ls="--", label="hand-coded")
+    top = max([p.successes for p in result.curve] + [result.hand_coded or 0, 1])
+    ax.set_xlabel("training trials")
+    ax.set_ylabel("successful test trials")
+    ax.set_ylim(0, top * 1.1 + 1)
+    ax.set_title("Successes of the test starts against training trials")
+    ax.legend(loc="lower right")
+    fig.tight_layout()
+    fig.savefig(png_path, dpi=100)
+    plt.close(fig)
+    return {"csv": csv_path, "png": png_path}

@@ -1,0 +1,242 @@
+"""The Learning Agent: Prioritized Sweeping and Q-learning against value iteration on small MDPs,
+the belief-state features, the actions, the hand-coded policy, the run option and the model file."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from conftest import SCENARIOS
+from navcli.beliefs import Beliefs
+from navcli.fuzzy import FuzzyPoint
+from navcli.geometry import Pose
+from navcli.learning.actions import MB, MLL, MOT, MVL, MVT, action_bids
+from navcli.learning.features import SHAPE, Features, discretise, features, state_index
+from navcli.learning.hand_coded import hand_coded_action
+from navcli.learning.prioritized_sweeping import PrioritizedSweeping
+from navcli.learning.q_learning import QLearning
+from navcli.navigation.situation import Situation
+
+gym = pytest.importorskip("gymnasium")
+
+
+# -- small MDPs from Gymnasium's toy_text tables, solved here by value iteration
+def tables(name: str, **kw):
+    """Transition probabilities T, expected rewards R, rewards by landing Rt and terminal flags D."""
+    P = gym.make(name, **kw).unwrapped.P
+    S, A = len(P), len(P[0])
+    T, R, Rt, D = np.zeros((S, A, S)), np.zeros((S, A)), np.zeros((S, A, S)), np.zeros((S, A, S), bool)
+    for s in range(S):
+        for a in range(A):
+            for p, s2, r, d in P[s][a]:
+                T[s, a, s2] += p
+                R[s, a] += p * r
+                Rt[s, a, s2] = r
+                D[s, a, s2] |= d
+    return T, R, Rt, D
+
+
+def value_iteration(T, R, D, gamma):
+    V = np.zeros(T.shape[0])
+    for _ in range(10000):
+        Q = R + gamma * np.einsum("sat,t->sa", T * ~D, V)
+        if np.abs(Q.max(1) - V).max() < 1e-12:
+            break
+        V = Q.max(1)
+    return V, Q
+
+
+def learn(learner, T, Rt, D, start, *, steps=None, episodes=None, goal=None, seed=0):
+    """Let ``learner`` act in the MDP (sampled with its own generator) for ``steps`` steps, or
+    ``episodes`` episodes (each ended at a terminal state or ``goal``); returns the steps taken."""
+    rng, cum, s, n, done_eps = np.random.default_rng(seed), T.cumsum(-1), start, 0, 0
+    while (steps is None or n < steps) and (episodes is None or done_eps < episodes):
+        a = learner.act(s)
+        s2 = min(int(np.searchsorted(cum[s, a], rng.random())), T.shape[0] - 1)
+        learner.observe(s, a, float(Rt[s, a, s2]), s2, bool(D[s, a, s2]))
+        n += 1
+        end = bool(D[s, a, s2]) or s2 == goal
+        done_eps += end
+        s = start if end else s2
+    return n
+
+
+def rollout(choose, T, R, D, start=36):
+    """The return of a deterministic MDP's episode under ``choose`` (at most 100 steps)."""
+    s, ret = start, 0.0
+    for _ in range(100):
+        a = choose(s)
+        s2 = int(np.argmax(T[s, a]))
+        ret += R[s, a]
+        if D[s, a, s2] or s2 == 47:
+            return ret
+        s = s2
+    return ret
+
+
+def test_prioritized_sweeping_learns_the_optimal_policy_of_slippery_frozen_lake():
+    T, R, Rt, D = tables("FrozenLake-v1", is_slippery=True)
+    V, Q = value_iteration(T, R, D, 0.99)
+    assert V[0] == pytest.approx(0.542, abs=5e-4)
+    ps = PrioritizedSweeping(16, 4, gamma=0.99, backups=5, threshold=1e-4, explore=10, optimistic=1.0,
+                             rng=np.random.default_rng(1))
+    learn(ps, T, Rt, D, 0, steps=4000)
+    pol = ps.greedy_policy()
+    terminal = {5, 7, 11, 12, 15}  # holes and the goal
+    assert [s for s in range(16) if s not in terminal and Q[s, pol[s]] < V[s] - 1e-6] == []
+    assert ps.values[0] == pytest.approx(V[0], abs=0.06)  # its model's value of the start
+
+
+def test_prioritized_sweeping_walks_the_cliff_edge_in_13_steps():
+    T, R, Rt, D = tables("CliffWalking-v1")
+    V, _ = value_iteration(T, R, D | (np.arange(48) == 47)[None, None, :], 1.0)
+    assert V[36] == pytest.approx(-13)
+    ps = PrioritizedSweeping(48, 4, gamma=1.0, backups=10, threshold=1e-3, explore=1, rng=np.random.default_rng(2))
+    learn(ps, T, Rt, D, 36, episodes=30, goal=47)
+    assert rollout(ps.greedy, T, R, D) == -13
+
+
+def test_q_learning_finds_the_cliff_path_too_but_needs_more_steps():
+    T, R, Rt, D = tables("CliffWalking-v1")
+    ps = PrioritizedSweeping(48, 4, gamma=1.0, backups=10, threshold=1e-3, explore=1, rng=np.random.default_rng(2))
+    ql = QLearning(48, 4, alpha=0.5, gamma=1.0, epsilon=0.1, rng=np.random.default_rng(2))
+    steps_ps = learn(ps, T, Rt, D, 36, episodes=30, goal=47)
+    steps_q = learn(ql, T, Rt, D, 36, episodes=300, goal=47)
+    assert rollout(ql.greedy, T, R, D) == -13
+    assert steps_q > 2 * steps_ps
+
+
+# -- features, actions, the hand-coded policy
+def situation(target=(3.0, 0.0), landmarks=None, target_radius=0.1):
+    b = Beliefs(0.0, Pose(0.0, 0.0, 0.0), None, None, ())
+    t = None if target is None else FuzzyPoint(*target, (target_radius, target_radius * 0.7, target_radius * 0.3, 0.0))
+    return Situation(b, t, None, "memory", 0.0, landmarks or {})
+
+
+def point(x, y, r=0.1):
+    return FuzzyPoint(x, y, (r, r * 0.7, r * 0.3, 0.0))
+
+
+def test_features_count_the_sectors_and_average_the_best_four():
+    lms = {k: point(2.0, 0.1 * i, 0.05 * (i + 1)) for i, k in enumerate("ABCDE")}  # five ahead
+    lms["F"] = point(-2.0, 0.0)  # one behind
+    lms["T"] = point(3.0, 0.0)  # the target landmark: not one of them
+    f = features(situation(landmarks=lms), target_key="T")
+    assert f.count == pytest.approx((4 + 1) / 6)  # N(s) = min(4, |L(s)|)
+    best4 = sorted(lms[k].imprecision() for k in "ABCDE")[:4]
+    assert f.landmark_imprecision == pytest.approx((sum(best4) / 4 + lms["F"].imprecision() + 4 * 1.0) / 6)
+    assert f.distance == pytest.approx(3.0)
+    lost = features(situation(target=None))
+    assert (lost.distance, lost.target_imprecision, lost.count, lost.landmark_imprecision) == (math.inf, 1.0, 0.0, 1.0)
+
+
+def test_980_states_each_reached_once():
+    seen = {state_index(Features(d, i, c, m)) for d in (0.1, 1, 2, 4, 9) for i in (0, 0.03, 0.05, 0.08, 0.12, 0.2, 1)
+            for c in (0, 0.5, 0.8, 2) for m in (0.1, 0.3, 0.4, 0.6, 0.7, 0.9, 1)}
+    assert len(seen) == 980 == math.prod(SHAPE) and seen == set(range(980))
+    assert discretise(Features(0.9, 0.0, 0.0, 0.0))[0] == 1  # on a bound: the interval above
+
+
+def test_actions_move_and_look_as_section_5_3_says():
+    lms = {"A": point(2.0, 0.0, 0.3), "B": point(2.0, 0.2, 0.3), "C": point(1.0, 1.7, 0.02)}  # 2 ahead, 1 at +60
+    s = situation(target=(0.0, 3.0), landmarks=lms)  # the target 90 deg left
+    kw = dict(bidder="la", value=0.5, speed=0.3, pan_limit=math.radians(100))
+    mb = action_bids(MB, s, **kw)
+    assert [b.resource for b in mb] == ["motion"] and mb[0].action.heading == pytest.approx(math.pi / 2)
+    mot = {b.resource: b.action for b in action_bids(MOT, s, side=-1.0, **kw)}
+    assert mot["motion"].heading == pytest.approx(0.0, abs=1e-9) and mot["camera"].pan == pytest.approx(math.pi / 2)
+    assert action_bids(MVT, s, **kw)[1].action.pan == pytest.approx(math.pi / 2)
+    assert action_bids(MLL, s, **kw)[1].action.pan == pytest.approx(math.radians(-60))  # empty, nearest ahead
+    assert action_bids(MVL, s, **kw)[1].action.pan == pytest.approx(0.0)  # A and B blurred, C sharp
+    lost = action_bids(MB, situation(target=None), **kw)
+    assert abs(lost[0].action.heading) == pytest.approx(math.pi)  # the paper's pacing
+
+
+@pytest.mark.parametrize("intervals, action", [
+    ((4, 0, 0, 0), MLL), ((3, 0, 1, 6), MLL),  # far, few landmarks
+    ((4, 0, 2, 3), MVL),  # far, enough landmarks but blurred
+    ((4, 4, 3, 0), MOT), ((3, 3, 3, 2), MB),  # far, landmarks good: target blurred or not
+    ((2, 5, 0, 5), MVL), ((1, 6, 3, 2), MVT),  # not far, target blurred: landmarks blurred or not
+    ((0, 1, 0, 6), MVT), ((2, 0, 0, 6), MB),  # target precise: really near, medium
+])
+def test_the_hand_coded_policy_follows_section_6(intervals, action):
+    assert hand_coded_action(int(np.ravel_multi_index(intervals, SHAPE))) == action
+
+
+# -- the run option, the mission, the model file, the environment
+def test_run_spec_carries_the_navigation_choice(make_scenario):
+    from navcli.config import ConfigError, RunSpec
+
+    sc = make_scenario()
+    a, h = RunSpec.build(sc), RunSpec.build(sc, navigation="hand-coded")
+    assert a.navigation == "agents" and a.to_json()["navigation"] == "agents" and a.run_id != h.run_id
+    assert RunSpec.from_json(h.to_json(), sc.text) == h and h.metadata()["navigation"] == "hand-coded"
+    with pytest.raises(ConfigError, match="unknown navigation"):
+        RunSpec.build(sc, navigation="hand-coded:x")
+
+
+def test_learning_parameters_are_a_fifth_group():
+    from navcli.params import Params
+
+    p = Params().override({"learning.backups": 5, "learning.gamma": 0.9})
+    assert "learning" in Params.GROUPS and p.learning.backups == 5 and Params.from_json(p.to_json()) == p
+    assert p.flat()["learning.max_actions"] == 500
+
+
+def test_a_hand_coded_mission_counts_its_actions_and_their_reward():
+    from navcli import RunSpec, load_scenario, run_mission
+    from navcli.learning.actions import ACTIONS, REWARDS
+
+    spec = RunSpec.build(load_scenario(SCENARIOS / "landmarks-12.yaml"), navigation="hand-coded", time_limit=12)
+    s = run_mission(spec, record=False).summary
+    la = s["learning"]
+    assert s["navigation"] == "hand-coded" and la["actions"] >= 5  # 12 s less the initial sweep, 1 s each
+    assert la["reward"] == sum(REWARDS[i] * la["action_counts"][n] for i, n in enumerate(ACTIONS))
+
+
+def test_the_model_file_round_trips_and_refuses_garbage(tmp_path):
+    from navcli.learning import model_file
+
+    ps = PrioritizedSweeping(980, 5, rng=np.random.default_rng(0))
+    for s in range(30):
+        ps.observe(s, s % 5, -1.0, s + 1)
+    path = model_file.save(tmp_path / "m.npz", ps, {"seed": 3})
+    arrays, meta = model_file.load(path)
+    again = PrioritizedSweeping(980, 5)
+    again.load_arrays(arrays)
+    assert meta == {"seed": 3} and (again.counts == ps.counts).all() and (again.values == ps.values).all()
+    assert again.predecessors == ps.predecessors
+    (tmp_path / "bad.npz").write_text("no")
+    with pytest.raises(model_file.ModelError, match="bad.npz"):
+        model_file.load(tmp_path / "bad.npz")
+    assert model_file.load_policy().shape == (980,)  # the bundled model loads
+
+
+def test_run_refuses_a_bad_navigation(tmp_path):
+    from typer.testing import CliRunner
+
+    from navcli.cli import app
+
+    r = CliRunner().invoke(app, ["run", str(SCENARIOS / "landmarks-12.yaml"), "--navigation", "bogus"])
+    assert r.exit_code == 2 and "unknown navigation" in r.output
+    r = CliRunner().invoke(app, ["run", str(SCENARIOS / "landmarks-12.yaml"), "--navigation",
+                                 f"learned:{tmp_path / 'none.npz'}"])
+    assert r.exit_code == 2 and "no such model file" in r.output
+
+
+def test_the_gymnasium_environment_passes_the_checker():
+    import navcli.envs  # noqa: F401  (registers it)
+    from gymnasium.utils.env_checker import check_env
+
+    env = gym.make("navcli/LandmarkNavigation-v0", overrides={"learning.max_actions": 2})
+    check_env(env.unwrapped, skip_render_check=True)
+    assert env.observation_space.n == 980 and env.action_space.n == 5
+    o1, _ = env.reset(seed=4)
+    o2, _ = env.reset(seed=4)
+    assert o1 == o2
+    _, r, term, trunc, _ = env.step(MLL)
+    assert r == -10.0 and not term
+    _, r, term, trunc, _ = env.step(MB)
+    assert r == -1.0 and trunc  # max_actions = 2
