@@ -275,6 +275,11 @@ class FuzzyPoint:
         h = math.atan2(self.y, self.x)
         return FuzzyAngle(Fuzzy(tuple((h - _half_angle(r, d), h + _half_angle(r, d)) for r in self.radii)))
 
+    def heading_width(self, alpha: float = CUT) -> float:
+        """The width (rad) of the heading's alpha-cut, read off the disc: ``heading().width(alpha)``
+        without building the fuzzy number (a per-tick quantity)."""
+        return 2.0 * _half_angle(self.radius(alpha), math.hypot(self.x, self.y))
+
     def imprecision(self) -> float:
         """I(l) (section 5.1) from the 70 % cut: the widths of heading and distance, read off the
         disc directly (what :meth:`heading` and :meth:`distance` give, without building them)."""

@@ -116,7 +116,8 @@ class Mission:
         and bids."""
         nav = self.navigation.bid(beliefs)
         request = next((b.action for b in nav.bids if b.resource == "motion"), None)
-        for_pilot = replace(beliefs, target=nav.target, target_line=nav.target_line)
+        same = nav.target == beliefs.target and nav.target_line == beliefs.target_line
+        for_pilot = beliefs if same else replace(beliefs, target=nav.target, target_line=nav.target_line)
         return nav, self.pilot.decide(for_pilot, request)
 
     def act(self, winners: dict[Resource, Bid | None], before: Pose) -> tuple[tuple[float, float], list[Detection] | None]:

@@ -69,6 +69,7 @@ class World:
         self.robot = robot = robot or scenario.params.robot
         self.max_speed = robot.max_speed
         self._substeps = 0
+        self._pose: tuple[int, Pose] | None = None
         self.path_length = 0.0
         self.bumps = 0
         self._v = 0.0  # the drive's current (commanded, rate-limited) speed, m/s
@@ -131,9 +132,14 @@ class World:
 
     @property
     def pose(self) -> Pose:
-        """Ground-truth pose of the robot."""
+        """Ground-truth pose of the robot (read from pymunk once per physics step)."""
+        cached = self._pose
+        if cached is not None and cached[0] == self._substeps:
+            return cached[1]
         p = self.body.position
-        return Pose(p.x, p.y, wrap_angle(self.body.angle))
+        pose = Pose(p.x, p.y, wrap_angle(self.body.angle))
+        self._pose = (self._substeps, pose)
+        return pose
 
     @property
     def speed(self) -> tuple[float, float]:

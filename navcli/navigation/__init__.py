@@ -97,7 +97,7 @@ class NavigationSystem:
         else:
             found = self.map.locate(self.target_key, beliefs)
             target, source = found if found is not None else (None, "none")
-            spread = target.heading().width() if target is not None else 2 * math.pi
+            spread = target.heading_width() if target is not None else 2 * math.pi
         ahead_lim = math.radians(self.params.ahead_deg)
         ahead = tuple(k for k, p in known.items() if abs(math.atan2(p.y, p.x)) <= ahead_lim)
         return Situation(beliefs, target, line, source, self.tracker.imprecision(spread), known, ahead,

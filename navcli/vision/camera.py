@@ -23,7 +23,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..bidding import Look
-from ..fuzzy import Fuzzy, FuzzyAngle
+from ..fuzzy import TWO_PI, Fuzzy, FuzzyAngle
 from ..geometry import Point, Pose, blocks_sight, crosses_sight, distance_to_segment, wrap_angle
 from ..params import VISION, VisionParams
 from ..scenario import ArenaObject, Scenario
@@ -135,8 +135,8 @@ class Camera:
         d = math.hypot(dx, dy)
         if d > self.spec.range:
             return False
-        if abs(wrap_angle(math.atan2(dy, dx) - pose.theta - self.pan)) > self.spec.fov / 2:
-            return False
+        if abs(math.remainder(math.atan2(dy, dx) - pose.theta - self.pan, TWO_PI)) > self.spec.fov / 2:
+            return False  # (math.remainder: |wrap_angle|, a hot spot's cheaper form)
         return not self.occluded((pose.x, pose.y), p, own)
 
     def occluded(self, eye: Point, p: Point, own: str) -> bool:

@@ -134,7 +134,7 @@ class VisionPerception(_Senses):
         else:
             m = items.get(self._target_key) or items["target"]
             target_at, seen = m.spots[0].point(), m.seen
-            target, spread = (target_at.x, target_at.y), target_at.heading().width()
+            target, spread = (target_at.x, target_at.y), target_at.heading_width()
         landmarks = tuple(KnownLandmark(m.key, m.spots[0].point(), m.seen) for m in items.values()
                           if m.kind == "landmark")
         return self._beliefs(time, odometry, target, line, obstacles, spread, landmarks, target_at, seen)

@@ -68,7 +68,8 @@ class Spot:
 
     def point(self) -> FuzzyPoint:
         """The spot as a value: its centre and the radius of each cut (linear in alpha)."""
-        return FuzzyPoint(self.x, self.y, tuple(self.radius(a) for a in ALPHAS))
+        r0, d = self.r0, self.r1 - self.r0
+        return FuzzyPoint(self.x, self.y, tuple([r0 + a * d for a in ALPHAS]))
 
     def distance(self) -> Fuzzy:
         return self.point().distance()
