@@ -85,8 +85,8 @@ def parse_policy(text: str) -> Policy:
     from . import model_file
 
     arrays, meta = model_file.load(Path(file) if file else model_file.BUNDLED)
-    about = (f"{'the bundled model' if not file else file}: {meta.get('algorithm', 'unknown algorithm')}, "
-             f"{meta.get('trials', '?')} trials on {meta.get('scenario', '?')}")
+    about = (f"{'the bundled model: ' if not file else ''}{meta.get('algorithm', 'unknown algorithm')}, "
+             f"{meta.get('trials', '?')} trials on {meta.get('scenario', '?')}, seed {meta.get('seed', '?')}")
     return Policy(text, kind, arrays["policy"].astype(np.int8).tobytes(), about)
 
 
