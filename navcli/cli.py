@@ -773,7 +773,7 @@ def train(
 def compare_policies(
     scenario: Annotated[Path, typer.Argument(help="Scenario YAML file (the paper's setting: scenarios/landmarks-12.yaml).")],
     policy: Annotated[Optional[list[str]], typer.Option(
-        "--policy", help="learned (the bundled model), learned:FILE (a model of `navcli train`, Prioritized Sweeping "
+        "--policy", metavar="POLICY", help="learned (the bundled model), learned:FILE (a model of `navcli train`, Prioritized Sweeping "
                          "or Q-learning), hand-coded or agents; repeatable (default: learned, hand-coded, agents).")] = None,
     runs: Annotated[int, typer.Option(min=1, help="Runs (seeds of the missions' noise) per policy.")] = 5,
     starts: Annotated[int, typer.Option(min=1, help="Fixed random starts per run, those `navcli train` evaluates on "
@@ -801,6 +801,11 @@ def compare_policies(
         chosen = [parse_policy(n) for n in names]
     except ValueError as e:  # PolicyError, ModelError, bad bounds
         _err(f"error: {'--param' if not isinstance(e, (PolicyError, ModelError)) else '--policy'}: {e}")
+        raise typer.Exit(EXIT_BAD_INPUT) from None
+    try:
+        (out / "runs").mkdir(parents=True, exist_ok=True)
+    except OSError as e:
+        _err(f"error: --out: cannot create {out / 'runs'}: {e.strerror or e}")
         raise typer.Exit(EXIT_BAD_INPUT) from None
     work = plan(spec, chosen, runs, starts, out)
     from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn

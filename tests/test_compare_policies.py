@@ -142,6 +142,7 @@ def test_t_interval_and_the_agents_row(tmp_path):
     (["--policy", "learned:"], "unknown policy"),
     (["--policy", "hand-coded", "--policy", "hand-coded"], "named twice"),
     (["--policy", "learned:/no/such.npz"], "no such model file"),
+    (["--out", "/dev/null/x"], "cannot create"),
 ])
 def test_bad_policies_are_refused(bad, message):
     r = CliRunner().invoke(app, ["compare", "policies", str(ROOM), *bad])
