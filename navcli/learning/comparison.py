@@ -47,7 +47,7 @@ from .actions import ACTIONS
 from .task import Start, random_starts, spec_at
 
 POLICY_KINDS = ("learned", "hand-coded", "agents")
-DEFAULT_POLICIES = ("learned", "hand-coded", "agents")
+DEFAULT_POLICIES = POLICY_KINDS
 METRICS = ("successes", "reward", "actions") + ACTIONS + ("time_s",)
 """The table's columns: successes out of the starts, then means per trial."""
 
