@@ -769,5 +769,73 @@ def train(
     typer.echo(f"wrote {out}, {out.with_suffix('.json')}, {out.with_suffix('')}-curve.csv, {out.with_suffix('')}-curve.png")
 
 
+@compare_app.command("policies")
+def compare_policies(
+    scenario: Annotated[Path, typer.Argument(help="Scenario YAML file (the paper's setting: scenarios/landmarks-12.yaml).")],
+    policy: Annotated[Optional[list[str]], typer.Option(
+        "--policy", metavar="POLICY", help="learned (the bundled model), learned:FILE (a model of `navcli train`, Prioritized Sweeping "
+                         "or Q-learning), hand-coded or agents; repeatable (default: learned, hand-coded, agents).")] = None,
+    runs: Annotated[int, typer.Option(min=1, help="Runs (seeds of the missions' noise) per policy.")] = 5,
+    starts: Annotated[int, typer.Option(min=1, help="Fixed random starts per run, those `navcli train` evaluates on "
+                                                    "(the paper: 99).")] = 99,
+    out: Annotated[Path, typer.Option(help="Folder for the per-run trials (runs/*.json), policies.csv, policies.md "
+                                           "and trials.csv.")] = Path("logs/compare-policies"),
+    jobs: JobsOption = None,
+    param: ParamOption = None,
+) -> None:
+    """The learning paper's Table 1: every policy from the same starts, per run; successes, reward,
+    actions and the count of each action per trial, averaged over the runs with 95 % t-intervals.
+    Runs already done are kept (an interrupted comparison resumes)."""
+    import time
+
+    spec = _spec(scenario, param)
+    from .learning.comparison import DEFAULT_POLICIES, PolicyError, parse_policy, plan, run_all, write_table
+    from .learning.features import check_bounds
+    from .learning.model_file import ModelError
+
+    names = list(policy or DEFAULT_POLICIES)
+    try:
+        check_bounds(spec.params.learning)
+        if len(set(names)) < len(names):
+            raise PolicyError(f"a policy is named twice: {', '.join(names)}")
+        chosen = [parse_policy(n) for n in names]
+    except ValueError as e:  # PolicyError, ModelError, bad bounds
+        _err(f"error: {'--param' if not isinstance(e, (PolicyError, ModelError)) else '--policy'}: {e}")
+        raise typer.Exit(EXIT_BAD_INPUT) from None
+    try:
+        (out / "runs").mkdir(parents=True, exist_ok=True)
+    except OSError as e:
+        _err(f"error: --out: cannot create {out / 'runs'}: {e.strerror or e}")
+        raise typer.Exit(EXIT_BAD_INPUT) from None
+    work = plan(spec, chosen, runs, starts, out)
+    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
+
+    t0 = time.perf_counter()
+    with Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(),
+                  transient=True, disable=not sys.stderr.isatty()) as bar:
+        task = bar.add_task(f"{len(work)} runs of {starts} trials", total=len(work))
+        with _executor(jobs, None) as ex:
+            try:
+                results = run_all(work, ex, lambda r: bar.advance(task))
+            except KeyboardInterrupt as e:
+                from .experiments.executor import exit_code
+
+                _err(f"interrupted: the finished runs are kept in {out / 'runs'}; run the same command again to resume")
+                raise typer.Exit(exit_code(e)) from None
+            workers = getattr(ex, "workers", 1)
+    ran = sum(r.ran for r in results)
+    typer.echo(f"{len(work)} (policy, run) pairs of {starts} trials ({ran} run now, {len(work) - ran} kept) in "
+               f"{time.perf_counter() - t0:.1f} s on {workers} workers")
+    errors = [r for r in results if r.trials is None]
+    for r in errors:
+        _err(f"  failed: {r.job.policy.label} run {r.job.run}: {r.error}")
+    files = write_table([r for r in results if r.trials is not None], out, spec.scenario.name)
+    typer.echo("")
+    typer.echo(files["markdown"].read_text())
+    typer.echo(f"wrote {', '.join(str(p) for p in files.values())}")
+    if errors:
+        raise typer.Exit(1)
+
+
 def main() -> None:
     app()

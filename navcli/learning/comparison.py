@@ -1,0 +1,339 @@
+"""``navcli compare policies``: the learning paper's Table 1 (section 6) from our own trials.
+
+Every policy runs the same trials: the ``starts`` fixed random starts that ``navcli train``
+evaluates on (:data:`~.training.EVAL_SEED`, :func:`~.task.random_starts`), once per run. A run
+changes only the missions' seeds (sensor and odometry noise): run 0 uses the starts' own seeds,
+exactly the trials of ``navcli train``'s evaluations; run ``r`` >= 1 uses
+:func:`~navcli.experiments.compare.rerun_seed` of each start's seed and ``r``. A learned policy is a
+fixed model file, so the runs measure how much the noise moves the numbers, not how much
+learning varies between training seeds (our design: training is a separate command).
+
+- ``learned[:FILE]`` and ``hand-coded`` choose one of the five actions per belief state; their
+  trials are :func:`~.training.run_trial`'s, the evaluations' own (an action lasts ``action_s``;
+  a trial ends at the target, after ``max_actions`` actions, at the scenario's time limit, or when
+  the Rescuer gives up). A model made by Q-learning is a table like any other.
+- ``agents`` (the hand-tuned bidding agents) choose no actions: their trial is a mission from
+  the same start with the same seed, cut ``max_actions`` x ``action_s`` simulated seconds after
+  the Rescuer's initial sweep (the most a trial of 500 one-second actions can last; or at the
+  scenario's limit if sooner); it has successes and a time per trial, but no reward, action count
+  or actions of each kind (n/a in the table).
+
+Each (policy, run) is one job of the execution layer (:mod:`navcli.experiments.executor`) and one
+JSON file of its per-trial records, ``<out>/runs/<policy>-run<r>-<key>.json``; ``key`` is a sha256
+of everything that decides those trials (the run configuration's ``run_id`` with the policy's
+kind, the policy's action table, the run, the starts with their seeds), so a comparison resumes
+where it stopped and never reuses the trials of another configuration.
+
+The table: per run, the successes out of the starts and the means per trial of reward, actions,
+each action and simulated time; per policy, their mean over the runs with a 95 % Student-t
+interval over the runs (mean +- t(0.975, runs - 1) s / sqrt(runs); none with one run).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import hashlib
+import json
+import math
+import re
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Callable
+
+import numpy as np
+
+from ..config import RunSpec
+from .actions import ACTIONS
+from .task import Start, random_starts, spec_at
+
+POLICY_KINDS = ("learned", "hand-coded", "agents")
+DEFAULT_POLICIES = POLICY_KINDS
+METRICS = ("successes", "reward", "actions") + ACTIONS + ("time_s",)
+"""The table's columns: successes out of the starts, then means per trial."""
+
+
+class PolicyError(ValueError):
+    """A ``--policy`` that is not one of ``learned[:FILE]``, ``hand-coded``, ``agents``."""
+
+
+@dataclass(frozen=True)
+class Policy:
+    """One row of the table: ``label`` as given (``learned:models/q.npz``), its ``kind``, its
+    action per belief state (int8 bytes; None for ``agents``) and what it is (``about``)."""
+
+    label: str
+    kind: str
+    table: bytes | None
+    about: str
+
+    def actions(self) -> np.ndarray:
+        return np.frombuffer(self.table, dtype=np.int8).astype(np.int64)
+
+
+def parse_policy(text: str) -> Policy:
+    """The policy named by a ``--policy`` value; raises :class:`PolicyError`, or
+    :class:`~.model_file.ModelError` for a model file that cannot be used."""
+    kind, sep, file = text.partition(":")
+    if kind not in POLICY_KINDS or (sep and (kind != "learned" or not file)):
+        raise PolicyError(f"unknown policy {text!r} (expected learned, learned:FILE, hand-coded or agents)")
+    if kind == "agents":
+        return Policy(text, kind, None, "the Navigation system's bidding agents")
+    if kind == "hand-coded":
+        from .training import hand_coded_table
+
+        return Policy(text, kind, hand_coded_table().astype(np.int8).tobytes(), "section 6's hand-coded policy")
+    from . import model_file
+
+    arrays, meta = model_file.load(Path(file) if file else model_file.BUNDLED)
+    about = (f"{'the bundled model: ' if not file else ''}{meta.get('algorithm', 'unknown algorithm')}, "
+             f"{meta.get('trials', '?')} trials on {meta.get('scenario', '?')}, seed {meta.get('seed', '?')}")
+    return Policy(text, kind, arrays["policy"].astype(np.int8).tobytes(), about)
+
+
+@dataclass(frozen=True)
+class Job:
+    """The trials of one policy in one run (a whole configuration, carried to the worker)."""
+
+    spec: RunSpec
+    policy: Policy
+    run: int
+    starts: tuple[Start, ...]
+    key: str
+    path: str
+
+
+def run_starts(starts: list[Start], run: int) -> tuple[Start, ...]:
+    """The starts of run ``run``: the same places and headings, the seeds of the run."""
+    from ..experiments.compare import rerun_seed
+
+    if run == 0:
+        return tuple(starts)
+    return tuple(dataclasses.replace(s, seed=rerun_seed(s.seed, run)) for s in starts)
+
+
+def job_key(spec: RunSpec, policy: Policy, run: int, starts: tuple[Start, ...]) -> str:
+    """sha256 (hex) of what decides a job's trials (see the module docstring)."""
+    table = hashlib.sha256(policy.table).hexdigest() if policy.table is not None else None
+    blob = json.dumps([spec.replace(navigation=policy.kind).run_id, table, run,
+                       [dataclasses.asdict(s) for s in starts]], sort_keys=True)
+    return hashlib.sha256(blob.encode()).hexdigest()
+
+
+def _slug(label: str) -> str:
+    return re.sub(r"[^A-Za-z0-9_.-]+", "_", label).strip("_") or "policy"
+
+
+def plan(spec: RunSpec, policies: list[Policy], runs: int, starts: int, out: Path) -> list[Job]:
+    """Every (policy, run) of a comparison, run by run (so that an interrupted comparison has
+    whole runs of every policy)."""
+    from .training import EVAL_SEED
+
+    base = random_starts(spec.scenario, starts, EVAL_SEED, spec.params.robot.radius)
+    jobs = []
+    for r in range(runs):
+        st = run_starts(base, r)
+        for p in policies:
+            key = job_key(spec, p, r, st)
+            jobs.append(Job(spec, p, r, st, key, str(out / "runs" / f"{_slug(p.label)}-run{r}-{key[:12]}.json")))
+    return jobs
+
+
+def done_trials(job: Job) -> list[dict] | None:
+    """The trials of ``job`` already on disk (same key, every start), else None."""
+    try:
+        d = json.loads(Path(job.path).read_text())
+    except (OSError, ValueError):
+        return None
+    if not isinstance(d, dict) or d.get("key") != job.key or len(d.get("trials", ())) != len(job.starts):
+        return None
+    return d["trials"]
+
+
+def _record(i: int, start: Start, outcome: str, time_s: float, actions: int | None = None,
+            reward: float | None = None, counts: tuple[int, ...] | None = None) -> dict:
+    rec = {"start": i, "x": start.x, "y": start.y, "heading": start.heading, "seed": start.seed,
+           "outcome": outcome, "success": outcome == "reached", "time_s": time_s, "actions": actions, "reward": reward}
+    rec.update({name: (counts[k] if counts is not None else None) for k, name in enumerate(ACTIONS)})
+    return rec
+
+
+def run_trials(job: Job) -> list[dict]:
+    """The trials of ``job``, one record per start (in this process)."""
+    spec, p = job.spec, job.spec.params.learning
+    out = []
+    if job.policy.kind == "agents":
+        from ..mission import Mission
+
+        base = spec.replace(navigation="agents")
+        for i, st in enumerate(job.starts):
+            m = Mission(spec_at(base, st))
+            m.step()
+            while m.outcome is None and m.navigation.rescuer.state == "sweep":  # as NavigationTask.reset
+                m.step()
+            end = m.time + p.max_actions * p.action_s  # the learned policies' time after their sweep, at most
+            while m.outcome is None and m.time < end - 1e-9:
+                m.step()
+            out.append(_record(i, st, m.outcome or "timeout", m.time))
+        return out
+    from .task import NavigationTask
+    from .training import run_trial
+
+    table = job.policy.actions()
+    task = NavigationTask(spec)
+    for i, st in enumerate(job.starts):
+        r = run_trial(task, st, lambda s: int(table[s]))
+        out.append(_record(i, st, r.outcome, task.mission.time, r.actions, r.reward, r.counts))
+    return out
+
+
+def run_job(job: Job) -> dict:
+    """A job's result (in a worker process, or in this one); never raises: ``error`` says what went wrong."""
+    try:
+        trials = run_trials(job)
+    except Exception as e:
+        return {"key": job.key, "error": f"{type(e).__name__}: {e}"}
+    return {"key": job.key, "policy": job.policy.label, "about": job.policy.about, "run": job.run,
+            "scenario": job.spec.scenario.name, "scenario_sha256": job.spec.scenario.sha256, "trials": trials}
+
+
+@dataclass(frozen=True)
+class Result:
+    job: Job
+    trials: list[dict] | None  # None: the job raised
+    ran: bool  # False: its trials were on disk already
+    error: str = ""
+
+
+def run_all(jobs: list[Job], ex, on_done: Callable[[Result], None] | None = None) -> list[Result]:
+    """Run the jobs whose trials are not on disk on the executor ``ex`` (:mod:`navcli.experiments.executor`),
+    writing each job's JSON as it finishes; results in the jobs' order. Ctrl-C or SIGTERM stops
+    the workers and is re-raised; finished jobs stay on disk."""
+    from ..experiments.executor import run_each
+
+    results: dict[int, Result] = {}
+
+    def keep(i: int, r: Result) -> None:
+        results[i] = r
+        if on_done:
+            on_done(r)
+
+    todo = []
+    for i, j in enumerate(jobs):
+        trials = done_trials(j)
+        if trials is None:
+            todo.append(i)
+        else:
+            keep(i, Result(j, trials, ran=False))
+
+    def finished(k: int, f) -> None:
+        i = todo[k]
+        d = f.result()
+        if "error" in d:
+            keep(i, Result(jobs[i], None, ran=True, error=d["error"]))
+            return
+        path = Path(jobs[i].path)
+        path.parent.mkdir(parents=True, exist_ok=True)
+        tmp = path.with_name(path.name + ".tmp")
+        tmp.write_text(json.dumps(d, indent=1) + "\n")
+        tmp.replace(path)
+        keep(i, Result(jobs[i], d["trials"], ran=True))
+
+    run_each(run_job, [jobs[i] for i in todo], ex, finished)
+    return [results[i] for i in range(len(jobs)) if i in results]
+
+
+# --- the table -----------------------------------------------------------------------------------
+def trials_frame(results: list[Result]):
+    """Every trial as a row (policy, run, start, outcome, reward, actions, MB ... MVT, time_s, ...)."""
+    import pandas as pd
+
+    rows = [{"policy": r.job.policy.label, "run": r.job.run} | t for r in results if r.trials is not None
+            for t in r.trials]
+    cols = ["policy", "run", "start", "x", "y", "heading", "seed", "outcome", "success", "actions", "reward",
+            *ACTIONS, "time_s"]
+    return pd.DataFrame(rows, columns=cols)
+
+
+def t_interval(values) -> tuple[float, float, float]:
+    """Mean and 95 % Student-t interval of ``values`` (one per run): mean +- t(0.975, n - 1) s /
+    sqrt(n), s the sample standard deviation; the interval is NaN for fewer than two values, and
+    everything is NaN when a value is (a metric the policy does not have)."""
+    from scipy import stats
+
+    x = np.asarray(values, dtype=float)
+    if x.size == 0 or np.isnan(x).any():
+        return math.nan, math.nan, math.nan
+    m = float(x.mean())
+    if x.size < 2:
+        return m, math.nan, math.nan
+    h = float(stats.t.ppf(0.975, x.size - 1) * x.std(ddof=1) / math.sqrt(x.size))
+    return m, m - h, m + h
+
+
+def per_run(trials):
+    """One row per (policy, run): successes and the means per trial of the other metrics."""
+    t = trials.copy()
+    for c in ("actions", "reward", *ACTIONS):
+        t[c] = t[c].astype(float)  # None (agents) -> NaN
+    g = t.groupby(["policy", "run"], sort=False)
+    out = g[["reward", "actions", *ACTIONS, "time_s"]].mean(numeric_only=False)
+    out.insert(0, "successes", g["success"].sum().astype(int))
+    out.insert(1, "starts", g.size())
+    return out.reset_index()
+
+
+def policy_table(trials, about: dict[str, str] | None = None):
+    """Table 1: per policy (in order of appearance), each of :data:`METRICS` as its mean over the
+    runs with a 95 % t-interval (``_lo``, ``_hi``), the runs and the starts."""
+    import pandas as pd
+
+    runs = per_run(trials)
+    rows = []
+    for policy, g in runs.groupby("policy", sort=False):
+        row: dict[str, Any] = {"policy": policy, "about": (about or {}).get(policy, ""), "runs": len(g),
+                               "starts": int(g["starts"].iloc[0])}
+        for m in METRICS:
+            row[m], row[f"{m}_lo"], row[f"{m}_hi"] = t_interval(g[m].to_numpy(dtype=float))
+        rows.append(row)
+    return pd.DataFrame(rows)
+
+
+_DIGITS = {"successes": 1, "reward": 1, "actions": 2, "time_s": 1} | {a: 2 for a in ACTIONS}
+
+
+def _cell(r, m: str) -> str:
+    v, lo, hi = getattr(r, m), getattr(r, f"{m}_lo"), getattr(r, f"{m}_hi")
+    if math.isnan(v):
+        return "n/a"
+    d = _DIGITS[m]
+    return f"{v:.{d}f}" if math.isnan(lo) else f"{v:.{d}f} [{lo:.{d}f}, {hi:.{d}f}]"
+
+
+def markdown(table, scenario: str = "") -> str:
+    """The table as Markdown, in the paper's layout, with what the numbers are."""
+    starts = int(table["starts"].max()) if len(table) else 0
+    runs = int(table["runs"].max()) if len(table) else 0
+    head = ["policy", f"successes (of {starts})", "reward / trial", "actions / trial", *ACTIONS, "time / trial (s)"]
+    lines = [f"### Policies{' on ' + scenario if scenario else ''}", "",
+             "| " + " | ".join(head) + " |", "| --- |" + " ---: |" * (len(head) - 1)]
+    for r in table.itertuples():
+        lines.append(f"| {r.policy} | " + " | ".join(_cell(r, m) for m in METRICS) + " |")
+    lines += ["", f"Means over {runs} run(s) of the same {starts} starts (a run changes the missions' seeds); "
+                  "in brackets the 95 % Student-t interval over the runs"
+                  + (" (none with one run)" if runs < 2 else "") + ". Reward, actions and the count of each "
+                  "action are per trial, failures included; n/a: the policy chooses no actions.", ""]
+    lines += [f"- {r.policy}: {r.about}" for r in table.itertuples() if r.about] + [""]
+    return "\n".join(lines)
+
+
+def write_table(results: list[Result], out: Path, scenario: str = "") -> dict[str, Path]:
+    """``policies.csv``, ``policies.md`` and ``trials.csv`` (every trial) into ``out``."""
+    out.mkdir(parents=True, exist_ok=True)
+    trials = trials_frame(results)
+    about = {r.job.policy.label: r.job.policy.about for r in results}
+    table = policy_table(trials, about)
+    files = {"table": out / "policies.csv", "markdown": out / "policies.md", "trials": out / "trials.csv"}
+    table.to_csv(files["table"], index=False)
+    trials.to_csv(files["trials"], index=False)
+    files["markdown"].write_text(markdown(table, scenario))
+    return files

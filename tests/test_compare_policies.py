@@ -1,0 +1,149 @@
+"""navcli compare policies on a tiny case (short trials from 3 starts, 2 runs): the table against
+the per-trial records it was built from, the same starts for every policy, and resume."""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+
+import numpy as np
+import pytest
+from typer.testing import CliRunner
+
+from conftest import SCENARIOS
+from navcli.cli import app
+from navcli.config import RunSpec
+from navcli.learning import comparison, model_file
+from navcli.learning.actions import ACTIONS, MVT
+from navcli.learning.q_learning import QLearning
+from navcli.learning.task import NavigationTask, random_starts
+from navcli.learning.training import EVAL_SEED, evaluate
+from navcli.scenario import load_scenario
+
+ROOM = SCENARIOS / "landmarks-12.yaml"
+SHORT = ["--param", "learning.max_actions=4"]  # trials of at most 4 actions (4 s)
+T_975_1 = 12.706204736  # Student's t, 97.5 % quantile, 1 degree of freedom (two runs)
+
+
+@pytest.fixture(scope="module")
+def always_mvt(tmp_path_factory):
+    """A Q-learning model file whose greedy action is MVT in every state."""
+    q = QLearning(980, 5)
+    q.q[:, MVT] = 1.0
+    return model_file.save(tmp_path_factory.mktemp("q") / "q.npz", q, {"algorithm": "q-learning", "trials": 0,
+                                                                        "scenario": "none"})
+
+
+@pytest.fixture(scope="module")
+def compared(tmp_path_factory, always_mvt):
+    out = tmp_path_factory.mktemp("cmp-policies")
+    args = ["compare", "policies", str(ROOM), "--policy", f"learned:{always_mvt}", "--policy", "learned",
+            "--runs", "2", "--starts", "3", "--jobs", "1", "--out", str(out), *SHORT]
+    r = CliRunner().invoke(app, args)
+    assert r.exit_code == 0, r.output
+    return out, args, r.output
+
+
+def records(out):
+    """The per-trial records of the JSON files, by (policy, run)."""
+    got = {}
+    for f in sorted((out / "runs").glob("*.json")):
+        d = json.loads(f.read_text())
+        got[d["policy"], d["run"]] = d["trials"]
+    return got
+
+
+def test_the_table_is_the_mean_over_runs_of_the_per_trial_records(compared, always_mvt):
+    out, _, output = compared
+    recs = records(out)
+    assert len(recs) == 4 and all(len(t) == 3 for t in recs.values())
+    with (out / "policies.csv").open() as f:
+        table = {row["policy"]: row for row in csv.DictReader(f)}
+    assert list(table) == [f"learned:{always_mvt}", "learned"]
+    assert float(table["learned"]["reward_lo"]) < float(table["learned"]["reward_hi"])  # the runs differ
+    for policy, row in table.items():
+        assert row["runs"] == "2" and row["starts"] == "3"
+        per_run = {"successes": [], "reward": [], "actions": [], **{a: [] for a in ACTIONS}}
+        for run in (0, 1):
+            trials = recs[policy, run]
+            per_run["successes"].append(sum(t["outcome"] == "reached" for t in trials))
+            for m in ("reward", "actions", *ACTIONS):
+                per_run[m].append(sum(t[m] for t in trials) / 3)
+        for m, (a, b) in per_run.items():
+            mean, half = (a + b) / 2, T_975_1 * abs(a - b) / 2  # s = |a - b| / sqrt 2, s / sqrt 2 = |a - b| / 2
+            assert float(row[m]) == pytest.approx(mean, abs=1e-9), (policy, m)
+            assert float(row[f"{m}_lo"]) == pytest.approx(mean - half, abs=1e-6), (policy, m)
+            assert float(row[f"{m}_hi"]) == pytest.approx(mean + half, abs=1e-6), (policy, m)
+    # the always-MVT model: every action is MVT, each costing 5
+    for run in (0, 1):
+        for t in recs[f"learned:{always_mvt}", run]:
+            assert t["MVT"] == t["actions"] > 0 and t["reward"] == -5 * t["actions"]
+            assert t["MB"] == t["MLL"] == t["MOT"] == t["MVL"] == 0 and t["actions"] <= 4
+    assert "| learned |" in output and "q-learning, 0 trials on none" in output
+    assert (out / "policies.md").read_text() in output
+
+
+def test_every_policy_runs_the_evaluation_starts_and_run_0_is_the_evaluation(compared):
+    out, _, _ = compared
+    recs = records(out)
+    spec = RunSpec.build(load_scenario(ROOM), overrides={"learning.max_actions": 4})
+    starts = random_starts(spec.scenario, 3, EVAL_SEED, spec.params.robot.radius)
+    place = lambda trials: [(t["x"], t["y"], t["heading"]) for t in trials]  # noqa: E731
+    seeds = lambda trials: [t["seed"] for t in trials]  # noqa: E731
+    for trials in recs.values():
+        assert place(trials) == [(s.x, s.y, s.heading) for s in starts]
+    run0, run1 = ([seeds(t) for (p, r), t in recs.items() if r == run] for run in (0, 1))
+    assert run0[0] == run0[1] == [s.seed for s in starts]  # run 0: the starts' own seeds
+    assert run1[0] == run1[1] and not set(run1[0]) & set(run0[0])  # run 1: other seeds, the same
+    evaluation = evaluate(spec, model_file.load_policy(), starts)  # what `navcli train` measures
+    assert [(t["outcome"], t["actions"], t["reward"]) for t in recs["learned", 0]] == \
+        [(e.outcome, e.actions, e.reward) for e in evaluation]
+
+
+def test_a_comparison_resumes_and_reruns_only_what_is_missing_or_changed(compared):
+    out, args, _ = compared
+    before = (out / "policies.csv").read_text()
+    r = CliRunner().invoke(app, args)
+    assert r.exit_code == 0 and "(0 run now, 4 kept)" in r.output
+    assert (out / "policies.csv").read_text() == before
+    victim = sorted((out / "runs").glob("learned-run1-*.json"))[0]
+    victim.write_text("{not json")  # a damaged file is run again, not trusted
+    r = CliRunner().invoke(app, args)
+    assert r.exit_code == 0 and "(1 run now, 3 kept)" in r.output
+    assert (out / "policies.csv").read_text() == before  # the same configuration gives the same trials
+    # another parameter is another configuration: new keys, nothing reused
+    spec = RunSpec.build(load_scenario(ROOM), overrides={"learning.max_actions": 4})
+    other = spec.replace(params=spec.params.override({"learning.max_actions": 5}))
+    hc = comparison.parse_policy("hand-coded")
+    assert {j.key for j in comparison.plan(spec, [hc], 2, 3, out)}.isdisjoint(
+        j.key for j in comparison.plan(other, [hc], 2, 3, out))
+
+
+def test_t_interval_and_the_agents_row(tmp_path):
+    m, lo, hi = comparison.t_interval([1.0, 3.0])
+    assert (m, lo, hi) == pytest.approx((2.0, 2.0 - T_975_1, 2.0 + T_975_1))
+    assert comparison.t_interval([4.0, 4.0, 4.0]) == (4.0, 4.0, 4.0)
+    assert math.isnan(comparison.t_interval([5.0])[1]) and math.isnan(comparison.t_interval([1.0, np.nan])[0])
+    spec = RunSpec.build(load_scenario(ROOM), overrides={"learning.max_actions": 3})
+    job = comparison.plan(spec, [comparison.parse_policy("agents")], 1, 1, tmp_path)[0]
+    (t,) = comparison.run_trials(job)
+    task = NavigationTask(spec)
+    task.reset(job.starts[0])
+    sweep = task.mission.time  # when the learned policies' first action starts
+    assert t["outcome"] == "timeout" and t["time_s"] == pytest.approx(sweep + 3.0, abs=0.11)  # 3 actions x 1 s
+    assert t["reward"] is None and t["MB"] is None
+    table = comparison.policy_table(comparison.trials_frame([comparison.Result(job, [t], ran=True)]))
+    assert "| agents | " in comparison.markdown(table) and "n/a" in comparison.markdown(table)
+
+
+@pytest.mark.parametrize("bad, message", [
+    (["--policy", "bogus"], "unknown policy"),
+    (["--policy", "learned:"], "unknown policy"),
+    (["--policy", "hand-coded", "--policy", "hand-coded"], "named twice"),
+    (["--policy", "learned:/no/such.npz"], "no such model file"),
+    (["--out", "/dev/null/x"], "cannot create"),
+])
+def test_bad_policies_are_refused(bad, message):
+    r = CliRunner().invoke(app, ["compare", "policies", str(ROOM), *bad])
+    assert r.exit_code == 2 and message in r.output
