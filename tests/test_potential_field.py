@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import pytest
 from hypothesis import given, settings
@@ -100,6 +101,8 @@ def test_eq9_bid_is_0_9_times_the_strongest_single_repulsion_over_f_max():
     assert f.bid == pytest.approx(0.9 * 14.4 / 112.5)
     assert pilot_bid(F_MAX, PILOT) == pytest.approx(0.9) and pilot_bid(2 * F_MAX, PILOT) == pytest.approx(0.9)
     assert field((5.0, 0.0), None, [], PILOT).bid == 0.0
+    no_repulsion = replace(PILOT, K=0.0)  # K = 0 is accepted: nothing repels, and nothing is bid
+    assert field((5.0, 0.0), None, [pt("near", 0.3, 0.0)], no_repulsion).bid == 0.0
 
 
 def test_section_5_in_distress_each_offender_weighs_1_5_and_the_target_is_ignored():

@@ -255,9 +255,10 @@ def facing_loop(obstacles: tuple[KnownObstacle, ...] | list[KnownObstacle]) -> l
 
 
 def pilot_bid(g_max: float, p: PilotParams) -> float:
-    """Eq. 9: ``0.9 * G_max / |F_max|``, G_max the strongest single repulsion; in [0, 0.9]."""
+    """Eq. 9: ``0.9 * G_max / |F_max|``, G_max the strongest single repulsion; in [0, 0.9].
+    With K = 0 nothing repels, and the pilot bids nothing."""
     f_max = p.K / (p.R_min * p.R_min)  # eq. 3
-    return p.bid_cap * min(g_max / f_max, 1.0)
+    return p.bid_cap * min(g_max / f_max, 1.0) if f_max > 0.0 else 0.0
 
 
 @dataclass(frozen=True)
