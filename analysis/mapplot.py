@@ -77,7 +77,7 @@ def plot_map(log_path: str | Path, out: str | Path) -> Path:
         _arena(ax, sc)
     summary = log.summary
     ax.set_title(f"{summary.get('scenario', path.stem)}: the map at {ns / 1e9:.0f} s "
-                 f"({summary.get('outcome', '?')}, {summary.get('diverting_targets', 0)} diverting targets)\n"
+                 f"({summary.get('outcome', '?')}, diverting targets: {summary.get('diverting_targets', 0)})\n"
                  "purple: mapped landmarks (70 % cut), regions; red: blocked; green: diverting", fontsize=10)
     out = Path(out)
     out.parent.mkdir(parents=True, exist_ok=True)

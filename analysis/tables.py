@@ -35,6 +35,7 @@ from .logs import LogError, config_columns, path_length, read_log
 
 METRICS = {"time_s": "time (s)", "path_cm": "path length (cm)"}
 RESAMPLES = 10_000
+EXACT_UP_TO = 12  # pairs: up to 2^12 sign assignments the permutation test is enumerated, exact
 PATH_TOLERANCE = 0.01  # the summary's path length must match the poses' within 1 %
 
 
@@ -246,9 +247,14 @@ def paired_improvement(base: np.ndarray, pilot: np.ndarray, seed: int = 0) -> tu
     boot = 100.0 * (bm - pm) / bm
     lo, hi = np.percentile(boot, [2.5, 97.5])
     d = base - pilot
-    signs = rng.choice([-1.0, 1.0], size=(RESAMPLES, n))
-    null = np.abs((signs * d).mean(axis=1))
-    pval = (1 + np.count_nonzero(null >= abs(d.mean()) - 1e-12)) / (RESAMPLES + 1)
+    if n <= EXACT_UP_TO:  # every one of the 2^n sign assignments: the exact p-value
+        signs = 1.0 - 2.0 * ((np.arange(2 ** n)[:, None] >> np.arange(n)) & 1)
+        null = np.abs((signs * d).mean(axis=1))
+        pval = np.count_nonzero(null >= abs(d.mean()) - 1e-12) / 2 ** n
+    else:
+        signs = rng.choice([-1.0, 1.0], size=(RESAMPLES, n))
+        null = np.abs((signs * d).mean(axis=1))
+        pval = (1 + np.count_nonzero(null >= abs(d.mean()) - 1e-12)) / (RESAMPLES + 1)
     return float(imp), float(lo), float(hi), float(pval)
 
 

@@ -147,10 +147,12 @@ def run(
 
     import signal
 
-    def _terminate(signum, frame):  # a kill from a scheduler ends the run like Ctrl-C: log closed, marked
-        raise Terminated
+    from .runner import raising
 
-    signal.signal(signal.SIGTERM, _terminate)
+    # a kill from a scheduler ends the run like Ctrl-C: the log closed, marked interrupted; neither is
+    # raised inside a pymunk callback, where it would be lost
+    signal.signal(signal.SIGTERM, raising(Terminated))
+    signal.signal(signal.SIGINT, raising(KeyboardInterrupt))
     progress = _Progress(spec.time_limit, spec.scenario.name)
     partial = out.with_name(out.name + ".partial")
     if partial.is_file():

@@ -13,10 +13,34 @@ import time
 from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Callable
+from typing import Any, Callable
 
 from .config import RunSpec
 from .mission import Event, Mission, Tick
+
+
+def in_physics_callback(frame: Any) -> bool:
+    """True inside a pymunk callback (called from C through cffi, which prints and swallows any
+    exception raised there, so a signal's exception raised there would be lost)."""
+    while frame is not None:
+        if "pymunk" in frame.f_code.co_filename:
+            return True
+        frame = frame.f_back
+    return False
+
+
+def raising(exc: type[BaseException]) -> Callable[[int, Any], None]:
+    """A signal handler that raises ``exc``, but never inside a pymunk callback: there it tries
+    again 10 ms later (``SIGALRM``), so Ctrl-C and SIGTERM always end a run."""
+
+    def handler(signum: int, frame: Any) -> None:
+        if in_physics_callback(frame):
+            signal.signal(signal.SIGALRM, handler)
+            signal.setitimer(signal.ITIMER_REAL, 0.01)
+            return
+        raise exc
+
+    return handler
 
 
 class Terminated(KeyboardInterrupt):

@@ -166,3 +166,16 @@ def test_cli_compare_and_report(tmp_path):
     assert runner.invoke(app, ["report", str(tmp_path / "nope")]).exit_code == 2
     r = runner.invoke(app, ["compare", "pilots", str(SCENARIOS / "paper-fig9.yaml"), "--pilots", "autopilot"])
     assert r.exit_code == 2 and "unknown pilot" in r.output
+
+
+def test_few_pairs_get_the_exact_permutation_p_value():
+    """With n pairs the sign-flip test has 2^n equally likely assignments: all differences of one
+    sign give the two extreme ones, p = 2 / 2^n exactly (no Monte Carlo below that floor)."""
+    for n in (2, 3, 5):
+        base = np.arange(10.0, 10.0 + n)
+        _, _, _, p = paired_improvement(base, base - 1.0)
+        assert p == 2 / 2 ** n
+    _, _, _, p = paired_improvement(np.array([10.0, 12.0, 11.0]), np.array([9.0, 12.5, 10.0]))
+    # d = (1, -0.5, 1), |mean| = 0.5; of the 8 sign assignments |mean| >= 0.5 for (+,-,+), (-,+,-),
+    # (+,+,+) and (-,-,-): p = 4 / 8
+    assert p == 0.5

@@ -30,6 +30,8 @@ import time
 from concurrent.futures import Executor, Future, ProcessPoolExecutor, as_completed
 from typing import Any, Callable, Iterable, Iterator, Sequence
 
+from ..runner import in_physics_callback
+
 CLUSTER_EXTRA = "pip install 'navcli[cluster]'"
 """What to install for ``--scheduler``, ``sweep`` and ``tune`` (Dask, Optuna, DEAP, pyarrow)."""
 
@@ -72,21 +74,12 @@ _busy = False  # in a local worker: a run is under way (a signal then ends it, c
 def _worker_signal(signum: int, frame: Any) -> None:
     if not _busy:
         os._exit(128 + signum)  # idle: nothing to close
-    if _in_physics_callback(frame):  # an exception raised there is printed and swallowed: try again in 10 ms
+    if in_physics_callback(frame):  # an exception raised there is printed and swallowed: try again in 10 ms
         signal.setitimer(signal.ITIMER_REAL, 0.01)
         return
     for s in (signal.SIGTERM, signal.SIGINT, signal.SIGALRM):  # the log is closed undisturbed, even by
         signal.signal(s, signal.SIG_IGN)                        # the pool's terminate() of a broken pool
     raise KeyboardInterrupt  # ends the run like Ctrl-C: run_mission closes the log marked interrupted
-
-
-def _in_physics_callback(frame: Any) -> bool:
-    """True inside a pymunk callback (called from C through cffi, which swallows exceptions)."""
-    while frame is not None:
-        if "pymunk" in frame.f_code.co_filename:
-            return True
-        frame = frame.f_back
-    return False
 
 
 def _worker_init() -> None:
