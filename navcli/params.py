@@ -107,7 +107,7 @@ class NavigationParams:
     kappa2: float = _p(0.493, at_most=1.0)  # the look bid's peak
     beta: float = _p(2.03, above=0.0)  # I_a = (eps / 2 pi) ** beta, eps the width of the heading's 70 % cut
     I_a_bar: float = _p(0.386, above=0.0, below=1.0)  # I_a at which the look bid peaks; above it the Rescuer takes over
-    # Distance Estimator: kappa * tanh(I_d), I_d the width (m) of the target distance's 70 % cut
+    # Distance Estimator: kappa * tanh(I_d / d), I_d the width (m) of the target distance's 70 % cut, d its distance
     kappa: float = _p(0.355, at_most=1.0)
     # Risk Manager: R = 1 - min(1, q_A (|A|/6)^gamma_A + q_B (|B|/6)^gamma_B); look bid R^gamma_R when R > R_bar
     gamma_A: float = _p(0.240)

@@ -72,11 +72,17 @@ def test_the_network_keeps_the_sharpest_units_and_recalls_the_least_imprecise():
     pts = {"A": (0.0, 0.0), "B": (4.0, 0.0), "C": (0.0, 4.0), "D": (4.0, 4.0), "E": (2.0, 6.0)}
     sharp = {k: FuzzyPoint(*p, (0.05, 0.035, 0.015, 0.0)) for k, p in pts.items()}
     blurred = {k: FuzzyPoint(*p, (0.3, 0.21, 0.09, 0.0)) for k, p in pts.items()}
-    net.learn(blurred, targets={"D"})
-    net.learn(sharp, targets={"D"})
-    assert len(net.units["D"]) <= 2 and len(net) == len(net.units["D"])
+    blurred_unit = net.learn(blurred, targets={"D"})[0]
+    sharp_unit = net.learn(sharp, targets={"D"})[0]
+    assert sharp_unit.basis == blurred_unit.basis and sharp_unit.spread < blurred_unit.spread
+    assert list(net.units["D"].values()) == [sharp_unit]  # the same triangle: the sharper encoding replaced it
+    assert net.learn(blurred, targets={"D"}) == []  # and a blurred one does not replace it back
+    # other triangles: a viewframe without E, then one without A, add units up to the cap of 2
+    net.learn({k: v for k, v in sharp.items() if k != "E"}, targets={"D"})
+    net.learn({k: v for k, v in blurred.items() if k != "A"}, targets={"D"})
+    assert len(net.units["D"]) == 2 and sharp_unit in net.units["D"].values()  # the blurriest evicted
     (p, unit) = net.locate("D", {k: v for k, v in sharp.items() if k != "D"})
-    assert p.contains(pts["D"]) and unit.spread == min(u.spread for u in net.units["D"].values())
+    assert p.contains(pts["D"])
     assert net.locate("D", {"A": sharp["A"]}) is None  # its basis is not known now
 
 

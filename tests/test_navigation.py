@@ -65,9 +65,12 @@ def test_a_lost_target_gets_no_motion_bid_at_all():
 
 def test_a_line_target_is_headed_for_through_the_pilots_corridor():
     tt = TargetTracker(P, 0.3, PILOT.corridor_margin)
-    b = bids_of(tt, situation(target=(2.0, 0.0), line=((2.0, -3.0), (2.0, 3.0))))  # inside the corridor
+    # the robot faces the line x = 2 from y in [-1, 5]: inside its corridor, straight across (heading 0),
+    # not at the line's middle (2, 2), which the Situation gives as the target point
+    b = bids_of(tt, situation(target=(2.0, 2.0), line=((2.0, -1.0), (2.0, 5.0))))
     assert b["motion"].action.heading == pytest.approx(0.0)
-    b = bids_of(tt, situation(target=(2.0, 2.1), line=((2.0, 0.2), (2.0, 4.0))))  # beside the end: the centre
+    # beside the line's end (it starts at y = 0.2, within the 0.4 m margin): for its middle (2, 2.1)
+    b = bids_of(tt, situation(target=(9.0, 9.0), line=((2.0, 0.2), (2.0, 4.0))))
     assert b["motion"].action.heading == pytest.approx(math.atan2(2.1, 2.0))
 
 
@@ -100,6 +103,17 @@ def test_distance_estimator_bids_to_move_across_the_target_when_its_distance_is_
 
 
 # -- Communicator -------------------------------------------------------------------------------
+def test_the_communicators_ties_go_to_this_ticks_first_bidder_even_after_its_bids_expired():
+    """The Rescuer is heard first and wins ties, also when it bids again after its earlier bids
+    expired and another agent's tied bid has been held all along."""
+    c = Communicator(window=0.2)
+    c.forward([Bid("rescuer", "camera", Look(0.5), 1.0)], 0.0)
+    for t in (0.1, 0.2, 0.3, 0.4):  # the rescuer falls silent; the risk manager keeps bidding 1.0
+        c.forward([Bid("risk-manager", "camera", Look(0.0), 1.0)], t)
+    out = c.forward([Bid("rescuer", "camera", Look(0.7), 1.0), Bid("risk-manager", "camera", Look(0.0), 1.0)], 0.5)
+    assert [b.action for b in out] == [Look(0.7)]
+
+
 def test_the_communicator_keeps_each_agents_latest_bid_within_its_window():
     c = Communicator(window=0.25)
     go, stop = Move(0.0, 0.3), Move(0.0, 0.0)
@@ -140,10 +154,12 @@ def test_rescuer_sweeps_then_blocked_diverts_crosses_and_restores_the_original_t
 
     # no progress toward the target (3, 4) for the whole window: blocked, a diverting target is set
     out = None
+    swept = t
     while not asked:
         t += 0.1
         out = r.decide(situation(time=t), ask)
-    assert t - 0.1 == pytest.approx(p.blocked_window_s + 0.3, abs=0.2) and asked == [None]
+    # progress is measured from the first tick after the sweep; blocked at the first tick past the window
+    assert swept + p.blocked_window_s < t <= swept + 0.1 + p.blocked_window_s + 0.1 + 1e-9 and asked == [None]
     assert out.diverting == ((1.0, 1.0), (1.0, -1.0)) and r.diverting_targets == 1
     assert any("diverting target set" in m for _, m in out.events)
     # the robot drives across the line (the landmarks come nearer and pass behind)

@@ -87,7 +87,7 @@ class NavigationSystem:
     def situation(self, beliefs: Beliefs, line: tuple[Point, Point] | None = None) -> Situation:
         """What the agents see: the current target (``line``, a diverting target, replaces the
         original one), its imprecision, and the landmarks with the Map Manager's quality."""
-        known = {k: p for k, p in self.map.memory_points(beliefs).items() if k != TARGET}
+        known = {k: p for k, p in self.map.memory_points(beliefs).items() if k not in (TARGET, self.target_key)}
         if line is not None or self.line_target:
             # a diverting line is held by the Rescuer and taken as given (our design); a line
             # target is as imprecise as the memory's worse end

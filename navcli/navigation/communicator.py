@@ -37,8 +37,9 @@ class Communicator:
         >>> [(b.resource, b.value) for b in c.forward([], 0.35)]  # all older than the window
         []
         """
-        for b in agent_bids:
-            self._held[(b.bidder, b.resource)] = (time, b)  # a later bid replaces the earlier
-        self._held = {k: (t, b) for k, (t, b) in self._held.items() if t >= time - self.window - 1e-9}
+        fresh = {(b.bidder, b.resource): (time, b) for b in agent_bids}  # a later bid replaces the earlier
+        # this tick's bids first, in the order offered, so ties go as the caller ordered them
+        self._held = fresh | {k: (t, b) for k, (t, b) in self._held.items()
+                              if k not in fresh and t >= time - self.window - 1e-9}
         winners = arbitrate(b for _, b in self._held.values())
         return [Bid(self.name, r, b.action, b.value) for r, b in winners.items() if b is not None]

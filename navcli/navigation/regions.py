@@ -151,15 +151,6 @@ def first_crossing(regions: Regions, robot: Point, target: Point, blocked: dict[
     return Crossing(left, right, left_at, right_at, float(dist[goal]))
 
 
-def crosses(a: Point, b: Point, p: Point, q: Point) -> bool:
-    """Does the segment ``pq`` properly cross the segment ``ab``?"""
-    d1 = (b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0])
-    d2 = (b[0] - a[0]) * (q[1] - a[1]) - (b[1] - a[1]) * (q[0] - a[0])
-    d3 = (q[0] - p[0]) * (a[1] - p[1]) - (q[1] - p[1]) * (a[0] - p[0])
-    d4 = (q[0] - p[0]) * (b[1] - p[1]) - (q[1] - p[1]) * (b[0] - p[0])
-    return d1 * d2 < 0 and d3 * d4 < 0
-
-
 def _inside(p: Point, a: np.ndarray, b: np.ndarray, c: np.ndarray) -> bool:
     def side(u, v) -> float:
         return (v[0] - u[0]) * (p[1] - u[1]) - (v[1] - u[1]) * (p[0] - u[0])

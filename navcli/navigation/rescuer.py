@@ -5,7 +5,8 @@ What the thesis says, and how we do it:
 
 - **Initial sweep** at the start: stop and look around (the pans of ``scan_pans_deg``).
 - **Lost** (``I_a > I_a_bar``): stop and scan. Our design: a scan that leaves the target lost is
-  followed by a turn of a random angle (the pan unit cannot look behind) and another scan.
+  followed by a turn of a random angle (the pan unit cannot look behind) and another scan; three
+  such scans count as a failure, like a failed diverting target.
 - **Blocked**: the robot makes no progress toward its target (``blocked_progress`` metres closer
   within ``blocked_window_s``), or it hits something ``blocked_bumps`` times within that window
   (the Pilot's report of an obstacle it cannot easily avoid). The Rescuer asks the Map Manager for
@@ -13,7 +14,9 @@ What the thesis says, and how we do it:
   target (the Pilot crosses it through its safe corridor). When it is crossed the original target
   is restored. If none can be computed: turn by a random angle. If one is not crossed within
   ``diverting_timeout_s`` (or the robot is blocked again on the way), its edge is reported blocked
-  to the Map Manager and another is asked for.
+  to the Map Manager and another is asked for. So is the edge of one that was crossed when the
+  robot is next blocked before anything else happened (our design: crossing it led nowhere, and
+  asking again would only send the robot back and forth across it).
 - **Giving up** (ours): after ``max_diverting_failures`` failed or impossible diverting targets the
   mission ends with the outcome ``blocked`` and the reason, instead of grinding on until the time
   limit.
@@ -39,7 +42,8 @@ from ..params import NAVIGATION, NavigationParams
 from .regions import Crossing, Edge
 from .situation import Situation
 
-PAN_MATCH = math.radians(5.0)  # a reported look within this of the pan asked for counts as it
+PAN_MATCH = math.radians(5.0)
+LOST_SCANS = 3  # scans (each followed by a random turn) before a lost target counts as a failure  # a reported look within this of the pan asked for counts as it
 
 
 @dataclass(frozen=True)
@@ -51,7 +55,6 @@ class Rescue:
     diverting: tuple[Point, Point] | None = None
     events: tuple[tuple[str, str], ...] = ()
     give_up: str | None = None
-    abandoned: Edge | None = None  # the edge of a diverting target given up this tick
 
 
 class Rescuer:
@@ -64,6 +67,8 @@ class Rescuer:
         self._scan = 0  # index into scan_pans_deg
         self._turn_to: float | None = None  # odometry-frame heading to turn to
         self._crossing: Crossing | None = None
+        self._last_crossed: Edge | None = None  # the edge of the last diverting target crossed
+        self._lost_scans = 0  # scans in a row that did not find the lost target
         self._crossing_world: tuple[Point, Point] | None = None  # its ends in the odometry frame
         self._crossing_since = 0.0
         self._side: float | None = None  # which side of the diverting line the robot is on
@@ -100,9 +105,19 @@ class Rescuer:
 
         if self.state == "lost":
             if s.I_a <= self.params.I_a_bar:
+                self._lost_scans = 0
                 self._enter("normal", s)
                 events.append(("info", f"target found again (I_a = {s.I_a:.2f})"))
             elif self._scanned(b.looked):
+                self._lost_scans += 1
+                if self._lost_scans >= LOST_SCANS:  # our design: a target no scan finds counts as a failure
+                    self._lost_scans = 0
+                    self.failures += 1
+                    events.append(("warning", f"target not found in {LOST_SCANS} scans ({self.failures} failed)"))
+                    if self.failures >= self.params.max_diverting_failures:
+                        give_up = f"the target is lost ({self.failures} failures)"
+                        events.append(("error", f"giving up: {give_up}"))
+                        return Rescue(events=tuple(events), give_up=give_up)
                 self._start_turn(b.odometry, events, "target still lost after a scan")
                 return Rescue(events=tuple(events))
             else:
@@ -117,6 +132,7 @@ class Rescuer:
         if line is not None and self._crossed(line):
             events.append(("info", f"diverting target crossed between {self._crossing.left} and "
                                    f"{self._crossing.right}: back to the original target"))
+            self._last_crossed = self._crossing.edge
             self._clear_crossing(s)
             line = None
         if not self._blocked(s):
@@ -131,23 +147,28 @@ class Rescuer:
             self._clear_crossing(s)
         else:
             events.append(("warning", "blocked: no progress toward the target"))
+            if self._last_crossed is not None:  # the last diverting target was crossed but led nowhere
+                self.failures += 1
+                abandoned, self._last_crossed = self._last_crossed, None
+                u, v = sorted(abandoned)
+                events.append(("warning", f"crossing between {u} and {v} led nowhere ({self.failures} failed)"))
         if self.failures >= self.params.max_diverting_failures:
             give_up = f"{self.failures} diverting targets failed"
             events.append(("error", f"giving up: {give_up}"))
-            return Rescue(events=tuple(events), give_up=give_up, abandoned=abandoned)
+            return Rescue(events=tuple(events), give_up=give_up)
         crossing = ask(abandoned)
         if crossing is None:
             self.failures += 1
             self._start_turn(b.odometry, events, "no diverting target can be computed")
             self._reset_progress(s)
-            return Rescue(events=tuple(events), abandoned=abandoned)
+            return Rescue(events=tuple(events))
         self._set_crossing(crossing, s)
         self.diverting_targets += 1
         events.append(("info", f"diverting target set: cross between {crossing.left} (left) and "
                                f"{crossing.right} (right)"))
         line = self._diverting_line(s)
         stop = Bid(self.name, "motion", Move(0.0, 0.0), self.params.rescuer_bid)  # one stop per request
-        return Rescue((stop,), line, tuple(events), abandoned=abandoned)
+        return Rescue((stop,), line, tuple(events))
 
     # -- scans and turns
     def _scan_bids(self) -> tuple[Bid, ...]:

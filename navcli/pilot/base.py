@@ -57,6 +57,9 @@ class PilotOutput:
     obstacles: tuple[KnownObstacle, ...] = ()  # what the pilot avoided this tick, egocentric
 
 
+REFLEX_PAN_MATCH = math.radians(5.0)  # a reported image within this of the pan the reflex asked for is its look
+
+
 class Pilot:
     """Shared pilot machinery (see the module docstring); ``avoid`` proposes nothing here."""
 
@@ -96,8 +99,9 @@ class Pilot:
             return self._reflex_output(look, events, obstacles)
         a = self.avoid(beliefs, obstacles, request)
         bids = [Bid(self.name, "camera", Look(0.0), look)] if look > 0 else []
-        info = {"mode": "avoid" if a.move is not None else "idle", "bid": a.bid, "look_bid": look} | a.info
-        if a.move is not None:
+        offers = a.move is not None and a.bid > 0.0  # a bid of 0 is not offered: it would drive a silent robot
+        info = {"mode": "avoid" if offers else "idle", "bid": a.bid, "look_bid": look} | a.info
+        if offers:
             bids.insert(0, Bid(self.name, "motion", a.move, a.bid))
         return PilotOutput(bids, info, a.arrows, events, tuple(obstacles))
 
@@ -111,7 +115,10 @@ class Pilot:
         if abs(pan) < self.params.look_ahead_cone:
             self.since_look = 0.0
         if self._reflex and self._reflex[0][0] == "look":
-            self._reflex_progress += 1
+            pans = self.params.reflex_look_pans_deg
+            want = math.radians(pans[min(int(self._reflex_progress), len(pans) - 1)])
+            if abs(wrap_angle(pan - want)) < REFLEX_PAN_MATCH:  # an image someone else asked for is not its look
+                self._reflex_progress += 1
 
     def _track(self, odom: Pose) -> None:
         """What the pilot keeps from its odometry: the distance since the last look ahead, a

@@ -298,7 +298,7 @@ def field(beliefs_target: Point | None, target_line: tuple[Point, Point] | None,
     for o, f in zip(obstacles, face):
         fx, fy, mag, distress = obstacle_force(o, p)
         f = f or distress  # our design: the occlusion test never hides what the robot is about to touch
-        of = ObstacleForce(o.key, fx, fy, mag, f, distress and f)
+        of = ObstacleForce(o.key, fx, fy, mag, f, distress)
         forces.append(of)
         if not f:
             continue
