@@ -146,6 +146,7 @@ class VisionParams:
     walk_bound: float = _p(4.0)  # the per-tick odometry errors' random walk is bounded at this many deviations
     odometry_floor: float = _p(0.005)  # relative: odometry error the memory allows for even without noise
     bump_radius: float = _p(0.10, above=0.0)  # m: support radius of an obstacle found by the bumpers
+    bump_merge: float = _p(1.0)  # m: a bump this near another bump or a landmark joins it in a long obstacle
     forget_above: float = _p(0.35, above=0.0, at_most=1.0)  # I(l) above which an object is forgotten
     forget_every: int = _p(5, at_least=1)  # ticks between two sweeps of the memory for what has become too imprecise
     draw_every: int = _p(10, at_least=1)  # ticks between two /memory/scene updates (once a simulated second)

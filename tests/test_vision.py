@@ -195,3 +195,20 @@ def test_memory_stays_honest_over_a_whole_mission_and_the_target_is_reached(pilo
                 checked += 1
     assert m.outcome == "reached"
     assert checked > 500 and m.camera_looks > 20
+
+
+def test_bumps_near_each_other_or_a_landmark_become_a_long_obstacle():
+    """Notes, section 2 (Pilot): bump points close to each other or to landmarks are merged into
+    a long obstacle; far apart they stay points."""
+    mem = VisualMemory(0.0)
+    mem.add("A", "landmark", [(3.0, 2.0)], 0.15, 0.05)
+    first = mem.add_bump(Spot(1.0, -1.0, 0.1, 0.0), 0.05)
+    assert first.kind == "bump"
+    line = mem.add_bump(Spot(1.0, -0.2, 0.1, 0.0), 0.05)  # 0.8 m from the first bump: one obstacle
+    assert line.kind == "obstacle" and [(s.x, s.y) for s in line.spots] == [(1.0, -1.0), (1.0, -0.2)]
+    assert first.key not in mem.items  # the bump is part of the line now
+    far = mem.add_bump(Spot(-2.0, 3.0, 0.1, 0.0), 0.05)  # nothing within a metre
+    assert far.kind == "bump"
+    to_mark = mem.add_bump(Spot(2.9, 1.3, 0.1, 0.0), 0.05)  # 0.71 m from landmark A
+    assert to_mark.kind == "obstacle" and (to_mark.spots[0].x, to_mark.spots[0].y) == (3.0, 2.0)
+    assert "A" in mem.items  # the landmark stays a landmark

@@ -162,8 +162,8 @@ class VisionPerception(_Senses):
         if bumps:
             r = self.robot.radius + self.params.bump_radius
             for b in bumps:
-                mem.add_found("bump", [Spot(r * math.cos(b.bearing), r * math.sin(b.bearing), self.params.bump_radius, 0.0)],
-                              self.params.bump_radius / 2)
+                mem.add_bump(Spot(r * math.cos(b.bearing), r * math.sin(b.bearing), self.params.bump_radius, 0.0),
+                             self.params.bump_radius / 2)
         self._ticks += 1
         if self._ticks % self.params.forget_every == 0:  # imprecision creeps: twice a second is enough
             mem.forget()

@@ -196,6 +196,27 @@ class VisualMemory:
         self.items[m.key] = m
         return m
 
+    def add_bump(self, spot: Spot, radius: float, time: float = 0.0) -> Memory:
+        """What the bumpers found (notes, section 2, Pilot: "bump points close to each other or to
+        landmarks are merged into a long obstacle between landmarks"): a bump within
+        ``bump_merge`` metres of a remembered bump becomes, with it, one linear obstacle spanning
+        both; one that near a landmark, a linear obstacle from the landmark to it. So a wall the
+        camera never saw, found by touch at two places, is known as one long obstacle, which the
+        Pilot avoids as such and the Map Manager sees across the region edges it blocks."""
+        near = self.params.bump_merge
+        d = lambda m: math.hypot(m.spots[0].x - spot.x, m.spots[0].y - spot.y)  # noqa: E731
+        bumps = [m for m in self.items.values() if m.kind == "bump" and len(m.spots) == 1 and d(m) <= near]
+        if bumps:
+            other = min(bumps, key=d)
+            del self.items[other.key]
+            return self.add_found("obstacle", [other.spots[0], spot], radius, time)
+        marks = [m for m in self.items.values() if m.kind == "landmark" and d(m) <= near]
+        if marks:
+            mark = min(marks, key=d)
+            a = mark.spots[0]
+            return self.add_found("obstacle", [Spot(a.x, a.y, a.r0, a.r1), spot], radius, time)
+        return self.add_found("bump", [spot], radius, time)
+
     def move(self, ds: float, dtheta: float) -> None:
         """The robot moved ``ds`` ahead along the mid-tick heading and turned ``dtheta`` (odometry).
 
