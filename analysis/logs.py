@@ -19,6 +19,7 @@ from pathlib import Path
 from typing import Any, Iterable
 
 import pandas as pd
+import yaml
 from mcap.reader import make_reader
 from mcap_protobuf.decoder import DecoderFactory
 
@@ -44,6 +45,13 @@ class RunLog:
 
     def __getitem__(self, topic: str) -> pd.DataFrame:
         return self.topics[topic]
+
+    @property
+    def scenario(self) -> dict[str, Any]:
+        """The run's scenario, parsed from the YAML attached to the log (``{}`` if none is)."""
+        if not self.attachments:
+            return {}
+        return yaml.safe_load(next(iter(self.attachments.values())).decode()) or {}
 
     @property
     def config(self) -> dict[str, Any]:
@@ -156,6 +164,20 @@ def _decoded(reader, topics):
             dec = factory.decoder_for(channel.message_encoding, schema)
             decoders[channel.schema_id] = dec
         yield schema, channel, message, dec(message.data)
+
+
+def scene_messages(path: str | Path, topic: str, decode: bool = True):
+    """``(log time ns, SceneUpdate)`` of every message on a scene ``topic``, in log order; with
+    ``decode=False`` the raw bytes and a decoder instead, so a caller that wants one message
+    decodes only that one."""
+    with Path(path).open("rb") as f:
+        reader = make_reader(f)
+        factory, decoders = DecoderFactory(), {}
+        for schema, channel, message in reader.iter_messages(topics=[topic]):
+            dec = decoders.get(channel.schema_id)
+            if dec is None:
+                dec = decoders[channel.schema_id] = factory.decoder_for(channel.message_encoding, schema)
+            yield message.log_time, (dec(message.data) if decode else (dec, message.data))
 
 
 def path_length(poses: pd.DataFrame) -> float:

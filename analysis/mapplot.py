@@ -12,23 +12,21 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
-from mcap.reader import make_reader
-from mcap_protobuf.decoder import DecoderFactory
-
-from .logs import LogError, read_log
-from .plots import _arena, _scenario_of
+from .logs import LogError, read_log, scene_messages
+from .plots import _arena, save_figure
 
 LOOP, LIST = 1, 2  # foxglove.LinePrimitive's types (0 is a strip)
 
 
 def _last_map(path: Path):
-    """(log time ns, decoded SceneUpdate) of the last ``/map/scene`` message, or None."""
+    """(log time ns, decoded SceneUpdate) of the last ``/map/scene`` message (only it decoded), or None."""
     last = None
-    with path.open("rb") as f:
-        for _schema, _channel, message, m in make_reader(f, decoder_factories=[DecoderFactory()]).iter_decoded_messages(
-                topics=["/map/scene"]):
-            last = (message.log_time, m)
-    return last
+    for last in scene_messages(path, "/map/scene", decode=False):
+        pass
+    if last is None:
+        return None
+    ns, (decode, data) = last
+    return ns, decode(data)
 
 
 def plot_map(log_path: str | Path, out: str | Path) -> Path:
@@ -40,7 +38,7 @@ def plot_map(log_path: str | Path, out: str | Path) -> Path:
     import matplotlib.pyplot as plt
 
     path = Path(log_path)
-    log = read_log(path, topics=["/robot/pose"])
+    log = read_log(path, topics=["/robot/pose"])  # with the attached scenario
     found = _last_map(path)
     if found is None:
         raise LogError(f"{path}: no /map/scene in this log (written by navcli runs with the Navigation system)")
@@ -72,16 +70,11 @@ def plot_map(log_path: str | Path, out: str | Path) -> Path:
         for t in e.texts:
             x, y = world(t.pose.position)
             ax.annotate(t.text, (x, y), xytext=(4, -10), textcoords="offset points", color="tab:purple", zorder=6)
-    sc = _scenario_of(str(path))
+    sc = log.scenario
     if sc:
         _arena(ax, sc)
     summary = log.summary
     ax.set_title(f"{summary.get('scenario', path.stem)}: the map at {ns / 1e9:.0f} s "
                  f"({summary.get('outcome', '?')}, diverting targets: {summary.get('diverting_targets', 0)})\n"
                  "purple: mapped landmarks (70 % cut), regions; red: blocked; green: diverting", fontsize=10)
-    out = Path(out)
-    out.parent.mkdir(parents=True, exist_ok=True)
-    fig.tight_layout()
-    fig.savefig(out, dpi=110)
-    plt.close(fig)
-    return out
+    return save_figure(fig, out, dpi=110)

@@ -9,7 +9,6 @@ from __future__ import annotations
 from pathlib import Path
 
 import pandas as pd
-import yaml
 
 from .logs import read_log
 
@@ -42,8 +41,19 @@ def _arena(ax, sc: dict) -> None:
 
 
 def _scenario_of(log_path: str) -> dict:
-    att = read_log(log_path, topics=[]).attachments
-    return yaml.safe_load(next(iter(att.values())).decode()) if att else {}
+    return read_log(log_path, topics=[]).scenario
+
+
+def save_figure(fig, out: str | Path, dpi: int = 100) -> Path:
+    """Write ``fig`` as a PNG to ``out`` (its folder made if need be), close it, return the path."""
+    import matplotlib.pyplot as plt
+
+    out = Path(out)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    fig.tight_layout()
+    fig.savefig(out, dpi=dpi)
+    plt.close(fig)
+    return out
 
 
 def comparison_plots(runs: pd.DataFrame, out: Path) -> dict[str, Path]:
@@ -74,11 +84,7 @@ def comparison_plots(runs: pd.DataFrame, out: Path) -> dict[str, Path]:
             failed = int((~gp["reached"]).sum())
             ax.set_title(f"{scenario} ({perception}): {pilot}, {int(gp['reached'].sum())}/{len(gp)} reached"
                          + (f"\n{failed} failed: orange, x where they stopped" if failed else ""))
-            path = out / f"trajectories-{tag}-{pilot}.png"
-            fig.tight_layout()
-            fig.savefig(path, dpi=100)
-            plt.close(fig)
-            files[f"trajectories-{tag}-{pilot}"] = path
+            files[f"trajectories-{tag}-{pilot}"] = save_figure(fig, out / f"trajectories-{tag}-{pilot}.png")
         ok = g[g["reached"]]
         pilots = sorted(g["pilot"].unique())
         labels = [f"{p}\n({int((~g.loc[g['pilot'] == p, 'reached']).sum())} failed, not shown)" for p in pilots]
@@ -88,9 +94,5 @@ def comparison_plots(runs: pd.DataFrame, out: Path) -> dict[str, Path]:
             ax.set_ylabel(label)
             ax.grid(axis="y", alpha=0.3)
         fig.suptitle(f"{scenario} ({perception} perception): reached runs per pilot")
-        fig.tight_layout()
-        path = out / f"boxplots-{tag}.png"
-        fig.savefig(path, dpi=100)
-        plt.close(fig)
-        files[f"boxplots-{tag}"] = path
+        files[f"boxplots-{tag}"] = save_figure(fig, out / f"boxplots-{tag}.png")
     return files

@@ -21,11 +21,8 @@ from typing import Callable
 
 import numpy as np
 import pandas as pd
-import yaml
-from mcap.reader import make_reader
-from mcap_protobuf.decoder import DecoderFactory
 
-from .logs import LogError, read_log
+from .logs import LogError, read_log, scene_messages
 from .plots import _arena
 
 FORCE_SCALE = 100.0  # force units per metre of arrow, as in the log's /robot/scene
@@ -58,21 +55,18 @@ def _memory(path: Path) -> list[tuple[float, list[tuple[str, float, float, float
     """``/memory/scene`` as (time s, [(kind, x, y, r70, r0)]) in ``base_link``: the disc of a
     70 % cut is a cylinder, the support a ring around the same centre."""
     out = []
-    factory = DecoderFactory()
-    with path.open("rb") as f:
-        for schema, channel, message, m in make_reader(f, decoder_factories=[factory]).iter_decoded_messages(
-                topics=["/memory/scene"]):
-            spots = []
-            for e in m.entities:
-                rings = [ln for ln in e.lines if len(ln.points) > 2]
-                for i, c in enumerate(e.cylinders):
-                    x, y, r70 = c.pose.position.x, c.pose.position.y, c.size.x / 2
-                    r0 = r70
-                    if i < len(rings):
-                        p = rings[i].points[0]
-                        r0 = math.hypot(p.x - x, p.y - y)
-                    spots.append((_kind(c.color), x, y, r70, r0))
-            out.append((message.log_time / 1e9, spots))
+    for log_time, m in scene_messages(path, "/memory/scene"):
+        spots = []
+        for e in m.entities:
+            rings = [ln for ln in e.lines if len(ln.points) > 2]
+            for i, c in enumerate(e.cylinders):
+                x, y, r70 = c.pose.position.x, c.pose.position.y, c.size.x / 2
+                r0 = r70
+                if i < len(rings):
+                    p = rings[i].points[0]
+                    r0 = math.hypot(p.x - x, p.y - y)
+                spots.append((_kind(c.color), x, y, r70, r0))
+        out.append((log_time / 1e9, spots))
     return out
 
 
@@ -118,7 +112,7 @@ def render(log_path: str | Path, out: str | Path, *, speed: float = 10.0, start:
     log = read_log(log_path, topics=["/robot/pose", "/pilot", "/bids"])
     if "/robot/pose" not in log.topics or not log.attachments:
         raise LogError(f"{log_path}: no poses or no attached scenario: not a navcli run log")
-    sc = yaml.safe_load(next(iter(log.attachments.values())).decode())
+    sc = log.scenario
     poses, pilot, bids = log["/robot/pose"], log["/pilot"], log["/bids"]
     t_end = float(poses["time_s"].iloc[-1])
     start = 0.0 if start is None else start

@@ -129,21 +129,20 @@ def _conditions(runs: pd.DataFrame) -> pd.DataFrame:
     this condition from another of the same scenario (``time limit 5 s``, ``pilot.K=30``,
     ``scenario sha256 1a2b3c4d`` for an edited file)."""
     runs = runs.copy()
-    for col in CONFIG:
-        runs[col] = runs[col].fillna("?") if col in runs else "?"
+    runs["perception"] = runs["perception"].fillna("?") if "perception" in runs else "?"
     keys = CONFIG + sorted(c for c in runs if c.startswith("params."))
-    for c in keys:
-        runs[c] = runs[c].map(lambda v: "?" if v is None or (isinstance(v, float) and math.isnan(v)) else v)
+    unknown = lambda v: "?" if v is None or (isinstance(v, float) and math.isnan(v)) else v  # noqa: E731
+    k = pd.DataFrame({c: runs[c].map(unknown) if c in runs else "?" for c in keys}, index=runs.index)
     labels = {}
-    for scenario, g in runs.groupby("scenario", sort=True):
-        varying = [c for c in keys[2:] if g[c].astype(str).nunique() > 1]
+    for scenario, g in k.groupby("scenario", sort=True):
+        varying = [c for c in keys[1:] if g[c].astype(str).nunique() > 1]  # all but the scenario's name
         for key, _ in g.groupby(keys, sort=True):
             d = dict(zip(keys, key))
             extra = [f"scenario sha256 {str(d['scenario_sha256'])[:8]}" if c == "scenario_sha256"
                      else f"time limit {d[c]:g} s" if c == "time_limit_s" and d[c] != "?"
                      else f"{c.removeprefix('params.')}={d[c]}" for c in varying if c != "perception"]
             labels[key] = f"{scenario} ({d['perception']} perception{''.join(', ' + e for e in extra)})"
-    runs["condition"] = [labels[tuple(r)] for r in runs[keys].itertuples(index=False)]
+    runs["condition"] = [labels[tuple(r)] for r in k[keys].itertuples(index=False)]
     return runs
 
 
@@ -178,10 +177,10 @@ def pilot_table(runs: pd.DataFrame) -> pd.DataFrame:
         row["collisions_all_mean"] = float(g["collisions"].mean()) if n else math.nan
         for outcome in ("reached", "blocked", "timeout", "error"):  # how the counted runs ended
             row[f"outcome_{outcome}"] = int((g["outcome"] == outcome).sum())
-        row["diverting_targets_mean"] = float(g["diverting_targets"].mean()) if n and "diverting_targets" in g else math.nan
+        row["diverting_targets_mean"] = float(g["diverting_targets"].mean()) if n else math.nan
         for k in (0, 1, 2):  # the thesis' real-robot figures: runs that needed none, one, two diverting targets
-            row[f"diverting_{k}"] = int((g["diverting_targets"] == k).sum()) if "diverting_targets" in g else 0
-        row["diverting_3_or_more"] = int((g["diverting_targets"] >= 3).sum()) if "diverting_targets" in g else 0
+            row[f"diverting_{k}"] = int((g["diverting_targets"] == k).sum())
+        row["diverting_3_or_more"] = int((g["diverting_targets"] >= 3).sum())
         out.append(row)
     return pd.DataFrame(out)
 

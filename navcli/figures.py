@@ -14,6 +14,8 @@ from pathlib import Path
 
 import numpy as np
 
+from analysis.plots import save_figure
+
 from .config import RunSpec
 from .geometry import Pose
 from .pilot.potential_field import field
@@ -84,7 +86,7 @@ def plot_field(spec: RunSpec, out: Path, step: float = 0.2, walls: bool = False)
     ax.quiver(X, Y, U, V, angles="xy", scale_units="xy", scale=1 / (0.8 * step), width=0.003, color="0.25")
     _arena(ax, sc, p.R_min)
     ax.set_title(f"{sc.name}: direction of the net force (K={p.K:g}, A_t={p.A_t:g}, R_min={p.R_min:g} m)")
-    return _save(fig, out)
+    return save_figure(fig, out, dpi=110)
 
 
 def plot_bids(spec: RunSpec, out: Path, step: float = 0.05, walls: bool = False) -> Path:
@@ -101,15 +103,4 @@ def plot_bids(spec: RunSpec, out: Path, step: float = 0.05, walls: bool = False)
     fig.colorbar(im, ax=ax, label="pilot bid (eq. 9)")
     _arena(ax, sc, p.R_min)
     ax.set_title(f"{sc.name}: the pilot's bid 0.9 G_max / F_max")
-    return _save(fig, out)
-
-
-def _save(fig, out: Path) -> Path:
-    out = Path(out)
-    out.parent.mkdir(parents=True, exist_ok=True)
-    fig.tight_layout()
-    fig.savefig(out, dpi=110)
-    import matplotlib.pyplot as plt
-
-    plt.close(fig)
-    return out
+    return save_figure(fig, out, dpi=110)
