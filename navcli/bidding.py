@@ -12,6 +12,8 @@ import math
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Iterable, Literal, Protocol
 
+from .geometry import wrap_angle
+
 if TYPE_CHECKING:
     from .beliefs import Beliefs
 
@@ -47,6 +49,17 @@ class Look:
 
     def as_json(self) -> dict:
         return {"type": "look", "pan_deg": math.degrees(self.pan)}
+
+
+LOOK_MATCH = math.radians(5.0)  # our design: a reported look within this of the pan asked for is that look
+
+
+def looked_at(looked: float | None, pan: float) -> bool:
+    """Did the camera's report of a look at ``looked`` (rad, None: no look) carry out a request for
+    ``pan``? An agent counts only the images it asked for, not a look another agent won."""
+    if looked is None:
+        return False
+    return abs(wrap_angle(looked - pan)) < LOOK_MATCH
 
 
 Action = Move | Look

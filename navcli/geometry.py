@@ -46,6 +46,11 @@ def motion_between(before: Pose, after: Pose) -> tuple[float, float]:
     return (after.x - before.x) * math.cos(mid) + (after.y - before.y) * math.sin(mid), dtheta
 
 
+def midpoint(a: Point, b: Point) -> Point:
+    """The point halfway between ``a`` and ``b``."""
+    return (a[0] + b[0]) / 2, (a[1] + b[1]) / 2
+
+
 def wrap_angle(a: float) -> float:
     """Wrap an angle to (-pi, pi].
 

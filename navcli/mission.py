@@ -69,9 +69,12 @@ class Tick:
 class Mission:
     """A scenario being run with one configuration."""
 
-    def __init__(self, spec: RunSpec, policy_agent=None):
-        """``policy_agent`` replaces the agent of ``spec.navigation`` (a trainer's Learning Agent)."""
+    def __init__(self, spec: RunSpec, policy_agent=None, snapshots: bool = True):
+        """``policy_agent`` replaces the agent of ``spec.navigation`` (a trainer's Learning Agent).
+        ``snapshots=False`` leaves out the visual memory and map snapshots that only a log draws
+        (``Tick.memory``/``Tick.map`` stay None): runs without a log skip the map's triangulations."""
         self.spec = spec
+        self.snapshots = snapshots
         self.scenario = spec.scenario
         p = spec.params
         self.rng = np.random.default_rng(spec.seed)
@@ -88,6 +91,10 @@ class Mission:
         self.navigation = NavigationSystem(p.navigation, p.robot, p.pilot, target_key=t.landmark or "target",
                                            line_target=t.kind == "line", rng=self.rng,
                                            pan_limit=spec.scenario.camera.pan_limit, policy_agent=self.policy_agent)
+        self._reach = t.tolerance  # how near the target's point counts as there (m)
+        if t.kind == "landmark":
+            lm = next(lm for lm in self.scenario.landmarks if lm.id == t.landmark)
+            self._reach += lm.radius + p.robot.radius
         self.ticks = 0
         self.outcome: str | None = None
         self.reason = ""
@@ -169,8 +176,9 @@ class Mission:
             events.append(Event(world.time, "mission", "info" if self.outcome == "reached" else "warning", self.reason))
         cam = self.perception.camera
         p = self.spec.params
-        memory = self.perception.snapshot() if self.ticks % p.vision.draw_every == 0 else None
-        map_ = self.navigation.snapshot(beliefs) if self.ticks % p.navigation.map_draw_every == 0 else None
+        memory = self.perception.snapshot() if self.snapshots and self.ticks % p.vision.draw_every == 0 else None
+        map_ = (self.navigation.snapshot(beliefs)
+                if self.snapshots and self.ticks % p.navigation.map_draw_every == 0 else None)
         return Tick(self.ticks, world.time_ns, world.pose, world.odometry.pose, command, bids, nav.agent_bids,
                     winners, pilot_out, tuple(events), (cam.pan, cam.state),
                     tuple(detections) if detections is not None else None, memory, nav, map_)
@@ -191,11 +199,8 @@ class Mission:
     def _reached(self, before: Pose, after: Pose) -> bool:
         t = self.scenario.target
         p = (after.x, after.y)
-        if t.kind == "point":
-            return math.dist(p, t.point) <= t.tolerance
-        if t.kind == "landmark":
-            lm = next(lm for lm in self.scenario.landmarks if lm.id == t.landmark)
-            return math.dist(p, t.point) <= t.tolerance + lm.radius + self.spec.params.robot.radius
+        if t.kind != "line":
+            return math.dist(p, t.point) <= self._reach
         return segments_intersect((before.x, before.y), p, *t.line)
 
     def _end(self, outcome: str, reason: str) -> None:

@@ -229,15 +229,11 @@ class Recorder:
         self._pan_drawn: float | None = None
         self._flushed_ns = 0
         self.pose_ns = -1  # the time of the last pose written
-        self._scenario: Scenario | None = None
-        self._radius = 0.0
+        self._arena: list[tuple[str, dict]] = []  # the arena's and the body's primitives, built at start
+        self._body: dict = {}
         self._state_ns = 0  # when the state topics were last published
         self._map = None  # the Map Manager's last snapshot
         self._diverting_drawn = False
-
-    @property
-    def port(self) -> int | None:
-        return self.server.port if self.server else None
 
     # -- the run
     def start(self, spec: RunSpec, pose: Pose, odometry: Pose) -> None:
@@ -249,7 +245,11 @@ class Recorder:
         self.writer.write_metadata("run", spec.metadata())
         self.writer.attach(log_time=0, create_time=0, name=Path(sc.source).name or f"{sc.name}.yaml",
                            media_type="application/yaml", data=sc.text.encode())
-        self._scenario, self._radius = sc, spec.params.robot.radius
+        r = spec.params.robot.radius
+        self._arena = _arena_shapes(sc)
+        self._body = {"cylinders": [_cylinder(0.0, 0.0, r, 0.0, 0.3, _ROBOT)],
+                      "arrows": [ArrowPrimitive(pose=_pose(0, 0, z=0.32), shaft_length=r, shaft_diameter=0.04,
+                                                head_length=0.1, head_diameter=0.1, color=_ROBOT)]}
         self._state(0, 0.0)
         self._pose_msgs(pose, odometry, 0)
 
@@ -259,13 +259,10 @@ class Recorder:
         field of view (``/robot/camera``). Published at the start and every ``SCENE_REFRESH`` s,
         so a viewer that seeks or joins late finds them (a viewer restores the latest message of
         each topic); the field of view also when the pan changes."""
-        self.world_scene.log(SceneUpdate(entities=_arena_entities(self._scenario, ns)), log_time=ns)
-        r = self._radius
-        body = SceneEntity(
-            timestamp=_ts(ns), frame_id="base_link", id="robot", frame_locked=True,
-            cylinders=[_cylinder(0.0, 0.0, r, 0.0, 0.3, _ROBOT)],
-            arrows=[ArrowPrimitive(pose=_pose(0, 0, z=0.32), shaft_length=r, shaft_diameter=0.04,
-                                   head_length=0.1, head_diameter=0.1, color=_ROBOT)])
+        ts = _ts(ns)
+        arena = [SceneEntity(timestamp=ts, frame_id="world", id=key, **shapes) for key, shapes in self._arena]
+        self.world_scene.log(SceneUpdate(entities=arena), log_time=ns)
+        body = SceneEntity(timestamp=ts, frame_id="base_link", id="robot", frame_locked=True, **self._body)
         self.robot_body.log(SceneUpdate(entities=[body]), log_time=ns)
         self._camera(ns, pan)
         self._state_ns = ns
@@ -498,28 +495,26 @@ def _grown(obstacles, pose: Pose, R: float, ns: int) -> SceneEntity:
     return SceneEntity(timestamp=_ts(ns), frame_id="world", id="grown-obstacles", cylinders=cyl, cubes=cubes)
 
 
-def _arena_entities(sc: Scenario, ns: int) -> list[SceneEntity]:
+def _arena_shapes(sc: Scenario) -> list[tuple[str, dict]]:
+    """The arena's entities (id, primitives), built once per run and stamped at each refresh."""
     W, H, t = sc.arena.width, sc.arena.height, 0.1
-    ts = _ts(ns)
     walls = [CubePrimitive(pose=_pose(x, y, z=HEIGHT / 2), size=Vector3(x=sx, y=sy, z=HEIGHT), color=_GREY)
              for x, y, sx, sy in ((W / 2, -t / 2, W + 2 * t, t), (W / 2, H + t / 2, W + 2 * t, t),
                                   (-t / 2, H / 2, t, H), (W + t / 2, H / 2, t, H))]
-    ents = [SceneEntity(timestamp=ts, frame_id="world", id="walls", cubes=walls)]
+    ents = [("walls", {"cubes": walls})]
     for o in sc.objects:
         if o.kind == "circle":
-            ents.append(SceneEntity(timestamp=ts, frame_id="world", id=f"obstacle-{o.key[1:]}",
-                                    cylinders=[_cylinder(*o.a, o.radius, 0.0, HEIGHT, _RED)]))
+            ents.append((f"obstacle-{o.key[1:]}", {"cylinders": [_cylinder(*o.a, o.radius, 0.0, HEIGHT, _RED)]}))
         elif o.kind == "segment":
             (ax, ay), (bx, by) = o.a, o.b
-            ents.append(SceneEntity(timestamp=ts, frame_id="world", id=f"obstacle-{o.key[1:]}", cubes=[CubePrimitive(
+            ents.append((f"obstacle-{o.key[1:]}", {"cubes": [CubePrimitive(
                 pose=_pose((ax + bx) / 2, (ay + by) / 2, math.atan2(by - ay, bx - ax), z=HEIGHT / 2),
-                size=Vector3(x=math.hypot(bx - ax, by - ay), y=2 * o.radius, z=HEIGHT), color=_RED)]))
+                size=Vector3(x=math.hypot(bx - ax, by - ay), y=2 * o.radius, z=HEIGHT), color=_RED)]}))
         elif o.kind == "landmark":
-            ents.append(SceneEntity(
-                timestamp=ts, frame_id="world", id=f"landmark-{o.key}",
-                cylinders=[_cylinder(*o.a, o.radius, 0.0, HEIGHT, _BLUE)],
-                texts=[TextPrimitive(pose=_pose(*o.a, z=HEIGHT + 0.15), billboard=True, font_size=14.0,
-                                     scale_invariant=True, color=_BLUE, text=o.key)]))
+            ents.append((f"landmark-{o.key}", {
+                "cylinders": [_cylinder(*o.a, o.radius, 0.0, HEIGHT, _BLUE)],
+                "texts": [TextPrimitive(pose=_pose(*o.a, z=HEIGHT + 0.15), billboard=True, font_size=14.0,
+                                        scale_invariant=True, color=_BLUE, text=o.key)]}))
     tg = sc.target
     if tg.kind == "line":
         (ax, ay), (bx, by) = tg.line
@@ -528,7 +523,7 @@ def _arena_entities(sc: Scenario, ns: int) -> list[SceneEntity]:
     else:
         r = tg.tolerance
         target = {"cylinders": [_cylinder(*tg.point, r, 0.0, 0.02, _GREEN)]}
-    ents.append(SceneEntity(timestamp=ts, frame_id="world", id="target", **target))
+    ents.append(("target", target))
     return ents
 
 

@@ -92,7 +92,7 @@ def run_mission(spec: RunSpec, *, out: Path | None = None, record: bool = True, 
     if record or live:
         path = out or spec.default_log_path()
         recorder = Recorder(path, live=live, port=port, protect=(spec.scenario.source,))
-    mission = Mission(spec)
+    mission = Mission(spec, snapshots=recorder is not None)
     t0 = time.perf_counter()
     try:
         if recorder:

@@ -9,7 +9,6 @@ from __future__ import annotations
 from pathlib import Path
 
 import gymnasium as gym
-import numpy as np
 
 from ..config import RunSpec
 from ..learning.actions import ACTIONS

@@ -166,7 +166,7 @@ def run_trials(job: Job) -> list[dict]:
 
         base = spec.replace(navigation="agents")
         for i, st in enumerate(job.starts):
-            m = Mission(spec_at(base, st))
+            m = Mission(spec_at(base, st), snapshots=False)
             m.step()
             while m.outcome is None and m.navigation.rescuer.state == "sweep":  # as NavigationTask.reset
                 m.step()

@@ -92,7 +92,7 @@ class NavigationTask:
         p = spec.params
         agent = LearningAgent(None, p.learning, max_speed=p.robot.max_speed, pan_limit=spec.scenario.camera.pan_limit,
                               target_key=spec.scenario.target.landmark, label="training")
-        m = Mission(spec, policy_agent=agent)
+        m = Mission(spec, policy_agent=agent, snapshots=False)
         nav = m.navigation
         self.mission, self.agent, self.actions, self.outcome = m, agent, 0, None
         while m.outcome is None and (agent.state is None or nav.rescuer.state == "sweep"):

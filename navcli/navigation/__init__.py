@@ -27,7 +27,7 @@ import numpy as np
 from ..beliefs import Beliefs
 from ..bidding import Agent, Bid
 from ..fuzzy import FuzzyPoint
-from ..geometry import Point
+from ..geometry import Point, midpoint
 from ..params import NAVIGATION, PILOT, ROBOT, NavigationParams, PilotParams, RobotParams
 from .communicator import Communicator
 from .distance_estimator import DistanceEstimator
@@ -93,7 +93,7 @@ class NavigationSystem:
             # target is as imprecise as the memory's worse end
             spread = 0.0 if line is not None else beliefs.target_spread
             line = line or beliefs.target_line
-            target, source = FuzzyPoint(*_mid(line), (0.0,) * 4), "line"
+            target, source = FuzzyPoint(*midpoint(*line), (0.0,) * 4), "line"
         else:
             found = self.map.locate(self.target_key, beliefs)
             target, source = found if found is not None else (None, "none")
@@ -126,13 +126,9 @@ class NavigationSystem:
         arc becomes costly), and the question: a diverting target toward the original target."""
         if failed is not None:
             self.map.report_blocked(failed)
-        aim = original.aim if original.target_line is None else _mid(original.target_line)
+        aim = original.aim if original.target_line is None else midpoint(*original.target_line)
         return None if aim is None else self.map.diverting_target(beliefs, aim)
 
     def snapshot(self, beliefs: Beliefs) -> MapSnapshot:
         return self.map.snapshot(beliefs)
-
-
-def _mid(line: tuple[Point, Point]) -> Point:
-    return (line[0][0] + line[1][0]) / 2, (line[0][1] + line[1][1]) / 2
 

@@ -19,7 +19,6 @@ agents' questions. It makes no bids.
 from __future__ import annotations
 
 import itertools
-import math
 from dataclasses import dataclass
 
 from ..beliefs import Beliefs

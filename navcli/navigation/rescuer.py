@@ -36,14 +36,13 @@ from typing import Callable
 
 import numpy as np
 
-from ..bidding import Bid, Look, Move
-from ..geometry import Point, Pose, wrap_angle
+from ..bidding import Bid, Look, Move, looked_at
+from ..geometry import Point, Pose, midpoint, wrap_angle
 from ..params import NAVIGATION, NavigationParams
 from .regions import Crossing, Edge
 from .situation import Situation
 
-PAN_MATCH = math.radians(5.0)
-LOST_SCANS = 3  # scans (each followed by a random turn) before a lost target counts as a failure  # a reported look within this of the pan asked for counts as it
+LOST_SCANS = 3  # scans (each followed by a random turn) before a lost target counts as a failure
 
 
 @dataclass(frozen=True)
@@ -179,7 +178,7 @@ class Rescuer:
     def _scanned(self, looked: float | None) -> bool:
         """Advance the scan when the camera reports the look asked for; True when all are done."""
         pans = self.params.scan_pans_deg
-        if looked is not None and self._scan < len(pans) and abs(looked - math.radians(pans[self._scan])) < PAN_MATCH:
+        if self._scan < len(pans) and looked_at(looked, math.radians(pans[self._scan])):
             self._scan += 1
         return self._scan >= len(pans)
 
@@ -241,7 +240,7 @@ class Rescuer:
         """No progress toward the current target within the window, too many bumps, or a diverting
         target held too long."""
         p = self.params
-        aim = s.aim if self._crossing is None else _middle(self._diverting_line(s))
+        aim = s.aim if self._crossing is None else midpoint(*self._diverting_line(s))
         if aim is None:
             return False
         d = math.hypot(*aim)
@@ -249,7 +248,3 @@ class Rescuer:
             self._progress_best, self._progress_since = d, s.time
         too_long = self._crossing is not None and s.time - self._crossing_since > p.diverting_timeout_s
         return too_long or s.time - self._progress_since > p.blocked_window_s or len(self._bumps) >= p.blocked_bumps
-
-
-def _middle(line: tuple[Point, Point] | None) -> Point | None:
-    return None if line is None else ((line[0][0] + line[1][0]) / 2, (line[0][1] + line[1][1]) / 2)

@@ -8,7 +8,7 @@ import math
 from dataclasses import dataclass
 
 from ..bidding import Bid, Look
-from ..params import NAVIGATION, PILOT, NavigationParams
+from ..params import NAVIGATION, NavigationParams
 from .situation import Situation
 
 SECTORS = tuple(math.radians(a) for a in (0.0, 60.0, -60.0, 120.0, -120.0, 180.0))

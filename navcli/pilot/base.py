@@ -26,7 +26,7 @@ from collections import deque
 from dataclasses import dataclass, field
 
 from ..beliefs import Beliefs, Bump, KnownObstacle
-from ..bidding import Bid, Look, Move
+from ..bidding import Bid, Look, Move, looked_at
 from ..geometry import Pose, motion_between, wrap_angle
 from ..params import CONTROL_DT, PILOT, ROBOT, PilotParams, RobotParams
 
@@ -57,7 +57,6 @@ class PilotOutput:
     obstacles: tuple[KnownObstacle, ...] = ()  # what the pilot avoided this tick, egocentric
 
 
-REFLEX_PAN_MATCH = math.radians(5.0)  # a reported image within this of the pan the reflex asked for is its look
 
 
 class Pilot:
@@ -117,7 +116,7 @@ class Pilot:
         if self._reflex and self._reflex[0][0] == "look":
             pans = self.params.reflex_look_pans_deg
             want = math.radians(pans[min(int(self._reflex_progress), len(pans) - 1)])
-            if abs(wrap_angle(pan - want)) < REFLEX_PAN_MATCH:  # an image someone else asked for is not its look
+            if looked_at(pan, want):  # an image someone else asked for is not its look
                 self._reflex_progress += 1
 
     def _track(self, odom: Pose) -> None:

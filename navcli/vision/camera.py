@@ -102,10 +102,6 @@ class Camera:
         self._lines = [ln for ln in self._all_lines if distance_to_segment(eye, ln[1], ln[2]) <= rng]
 
     # -- the pan unit
-    @property
-    def busy(self) -> bool:
-        return self.state != "idle"
-
     def step(self, time: float, pose: Pose, request: Look | None, dt: float) -> list[Detection] | None:
         """Advance the camera by one control tick at ``time``; return detections when an image is taken.
 

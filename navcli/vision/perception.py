@@ -22,7 +22,7 @@ import numpy as np
 from ..beliefs import Beliefs, Bump, KnownLandmark, KnownObstacle
 from ..fuzzy import ALPHAS, FuzzyPoint
 from ..bidding import Look
-from ..geometry import Pose, motion_between
+from ..geometry import Pose, midpoint, motion_between
 from ..params import CONTROL_DT, ROBOT, VISION, Params, RobotParams, VisionParams
 from ..scenario import Scenario
 from .camera import Camera, Detection
@@ -129,7 +129,7 @@ class VisionPerception(_Senses):
         if self.scenario.target.kind == "line":
             a, b = items["target-a"].spots[0], items["target-b"].spots[0]
             line = ((a.x, a.y), (b.x, b.y))
-            target = ((a.x + b.x) / 2, (a.y + b.y) / 2)
+            target = midpoint(line[0], line[1])
             spread = max(a.heading().width(), b.heading().width())
         else:
             m = items.get(self._target_key) or items["target"]

@@ -27,7 +27,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-from ..fuzzy import ALPHAS, CUT, Fuzzy, FuzzyAngle, FuzzyPoint
+from ..fuzzy import ALPHAS, CUT, FuzzyAngle, FuzzyPoint
 from ..geometry import distance_to_segment
 from ..params import VISION, VisionParams
 from .camera import Detection, Sighting
@@ -70,9 +70,6 @@ class Spot:
         """The spot as a value: its centre and the radius of each cut (linear in alpha)."""
         r0, d = self.r0, self.r1 - self.r0
         return FuzzyPoint(self.x, self.y, tuple([r0 + a * d for a in ALPHAS]))
-
-    def distance(self) -> Fuzzy:
-        return self.point().distance()
 
     def heading(self) -> FuzzyAngle:
         return self.point().heading()
