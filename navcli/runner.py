@@ -44,7 +44,10 @@ def raising(exc: type[BaseException]) -> Callable[[int, Any], None]:
 
 
 class Terminated(KeyboardInterrupt):
-    """SIGTERM (a scheduler's or a shell's kill): ends a run like Ctrl-C, and is logged as such."""
+    """SIGTERM (a scheduler's or a shell's kill): ends a run like Ctrl-C, and is logged as such;
+    the CLI exits 143 (the shell's convention, 128 + the signal's number)."""
+
+    exit_code = 128 + signal.SIGTERM
 
 
 @contextmanager

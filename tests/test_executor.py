@@ -66,3 +66,24 @@ def test_a_signal_stops_compare_and_all_its_workers(tmp_path, sig, code):
     assert not list(tmp_path.rglob("*.partial"))
     outcomes = [read_log(p, topics=[]).summary["outcome"] for p in tmp_path.rglob("*.mcap")]
     assert outcomes.count("interrupted") >= 1 and set(outcomes) <= {"interrupted", "reached", "timeout", "blocked"}
+
+
+def test_sigterm_in_a_serial_run_is_logged_as_sigterm(tmp_path):
+    """With one job the run is in this process: SIGTERM must end it as SIGTERM, not as Ctrl-C."""
+    from navcli.config import RunSpec
+    from navcli.experiments.executor import exit_code, sigterm_interrupts
+    from navcli.runner import run_mission
+    from navcli.scenario import load_scenario
+
+    spec = RunSpec.build(load_scenario(SCENARIOS / "paper-8x8.yaml"), seed=1)
+
+    def kill_at_tick_20(mission, tick):
+        if tick.index == 20:
+            os.kill(os.getpid(), signal.SIGTERM)
+
+    with pytest.raises(KeyboardInterrupt) as e, sigterm_interrupts():
+        run_mission(spec, out=tmp_path / "t.mcap", on_tick=kill_at_tick_20)
+    assert exit_code(e.value) == 128 + signal.SIGTERM
+    from analysis import read_log
+
+    assert read_log(tmp_path / "t.mcap", topics=[]).summary["reason"] == "stopped by SIGTERM"

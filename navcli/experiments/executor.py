@@ -18,7 +18,7 @@ Stopping: :func:`run_each` turns SIGTERM into :class:`Terminated` (a ``KeyboardI
 runs; on Ctrl-C or SIGTERM it cancels what has not started, asks the local workers to stop (each
 closes its log marked ``interrupted``), kills any still alive after a grace period, and re-raises,
 so no process is left behind. The CLI exits 130 for Ctrl-C and 143 for SIGTERM
-(:attr:`Terminated.exit_code`).
+(:attr:`navcli.runner.Terminated.exit_code`).
 """
 
 from __future__ import annotations
@@ -30,7 +30,7 @@ import time
 from concurrent.futures import Executor, Future, ProcessPoolExecutor, as_completed
 from typing import Any, Callable, Iterable, Iterator, Sequence
 
-from ..runner import in_physics_callback
+from ..runner import Terminated, in_physics_callback, raising
 
 CLUSTER_EXTRA = "pip install 'navcli[cluster]'"
 """What to install for ``--scheduler``, ``sweep`` and ``tune`` (Dask, Optuna, DEAP, pyarrow)."""
@@ -44,12 +44,6 @@ GRACE_S = 2.0
 
 class MissingExtra(RuntimeError):
     """A library of the ``cluster`` extra is not installed; the message says what to install."""
-
-
-class Terminated(KeyboardInterrupt):
-    """SIGTERM received: handled like Ctrl-C (logs closed, marked ``interrupted``), exit code 143."""
-
-    exit_code = 128 + signal.SIGTERM
 
 
 def exit_code(e: KeyboardInterrupt) -> int:
@@ -180,11 +174,8 @@ class SerialExecutor(Executor):
 @contextlib.contextmanager
 def sigterm_interrupts() -> Iterator[None]:
     """While inside, SIGTERM raises :class:`Terminated` in the main thread (like Ctrl-C)."""
-    def handler(signum: int, frame: Any) -> None:
-        raise Terminated
-
     try:
-        old = signal.signal(signal.SIGTERM, handler)
+        old = signal.signal(signal.SIGTERM, raising(Terminated))
     except ValueError:  # not the main thread: leave signals alone
         yield
         return
