@@ -343,10 +343,7 @@ def compare_pilots(
     t0 = time.perf_counter()
     failed: list = []
     ran = 0
-    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
-
-    with Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(),
-                  transient=True, disable=not sys.stderr.isatty()) as bar:
+    with _bar() as bar:
         task = bar.add_task(f"{len(work)} runs on {workers} workers", total=len(work))
 
         def done(r) -> None:
@@ -393,14 +390,14 @@ def _report(logdir: Path, baseline: str, out: Path, logs: list[str] | None = Non
 
     skipped: list[tuple[str, str]] = []
     try:
-        runs = load_runs(logdir, paths=logs, skipped=skipped)
+        runs, error = load_runs(logdir, paths=logs, skipped=skipped), None
     except LogError as e:
-        for path, why in skipped:
-            _err(f"skipped {path}: {why}")
-        _err(f"error: {e}")
-        raise typer.Exit(EXIT_BAD_INPUT) from None
+        runs, error = None, e
     for path, why in skipped:
         _err(f"skipped {path}: {why}")
+    if error is not None:
+        _err(f"error: {error}")
+        raise typer.Exit(EXIT_BAD_INPUT)
     files = write_report(runs, out, baseline, skipped)
     typer.echo("")
     typer.echo(files["markdown"].read_text())
@@ -502,11 +499,7 @@ def render(
     from analysis.render import RenderError, render as render_video
 
     target = out or log.with_suffix(".gif")
-    bar = None
-    if sys.stderr.isatty():
-        from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
-
-        bar = Progress(TextColumn("frames"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(), transient=True)
+    bar = _bar() if sys.stderr.isatty() else None
     task = None
 
     def progress(i: int, n: int) -> None:
@@ -514,7 +507,7 @@ def render(
         if bar is not None:
             if task is None:
                 bar.start()
-                task = bar.add_task("render", total=n)
+                task = bar.add_task("frames", total=n)
             bar.update(task, completed=i)
 
     try:
@@ -535,6 +528,15 @@ SchedulerOption = Annotated[Optional[str], typer.Option(
 JobsOption = Annotated[Optional[int], typer.Option(min=1, help="Local worker processes (default: the machine's cores).")]
 
 
+def _bar(*columns):
+    """A progress bar on stderr: the task's description, the bar, done/total, then ``columns``
+    (default: the time elapsed). Hidden when stderr is not a terminal (logs of batch jobs)."""
+    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
+
+    return Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(),
+                    *(columns or (TimeElapsedColumn(),)), transient=True, disable=not sys.stderr.isatty())
+
+
 def _extra(module: str, what: str):
     """Import a library of the cluster extra or exit saying what to install."""
     from .experiments.executor import MissingExtra, require
@@ -553,8 +555,6 @@ def _executor(jobs: Optional[int], scheduler: Optional[str]):
 
     from .experiments.executor import MissingExtra, executor
 
-    if scheduler:
-        _extra("distributed", "--scheduler")
     try:
         with executor(jobs or os.cpu_count() or 1, scheduler) as ex:
             yield ex
@@ -591,12 +591,10 @@ def sweep(
     out = out or Path("logs") / "sweep" / plan.stem
     runs = plan_runs(p, None if no_logs else out)
     table = out / "results.parquet"
-    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeRemainingColumn
+    from rich.progress import TextColumn, TimeRemainingColumn
 
     t0 = time.perf_counter()
-    with Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(),
-                  TextColumn("{task.fields[failed]} failed"), TextColumn("ETA"), TimeRemainingColumn(),
-                  transient=True, disable=not sys.stderr.isatty()) as bar:
+    with _bar(TextColumn("{task.fields[failed]} failed"), TextColumn("ETA"), TimeRemainingColumn()) as bar:
         task = bar.add_task(f"{len(runs)} runs", total=len(runs), failed=0)
 
         def row(r: dict, stats) -> None:
@@ -741,11 +739,8 @@ def train(
         _err(f"error: --param: {e}")
         raise typer.Exit(EXIT_BAD_INPUT) from None
     out = out or resume or Path("logs") / spec.scenario.name / f"{algorithm}-seed{seed}.npz"
-    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
-
     t0 = time.perf_counter()
-    with Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(),
-                  transient=True, disable=not sys.stderr.isatty()) as bar:
+    with _bar() as bar:
         task = bar.add_task("training", total=trials)
 
         def on_trial(i, r, result) -> None:
@@ -810,11 +805,8 @@ def compare_policies(
         _err(f"error: --out: cannot create {out / 'runs'}: {e.strerror or e}")
         raise typer.Exit(EXIT_BAD_INPUT) from None
     work = plan(spec, chosen, runs, starts, out)
-    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
-
     t0 = time.perf_counter()
-    with Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(),
-                  transient=True, disable=not sys.stderr.isatty()) as bar:
+    with _bar() as bar:
         task = bar.add_task(f"{len(work)} runs of {starts} trials", total=len(work))
         with _executor(jobs, None) as ex:
             try:

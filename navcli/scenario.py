@@ -64,6 +64,10 @@ def _param_range(name: str, unit: str) -> Range:
     return Range(lo, m["at_most"], unit, lo_open)
 
 
+PILOT_BLOCK = {"K": "eq. 2: repulsion constant", "A_t": "eq. 5: target attraction",
+               "R_min": "metres: prohibited area beyond an obstacle's surface"}
+"""The parameters a scenario's ``pilot:`` block sets (each ``pilot.<key>``), with what they are."""
+
 RANGES: dict[str, Range] = {
     "arena.width": Range(1.0, 100.0, "m"),
     "arena.height": Range(1.0, 100.0, "m"),
@@ -732,8 +736,8 @@ class _Reader:
     def pilot(self, v: Any) -> dict[str, float]:
         """The pilot parameters the block sets."""
         P = ("pilot",)
-        m = self.mapping(v, P, (), ("K", "A_t", "R_min"))
-        return {f"pilot.{k}": self.number(m[k], P + (k,), f"pilot.{k}") for k in ("K", "A_t", "R_min") if k in m}
+        m = self.mapping(v, P, (), tuple(PILOT_BLOCK))
+        return {f"pilot.{k}": self.number(m[k], P + (k,), f"pilot.{k}") for k in PILOT_BLOCK if k in m}
 
     def navigation(self, v: Any) -> dict[str, float]:
         """The Navigation system's parameters the block sets: ``cluster`` (``C1``, the default, or
@@ -906,9 +910,7 @@ def json_schema() -> dict[str, Any]:
             "camera": obj({k: num(f"camera.{k}", u) for k, u in (
                 ("fov_deg", "degrees"), ("range", "metres"), ("pan_limit_deg", "degrees either side of ahead"),
                 ("pan_speed_deg", "degrees per second"), ("look_time", "seconds of processing per look"))}),
-            "pilot": obj({"K": num("pilot.K", "eq. 2: repulsion constant"),
-                          "A_t": num("pilot.A_t", "eq. 5: target attraction"),
-                          "R_min": num("pilot.R_min", "metres: prohibited area beyond an obstacle's surface")}),
+            "pilot": obj({k: num(f"pilot.{k}", what) for k, what in PILOT_BLOCK.items()}),
             "navigation": obj({"cluster": {"enum": list(CLUSTERS), "description": "the thesis' GA-tuned bidding "
                                            "parameters: C1 (default, targets reachable directly) or C2 (behind obstacles)"}}
                               | {f.name: _param_schema(f) for f in dataclasses.fields(NAVIGATION)

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Callable
+from typing import Any, Callable, Iterator, Mapping
 
 import numpy as np
 
@@ -24,6 +24,14 @@ from ..config import RunSpec
 def rerun_seed(base: int, index: int) -> int:
     """The seed of rerun ``index`` of a scenario whose seed is ``base`` (a 31-bit integer)."""
     return int(np.random.SeedSequence([base, index]).generate_state(1)[0] >> 1)
+
+
+def reruns(base: RunSpec, overrides: Mapping[str, Any], n: int) -> Iterator[RunSpec]:
+    """``base`` with the parameter ``overrides`` at its first ``n`` rerun seeds: the same seeds
+    whatever the overrides, so ``sweep``'s points and ``tune``'s trials are paired."""
+    spec = base.replace(params=base.params.override(overrides))
+    for i in range(n):
+        yield spec.replace(seed=rerun_seed(base.seed, i))
 
 
 @dataclass(frozen=True)
@@ -85,10 +93,8 @@ def run_job(job: Job) -> Outcome:
     return Outcome(job, res.summary["outcome"], res.summary.get("reason", ""))
 
 
-def run_all(jobs: list[Job], workers: int, on_done: Callable[[Outcome], None] | None = None,
-            scheduler: str | None = None) -> list[Outcome]:
-    """Run ``jobs`` on ``workers`` local processes (1: in this process), or on the Dask cluster at
-    ``scheduler``, through :mod:`.executor`; results in the order they finish. Ctrl-C or SIGTERM
+def run_all(jobs: list[Job], workers: int, on_done: Callable[[Outcome], None] | None = None) -> list[Outcome]:
+    """Run ``jobs`` on ``workers`` local processes (1: in this process) through :mod:`.executor`; results in the order they finish. Ctrl-C or SIGTERM
     stops every worker (their logs closed, marked ``interrupted``) and is re-raised."""
     from .executor import executor, run_each
 
@@ -100,6 +106,6 @@ def run_all(jobs: list[Job], workers: int, on_done: Callable[[Outcome], None] | 
         if on_done:
             on_done(r)
 
-    with executor(workers, scheduler) as ex:
+    with executor(workers) as ex:
         run_each(run_job, jobs, ex, done)
     return results

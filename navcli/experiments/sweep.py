@@ -42,7 +42,7 @@ from typing import Any, Callable, Mapping
 from ..config import ConfigError, RunSpec
 from ..params import PERCEPTIONS, PILOT_NAMES, Params, ParamError
 from ..scenario import Problem, ScenarioError, _Invalid, _parse_yaml, _Reader, load_scenario
-from .compare import rerun_seed
+from .compare import reruns
 
 MAX_PLAN_BYTES = 1 << 20
 """A plan file larger than this (1 MiB) is refused without being parsed."""
@@ -243,9 +243,7 @@ def plan_runs(plan: Plan, logs: Path | None) -> list[SweepRun]:
     runs = []
     for base in plan.bases:
         for k, point in enumerate(plan.points):
-            spec0 = base.replace(params=base.params.override(point))
-            for i in range(plan.seeds):
-                spec = spec0.replace(seed=rerun_seed(base.seed, i))
+            for spec in reruns(base, point, plan.seeds):
                 runs.append(SweepRun(spec, k, dict(point), None if logs is None else str(spec.default_log_path(logs))))
     return runs
 

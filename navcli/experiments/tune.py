@@ -40,15 +40,14 @@ from typing import Any, Callable, Sequence
 
 from ..config import RunSpec
 from ..params import CONTROL_DT, Params, ParamError
-from .compare import rerun_seed
+from ..scenario import PILOT_BLOCK
+from .compare import reruns
 from .executor import map_ordered, require
 
 ALGORITHMS = ("tpe", "cmaes", "ga")
 OBJECTIVES = ("fitness", "success", "time")
 DEFAULT_RANGE = (0.0, 5.0)
 """A parameter named without a range is tuned in [0, 5] (the thesis' bound on its real values)."""
-SCENARIO_PILOT_KEYS = ("K", "A_t", "R_min")
-"""The parameters a scenario's ``pilot:`` block accepts; the others are written as ``--param`` lines."""
 
 
 @dataclass(frozen=True)
@@ -157,9 +156,7 @@ def evaluate(problem: TuneProblem, values: Sequence[float]) -> dict[str, Any]:
     overrides = dict(zip(problem.names, map(float, values)))
     runs, errors = [], 0
     for base in problem.bases:
-        spec0 = base.replace(params=base.params.override(overrides))
-        for i in range(problem.seeds):
-            spec = spec0.replace(seed=rerun_seed(base.seed, i))
+        for spec in reruns(base, overrides, problem.seeds):
             try:
                 summary = run_mission(spec, record=False).summary
             except Exception:
@@ -342,7 +339,7 @@ def scenario_block(values: dict[str, float], objective_name: str, value: float) 
     # --param navigation.alpha=1.25
     """
     lines = [f"# navcli tune: best {objective_name} {value:.6g}"]
-    in_block = [n for n in values if n.startswith("pilot.") and n[len("pilot."):] in SCENARIO_PILOT_KEYS]
+    in_block = [n for n in values if n.startswith("pilot.") and n[len("pilot."):] in PILOT_BLOCK]
     if in_block:
         lines += ["pilot:"] + [f"  {n[len('pilot.'):]}: {values[n]:.6g}" for n in in_block]
     rest = [f"# --param {n}={v:.6g}" for n, v in values.items() if n not in in_block]
