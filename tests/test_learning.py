@@ -98,14 +98,25 @@ def test_prioritized_sweeping_walks_the_cliff_edge_in_13_steps():
     assert rollout(ps.greedy, T, R, D) == -13
 
 
+def steps_to_the_cliff_path(learner, T, R, Rt, D, max_episodes):
+    """Steps ``learner`` takes, an episode at a time, until its greedy policy walks the 13-step
+    path (None: not within ``max_episodes``)."""
+    total = 0
+    for _ in range(max_episodes):
+        total += learn(learner, T, Rt, D, 36, episodes=1, goal=47)
+        if rollout(learner.greedy, T, R, D) == -13:
+            return total
+    return None
+
+
 def test_q_learning_finds_the_cliff_path_too_but_needs_more_steps():
     T, R, Rt, D = tables("CliffWalking-v1")
     ps = PrioritizedSweeping(48, 4, gamma=1.0, backups=10, threshold=1e-3, explore=1, rng=np.random.default_rng(2))
     ql = QLearning(48, 4, alpha=0.5, gamma=1.0, epsilon=0.1, rng=np.random.default_rng(2))
-    steps_ps = learn(ps, T, Rt, D, 36, episodes=30, goal=47)
-    steps_q = learn(ql, T, Rt, D, 36, episodes=300, goal=47)
-    assert rollout(ql.greedy, T, R, D) == -13
-    assert steps_q > 2 * steps_ps
+    steps_ps = steps_to_the_cliff_path(ps, T, R, Rt, D, 30)
+    steps_q = steps_to_the_cliff_path(ql, T, R, Rt, D, 300)
+    assert steps_ps is not None and steps_q is not None  # both find it
+    assert steps_q > 2 * steps_ps  # the model-based learner needs far fewer real steps (Moore & Atkeson)
 
 
 # -- features, actions, the hand-coded policy
@@ -187,13 +198,14 @@ def test_learning_parameters_are_a_fifth_group():
 
 def test_a_hand_coded_mission_counts_its_actions_and_their_reward():
     from navcli import RunSpec, load_scenario, run_mission
-    from navcli.learning.actions import ACTIONS, REWARDS
+    from navcli.learning.actions import ACTIONS
 
     spec = RunSpec.build(load_scenario(SCENARIOS / "landmarks-12.yaml"), navigation="hand-coded", time_limit=12)
     s = run_mission(spec, record=False).summary
-    la = s["learning"]
-    assert s["navigation"] == "hand-coded" and la["actions"] >= 5  # 12 s less the initial sweep, 1 s each
-    assert la["reward"] == sum(REWARDS[i] * la["action_counts"][n] for i, n in enumerate(ACTIONS))
+    la, n = s["learning"], s["learning"]["actions"]
+    assert s["navigation"] == "hand-coded" and 5 <= n <= 12  # 12 s less the initial sweep, 1 s each
+    assert sum(la["action_counts"].values()) == n and set(la["action_counts"]) == set(ACTIONS)
+    assert -10 * n <= la["reward"] <= -1 * n < 0  # each action costs 1 (MB) to 10 (MLL), section 5.3
 
 
 def test_the_model_file_round_trips_and_refuses_garbage(tmp_path):

@@ -28,6 +28,7 @@ sector the camera cannot reach (behind) is not chosen by MLL and MVL.
 from __future__ import annotations
 
 import math
+from typing import Sequence
 
 from ..bidding import Bid, Look, Move
 from ..navigation.risk_manager import SECTORS
@@ -39,8 +40,14 @@ ACTIONS = ("MB", "MLL", "MOT", "MVL", "MVT")
 MB, MLL, MOT, MVL, MVT = range(5)
 REWARDS = (-1.0, -10.0, -6.0, -5.0, -5.0)
 """The immediate reward of each action (section 5.3: MB -1, MLL -10, MOT -6, MVL -5, MVT -5)."""
+
 AT_TARGET = 0.0
 """The reward on reaching the target."""
+
+
+def reward_of(counts: Sequence[int]) -> float:
+    """The reward of actions taken ``counts[a]`` times each (reaching the target adds AT_TARGET, 0)."""
+    return float(sum(REWARDS[a] * n for a, n in enumerate(counts)))
 
 
 def target_bearing(s: Situation) -> float:

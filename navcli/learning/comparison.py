@@ -176,12 +176,12 @@ def run_trials(job: Job) -> list[dict]:
             out.append(_record(i, st, m.outcome or "timeout", m.time))
         return out
     from .task import NavigationTask
+    from .learning_agent import table_policy
     from .training import run_trial
 
-    table = job.policy.actions()
-    task = NavigationTask(spec)
+    task, choose = NavigationTask(spec), table_policy(job.policy.actions())
     for i, st in enumerate(job.starts):
-        r = run_trial(task, st, lambda s: int(table[s]))
+        r = run_trial(task, st, choose)
         out.append(_record(i, st, r.outcome, task.mission.time, r.actions, r.reward, r.counts))
     return out
 

@@ -19,7 +19,7 @@ import numpy as np
 from ..bidding import Bid
 from ..navigation.situation import Situation
 from ..params import CONTROL_DT, LEARNING, ROBOT, LearningParams
-from .actions import ACTIONS, REWARDS, action_bids, orthogonal_side
+from .actions import ACTIONS, action_bids, orthogonal_side, reward_of
 from .features import features, state_index
 from .hand_coded import hand_coded_action
 
@@ -51,14 +51,17 @@ class LearningAgent:
         self.action: int | None = None
         self.next_action: int | None = None
         self.state: int | None = None  # the belief state read at the latest tick
-        self.counts = [0] * len(ACTIONS)
-        self.reward = 0.0
+        self.counts = [0] * len(ACTIONS)  # the actions taken, of each kind
         self._left = 0  # ticks left of the current action
         self._side = 1.0
 
     @property
     def actions_taken(self) -> int:
         return sum(self.counts)
+
+    @property
+    def reward(self) -> float:
+        return reward_of(self.counts)
 
     def observe(self, s: Situation) -> int:
         """Read (and remember) the belief state of ``s``."""
@@ -74,7 +77,6 @@ class LearningAgent:
             self.action, self._left = a, self.ticks_per_action
             self._side = orthogonal_side(s)
             self.counts[a] += 1
-            self.reward += REWARDS[a]
         self._left -= 1
         return action_bids(self.action, s, bidder=self.name, value=self.params.bid, speed=self.max_speed,
                            pan_limit=self.pan_limit, target_key=self.target_key, side=self._side)

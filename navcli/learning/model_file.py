@@ -1,7 +1,8 @@
 """Learned models on disk: one numpy ``.npz`` holding the learner's arrays (model counts, values,
 greedy policy) and its metadata as JSON (``meta``: algorithm, scenario sha256, seed, trials,
 parameters, learning curve so far), with the same JSON beside it (``FILE.json``) for people.
-A model is resumable: :func:`load_learner` rebuilds the learner it came from."""
+A model is resumable: ``navcli train --resume`` loads its arrays into a new learner of the same
+algorithm (:meth:`~.prioritized_sweeping.PrioritizedSweeping.load_arrays`) and goes on."""
 
 from __future__ import annotations
 

@@ -22,9 +22,10 @@ from typing import Callable
 import numpy as np
 
 from ..config import RunSpec
-from .actions import ACTIONS
+from .actions import ACTIONS, reward_of
 from .features import N_STATES, check_bounds
 from .hand_coded import hand_coded_action
+from .learning_agent import table_policy
 from .task import NavigationTask, Start, random_starts
 
 ALGORITHMS = ("prioritized-sweeping", "q-learning")
@@ -39,12 +40,15 @@ class TrialResult:
 
     outcome: str
     actions: int
-    reward: float
     counts: tuple[int, ...]
 
     @property
     def success(self) -> bool:
         return self.outcome == "reached"
+
+    @property
+    def reward(self) -> float:
+        return reward_of(self.counts)
 
 
 def run_trial(task: NavigationTask, start: Start, choose: Callable[[int], int],
@@ -53,23 +57,20 @@ def run_trial(task: NavigationTask, start: Start, choose: Callable[[int], int],
     hears every step."""
     s = task.reset(start)
     counts = [0] * len(ACTIONS)
-    reward = 0.0
     while task.outcome is None and task.mission.outcome is None:
         a = choose(s)
         s2, r, reached, _ = task.step(a)
         counts[a] += 1
-        reward += r
         if learn is not None:
             learn(s, a, r, s2, reached)
         s = s2
-    return TrialResult(task.outcome or task.mission.outcome, task.actions, reward, tuple(counts))
+    return TrialResult(task.outcome or task.mission.outcome, task.actions, tuple(counts))
 
 
 def evaluate(spec: RunSpec, policy: np.ndarray, starts: list[Start]) -> list[TrialResult]:
     """The policy (an action per state) from each start, in this process."""
-    task = NavigationTask(spec)
-    table = np.asarray(policy, dtype=np.int64)
-    return [run_trial(task, st, lambda s: int(table[s])) for st in starts]
+    task, choose = NavigationTask(spec), table_policy(policy)
+    return [run_trial(task, st, choose) for st in starts]
 
 
 def make_learner(algorithm: str, spec: RunSpec, seed: int):
