@@ -113,6 +113,7 @@ class LocalPool(ProcessPoolExecutor):
     def stop(self) -> None:
         """Cancel what has not started, SIGTERM the workers, SIGKILL those alive after GRACE_S, reap them."""
         procs = list((self._processes or {}).values())
+        manager = self._executor_manager_thread  # shutdown(wait=False) forgets it
         self.shutdown(wait=False, cancel_futures=True)
         for p in procs:
             with contextlib.suppress(ProcessLookupError, OSError):
@@ -124,6 +125,11 @@ class LocalPool(ProcessPoolExecutor):
             if p.is_alive():
                 p.kill()
                 p.join(1.0)
+        # Python 3.11's exit hook wakes the pool's manager thread without its lock; if that thread is
+        # closing its wake-up pipe at the same moment, the hook prints "OSError: Bad file descriptor".
+        # With every worker gone the thread ends at once: wait for it, so the exit finds it closed.
+        if manager is not None:
+            manager.join(GRACE_S)
 
 
 @contextlib.contextmanager
