@@ -50,7 +50,7 @@ class LearningAgent:
         self.ticks_per_action = max(1, round(params.action_s / CONTROL_DT))
         self.action: int | None = None
         self.next_action: int | None = None
-        self.state: int | None = None  # the belief state read at the latest tick
+        self.state: int | None = None  # the belief state read when choosing and on an action's last tick
         self.counts = [0] * len(ACTIONS)  # the actions taken, of each kind
         self._left = 0  # ticks left of the current action
         self._side = 1.0
@@ -69,9 +69,10 @@ class LearningAgent:
         return self.state
 
     def bid(self, s: Situation) -> list[Bid]:
-        state = self.observe(s)
+        if self._left <= 1:  # the state is read only where it is used: choosing an action, and on an
+            self.observe(s)  # action's last tick, where the trainer reads the state it led to
         if self._left <= 0:
-            a = self.policy(state) if self.policy is not None else self.next_action
+            a = self.policy(self.state) if self.policy is not None else self.next_action
             if a is None:
                 return []
             self.action, self._left = a, self.ticks_per_action
