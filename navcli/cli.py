@@ -718,16 +718,22 @@ def train(
     algorithm: Annotated[str, typer.Option(help="prioritized-sweeping (the paper's) or q-learning (model-free baseline).")]
         = "prioritized-sweeping",
     jobs: Annotated[int, typer.Option(min=1, help="Worker processes for the evaluations.")] = 2,
+    log: Annotated[str, typer.Option(help="What is recorded of each training trial: summary (a row of "
+                                          "FILE-trials.csv) or full (also every tick, one MCAP log per trial "
+                                          "in FILE-trials/, 0.5-1 MB each).")] = "summary",
     param: ParamOption = None,
 ) -> None:
     """Train the Learning Agent (learning-agent paper, section 6): trials from seeded random starts,
     the greedy policy evaluated on fixed starts, the model saved (resumable) with its learning curve."""
     import time
 
-    from .learning.training import ALGORITHMS
+    from .learning.training import ALGORITHMS, LOGS
 
     if algorithm not in ALGORITHMS:
         _err(f"error: --algorithm: unknown {algorithm!r} (expected one of: {', '.join(ALGORITHMS)})")
+        raise typer.Exit(EXIT_BAD_INPUT)
+    if log not in LOGS:
+        _err(f"error: --log: unknown {log!r} (expected one of: {', '.join(LOGS)})")
         raise typer.Exit(EXIT_BAD_INPUT)
     spec = _spec(scenario, param)
     from .learning.features import check_bounds
@@ -750,7 +756,8 @@ def train(
 
         try:
             res = run_training(spec, trials=trials, eval_every=eval_every, eval_starts=eval_starts, seed=seed,
-                               algorithm=algorithm, out=out, resume=resume, workers=jobs, on_trial=on_trial)
+                               algorithm=algorithm, out=out, resume=resume, workers=jobs, log=log,
+                               on_trial=on_trial)
         except ModelError as e:
             _err(f"error: --resume: {e}")
             raise typer.Exit(EXIT_BAD_INPUT) from None
@@ -764,7 +771,9 @@ def train(
     for p in res.curve:
         typer.echo(f"{p.trials:6d}  {p.successes:12d}  {p.reward:12.1f}  {p.actions:13.1f}")
     typer.echo(f"hand-coded policy: {res.hand_coded}/{eval_starts}")
-    typer.echo(f"wrote {out}, {out.with_suffix('.json')}, {out.with_suffix('')}-curve.csv, {out.with_suffix('')}-curve.png")
+    stem = out.with_suffix("")
+    typer.echo(f"wrote {out}, {out.with_suffix('.json')}, {stem}-curve.csv, {stem}-curve.png, {stem}-trials.csv"
+               + (f" and the trial logs in {stem}-trials/" if log == "full" else ""))
 
 
 @compare_app.command("policies")

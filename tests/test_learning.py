@@ -252,3 +252,36 @@ def test_the_gymnasium_environment_passes_the_checker():
     assert r == -10.0 and not term
     _, r, term, trunc, _ = env.step(MB)
     assert r == -1.0 and trunc  # max_actions = 2
+
+
+def test_training_records_each_trial_and_resumes_where_the_model_was_saved(tmp_path):
+    import csv
+
+    from analysis import read_log
+    from navcli import RunSpec, load_scenario
+    from navcli.learning.actions import ACTIONS, reward_of
+    from navcli.learning.task import random_starts
+    from navcli.learning.training import train, trials_paths
+
+    sc = load_scenario(SCENARIOS / "landmarks-12.yaml")
+    spec = RunSpec.build(sc, overrides={"learning.max_actions": 4})  # short trials: most end at 4 actions
+    out = tmp_path / "m.npz"
+    first = train(spec, trials=3, eval_every=2, eval_starts=2, seed=7, out=out, workers=1, log="full")
+    csv_path, logs = trials_paths(out)
+    rows = list(csv.DictReader(csv_path.open()))
+    assert [int(r["trial"]) for r in rows] == [0, 1, 2] and [p.trials for p in first.curve] == [0, 2, 3]
+    assert {o: sum(r["outcome"] == o for r in rows) for o in first.outcomes} == first.outcomes
+    for r in rows:
+        counts = [int(r[a]) for a in ACTIONS]
+        assert sum(counts) == int(r["actions"]) <= 4 and float(r["reward"]) == reward_of(counts)
+        log = read_log(logs / f"trial-{int(r['trial']):05d}.mcap")  # every tick of the trial, closed properly
+        s = log.summary
+        assert s["outcome"] == r["outcome"] and s["navigation"] == "learned" and s["learning.actions"] == int(r["actions"])
+        assert len(log["/robot/pose"]) == s["ticks"] + 1
+    start = random_starts(sc, 1, np.random.SeedSequence([7, 1]).generate_state(1)[0], spec.params.robot.radius)[0]
+    assert (float(rows[1]["x"]), float(rows[1]["y"]), int(rows[1]["seed"])) == (round(start.x, 3), round(start.y, 3),
+                                                                               start.seed)
+    again = train(spec, trials=2, eval_every=2, eval_starts=2, out=out, resume=out, workers=1)
+    rows2 = list(csv.DictReader(csv_path.open()))
+    assert again.trials == 5 and [int(r["trial"]) for r in rows2] == [0, 1, 2, 3, 4] and rows2[:3] == rows
+    assert len(list(logs.glob("*.mcap"))) == 3  # summary only, the second time

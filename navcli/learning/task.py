@@ -19,6 +19,7 @@ from __future__ import annotations
 import dataclasses
 import math
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 
@@ -81,23 +82,49 @@ class NavigationTask:
         self.base = base
         self.params = base.params.learning
         self.mission: Mission | None = None
+        self.recorder = None  # the trial's log, when reset was given one
         self.actions = 0
         self.outcome: str | None = None
 
-    def reset(self, start: Start) -> int:
-        """Start a trial at ``start``; runs the initial sweep; returns the first belief state."""
+    def reset(self, start: Start, log: Path | None = None) -> int:
+        """Start a trial at ``start``; runs the initial sweep; returns the first belief state.
+        With ``log``, every tick of the trial is recorded there (an MCAP log like ``navcli run``'s),
+        closed when the trial ends or :meth:`close` is called."""
         from . import LearningAgent
 
+        self.close("interrupted", "a new trial began")
         spec = spec_at(self.base, start)
         p = spec.params
         agent = LearningAgent(None, p.learning, max_speed=p.robot.max_speed, pan_limit=spec.scenario.camera.pan_limit,
                               target_key=spec.scenario.target.landmark, label="training")
-        m = Mission(spec, policy_agent=agent, snapshots=False)
+        m = Mission(spec, policy_agent=agent, snapshots=log is not None)
         nav = m.navigation
         self.mission, self.agent, self.actions, self.outcome = m, agent, 0, None
+        if log is not None:
+            from ..recorder import Recorder
+
+            self.recorder = Recorder(log)
+            self.recorder.start(spec, m.world.pose, m.world.odometry.pose)
+            for e in m.drain_events():
+                self.recorder.event(e, 0)
         while m.outcome is None and (agent.state is None or nav.rescuer.state == "sweep"):
-            m.step()
+            self._tick()
         return agent.state if agent.state is not None else 0
+
+    def _tick(self) -> None:
+        tick = self.mission.step()
+        if self.recorder is not None:
+            self.recorder.tick(tick)
+
+    def close(self, outcome: str = "interrupted", reason: str = "stopped") -> None:
+        """Close the trial's log, if one is open, ending its mission as ``outcome`` if it runs on."""
+        if self.recorder is None:
+            return
+        m, rec, self.recorder = self.mission, self.recorder, None
+        if m.outcome is None:
+            m.abort(outcome, reason)
+        w = m.world
+        rec.finish(m.summary(), w.time_ns, (w.pose, w.odometry.pose))
 
     def step(self, action: int) -> tuple[int, float, bool, bool]:
         """Carry out ``action`` for one action's length: (state, reward, reached, ended otherwise)."""
@@ -107,9 +134,9 @@ class NavigationTask:
         if m.outcome is None:
             agent.next_action, agent._left = action, 0
             taken = agent.actions_taken
-            m.step()
+            self._tick()
             while m.outcome is None and not (agent.actions_taken > taken and agent._left == 0):
-                m.step()
+                self._tick()
             agent.next_action = None
         self.actions += 1
         reward = REWARDS[action]  # the action is paid for; reaching the target adds AT_TARGET (0)
@@ -117,4 +144,5 @@ class NavigationTask:
         ended = not reached and (m.outcome is not None or self.actions >= self.params.max_actions)
         if reached or ended:
             self.outcome = m.outcome or "timeout"
+            self.close("timeout", f"{self.actions} actions without reaching the target")
         return agent.state, reward, reached, ended

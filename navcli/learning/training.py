@@ -7,12 +7,19 @@ every action. Every ``eval_every`` trials its greedy policy runs the same fixed 
 (:data:`EVAL_SEED`, whatever the training seed), in worker processes while training goes on; the
 hand-coded policy runs them once for its level. The model is saved after every evaluation, with
 the learning curve so far, so an interrupted training resumes from its file (``--resume``).
-Trials run without logs.
+
+What each training trial did is a row of ``<model>-trials.csv`` (where it started, its outcome,
+actions, reward and the count of each action), written as it ends; with ``log="full"`` every
+tick of every training trial is also recorded, one MCAP log per trial in ``<model>-trials/``
+(readable by ``analysis`` and Foxglove like a ``navcli run`` log; 0.5-1 MB a trial).
+Evaluation trials run without logs.
 """
 
 from __future__ import annotations
 
 import csv
+import itertools
+import math
 import time
 from concurrent.futures import Future, ProcessPoolExecutor
 from dataclasses import asdict, dataclass, field
@@ -52,10 +59,10 @@ class TrialResult:
 
 
 def run_trial(task: NavigationTask, start: Start, choose: Callable[[int], int],
-              learn: Callable[[int, int, float, int, bool], None] | None = None) -> TrialResult:
+              learn: Callable[[int, int, float, int, bool], None] | None = None, log: Path | None = None) -> TrialResult:
     """One trial from ``start``, actions chosen by ``choose(state)``; ``learn(s, a, r, s', reached)``
-    hears every step."""
-    s = task.reset(start)
+    hears every step; with ``log`` every tick is recorded there (MCAP)."""
+    s = task.reset(start, log)
     counts = [0] * len(ACTIONS)
     while task.outcome is None and task.mission.outcome is None:
         a = choose(s)
@@ -121,12 +128,42 @@ def _eval_job(spec: RunSpec, policy: np.ndarray, starts: list[Start]) -> tuple[l
     return evaluate(spec, policy, starts), time.perf_counter() - t0
 
 
+LOGS = ("summary", "full")
+"""What training records of its trials: a row each (``summary``), or also every tick (``full``)."""
+TRIAL_COLUMNS = ("trial", "x", "y", "heading_deg", "seed", "outcome", "actions", "reward", *ACTIONS)
+
+
+def trials_paths(out: Path) -> tuple[Path, Path]:
+    """Where training writes its trials beside the model ``out``: the CSV and the folder of logs."""
+    stem = out.with_suffix("")
+    return Path(f"{stem}-trials.csv"), Path(f"{stem}-trials")
+
+
+def _trials_csv(path: Path, keep: int):
+    """The trials CSV opened for writing, with the rows of trials before ``keep`` kept (a resumed
+    training runs the later ones again: they came after the model's last save)."""
+    rows = []
+    if keep and path.exists():
+        with path.open(newline="") as f:  # at most the header and ``keep`` rows are read
+            rows = list(itertools.islice(csv.reader(f), keep + 1))[1:]
+        rows = [r for r in rows if r and r[0].isdigit() and int(r[0]) < keep]
+    f = path.open("w", newline="")
+    w = csv.writer(f)
+    w.writerow(TRIAL_COLUMNS)
+    w.writerows(rows)
+    f.flush()
+    return f, w
+
+
 def train(spec: RunSpec, *, trials: int = 2000, eval_every: int = 100, eval_starts: int = 99, seed: int = 1,
           algorithm: str = "prioritized-sweeping", out: Path, resume: Path | None = None, workers: int = 2,
-          on_trial: Callable[[int, TrialResult, Training], None] | None = None) -> Training:
-    """Train (see the module docstring); writes ``out`` (.npz + .json), ``out``-curve.csv and -curve.png."""
+          log: str = "summary", on_trial: Callable[[int, TrialResult, Training], None] | None = None) -> Training:
+    """Train (see the module docstring); writes ``out`` (.npz + .json), ``out``-curve.csv and -curve.png,
+    ``out``-trials.csv, and with ``log="full"`` the folder ``out``-trials/ of trial logs."""
     from . import model_file
 
+    if log not in LOGS:
+        raise ValueError(f"unknown log {log!r} (expected one of: {', '.join(LOGS)})")
     check_bounds(spec.params.learning)
     learner = make_learner(algorithm, spec, seed)
     result = Training(algorithm, seed, 0)
@@ -143,7 +180,7 @@ def train(spec: RunSpec, *, trials: int = 2000, eval_every: int = 100, eval_star
         result.hand_coded = meta.get("hand_coded")
         result.outcomes = dict(meta.get("outcomes", {}))
     test = random_starts(spec.scenario, eval_starts, EVAL_SEED, spec.params.robot.radius)
-    task = NavigationTask(spec)
+    task = NavigationTask(spec.replace(navigation="learned"))  # what a trial log's summary says drove it
     t_start = time.perf_counter()
 
     import multiprocessing as mp
@@ -187,21 +224,34 @@ def train(spec: RunSpec, *, trials: int = 2000, eval_every: int = 100, eval_star
         if result.trials == 0:  # the untrained policy: the curve's first point
             pending.append((0, submit(pool, learner.greedy_policy())))
         end = result.trials + trials
-        while result.trials < end:
-            i = result.trials
-            start = random_starts(spec.scenario, 1, np.random.SeedSequence([seed, i]).generate_state(1)[0],
-                                  spec.params.robot.radius)[0]
-            t0 = time.perf_counter()
-            r = run_trial(task, start, learner.act, learner.observe)
-            result.train_s += time.perf_counter() - t0
-            result.trials += 1
-            result.outcomes[r.outcome] = result.outcomes.get(r.outcome, 0) + 1
-            if result.trials % eval_every == 0 or result.trials == end:
-                pending.append((result.trials, submit(pool, learner.greedy_policy())))
-                harvest(False)
-                save()
-            if on_trial:
-                on_trial(i, r, result)
+        csv_path, log_dir = trials_paths(out)
+        out.parent.mkdir(parents=True, exist_ok=True)
+        if log == "full":
+            log_dir.mkdir(parents=True, exist_ok=True)
+        rows, writer = _trials_csv(csv_path, result.trials)
+        with rows:
+            while result.trials < end:
+                i = result.trials
+                start = random_starts(spec.scenario, 1, np.random.SeedSequence([seed, i]).generate_state(1)[0],
+                                      spec.params.robot.radius)[0]
+                t0 = time.perf_counter()
+                try:
+                    r = run_trial(task, start, learner.act, learner.observe,
+                                  log=log_dir / f"trial-{i:05d}.mcap" if log == "full" else None)
+                finally:
+                    task.close("interrupted", "training stopped")  # a trial's log is never left half-written
+                result.train_s += time.perf_counter() - t0
+                result.trials += 1
+                result.outcomes[r.outcome] = result.outcomes.get(r.outcome, 0) + 1
+                writer.writerow([i, f"{start.x:.3f}", f"{start.y:.3f}", f"{math.degrees(start.heading):.1f}", start.seed,
+                                 r.outcome, r.actions, f"{r.reward:g}", *r.counts])
+                rows.flush()
+                if result.trials % eval_every == 0 or result.trials == end:
+                    pending.append((result.trials, submit(pool, learner.greedy_policy())))
+                    harvest(False)
+                    save()
+                if on_trial:
+                    on_trial(i, r, result)
         harvest(True)
     result.curve.sort(key=lambda p: p.trials)
     result.wall_s = time.perf_counter() - t_start
