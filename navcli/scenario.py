@@ -388,6 +388,8 @@ def _yaml_problem(e: yaml.MarkedYAMLError, source: str) -> ScenarioError:
     mark = e.problem_mark or e.context_mark
     line = mark.line + 1 if mark else None
     what = e.problem or e.context or "malformed"
+    if e.problem and e.context and e.context_mark and e.context_mark.line + 1 != line:
+        what += f" ({e.context} that began on line {e.context_mark.line + 1})"  # an unclosed [ or { is found at the end
     return _refuse(source, line, f"not valid YAML: {what}")
 
 

@@ -115,6 +115,12 @@ def test_not_a_yaml_mapping_is_refused(write_scenario, text, words):
     assert words in str(err)
 
 
+def test_an_unclosed_bracket_is_named_where_it_opened(write_scenario):
+    text = "version: 1\nname: x\nlandmarks: [\n  {id: A, at: [1, 2]}\n"  # the [ of line 3 never closes
+    err = str(refusal(write_scenario, text))
+    assert ":5:" in err and "began on line 3" in err  # found at the end (line 5); opened on line 3
+
+
 def test_missing_file_is_refused(tmp_path):
     with pytest.raises(ScenarioError, match="no such file"):
         load_scenario(tmp_path / "nope.yaml")
