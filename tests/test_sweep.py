@@ -32,10 +32,16 @@ NO_SWEEP = "params: {navigation.initial_sweep: 0}\n"  # 3 s runs: drive at once,
 
 
 @pytest.fixture(scope="module")
-def cluster():
-    """A real two-worker Dask cluster of processes on 127.0.0.1, with a client to inspect it."""
-    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1",
-                                  dashboard_address=None) as c, distributed.Client(c) as client:
+def cluster(tmp_path_factory):
+    """A real two-worker Dask cluster of processes on 127.0.0.1, with a client to inspect it; its
+    workers' scratch space in the test's temporary folder, not /tmp/dask-scratch-space."""
+    import dask
+
+    scratch = tmp_path_factory.mktemp("dask")
+    with dask.config.set({"temporary-directory": str(scratch)}), \
+            distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1",
+                                     dashboard_address=None, local_directory=scratch) as c, \
+            distributed.Client(c) as client:
         yield c, client
 
 
