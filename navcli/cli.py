@@ -323,10 +323,10 @@ def compare_pilots(
     param: ParamOption = None,
     perception: Annotated[Optional[PerceptionName], typer.Option(
         help="vision or oracle for every run (default: each scenario's mission.perception).")] = None,
+    scheduler: SchedulerOption = None,
 ) -> None:
     """The pilot paper's Table 1: every pilot on every scenario with the same seeds, in parallel;
     logs that are already complete are kept (an interrupted comparison resumes)."""
-    import os
     import time
 
     names = [p.strip() for p in pilots.split(",") if p.strip()]
@@ -337,14 +337,14 @@ def compare_pilots(
         raise typer.Exit(EXIT_BAD_INPUT)
     specs = [_spec(p, param, time_limit=time_limit, perception=perception.value if perception else None)
              for p in scenarios]
-    from .experiments.compare import plan, run_all
+    from .experiments.compare import plan, run_on
 
     work = plan(specs, names, reruns, out)
-    workers = jobs or os.cpu_count() or 1
     t0 = time.perf_counter()
     failed: list = []
     ran = 0
-    with _bar() as bar:
+    with _bar() as bar, _executor(jobs, scheduler) as ex:
+        workers = getattr(ex, "workers", 1)
         task = bar.add_task(f"{len(work)} runs on {workers} workers", total=len(work))
 
         def done(r) -> None:
@@ -355,7 +355,7 @@ def compare_pilots(
             bar.advance(task)
 
         try:
-            run_all(work, workers, done)
+            run_on(work, ex, done)
         except KeyboardInterrupt as e:  # Ctrl-C (130) or SIGTERM (143): every worker is stopped
             from .experiments.executor import exit_code
 
@@ -788,6 +788,7 @@ def compare_policies(
     out: Annotated[Path, typer.Option(help="Folder for the per-run trials (runs/*.json), policies.csv, policies.md "
                                            "and trials.csv.")] = Path("logs/compare-policies"),
     jobs: JobsOption = None,
+    scheduler: SchedulerOption = None,
     param: ParamOption = None,
 ) -> None:
     """The learning paper's Table 1: every policy from the same starts, per run; successes, reward,
@@ -818,7 +819,7 @@ def compare_policies(
     t0 = time.perf_counter()
     with _bar() as bar:
         task = bar.add_task(f"{len(work)} runs of {starts} trials", total=len(work))
-        with _executor(jobs, None) as ex:
+        with _executor(jobs, scheduler) as ex:
             try:
                 results = run_all(work, ex, lambda r: bar.advance(task))
             except KeyboardInterrupt as e:

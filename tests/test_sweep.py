@@ -136,6 +136,22 @@ def test_local_pool_and_dask_cluster_give_the_same_table(tmp_path, cluster):
     assert pd.read_csv(tmp_path / "local" / "results.csv")["run_id"].tolist() == local["run_id"].tolist()
 
 
+def test_compare_pilots_on_the_dask_cluster_logs_the_runs_the_local_pool_does(tmp_path, cluster):
+    from analysis import read_log
+
+    c, _ = cluster
+    args = ["compare", "pilots", str(SCENARIOS / "open-arena.yaml"), "--reruns", "2", "--time-limit", "3",
+            "--param", "navigation.initial_sweep=0"]
+    for where, extra in (("local", ["--jobs", "2"]), ("dask", ["--scheduler", c.scheduler_address])):
+        res = CliRunner().invoke(app, [*args, "--out", str(tmp_path / where), *extra])
+        assert res.exit_code == 0, res.output
+    local, remote = (sorted((tmp_path / d).rglob("*.mcap")) for d in ("local", "dask"))
+    assert len(local) == 4 and [p.name for p in local] == [p.name for p in remote]  # 2 pilots x 2 seeds
+    for a, b in zip(local, remote):
+        sa, sb = read_log(a).summary, read_log(b).summary
+        assert sa["outcome"] == sb["outcome"] == "timeout" and sa["path_length_m"] == sb["path_length_m"] > 0
+
+
 def test_a_worker_killed_mid_sweep_loses_and_duplicates_nothing(tmp_path, cluster):
     c, client = cluster
     plan = sweep.load_plan(_plan(tmp_path, "seeds: 5\ntime_limit: 4\ngrid: {pilot.K: [10, 20, 30]}\n"))

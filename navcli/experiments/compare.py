@@ -94,9 +94,18 @@ def run_job(job: Job) -> Outcome:
 
 
 def run_all(jobs: list[Job], workers: int, on_done: Callable[[Outcome], None] | None = None) -> list[Outcome]:
-    """Run ``jobs`` on ``workers`` local processes (1: in this process) through :mod:`.executor`; results in the order they finish. Ctrl-C or SIGTERM
-    stops every worker (their logs closed, marked ``interrupted``) and is re-raised."""
-    from .executor import executor, run_each
+    """Run ``jobs`` on ``workers`` local processes (1: in this process); see :func:`run_on`."""
+    from .executor import executor
+
+    with executor(workers) as ex:
+        return run_on(jobs, ex, on_done)
+
+
+def run_on(jobs: list[Job], ex, on_done: Callable[[Outcome], None] | None = None) -> list[Outcome]:
+    """Run ``jobs`` on the executor ``ex`` of :mod:`.executor` (a local pool, or a Dask cluster whose
+    workers can all write the logs' folder); results in the order they finish. Ctrl-C or SIGTERM
+    stops every local worker (their logs closed, marked ``interrupted``) and is re-raised."""
+    from .executor import run_each
 
     results: list[Outcome] = []
 
@@ -106,6 +115,5 @@ def run_all(jobs: list[Job], workers: int, on_done: Callable[[Outcome], None] | 
         if on_done:
             on_done(r)
 
-    with executor(workers) as ex:
-        run_each(run_job, jobs, ex, done)
+    run_each(run_job, jobs, ex, done)
     return results
