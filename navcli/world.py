@@ -7,6 +7,12 @@ The wheels are modelled as a velocity servo inside pymunk's step (``velocity_fun
 are solved *after* the command is applied and the robot cannot push into or tunnel through a
 wall. Bumper contacts come out as :class:`Bump` events; the robot's own belief of where it is
 comes from :class:`Odometry`, which sees the true motion through the scenario's noise.
+
+Cost (our design): a control tick is PHYSICS_SUBSTEPS pymunk steps, and pymunk's own work is a
+small part of it; what costs is Python called per step. So per step Python runs only the servo
+(one callback) and reads the position once; contacts are followed by a collision handler
+(``begin``/``separate``), which runs Python only when a contact starts or ends, instead of
+polling the robot's arbiters every step (the robot often slides along a wall for seconds).
 """
 
 from __future__ import annotations
@@ -24,6 +30,7 @@ from .scenario import Scenario
 WALL_THICKNESS = 0.10  # m; walls sit outside the arena, their inner face on the border
 BUMP_REARM = 1.0  # s without touching a thing before touching it again counts as a new bump
 ROBOT_MASS = 20.0  # kg
+ROBOT = 1  # the robot shape's pymunk collision type: its contacts, with anything, go to the bumper
 
 
 class Odometry:
@@ -42,18 +49,21 @@ class Odometry:
         self.rng = rng
         self.scale_d, self.scale_a = (1.0, 1.0)
         if noise > 0:
-            self.scale_d, self.scale_a = (1.0 + noise * self._errors()).tolist()
+            ed, ea = self._errors()
+            self.scale_d, self.scale_a = 1.0 + noise * ed, 1.0 + noise * ea
 
-    def _errors(self) -> np.ndarray:
-        """Two standard errors, clipped at NOISE_BOUND deviations (a real sensor's errors are bounded)."""
-        return np.clip(self.rng.standard_normal(2), -NOISE_BOUND, NOISE_BOUND)
+    def _errors(self) -> tuple[float, float]:
+        """Two standard errors, clipped at NOISE_BOUND deviations (a real sensor's errors are bounded).
+        Clipped in Python: np.clip on two numbers costs more than the draw itself."""
+        a, b = self.rng.standard_normal(2).tolist()
+        return min(max(a, -NOISE_BOUND), NOISE_BOUND), min(max(b, -NOISE_BOUND), NOISE_BOUND)
 
     def update(self, ds: float, dtheta: float) -> Pose:
         """Integrate one tick of true motion (ds along the heading, m; dtheta, rad)."""
         if self.noise > 0 and (ds != 0.0 or dtheta != 0.0):
-            ed, ea = (self.noise * self._errors()).tolist()
-            ds *= self.scale_d + ed
-            dtheta *= self.scale_a + ea
+            ed, ea = self._errors()
+            ds *= self.scale_d + self.noise * ed
+            dtheta *= self.scale_a + self.noise * ea
         p = self.pose
         mid = p.theta + dtheta / 2
         self.pose = Pose(p.x + ds * math.cos(mid), p.y + ds * math.sin(mid), wrap_angle(p.theta + dtheta))
@@ -74,7 +84,9 @@ class World:
         self.bumps = 0
         self._v = 0.0  # the drive's current (commanded, rate-limited) speed, m/s
         self._w = 0.0  # and turn rate, rad/s
-        self._last_touch: dict[pymunk.Shape, float] = {}
+        self._last_touch: dict[pymunk.Shape, float] = {}  # when each thing was last touched, s
+        self._contacts: set[pymunk.Shape] = set()  # what the robot touches now
+        self._bumps: list[Bump] = []  # the bumps of the tick being stepped
         self.touching = False  # the bumper was pressed during the last tick
 
         space = pymunk.Space()
@@ -98,7 +110,9 @@ class World:
         body.velocity_func = self._drive
         shape = pymunk.Circle(body, r)
         shape.friction = 0.3
+        shape.collision_type = ROBOT
         space.add(body, shape)
+        space.on_collision(ROBOT, None, begin=self._begin, separate=self._separate)
         self.body = body
         self.odometry = Odometry(self.pose, scenario.noise.odometry, rng)
 
@@ -157,34 +171,54 @@ class World:
         dt = PHYSICS_DT
         dv, dw = lim.max_accel * dt, lim.max_turn_accel * dt
         start = self.pose
-        bumps: list[Bump] = []
-        self.touching = False
+        body, space, contacts = self.body, self.space, self._contacts
+        self._bumps = bumps = []
+        touching = False
+        x, y = start.x, start.y
+        path = 0.0
         for _ in range(PHYSICS_SUBSTEPS):
             self._v += min(max(v - self._v, -dv), dv)
             self._w += min(max(omega - self._w, -dw), dw)
-            before = self.body.position
-            self.space.step(dt)
+            space.step(dt)  # calls _drive, and _begin/_separate when a contact starts or ends
             self._substeps += 1
-            self.path_length += (self.body.position - before).length
-            self.body.each_arbiter(self._touch, bumps)
+            p = body.position
+            path += math.hypot(p.x - x, p.y - y)
+            x, y = p.x, p.y
+            if contacts:
+                touching = True
+        self.path_length += path
+        self.touching = touching
         self.odometry.update(*motion_between(start, self.pose))
         return bumps
 
-    def _touch(self, arbiter: pymunk.Arbiter, bumps: list[Bump]) -> None:
-        self.touching = True
-        other = arbiter.shapes[1] if arbiter.shapes[0].body is self.body else arbiter.shapes[0]
+    def _other(self, arbiter: pymunk.Arbiter) -> tuple[pymunk.Shape, int]:
+        """The shape the robot touches, and the index of the robot's own in ``arbiter.shapes``."""
+        a, b = arbiter.shapes
+        return (b, 0) if a.body is self.body else (a, 1)
+
+    def _begin(self, arbiter: pymunk.Arbiter, space: pymunk.Space, data) -> None:
+        """A contact starts (inside the step, after pymunk moved the body): a bump, unless the same
+        thing was let go of less than BUMP_REARM ago."""
+        other, mine = self._other(arbiter)
+        self._contacts.add(other)
+        now = (self._substeps + 1) * PHYSICS_DT_NS / 1e9  # the time at the end of this step
         last = self._last_touch.get(other)
-        self._last_touch[other] = self.time
-        if last is not None and self.time - last < BUMP_REARM:
+        if last is not None and now - last < BUMP_REARM:
             return
         pts = arbiter.contact_point_set.points
         if not pts:
             return
-        q = pts[0].point_a if arbiter.shapes[0].body is self.body else pts[0].point_b
-        pose = self.pose
-        bearing = wrap_angle(math.atan2(q.y - pose.y, q.x - pose.x) - pose.theta)
+        q = pts[0].point_a if mine == 0 else pts[0].point_b
+        p = self.body.position
+        bearing = wrap_angle(math.atan2(q.y - p.y, q.x - p.x) - wrap_angle(self.body.angle))
         self.bumps += 1
-        bumps.append(Bump(self.time, self._names[other], (q.x, q.y), bearing))
+        self._bumps.append(Bump(now, self._names[other], (q.x, q.y), bearing))
+
+    def _separate(self, arbiter: pymunk.Arbiter, space: pymunk.Space, data) -> None:
+        """A contact ended during this step: the thing was last touched at the end of the step before."""
+        other, _ = self._other(arbiter)
+        self._contacts.discard(other)
+        self._last_touch[other] = self.time
 
     def stop(self) -> None:
         """Halt the drive at once (at the end of a mission)."""

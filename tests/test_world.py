@@ -68,6 +68,21 @@ def test_a_new_contact_counts_again_only_after_letting_go(make_scenario):
     assert w.bumps == 2
 
 
+def test_touching_again_soon_after_letting_go_is_the_same_bump(make_scenario):
+    w = world_for(make_scenario, obstacles=[{"circle": {"center": [2.0, 2.0], "radius": 0.15}}])
+    assert len(drive(w, 0.3, 0.0, 6.0)) == 1 and w.touching  # pushing on it: the bumper stays pressed
+    # reversing at 0.5 m/s^2 from 0.3 m/s: the contact holds for 0.6 s, then the robot backs off
+    # for 0.2 s (1 cm); driving in again, it is back within about 0.5 s, under BUMP_REARM
+    touching = []
+    for v, seconds in ((-0.3, 0.8), (0.3, 3.0)):
+        for _ in range(round(seconds / CONTROL_DT)):
+            assert w.step(v, 0.0) == []
+            touching.append(w.touching)
+    assert touching[:5] == [True] * 5  # still pushed on while the wheels slow down
+    assert False in touching and touching[-1]  # let go of it, and touching it again
+    assert w.bumps == 1
+
+
 def test_limits_on_speed_acceleration_and_turn_rate(make_scenario):
     w = world_for(make_scenario, speed=0.3)
     w.step(5.0, 10.0)
