@@ -77,7 +77,9 @@ class Pilot:
         self._events: list[str] = []
         self._last_odom: Pose | None = None
         self._last_v = 0.0  # the forward speed last commanded, m/s
-        self._recent: deque[tuple[float, float]] = deque(maxlen=max(1, round(params.stall_window_s / CONTROL_DT)))
+        window = max(1, round(params.stall_window_s / CONTROL_DT))
+        self._commanded: deque[float] = deque(maxlen=window)  # m commanded per tick, over the stall window
+        self._moved: deque[float] = deque(maxlen=window)  # m measured per tick, over the stall window
 
     # -- to be provided by the strategies
     def avoid(self, beliefs: Beliefs, obstacles: list[KnownObstacle], request: Move | None) -> Avoidance:
@@ -130,9 +132,10 @@ class Pilot:
         if self._reflex:
             if self._reflex[0][0] == "backup":
                 self._reflex_progress += ds * self._reflex_dir
-            self._recent.clear()  # a reflex that cannot move is given up by its phase limit instead
+            self._forget_motion()  # a reflex that cannot move is given up by its phase limit instead
         else:
-            self._recent.append((abs(self._last_v) * CONTROL_DT, abs(ds)))
+            self._commanded.append(abs(self._last_v) * CONTROL_DT)
+            self._moved.append(abs(ds))
 
     # -- reflexes (section 3.5) and the stall watch (our design)
     def _bumped(self, bumps: tuple[Bump, ...]) -> None:
@@ -154,14 +157,18 @@ class Pilot:
         of it, the robot is pushing against something (or wedged): the reflex starts, escaping
         opposite to the way the robot was pushing."""
         p = self.params
-        if self._reflex or len(self._recent) < (self._recent.maxlen or 1):
+        if self._reflex or len(self._moved) < (self._moved.maxlen or 1):
             return
-        commanded = sum(c for c, _ in self._recent)
-        moved = sum(m for _, m in self._recent)
+        commanded = sum(self._commanded)
+        moved = sum(self._moved)
         if commanded >= p.stall_min_distance and moved < p.stall_progress * commanded:
             self._start_reflex(+1.0 if self._last_v < 0 else -1.0,
                                f"reflex: stalled ({'bumper pressed, ' if touching else ''}commanded {commanded:.2f} m "
                                f"in {p.stall_window_s:g} s, moved {moved:.2f} m)")
+
+    def _forget_motion(self) -> None:
+        self._commanded.clear()
+        self._moved.clear()
 
     def _start_reflex(self, direction: float, message: str) -> None:
         p = self.params
@@ -170,7 +177,7 @@ class Pilot:
         self._reflex_progress = 0.0
         self._reflex_dir = direction
         self._phase_ticks = 0
-        self._recent.clear()
+        self._forget_motion()
         self._events.append(message)
 
     def _reflex_output(self, look: float, events: list[str], obstacles: list[KnownObstacle]) -> PilotOutput:

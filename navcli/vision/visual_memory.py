@@ -118,12 +118,15 @@ def _sighting_spot(s: Sighting) -> Spot:
     for k in (0, len(ALPHAS) - 1):
         dlo, dhi = s.distance.cuts[k]
         hlo, hhi = s.heading.value.cuts[k]
+        rays = [(math.cos(h), math.sin(h)) for h in (hlo, hhi, h_c)]
         r = 0.0
         for d in (dlo, dhi):
-            for h in (hlo, hhi, h_c):
-                r = max(r, math.hypot(d * math.cos(h) - cx, d * math.sin(h) - cy))
-        if hhi - hlo > math.pi:  # a wide fan: its far arc may bulge past the corners
-            r = max(r, dhi + d_c)
+            for c, sn in rays:
+                e = math.hypot(d * c - cx, d * sn - cy)
+                if e > r:
+                    r = e
+        if hhi - hlo > math.pi and dhi + d_c > r:  # a wide fan: its far arc may bulge past the corners
+            r = dhi + d_c
         radii.append(r)
     return Spot(cx, cy, radii[0], radii[1])
 
