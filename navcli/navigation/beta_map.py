@@ -76,8 +76,11 @@ class Iv:
 
 
 def _xy(p: FuzzyPoint) -> tuple[Iv, Iv]:
-    x, y = p.coords()
-    return Iv.of(x), Iv.of(y)
+    """The fuzzy coordinates of ``p`` (:meth:`FuzzyPoint.coords`: each cut's disc in its box), as
+    interval vectors directly."""
+    x, y, radii = p.x, p.y, p.radii
+    return (Iv(tuple([x - r for r in radii]), tuple([x + r for r in radii])),
+            Iv(tuple([y - r for r in radii]), tuple([y + r for r in radii])))
 
 
 def collinearity(a: tuple[float, float], b: tuple[float, float], c: tuple[float, float]) -> float:

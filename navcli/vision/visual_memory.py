@@ -69,7 +69,8 @@ class Spot:
     def point(self) -> FuzzyPoint:
         """The spot as a value: its centre and the radius of each cut (linear in alpha)."""
         r0, d = self.r0, self.r1 - self.r0
-        return FuzzyPoint(self.x, self.y, tuple([r0 + a * d for a in ALPHAS]))
+        a0, a1, a2, a3 = ALPHAS
+        return FuzzyPoint(self.x, self.y, (r0 + a0 * d, r0 + a1 * d, r0 + a2 * d, r0 + a3 * d))
 
     def heading(self) -> FuzzyAngle:
         return self.point().heading()
