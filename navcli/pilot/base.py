@@ -59,6 +59,9 @@ class PilotOutput:
 
 
 
+LOOK_AHEAD = Look(0.0)  # the look-ahead of eq. 1 (a value: one serves every tick)
+
+
 class Pilot:
     """Shared pilot machinery (see the module docstring); ``avoid`` proposes nothing here."""
 
@@ -99,7 +102,7 @@ class Pilot:
         if self._reflex:
             return self._reflex_output(look, events, obstacles)
         a = self.avoid(beliefs, obstacles, request)
-        bids = [Bid(self.name, "camera", Look(0.0), look)] if look > 0 else []
+        bids = [Bid(self.name, "camera", LOOK_AHEAD, look)] if look > 0 else []
         offers = a.move is not None and a.bid > 0.0  # a bid of 0 is not offered: it would drive a silent robot
         info = {"mode": "avoid" if offers else "idle", "bid": a.bid, "look_bid": look} | a.info
         if offers:
@@ -201,7 +204,7 @@ class Pilot:
             pan = math.radians(p.reflex_look_pans_deg[int(self._reflex_progress)])
             bids.append(Bid(self.name, "camera", Look(pan), p.bid_cap))
         elif look > 0:
-            bids.append(Bid(self.name, "camera", Look(0.0), look))
+            bids.append(Bid(self.name, "camera", LOOK_AHEAD, look))
         return PilotOutput(bids, {"mode": "reflex", "phase": phase, "bid": p.bid_cap, "look_bid": look}, [], events,
                            tuple(obstacles))
 
