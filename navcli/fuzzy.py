@@ -48,6 +48,17 @@ class Fuzzy:
     cuts: tuple[Interval, ...]
 
     def __post_init__(self) -> None:
+        # One chained comparison checks all (made per sighting, so kept cheap): the bounds nest,
+        # lo0 <= lo1 <= ... <= hi1 <= hi0, and are finite (a NaN fails any comparison).
+        c = self.cuts
+        if len(c) == 4:
+            (a0, b0), (a1, b1), (a2, b2), (a3, b3) = c
+            if -math.inf < a0 <= a1 <= a2 <= a3 <= b3 <= b2 <= b1 <= b0 < math.inf:
+                return
+        self._complain()
+
+    def _complain(self) -> None:
+        """Raise the error that says what is wrong with the cuts."""
         if len(self.cuts) != len(ALPHAS):
             raise ValueError(f"expected {len(ALPHAS)} cuts, got {len(self.cuts)}")
         for (lo, hi), (lo2, hi2) in zip(self.cuts, self.cuts[1:]):
@@ -63,8 +74,14 @@ class Fuzzy:
         """Support [a, d], core [b, c]; linear in between."""
         if not (a <= b <= c <= d):
             raise ValueError(f"a trapezoid needs a <= b <= c <= d, got {a}, {b}, {c}, {d}")
-        # clamped to the core so that rounding can never un-nest the cuts
-        return cls(tuple((min(a + al * (b - a), b), max(d - al * (d - c), c)) for al in ALPHAS))
+        # clamped to the core so that rounding can never un-nest the cuts (min and max written out:
+        # a comparison is cheaper than the builtins' call, and picks the same float)
+        rise, fall = b - a, d - c
+        cuts = []
+        for al in ALPHAS:
+            lo, hi = a + al * rise, d - al * fall
+            cuts.append((b if b < lo else lo, c if c > hi else hi))
+        return cls(tuple(cuts))
 
     @classmethod
     def triangle(cls, a: float, m: float, b: float) -> Fuzzy:
@@ -196,7 +213,7 @@ class FuzzyAngle:
         for k in range(len(cuts) - 2, -1, -1):
             lo, hi = cuts[k]
             ilo, ihi = cuts[k + 1]
-            cuts[k] = (min(lo, ilo), max(hi, ihi))
+            cuts[k] = (ilo if ilo < lo else lo, ihi if ihi > hi else hi)  # min, max
         return FuzzyAngle(Fuzzy(tuple(cuts)))
 
     @property
@@ -260,11 +277,9 @@ class FuzzyPoint:
 
     def radius(self, alpha: float) -> float:
         """The cut's radius at ``alpha``, interpolated between the stored levels."""
-        for k in range(len(ALPHAS) - 1):
-            a0, a1 = ALPHAS[k], ALPHAS[k + 1]
-            if alpha <= a1:
-                return self.radii[k] + (alpha - a0) / (a1 - a0) * (self.radii[k + 1] - self.radii[k])
-        return self.radii[-1]
+        k, t = _LEVEL.get(alpha) or _level(alpha)
+        r = self.radii
+        return r[k] + t * (r[k + 1] - r[k]) if t is not None else r[-1]
 
     def distance(self) -> Fuzzy:
         d = math.hypot(self.x, self.y)
@@ -305,6 +320,19 @@ class FuzzyPoint:
 
     def contains(self, p: tuple[float, float], alpha: float = 0.0) -> bool:
         return math.hypot(p[0] - self.x, p[1] - self.y) <= self.radius(alpha) + 1e-9
+
+
+def _level(alpha: float) -> tuple[int, float | None]:
+    """Where ``alpha`` lies among ``ALPHAS``: the level ``k`` below it and the fraction ``t`` of the
+    way to the next (None above the last), as :meth:`FuzzyPoint.radius` interpolates."""
+    for k in range(len(ALPHAS) - 1):
+        a0, a1 = ALPHAS[k], ALPHAS[k + 1]
+        if alpha <= a1:
+            return k, (alpha - a0) / (a1 - a0)
+    return len(ALPHAS) - 1, None
+
+
+_LEVEL = {a: _level(a) for a in (*ALPHAS, CUT)}  # the levels read every tick, looked up once
 
 
 def _half_angle(r: float, d: float) -> float:

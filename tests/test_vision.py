@@ -109,6 +109,32 @@ def test_a_linear_obstacle_is_seen_by_the_ends_of_its_visible_stretch(make_scena
 
 
 # -- the memory ------------------------------------------------------------------------------------
+@pytest.mark.parametrize("name", ["paper-8x8", "trap-box"])
+def test_the_samples_left_out_of_a_view_are_never_visible(name):
+    """Camera.in_view may only leave out samples the image could not show: from random poses and
+    pans, every sample of every wall and segment that the visibility test accepts is among those
+    kept, and the samples kept hug the view (a 60-degree view keeps well under all of them)."""
+    sc = load_scenario(SCENARIOS / f"{name}.yaml")
+    cam = Camera(sc, np.random.default_rng(0))
+    rng = np.random.default_rng(7)
+    kept_total = all_total = 0
+    for _ in range(400):
+        pose = Pose(*rng.uniform(-1.0, 9.0, 2), float(rng.uniform(-4.0, 4.0)))
+        cam.pan = float(rng.uniform(-1.8, 1.8))
+        sees = cam.sight(pose)
+        for o in cam.objects:
+            if o.kind not in ("segment", "wall"):
+                continue
+            (ax, ay), (bx, by) = o.a, o.b
+            n = 40
+            visible = {k for k in range(n + 1) if sees(ax + (bx - ax) * k / n, ay + (by - ay) * k / n, o.key)}
+            kept = set(cam.in_view(pose, o.a, o.b, n))
+            assert visible <= kept, (pose, cam.pan, o.key, sorted(visible - kept))
+            kept_total += len(kept)
+            all_total += n + 1
+    assert kept_total < all_total / 2
+
+
 def test_drift_grows_without_looks_and_shrinks_after_a_look(make_scenario):
     sc = make_scenario(landmarks=[{"id": "A", "at": [4.0, 3.0]}], noise={"odometry": 0.02})
     cam = Camera(sc, np.random.default_rng(1))

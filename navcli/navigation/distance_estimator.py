@@ -9,7 +9,7 @@ import math
 from dataclasses import dataclass
 
 from ..bidding import Bid, Look, Move
-from ..fuzzy import CUT
+from ..fuzzy import CUT, TWO_PI
 from ..params import NAVIGATION, ROBOT, NavigationParams
 from .situation import Situation
 
@@ -40,8 +40,8 @@ class DistanceEstimator:
         value = self.params.kappa * math.tanh(i_d / d)
         if value <= 0.0:
             return []
-        bearing = s.bearing
-        side = math.remainder(bearing + math.pi / 2, 2 * math.pi), math.remainder(bearing - math.pi / 2, 2 * math.pi)
-        heading = min(side, key=abs)
+        bearing = math.atan2(s.target.y, s.target.x)
+        left, right = math.remainder(bearing + math.pi / 2, TWO_PI), math.remainder(bearing - math.pi / 2, TWO_PI)
+        heading = right if abs(right) < abs(left) else left  # the smaller turn; left on a tie
         return [Bid(self.name, "motion", Move(heading, self.max_speed), value),
                 Bid(self.name, "camera", Look(bearing), value)]

@@ -136,9 +136,8 @@ class MapManager:
         key = (frozenset(points), self._images)
         cached = self._quality.get(key)
         if cached is None:
-            best = sorted(points.values(), key=lambda p: p.imprecision())[:6]
-            cached = max((1.0 - collinearity(*((p.x, p.y) for p in t)) for t in itertools.combinations(best, 3)),
-                         default=0.0)
+            best = [(p.x, p.y) for p in sorted(points.values(), key=FuzzyPoint.imprecision)[:6]]
+            cached = max((1.0 - collinearity(*t) for t in itertools.combinations(best, 3)), default=0.0)
             if len(self._quality) > 64:
                 self._quality.clear()
             self._quality[key] = cached

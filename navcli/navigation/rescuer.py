@@ -42,6 +42,7 @@ from ..params import NAVIGATION, NavigationParams
 from .regions import Crossing, Edge
 from .situation import Situation
 
+STOP = Move(0.0, 0.0)  # a value: one serves every stop
 LOST_SCANS = 3  # scans (each followed by a random turn) before a lost target counts as a failure
 
 
@@ -166,14 +167,14 @@ class Rescuer:
         events.append(("info", f"diverting target set: cross between {crossing.left} (left) and "
                                f"{crossing.right} (right)"))
         line = self._diverting_line(s)
-        stop = Bid(self.name, "motion", Move(0.0, 0.0), self.params.rescuer_bid)  # one stop per request
+        stop = Bid(self.name, "motion", STOP, self.params.rescuer_bid)  # one stop per request
         return Rescue((stop,), line, tuple(events))
 
     # -- scans and turns
     def _scan_bids(self) -> tuple[Bid, ...]:
         pan = math.radians(self.params.scan_pans_deg[self._scan])
         v = self.params.rescuer_bid
-        return (Bid(self.name, "motion", Move(0.0, 0.0), v), Bid(self.name, "camera", Look(pan), v))
+        return (Bid(self.name, "motion", STOP, v), Bid(self.name, "camera", Look(pan), v))
 
     def _scanned(self, looked: float | None) -> bool:
         """Advance the scan when the camera reports the look asked for; True when all are done."""

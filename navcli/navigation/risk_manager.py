@@ -8,6 +8,7 @@ import math
 from dataclasses import dataclass
 
 from ..bidding import Bid, Look
+from ..fuzzy import TWO_PI
 from ..params import NAVIGATION, NavigationParams
 from .situation import Situation
 
@@ -42,7 +43,11 @@ class RiskManager:
         counts = {c: 0 for c in SECTORS}
         for lm in s.landmarks.values():
             h = math.atan2(lm.y, lm.x)
-            centre = min(SECTORS, key=lambda c: abs(math.remainder(h - c, 2 * math.pi)))
+            centre, off = SECTORS[0], math.inf  # the nearest centre, the first of equals
+            for c in SECTORS:
+                d = abs(math.remainder(h - c, TWO_PI))
+                if d < off:
+                    centre, off = c, d
             counts[centre] += 1
         reachable = [c for c in SECTORS if abs(c) <= self.pan_limit + 1e-9]
         return min(reachable, key=lambda c: (counts[c], abs(c)))

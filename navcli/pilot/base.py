@@ -59,6 +59,9 @@ class PilotOutput:
 
 
 
+LOOK_AHEAD = Look(0.0)  # the look-ahead of eq. 1 (a value: one serves every tick)
+
+
 class Pilot:
     """Shared pilot machinery (see the module docstring); ``avoid`` proposes nothing here."""
 
@@ -77,7 +80,9 @@ class Pilot:
         self._events: list[str] = []
         self._last_odom: Pose | None = None
         self._last_v = 0.0  # the forward speed last commanded, m/s
-        self._recent: deque[tuple[float, float]] = deque(maxlen=max(1, round(params.stall_window_s / CONTROL_DT)))
+        window = max(1, round(params.stall_window_s / CONTROL_DT))
+        self._commanded: deque[float] = deque(maxlen=window)  # m commanded per tick, over the stall window
+        self._moved: deque[float] = deque(maxlen=window)  # m measured per tick, over the stall window
 
     # -- to be provided by the strategies
     def avoid(self, beliefs: Beliefs, obstacles: list[KnownObstacle], request: Move | None) -> Avoidance:
@@ -97,7 +102,7 @@ class Pilot:
         if self._reflex:
             return self._reflex_output(look, events, obstacles)
         a = self.avoid(beliefs, obstacles, request)
-        bids = [Bid(self.name, "camera", Look(0.0), look)] if look > 0 else []
+        bids = [Bid(self.name, "camera", LOOK_AHEAD, look)] if look > 0 else []
         offers = a.move is not None and a.bid > 0.0  # a bid of 0 is not offered: it would drive a silent robot
         info = {"mode": "avoid" if offers else "idle", "bid": a.bid, "look_bid": look} | a.info
         if offers:
@@ -130,9 +135,10 @@ class Pilot:
         if self._reflex:
             if self._reflex[0][0] == "backup":
                 self._reflex_progress += ds * self._reflex_dir
-            self._recent.clear()  # a reflex that cannot move is given up by its phase limit instead
+            self._forget_motion()  # a reflex that cannot move is given up by its phase limit instead
         else:
-            self._recent.append((abs(self._last_v) * CONTROL_DT, abs(ds)))
+            self._commanded.append(abs(self._last_v) * CONTROL_DT)
+            self._moved.append(abs(ds))
 
     # -- reflexes (section 3.5) and the stall watch (our design)
     def _bumped(self, bumps: tuple[Bump, ...]) -> None:
@@ -154,14 +160,18 @@ class Pilot:
         of it, the robot is pushing against something (or wedged): the reflex starts, escaping
         opposite to the way the robot was pushing."""
         p = self.params
-        if self._reflex or len(self._recent) < (self._recent.maxlen or 1):
+        if self._reflex or len(self._moved) < (self._moved.maxlen or 1):
             return
-        commanded = sum(c for c, _ in self._recent)
-        moved = sum(m for _, m in self._recent)
+        commanded = sum(self._commanded)
+        moved = sum(self._moved)
         if commanded >= p.stall_min_distance and moved < p.stall_progress * commanded:
             self._start_reflex(+1.0 if self._last_v < 0 else -1.0,
                                f"reflex: stalled ({'bumper pressed, ' if touching else ''}commanded {commanded:.2f} m "
                                f"in {p.stall_window_s:g} s, moved {moved:.2f} m)")
+
+    def _forget_motion(self) -> None:
+        self._commanded.clear()
+        self._moved.clear()
 
     def _start_reflex(self, direction: float, message: str) -> None:
         p = self.params
@@ -170,7 +180,7 @@ class Pilot:
         self._reflex_progress = 0.0
         self._reflex_dir = direction
         self._phase_ticks = 0
-        self._recent.clear()
+        self._forget_motion()
         self._events.append(message)
 
     def _reflex_output(self, look: float, events: list[str], obstacles: list[KnownObstacle]) -> PilotOutput:
@@ -194,7 +204,7 @@ class Pilot:
             pan = math.radians(p.reflex_look_pans_deg[int(self._reflex_progress)])
             bids.append(Bid(self.name, "camera", Look(pan), p.bid_cap))
         elif look > 0:
-            bids.append(Bid(self.name, "camera", Look(0.0), look))
+            bids.append(Bid(self.name, "camera", LOOK_AHEAD, look))
         return PilotOutput(bids, {"mode": "reflex", "phase": phase, "bid": p.bid_cap, "look_bid": look}, [], events,
                            tuple(obstacles))
 

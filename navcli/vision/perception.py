@@ -117,14 +117,19 @@ class VisionPerception(_Senses):
         """Beliefs from the memory alone: crisp centres for the pilot (as the paper computes its
         forces), the target's heading spread for the Target Tracker."""
         items = self.memory.items
-        obstacles = []
+        obstacles, landmarks = [], []
         for m in items.values():
-            if m.kind == "target":
+            kind = m.kind
+            if kind == "target":
                 continue
-            a = (m.spots[0].x, m.spots[0].y)
+            s0 = m.spots[0]
+            a = (s0.x, s0.y)
             b = (m.spots[1].x, m.spots[1].y) if len(m.spots) == 2 else a
-            obstacles.append(KnownObstacle(m.key if m.kind != "landmark" else f"L{m.key}", a, b, m.radius,
-                                           m.kind == "wall"))
+            if kind == "landmark":
+                obstacles.append(KnownObstacle(f"L{m.key}", a, b, m.radius, False))
+                landmarks.append(KnownLandmark(m.key, s0.point(), m.seen))
+            else:
+                obstacles.append(KnownObstacle(m.key, a, b, m.radius, kind == "wall"))
         line, target_at, seen = None, None, 0.0
         if self.scenario.target.kind == "line":
             a, b = items["target-a"].spots[0], items["target-b"].spots[0]
@@ -135,9 +140,7 @@ class VisionPerception(_Senses):
             m = items.get(self._target_key) or items["target"]
             target_at, seen = m.spots[0].point(), m.seen
             target, spread = (target_at.x, target_at.y), target_at.heading_width()
-        landmarks = tuple(KnownLandmark(m.key, m.spots[0].point(), m.seen) for m in items.values()
-                          if m.kind == "landmark")
-        return self._beliefs(time, odometry, target, line, obstacles, spread, landmarks, target_at, seen)
+        return self._beliefs(time, odometry, target, line, obstacles, spread, tuple(landmarks), target_at, seen)
 
     def look(self, time: float, truth: Pose, request: Look | None) -> list[Detection] | None:
         """Carry out the winning look; fold an image's detections into the memory."""

@@ -36,7 +36,7 @@ Disc = tuple[float, float, float]  # x, y, radius
 END_TIE = 0.10  # m: ends this close along a linear obstacle count as the same extent; the sharper is kept
 
 
-@dataclass
+@dataclass(slots=True)
 class Spot:
     """A remembered point: egocentric centre (m), support and core radii (m).
 
@@ -69,7 +69,8 @@ class Spot:
     def point(self) -> FuzzyPoint:
         """The spot as a value: its centre and the radius of each cut (linear in alpha)."""
         r0, d = self.r0, self.r1 - self.r0
-        return FuzzyPoint(self.x, self.y, tuple([r0 + a * d for a in ALPHAS]))
+        a0, a1, a2, a3 = ALPHAS
+        return FuzzyPoint(self.x, self.y, (r0 + a0 * d, r0 + a1 * d, r0 + a2 * d, r0 + a3 * d))
 
     def heading(self) -> FuzzyAngle:
         return self.point().heading()
@@ -88,7 +89,7 @@ class Remembered:
     spots: tuple[tuple[float, float, float, float], ...]  # (x, y, r70, r0)
 
 
-@dataclass
+@dataclass(slots=True)
 class Memory:
     """One remembered object: a landmark, an obstacle (one spot, or two for a linear one, the
     walls among them), something the bumpers found, or the target."""
@@ -118,12 +119,15 @@ def _sighting_spot(s: Sighting) -> Spot:
     for k in (0, len(ALPHAS) - 1):
         dlo, dhi = s.distance.cuts[k]
         hlo, hhi = s.heading.value.cuts[k]
+        rays = [(math.cos(h), math.sin(h)) for h in (hlo, hhi, h_c)]
         r = 0.0
         for d in (dlo, dhi):
-            for h in (hlo, hhi, h_c):
-                r = max(r, math.hypot(d * math.cos(h) - cx, d * math.sin(h) - cy))
-        if hhi - hlo > math.pi:  # a wide fan: its far arc may bulge past the corners
-            r = max(r, dhi + d_c)
+            for c, sn in rays:
+                e = math.hypot(d * c - cx, d * sn - cy)
+                if e > r:
+                    r = e
+        if hhi - hlo > math.pi and dhi + d_c > r:  # a wide fan: its far arc may bulge past the corners
+            r = dhi + d_c
         radii.append(r)
     return Spot(cx, cy, radii[0], radii[1])
 
@@ -232,24 +236,25 @@ class VisualMemory:
         floor = P.odometry_floor
         half = dtheta / 2
         ux, uy = math.cos(half), math.sin(half)
+        sx, sy = ds * ux, ds * uy  # the move along the mid-tick heading
         c, s = math.cos(dtheta), -math.sin(dtheta)  # rotation by -dtheta
-        ads, adt = abs(ds), abs(dtheta)
+        ads, adt, ds2 = abs(ds), abs(dtheta), ds * ds
+        hypot, sqrt = math.hypot, math.sqrt
         for m in self.items.values():
             for p in m.spots:
                 x, y = p.x, p.y
-                D = math.hypot(x, y)
+                D = hypot(x, y)
                 # a turn error swings the point about the robot: d(position)/d(turn) = perp(p)
                 jx, jy = p.jx - dtheta * y, p.jy + dtheta * x
-                kx, ky = p.kx - ds * ux, p.ky - ds * uy  # a distance error shifts it along the motion
-                x, y = x - ds * ux, y - ds * uy
+                kx, ky = p.kx - sx, p.ky - sy  # a distance error shifts it along the motion
+                x, y = x - sx, y - sy
                 p.x, p.y = c * x - s * y, s * x + c * y
-                p.jx, p.jy = c * jx - s * jy, s * jx + c * jy
-                p.kx, p.ky = c * kx - s * ky, s * kx + c * ky
-                p.vt += (adt * D) ** 2
-                p.vs += ds * ds
-                p.run += ads
-                p.r0 = p.base + cal * (math.hypot(p.jx, p.jy) + math.hypot(p.kx, p.ky)) \
-                    + walk * (math.sqrt(p.vt) + math.sqrt(p.vs)) + floor * p.run
+                p.jx, p.jy = jx, jy = c * jx - s * jy, s * jx + c * jy
+                p.kx, p.ky = kx, ky = c * kx - s * ky, s * kx + c * ky
+                p.vt = vt = p.vt + (adt * D) ** 2
+                p.vs = vs = p.vs + ds2
+                p.run = run = p.run + ads
+                p.r0 = p.base + cal * (hypot(jx, jy) + hypot(kx, ky)) + walk * (sqrt(vt) + sqrt(vs)) + floor * run
 
     def shove(self, slip: float) -> None:
         """Sliding along something may have moved the robot ``slip`` metres sideways, which the
