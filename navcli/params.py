@@ -39,6 +39,13 @@ PHYSICS_DT_NS = round(PHYSICS_DT * 1e9)
 SCENE_REFRESH = 1.0
 """Seconds between two publications of the log's state topics (the arena, the robot's body, the
 camera's field of view): a viewer that seeks, or joins a live run late, shows them within this time."""
+DRAW_PERIOD = 0.5
+"""Seconds between two drawings of the Pilot's decorations in the log's ``/robot/scene`` (the force
+arrows; the grown obstacles when they changed). Our design, by measurement: drawn every tick they
+cost about a sixth of a tick of the whole stack (building some ten protobuf primitives per tick),
+for a picture nobody reads at 10 Hz. The forces themselves stay in ``/pilot`` every tick (plots and
+``navcli render`` read them there); a viewer shows the arrows at this rate (2 Hz). The visual
+memory and the map have rates of their own, ``vision.draw_every`` and ``navigation.map_draw_every``."""
 
 
 def _p(default: Any, *, at_least: float | None = 0.0, above: float | None = None,
