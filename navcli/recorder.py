@@ -25,6 +25,8 @@ advertises the time capability and broadcasts simulation time every tick.
 from __future__ import annotations
 
 import fcntl
+import functools
+import json
 import math
 import os
 from pathlib import Path
@@ -112,6 +114,14 @@ def _cylinder(x: float, y: float, radius: float, bottom: float, height: float, c
     """An upright cylinder (or flat disc) of ``radius`` standing on ``z = bottom`` at (x, y)."""
     return CylinderPrimitive(pose=_pose(x, y, z=bottom + height / 2), size=Vector3(x=2 * radius, y=2 * radius, z=height),
                              bottom_scale=1.0, top_scale=1.0, color=color)
+
+
+@functools.cache
+def _schema(cls: type) -> foxglove.Schema:
+    """The JSON Schema of a message class as the log stores it, derived once per process (about
+    1 ms a class: a run in a process that runs many, ``compare`` or a benchmark, no longer pays it)."""
+    schema = json_schema(cls)
+    return foxglove.Schema(name=schema["title"], encoding="jsonschema", data=json.dumps(schema).encode())
 
 
 class LogPathError(ValueError):
@@ -216,12 +226,14 @@ class Recorder:
         self.robot_body = SceneUpdateChannel("/robot/body", context=ctx)
         self.camera_scene = SceneUpdateChannel("/robot/camera", context=ctx)
         self.events = LogChannel("/events", context=ctx)
-        self.pilot = foxglove.Channel("/pilot", schema=json_schema(Pilot), context=ctx)
-        self.bids = foxglove.Channel("/bids", schema=json_schema(Bids), context=ctx)
-        self.summary = foxglove.Channel("/mission/summary", schema=json_schema(MissionSummary), context=ctx)
-        self.vision = foxglove.Channel("/vision", schema=json_schema(Vision), context=ctx)
+        self.pilot = foxglove.Channel("/pilot", schema=_schema(Pilot), message_encoding="json", context=ctx)
+        self.bids = foxglove.Channel("/bids", schema=_schema(Bids), message_encoding="json", context=ctx)
+        self.summary = foxglove.Channel("/mission/summary", schema=_schema(MissionSummary), message_encoding="json",
+                                        context=ctx)
+        self.vision = foxglove.Channel("/vision", schema=_schema(Vision), message_encoding="json", context=ctx)
         self.memory_scene = SceneUpdateChannel("/memory/scene", context=ctx)
-        self.navigation = foxglove.Channel("/navigation", schema=json_schema(Navigation), context=ctx)
+        self.navigation = foxglove.Channel("/navigation", schema=_schema(Navigation), message_encoding="json",
+                                           context=ctx)
         self.map_scene = SceneUpdateChannel("/map/scene", context=ctx)
         self._closed = False
         self._grown_keys: tuple = ()
@@ -279,16 +291,20 @@ class Recorder:
         self._pan_drawn = pan
 
     def _pose_msgs(self, truth: Pose, odom: Pose, ns: int) -> None:
-        self.pose_ns = ns
+        """/tf, /robot/odometry and, last, /robot/pose at ``ns``; ``pose_ns`` is set once the pose is
+        written, so a run stopped by a signal in between has them written again by :meth:`finish`
+        (before, ``pose_ns`` was set first: 2 runs in 12 of the SIGTERM test ended with the
+        summary a tick after its last pose)."""
         ts = _ts(ns)
         q = _yaw(truth.theta)
         at = Vector3(x=truth.x, y=truth.y, z=0.0)
         self.tf.log(FrameTransforms(transforms=[FrameTransform(
             timestamp=ts, parent_frame_id="world", child_frame_id="base_link", translation=at, rotation=q)]),
             log_time=ns)
-        self.pose.log(PoseInFrame(timestamp=ts, frame_id="world", pose=FxPose(position=at, orientation=q)), log_time=ns)
         self.odom.log(PoseInFrame(timestamp=ts, frame_id="world", pose=_pose(odom.x, odom.y, odom.theta)),
                       log_time=ns)
+        self.pose.log(PoseInFrame(timestamp=ts, frame_id="world", pose=FxPose(position=at, orientation=q)), log_time=ns)
+        self.pose_ns = ns
 
     def tick(self, t: Tick) -> None:
         ns = t.time_ns
@@ -445,7 +461,8 @@ _DIVERTING = Color(r=0.1, g=0.8, b=0.3, a=1.0)
 def _map_entities(m: MapSnapshot, diverting, ns: int) -> list[SceneEntity]:
     """The Map Manager's map in ``base_link``: each mapped landmark with the disc of its 70 % cut
     and its name, the regions' triangles (faint), the beta-units as lines from the encoded landmark
-    to its three basis landmarks, blocked edges in red, and the diverting line in green."""
+    to its three basis landmarks, blocked edges in red, and the diverting line in green. Not
+    frame-locked: drawn every few seconds, a viewer keeps it where the robot was when it was drawn."""
     ts = _ts(ns)
     z = 0.06
     P = lambda xy: Point3(x=xy[0], y=xy[1], z=z)  # noqa: E731
@@ -467,14 +484,16 @@ def _map_entities(m: MapSnapshot, diverting, ns: int) -> list[SceneEntity]:
     if diverting is not None:
         lines.append(LinePrimitive(type=LinePrimitiveLineType.LineStrip, thickness=0.06, color=_DIVERTING,
                                    points=[P(diverting[0]), P(diverting[1])]))
-    return [SceneEntity(timestamp=ts, frame_id="base_link", id="map", frame_locked=True, cylinders=cyl,
+    return [SceneEntity(timestamp=ts, frame_id="base_link", id="map", frame_locked=False, cylinders=cyl,
                         texts=texts, lines=lines)]
 
 
 def _memory_entities(memory: tuple[Remembered, ...], ns: int) -> list[SceneEntity]:
     """The visual memory in ``base_link``: per remembered point a disc the size of its 70 % cut
     (the visible belief) and a faint thin ring for its support, which is often 1-2 m wide and would
-    hide the arena if filled, so Foxglove shows belief (here) next to truth (/world/scene)."""
+    hide the arena if filled, so Foxglove shows belief (here) next to truth (/world/scene). Not
+    frame-locked: drawn every few seconds, a viewer keeps it where the robot was when it was drawn
+    (frame-locked, it would drift along with the robot until the next drawing)."""
     ents = []
     ts = _ts(ns)
     for m in memory:
@@ -488,7 +507,7 @@ def _memory_entities(memory: tuple[Remembered, ...], ns: int) -> list[SceneEntit
             (ax, ay, *_), (bx, by, *_) = m.spots
             lines.append(LinePrimitive(type=LinePrimitiveLineType.LineStrip, thickness=0.03, color=color,
                                        points=[Point3(x=ax, y=ay, z=0.04), Point3(x=bx, y=by, z=0.04)]))
-        ents.append(SceneEntity(timestamp=ts, frame_id="base_link", id=f"memory-{m.key}", frame_locked=True,
+        ents.append(SceneEntity(timestamp=ts, frame_id="base_link", id=f"memory-{m.key}", frame_locked=False,
                                 cylinders=cyl, lines=lines))
     return ents
 
