@@ -16,7 +16,8 @@ only renamed aside (``<name>.partial-1`` ...) for :func:`recover`.
 
 The JSON messages and their schemas are defined once, in :mod:`navcli.messages`. State a viewer
 needs at any time (the arena, the robot's body, the camera's field of view) has topics of its own,
-republished every ``params.SCENE_REFRESH`` s (see :meth:`Recorder._state`).
+republished every ``params.SCENE_REFRESH`` s (see :meth:`Recorder._state`); the camera's pan is
+the frame ``camera`` in ``/tf``, so its field of view turns without being redrawn.
 
 With ``live`` the same Foxglove context also feeds a WebSocket server on localhost, which
 advertises the time capability and broadcasts simulation time every tick.
@@ -96,6 +97,7 @@ _MEMORY = {k: (Color(r=r, g=g, b=b, a=0.45), Color(r=r, g=g, b=b, a=0.3)) for k,
 _RING = [(math.cos(2 * math.pi * k / 16), math.sin(2 * math.pi * k / 16)) for k in range(16)]  # a support ring's vertices
 _NO_TURN = Quaternion(x=0.0, y=0.0, z=0.0, w=1.0)  # the yaw of 0, built once: most primitives are not turned
 _ARROW_BASE = Vector3(x=0.0, y=0.0, z=0.35)  # m: where the force arrows start, in base_link
+_CAMERA_AT = Vector3(x=0.0, y=0.0, z=0.4)  # m: the camera frame's origin in base_link (its field of view's height)
 
 
 def _ts(ns: int) -> Timestamp:
@@ -240,8 +242,8 @@ class Recorder:
         self._grown_ns = 0
         self._drawn_ns = -DRAW_NS  # when the Pilot's decorations were last drawn: the first tick draws them
         self._R_min = 0.0
-        self._fan: list[Point3] = []  # the camera's field of view at pan 0, built at start
-        self._pan_drawn: float | None = None
+        self._fov: LinePrimitive | None = None  # the camera's field of view in its frame, built at start
+        self._pan = 0.0  # rad: the camera's pan in the last /tf
         self._flushed_ns = 0
         self.pose_ns = -1  # the time of the last pose written
         self._arena: list[tuple[str, dict]] = []  # the arena's and the body's primitives, built at start
@@ -256,7 +258,8 @@ class Recorder:
         robot's body, and the first poses."""
         sc = spec.scenario
         self._R_min = spec.params.pilot.R_min
-        self._fan = _fan(sc.camera.fov, sc.camera.range)
+        self._fov = LinePrimitive(type=LinePrimitiveLineType.LineStrip, thickness=0.02, color=_FOV,
+                                  points=_fan(sc.camera.fov, sc.camera.range))
         self.writer.write_metadata("run", spec.metadata())
         self.writer.attach(log_time=0, create_time=0, name=Path(sc.source).name or f"{sc.name}.yaml",
                            media_type="application/yaml", data=sc.text.encode())
@@ -265,42 +268,40 @@ class Recorder:
         self._body = {"cylinders": [_cylinder(0.0, 0.0, r, 0.0, 0.3, _ROBOT)],
                       "arrows": [ArrowPrimitive(pose=_pose(0, 0, z=0.32), shaft_length=r, shaft_diameter=0.04,
                                                 head_length=0.1, head_diameter=0.1, color=_ROBOT)]}
-        self._state(0, 0.0)
-        self._pose_msgs(pose, odometry, 0)
+        self._state(0)
+        self._pose_msgs(pose, odometry, 0, 0.0)
 
-    def _state(self, ns: int, pan: float) -> None:
+    def _state(self, ns: int) -> None:
         """The state a viewer needs at any time, each on a topic of its own and complete in every
         message: the arena (``/world/scene``), the robot's body (``/robot/body``) and the camera's
-        field of view (``/robot/camera``). Published at the start and every ``SCENE_REFRESH`` s,
-        so a viewer that seeks or joins late finds them (a viewer restores the latest message of
-        each topic); the field of view also when the pan changes."""
+        field of view (``/robot/camera``, in the frame ``camera`` that /tf turns by the pan).
+        Published at the start and every ``SCENE_REFRESH`` s, so a viewer that seeks or joins late
+        finds them (a viewer restores the latest message of each topic)."""
         ts = _ts(ns)
         arena = [SceneEntity(timestamp=ts, frame_id="world", id=key, **shapes) for key, shapes in self._arena]
         self.world_scene.log(SceneUpdate(entities=arena), log_time=ns)
         body = SceneEntity(timestamp=ts, frame_id="base_link", id="robot", frame_locked=True, **self._body)
         self.robot_body.log(SceneUpdate(entities=[body]), log_time=ns)
-        self._camera(ns, pan)
+        self.camera_scene.log(SceneUpdate(entities=[SceneEntity(timestamp=ts, frame_id="camera", id="camera",
+                                                                frame_locked=True, lines=[self._fov])]), log_time=ns)
         self._state_ns = ns
 
-    def _camera(self, ns: int, pan: float) -> None:
-        """The camera's field of view: the fan built at start, turned by the pan, in ``base_link``."""
-        fov = LinePrimitive(type=LinePrimitiveLineType.LineStrip, pose=_pose(0.0, 0.0, pan), thickness=0.02,
-                            color=_FOV, points=self._fan)
-        self.camera_scene.log(SceneUpdate(entities=[SceneEntity(timestamp=_ts(ns), frame_id="base_link", id="camera",
-                                                                frame_locked=True, lines=[fov])]), log_time=ns)
-        self._pan_drawn = pan
-
-    def _pose_msgs(self, truth: Pose, odom: Pose, ns: int) -> None:
-        """/tf, /robot/odometry and, last, /robot/pose at ``ns``; ``pose_ns`` is set once the pose is
-        written, so a run stopped by a signal in between has them written again by :meth:`finish`
-        (before, ``pose_ns`` was set first: 2 runs in 12 of the SIGTERM test ended with the
-        summary a tick after its last pose)."""
+    def _pose_msgs(self, truth: Pose, odom: Pose, ns: int, pan: float) -> None:
+        """/tf (``world`` to ``base_link``: the true pose; ``base_link`` to ``camera``: the pan),
+        /robot/odometry and, last, /robot/pose at ``ns``. The pan is a frame (our design): the
+        field of view drawn once in it turns with the camera, where redrawing it at each change
+        of the pan cost some 10 µs a tick. ``pose_ns`` is set once the pose is written, so a run
+        stopped by a signal in between has them written again by :meth:`finish` (before,
+        ``pose_ns`` was set first: 2 runs in 12 of the SIGTERM test ended with the summary a tick
+        after its last pose)."""
         ts = _ts(ns)
         q = _yaw(truth.theta)
         at = Vector3(x=truth.x, y=truth.y, z=0.0)
-        self.tf.log(FrameTransforms(transforms=[FrameTransform(
-            timestamp=ts, parent_frame_id="world", child_frame_id="base_link", translation=at, rotation=q)]),
-            log_time=ns)
+        self.tf.log(FrameTransforms(transforms=[
+            FrameTransform(timestamp=ts, parent_frame_id="world", child_frame_id="base_link", translation=at, rotation=q),
+            FrameTransform(timestamp=ts, parent_frame_id="base_link", child_frame_id="camera", translation=_CAMERA_AT,
+                           rotation=_yaw(pan) if pan else _NO_TURN)]), log_time=ns)
+        self._pan = pan
         self.odom.log(PoseInFrame(timestamp=ts, frame_id="world", pose=_pose(odom.x, odom.y, odom.theta)),
                       log_time=ns)
         self.pose.log(PoseInFrame(timestamp=ts, frame_id="world", pose=FxPose(position=at, orientation=q)), log_time=ns)
@@ -308,7 +309,8 @@ class Recorder:
 
     def tick(self, t: Tick) -> None:
         ns = t.time_ns
-        self._pose_msgs(t.pose, t.odometry, ns)
+        pan, state = t.camera
+        self._pose_msgs(t.pose, t.odometry, ns, pan)
         if self.server is not None:
             self.server.broadcast_time(ns)
         v, w = t.command
@@ -316,11 +318,8 @@ class Recorder:
         self.bids.log(encode(bids_record(t)), log_time=ns)
         if ns - self._drawn_ns >= DRAW_NS:
             self._pilot_scene(t, ns)
-        pan, state = t.camera
         if ns - self._state_ns >= round(SCENE_REFRESH * 1e9):
-            self._state(ns, pan)
-        elif pan != self._pan_drawn:
-            self._camera(ns, pan)
+            self._state(ns)
         dets = {d.key or f"obstacle{i}": d.as_json() for i, d in enumerate(t.detections or ())}
         self.vision.log(encode({"pan_deg": math.degrees(pan), "state": state, "image": t.detections is not None,
                                 "detections": dets}), log_time=ns)
@@ -370,7 +369,7 @@ class Recorder:
         self._closed = True
         try:
             if poses is not None and self.pose_ns != ns:
-                self._pose_msgs(*poses, ns)
+                self._pose_msgs(*poses, ns, self._pan)
             self.summary.log(encode(msgspec.convert(summary, MissionSummary)), log_time=ns)
         finally:
             self.writer.close()
@@ -415,12 +414,12 @@ def _force_arrows(arrows: list[tuple[str, float, float]], ns: int) -> SceneEntit
 
 
 def _fan(fov: float, rng: float) -> list[Point3]:
-    """The camera's field of view (``fov`` rad wide, ``rng`` m deep) at pan 0: a closed fan."""
-    pts = [Point3(x=0.0, y=0.0, z=0.4)]
+    """The camera's field of view (``fov`` rad wide, ``rng`` m deep) in its frame: a closed fan."""
+    pts = [Point3(x=0.0, y=0.0, z=0.0)]
     for k in range(9):
         a = -fov / 2 + fov * k / 8
-        pts.append(Point3(x=rng * math.cos(a), y=rng * math.sin(a), z=0.4))
-    pts.append(Point3(x=0.0, y=0.0, z=0.4))
+        pts.append(Point3(x=rng * math.cos(a), y=rng * math.sin(a), z=0.0))
+    pts.append(Point3(x=0.0, y=0.0, z=0.0))
     return pts
 
 

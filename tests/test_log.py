@@ -168,6 +168,25 @@ def test_the_pilots_decorations_are_drawn_every_draw_period_and_its_forces_logge
     assert len(pilot) == res.summary["ticks"] and not pilot[["net.x", "net.y"]].isna().any().any()
 
 
+def test_the_camera_frame_in_tf_turns_by_the_pan_of_every_tick(open_run):
+    """Each /tf message holds world -> base_link (the true pose) and base_link -> camera, turned by
+    the pan /vision reports at that time; the field of view is drawn once in that frame."""
+    from analysis.logs import scene_messages
+
+    _, res, log = open_run
+    tf = {ns: m for ns, m in scene_messages(log.path, "/tf")}
+    pans = dict(zip(log["/vision"]["log_time_ns"], log["/vision"]["pan_deg"]))
+    assert len(pans) == res.summary["ticks"] and set(pans) <= set(tf)
+    assert any(abs(p) > 1.0 for p in pans.values())  # the camera did pan
+    for ns, pan in pans.items():
+        base, cam = tf[ns].transforms
+        assert (base.parent_frame_id, base.child_frame_id, cam.parent_frame_id, cam.child_frame_id) == \
+            ("world", "base_link", "base_link", "camera")
+        q = cam.rotation
+        assert math.degrees(2 * math.atan2(q.z, q.w)) == pytest.approx(pan, abs=1e-9)
+    assert all(e == ["camera"] for e in log["/robot/camera"]["entities"])
+
+
 def test_no_numeric_field_of_the_pilot_log_is_missing(open_run):
     _, _, log = open_run
     nums = log["/pilot"].select_dtypes("number")
