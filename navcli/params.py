@@ -39,12 +39,12 @@ PHYSICS_DT_NS = round(PHYSICS_DT * 1e9)
 SCENE_REFRESH = 1.0
 """Seconds between two publications of the log's state topics (the arena, the robot's body, the
 camera's field of view): a viewer that seeks, or joins a live run late, shows them within this time."""
-DRAW_PERIOD = 0.5
+DRAW_PERIOD = 1.0
 """Seconds between two drawings of the Pilot's decorations in the log's ``/robot/scene`` (the force
-arrows; the grown obstacles when they changed). Our design, by measurement: drawn every tick they
-cost about a sixth of a tick of the whole stack (building some ten protobuf primitives per tick),
-for a picture nobody reads at 10 Hz. The forces themselves stay in ``/pilot`` every tick (plots and
-``navcli render`` read them there); a viewer shows the arrows at this rate (2 Hz). The visual
+arrows and the grown obstacles). Our design, by measurement: drawn every tick they cost about a
+tenth of a tick of the whole stack (some ten protobuf primitives a tick), for a picture nobody reads
+at 10 Hz. The forces themselves stay in ``/pilot`` every tick (plots and ``navcli render`` read
+them there); a viewer shows the arrows and grown obstacles at this rate (1 Hz). The visual
 memory and the map have rates of their own, ``vision.draw_every`` (2 s) and
 ``navigation.map_draw_every`` (5 s): each of their drawings is egocentric but not frame-locked, so
 a viewer keeps it where it was in the world when it was drawn until the next one."""

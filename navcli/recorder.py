@@ -81,7 +81,6 @@ WRITE_OPTIONS = MCAPWriteOptions(compression=MCAPCompression.Lz4, compression_th
 again as large, and every MCAP reader (the mcap library, Foxglove) reads it."""
 RECOVERED_REASON = "recovered after an abrupt end"
 DRAW_NS = round(DRAW_PERIOD * 1e9)  # the Pilot's decorations in /robot/scene are drawn at most this often
-GROWN_REFRESH_NS = 1_000_000_000  # grown obstacles are redrawn on change, or every simulated second
 ARROW_MIN = 2.0  # force units: weaker forces are not drawn (2 cm at 100 units per metre)
 SYSTEMS = ("pilot", "navigation")  # the bidders at the robot-level auction, always in /bids
 HEIGHT = 0.5  # m: drawn height of walls, obstacles and landmarks
@@ -238,8 +237,6 @@ class Recorder:
                                            context=ctx)
         self.map_scene = SceneUpdateChannel("/map/scene", context=ctx)
         self._closed = False
-        self._grown_keys: tuple = ()
-        self._grown_ns = 0
         self._drawn_ns = -DRAW_NS  # when the Pilot's decorations were last drawn: the first tick draws them
         self._R_min = 0.0
         self._fov: LinePrimitive | None = None  # the camera's field of view in its frame, built at start
@@ -344,16 +341,13 @@ class Recorder:
             self._flushed_ns = ns
 
     def _pilot_scene(self, t: Tick, ns: int) -> None:
-        """``/robot/scene`` every :data:`DRAW_NS`: the Pilot's force arrows, and its grown obstacles
-        when they changed or :data:`GROWN_REFRESH_NS` passed (the forces are in ``/pilot`` every tick)."""
+        """``/robot/scene`` every :data:`DRAW_NS`: the Pilot's force arrows and its grown obstacles
+        (the forces themselves are in ``/pilot`` every tick)."""
         self._drawn_ns = ns
-        ents = [_force_arrows(t.pilot.arrows, ns)] if t.pilot.arrows else []
-        keys = tuple(o.key for o in t.pilot.obstacles)
-        if keys != self._grown_keys or ns - self._grown_ns >= GROWN_REFRESH_NS:
-            ents.append(_grown(t.pilot.obstacles, t.pose, self._R_min, ns))
-            self._grown_keys, self._grown_ns = keys, ns
-        if ents:
-            self.robot_scene.log(SceneUpdate(entities=ents), log_time=ns)
+        ents = [_grown(t.pilot.obstacles, t.pose, self._R_min, ns)]
+        if t.pilot.arrows:
+            ents.append(_force_arrows(t.pilot.arrows, ns))
+        self.robot_scene.log(SceneUpdate(entities=ents), log_time=ns)
 
     def event(self, e: Event, ns: int) -> None:
         self.events.log(Log(timestamp=_ts(ns), level=_LEVEL[e.level], message=e.message, name=e.source),

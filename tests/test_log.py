@@ -153,7 +153,7 @@ def test_vision_topic_reports_images_with_fuzzy_detections(open_run):
 
 
 def test_the_pilots_decorations_are_drawn_every_draw_period_and_its_forces_logged_every_tick(open_run):
-    """/robot/scene (force arrows, grown obstacles) is drawn from the first tick on, every
+    """/robot/scene (force arrows and grown obstacles) is drawn from the first tick on, every
     DRAW_PERIOD; the forces it draws are in /pilot at every tick."""
     from navcli.params import DRAW_PERIOD
 
@@ -162,8 +162,8 @@ def test_the_pilots_decorations_are_drawn_every_draw_period_and_its_forces_logge
     every = round(DRAW_PERIOD / CONTROL_DT)  # ticks between two drawings
     ticks = (scene["log_time_ns"] // round(CONTROL_DT * 1e9)).to_numpy()
     assert ticks[0] == 1 and ((ticks - 1) % every == 0).all()
-    assert len(scene) == (res.summary["ticks"] - 1) // every + 1  # the potential-field pilot always has forces to draw
-    assert all("forces" in e for e in scene["entities"])
+    assert len(scene) == (res.summary["ticks"] - 1) // every + 1
+    assert all(set(e) == {"forces", "grown-obstacles"} for e in scene["entities"])  # the potential-field pilot has forces
     pilot = log["/pilot"]
     assert len(pilot) == res.summary["ticks"] and not pilot[["net.x", "net.y"]].isna().any().any()
 
