@@ -431,12 +431,7 @@ def navigation_record(t: Tick) -> dict:
         owner = next((a.bidder for a in nav.agent_bids if a.resource == b.resource and a.value == b.value), None)
         if owner is not None:
             fwd[f"{b.resource}_agent"] = owner
-    i = nav.info
-    msg = {"agents": agents, "forwarded": fwd, "I_a": i["I_a"], "risk": i["risk"], "quality_ahead": i["quality_ahead"],
-           "quality_around": i["quality_around"], "landmarks_known": i["landmarks_known"],
-           "landmarks_ahead": i["landmarks_ahead"], "target_source": i["target_source"], "rescuer": i["rescuer"],
-           "diverting": nav.diverting, "diverting_targets": i["diverting_targets"], "failures": i["failures"],
-           "beta_units": i["beta_units"]}
+    msg = {"agents": agents, "forwarded": fwd, **nav.info, "diverting": nav.diverting}  # info: the scalar fields
     if nav.target is not None:
         msg["target"] = {"x": nav.target[0], "y": nav.target[1]}
     if nav.target_line is not None:

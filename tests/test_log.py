@@ -168,6 +168,16 @@ def test_the_pilots_decorations_are_drawn_every_draw_period_and_its_forces_logge
     assert len(pilot) == res.summary["ticks"] and not pilot[["net.x", "net.y"]].isna().any().any()
 
 
+def test_the_log_ends_with_the_final_memory_and_map(open_run):
+    """Drawn every few seconds (vision.draw_every, navigation.map_draw_every), the visual memory and
+    the map are drawn at the last tick too, so a log's last drawing of each is the final one."""
+    _, _, log = open_run
+    end = log["/robot/pose"]["log_time_ns"].iloc[-1]
+    for topic in ("/memory/scene", "/map/scene"):
+        t = log[topic]["log_time_ns"]
+        assert t.iloc[-1] == end and len(t) >= 2, topic
+
+
 def test_the_camera_frame_in_tf_turns_by_the_pan_of_every_tick(open_run):
     """Each /tf message holds world -> base_link (the true pose) and base_link -> camera, turned by
     the pan /vision reports at that time; the field of view is drawn once in that frame."""

@@ -22,7 +22,7 @@ from navcli.scenario import load_scenario
 
 @pytest.fixture(scope="module")
 def short_log(tmp_path_factory):
-    """2 s of the 8 m room: 20 ticks, the memory drawn once (vision.draw_every, 20 ticks)."""
+    """2 s of the 8 m room: 20 ticks, the memory drawn once, at the last tick."""
     out = tmp_path_factory.mktemp("render") / "short.mcap"
     run_mission(RunSpec.build(load_scenario(SCENARIOS / "paper-8x8.yaml"), seed=1, time_limit=2.0), out=out)
     return out
