@@ -3,7 +3,8 @@
 Each frame shows, top-down on the true arena (drawn from the scenario YAML attached to the log):
 the path driven so far and the robot (ground truth, ``/robot/pose``); the robot's beliefs, the
 visual memory of ``/memory/scene`` (per remembered point its 70 % cut as a disc and its support as
-a faint ring, placed in the world with the true pose as the log's 3D view places them); the
+a faint ring, placed in the world with the true pose at the time it was drawn, as the log's 3D
+view places them); the
 pilot's force arrows from ``/pilot`` (net, target, repulsive; 100 force units = 1 m as in the 3D
 view) or, for a pilot without forces, the turn it asks for; under it a strip of the bids per
 resource (``/bids``) with a cursor at the frame's time.
@@ -68,6 +69,19 @@ def _memory(path: Path) -> list[tuple[float, list[tuple[str, float, float, float
                 spots.append((_kind(c.color), x, y, r70, r0))
         out.append((log_time / 1e9, spots))
     return out
+
+
+def memory_in_world(memory: list, mem_t: np.ndarray, poses: tuple[np.ndarray, ...], t: float) -> list[tuple]:
+    """The spots of the last ``memory`` drawing at or before ``t`` (s) in the world: each drawing
+    is egocentric, so it is placed with the true pose at the time it was drawn (``poses``: x, y,
+    theta, time arrays), where the log's 3D view keeps it until the next one."""
+    j = int(np.searchsorted(mem_t, t, side="right")) - 1
+    if j < 0:
+        return []
+    px, py, pth, pt = poses
+    i = max(int(np.searchsorted(pt, mem_t[j], side="right")) - 1, 0)
+    x, y, c, s = px[i], py[i], math.cos(pth[i]), math.sin(pth[i])
+    return [(kind, x + c * mx - s * my, y + s * mx + c * my, r70, r0) for kind, mx, my, r70, r0 in memory[j][1]]
 
 
 def _kind(colour) -> str:
@@ -158,9 +172,7 @@ def render(log_path: str | Path, out: str | Path, *, speed: float = 10.0, start:
         path_line.set_data(px[:i + 1], py[:i + 1])
         body.center = (x, y)
         heading.set_data([x, x + radius * c], [y, y + radius * s])
-        j = int(np.searchsorted(mem_t, t, side="right")) - 1
-        spots = memory[j][1] if j >= 0 else []
-        world = [(kind, x + c * mx - s * my, y + s * mx + c * my, r70, r0) for kind, mx, my, r70, r0 in spots]
+        world = memory_in_world(memory, mem_t, (px, py, pth, pt), t)
         supports.set_paths([Circle((wx, wy), r0) for _, wx, wy, _, r0 in world])
         supports.set_edgecolor([_MEMORY_COLOURS[k_] for k_, *_ in world])
         cuts.set_paths([Circle((wx, wy), max(r70, 0.03)) for _, wx, wy, r70, _ in world])

@@ -1,12 +1,18 @@
-"""The JSON messages of the log (the README's "The log"): one definition per message, which both
-encodes it and yields its JSON Schema.
+"""The JSON messages of the log (the README's "The log"): one definition per message, from which
+its JSON Schema is derived.
 
-Each message is a ``msgspec.Struct``: ``encode`` writes it (msgspec, faster than building dicts
-and dumping them), and :func:`json_schema` derives the schema written into the log from the same
-class, so the two cannot drift apart. msgspec's schemas use ``$ref``/``$defs``, enums without a
-``type`` and maps without ``properties``; Foxglove's JSON-schema parser accepts none of these, so
-:func:`json_schema` inlines the references, types the enums and gives every map an empty
-``properties`` (our design: the rules of that parser are checked by ``tests/test_messages.py``).
+Each message is defined as a ``msgspec.Struct``, and :func:`json_schema` derives the schema
+written into the log from that class. The recorder writes each tick's messages as plain values
+(dicts keyed by the Struct's field names), which ``encode`` writes directly (our design, by
+measurement on paper-8x8: the four per-tick messages cost about 60 µs a tick converted to Structs
+with ``msgspec.convert`` first, about 38 as plain values). So nothing checks a message against its
+Struct while a run writes it; ``tests/test_messages.py`` checks every JSON message of real runs
+against its schema instead.
+
+msgspec's schemas use ``$ref``/``$defs``, enums without a ``type`` and maps without ``properties``;
+Foxglove's JSON-schema parser accepts none of these, so :func:`json_schema` inlines the references,
+types the enums and gives every map an empty ``properties`` (our design: the rules of that parser
+are checked by ``tests/test_messages.py``).
 
 Fixed shapes are closed (``additionalProperties: false``); maps keyed by an obstacle's or a
 detection's id are open. No message holds a null: an absent value is an absent key.
@@ -82,11 +88,13 @@ class Pilot(_Msg):
     side: Annotated[Literal["right", "left"], Meta(description="the side the geometric pilot passes on")] | UnsetType = UNSET
 
 
-def pilot_message(info: dict[str, Any], v: float, omega_deg: float) -> Pilot:
-    """The ``/pilot`` message from a pilot's explanation dict (``PilotOutput.info``); an undeclared
-    key or a wrong type raises, so the schema stays exact. ``None`` values are left out."""
-    return msgspec.convert({k: x for k, x in info.items() if x is not None} | {"command": {"v": v, "omega_deg": omega_deg}},
-                           Pilot)
+def pilot_message(info: dict[str, Any], v: float, omega_deg: float) -> dict[str, Any]:
+    """The ``/pilot`` message (a :class:`Pilot` as plain values) from a pilot's explanation dict
+    (``PilotOutput.info``, keyed by Pilot's fields) and the wheel command. ``None`` values are
+    left out."""
+    msg = {k: x for k, x in info.items() if x is not None}
+    msg["command"] = {"v": v, "omega_deg": omega_deg}
+    return msg
 
 
 # --- /bids ------------------------------------------------------------------------------------

@@ -61,9 +61,9 @@ class Tick:
     events: tuple[Event, ...]
     camera: tuple[float, str]  # pan (rad, relative to the heading) and state: idle | panning | processing
     detections: tuple[Detection, ...] | None  # what the image taken this tick showed, if one was
-    memory: tuple[Remembered, ...] | None = None  # the visual memory, every vision.draw_every ticks
+    memory: tuple[Remembered, ...] | None = None  # the visual memory, every vision.draw_every ticks and at the end
     navigation: NavigationOutput | None = None  # what the Navigation system decided, and why
-    map: MapSnapshot | None = None  # the Map Manager's map, every navigation.map_draw_every ticks
+    map: MapSnapshot | None = None  # the Map Manager's map, every navigation.map_draw_every ticks and at the end
 
 
 class Mission:
@@ -176,9 +176,11 @@ class Mission:
             events.append(Event(world.time, "mission", "info" if self.outcome == "reached" else "warning", self.reason))
         cam = self.perception.camera
         p = self.spec.params
-        memory = self.perception.snapshot() if self.snapshots and self.ticks % p.vision.draw_every == 0 else None
+        last = self.outcome is not None  # the log ends with the final memory and map, whatever their rates
+        memory = (self.perception.snapshot()
+                  if self.snapshots and (last or self.ticks % p.vision.draw_every == 0) else None)
         map_ = (self.navigation.snapshot(beliefs)
-                if self.snapshots and self.ticks % p.navigation.map_draw_every == 0 else None)
+                if self.snapshots and (last or self.ticks % p.navigation.map_draw_every == 0) else None)
         return Tick(self.ticks, world.time_ns, world.pose, world.odometry.pose, command, bids, nav.agent_bids,
                     winners, pilot_out, tuple(events), (cam.pan, cam.state),
                     tuple(detections) if detections is not None else None, memory, nav, map_)

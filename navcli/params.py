@@ -39,6 +39,16 @@ PHYSICS_DT_NS = round(PHYSICS_DT * 1e9)
 SCENE_REFRESH = 1.0
 """Seconds between two publications of the log's state topics (the arena, the robot's body, the
 camera's field of view): a viewer that seeks, or joins a live run late, shows them within this time."""
+DRAW_PERIOD = 1.0
+"""Seconds between two drawings of the Pilot's decorations in the log's ``/robot/scene`` (the force
+arrows and the grown obstacles). Our design, by measurement: drawn every tick they cost about a
+tenth of a tick of the whole stack (some ten protobuf primitives a tick), for a picture nobody reads
+at 10 Hz. The forces themselves stay in ``/pilot`` every tick (plots and ``navcli render`` read
+them there); a viewer shows the arrows and grown obstacles at this rate (1 Hz). The visual
+memory and the map have rates of their own, ``vision.draw_every`` (3 s) and
+``navigation.map_draw_every`` (10 s), and are drawn at the last tick too: each of their drawings is
+egocentric but not frame-locked, so a viewer keeps it where it was in the world when it was drawn
+until the next one."""
 
 
 def _p(default: Any, *, at_least: float | None = 0.0, above: float | None = None,
@@ -131,7 +141,9 @@ class NavigationParams:
     map_encode_imprecision: float = _p(0.25, above=0.0, at_most=1.0)  # landmarks at most this imprecise are encoded
     map_units_per_landmark: int = _p(6, at_least=1)  # beta-units kept per landmark (the sharpest)
     map_recall_every: int = _p(5, at_least=1)  # ticks between two recalls of a landmark from the network
-    map_draw_every: int = _p(20, at_least=1)  # ticks between two /map/scene updates
+    # ticks between two /map/scene updates, and the last tick (10 s; our design: the map changes slowly,
+    # and its snapshot triangulates the landmarks, which every 2 s cost some 40 µs a tick; see DRAW_PERIOD)
+    map_draw_every: int = _p(100, at_least=1)
     virtual_distance: float = _p(10.0, above=0.0)  # m: virtual landmarks beyond the hull edges
     blocked_cost: float = _p(1000.0, above=1.0)  # cost of a region arc known to be blocked
 
@@ -149,7 +161,9 @@ class VisionParams:
     bump_merge: float = _p(1.0)  # m: a bump this near another bump or a landmark joins it in a long obstacle
     forget_above: float = _p(0.35, above=0.0, at_most=1.0)  # I(l) above which an object is forgotten
     forget_every: int = _p(5, at_least=1)  # ticks between two sweeps of the memory for what has become too imprecise
-    draw_every: int = _p(10, at_least=1)  # ticks between two /memory/scene updates (once a simulated second)
+    # ticks between two /memory/scene updates, and the last tick (3 s; our design: drawn once a second it
+    # cost some 40 µs a tick; each drawing stays where it was in the world, see DRAW_PERIOD)
+    draw_every: int = _p(30, at_least=1)
 
 
 @dataclass(frozen=True)

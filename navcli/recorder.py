@@ -16,7 +16,8 @@ only renamed aside (``<name>.partial-1`` ...) for :func:`recover`.
 
 The JSON messages and their schemas are defined once, in :mod:`navcli.messages`. State a viewer
 needs at any time (the arena, the robot's body, the camera's field of view) has topics of its own,
-republished every ``params.SCENE_REFRESH`` s (see :meth:`Recorder._state`).
+republished every ``params.SCENE_REFRESH`` s (see :meth:`Recorder._state`); the camera's pan is
+the frame ``camera`` in ``/tf``, so its field of view turns without being redrawn.
 
 With ``live`` the same Foxglove context also feeds a WebSocket server on localhost, which
 advertises the time capability and broadcasts simulation time every tick.
@@ -25,6 +26,8 @@ advertises the time capability and broadcasts simulation time every tick.
 from __future__ import annotations
 
 import fcntl
+import functools
+import json
 import math
 import os
 from pathlib import Path
@@ -60,9 +63,8 @@ from foxglove.messages import (
 )
 
 from .bidding import RESOURCES
-from .messages import (XY, Action, AgentBid, Bids, DetectionMsg, Forwarded, MissionSummary, Navigation, Pilot, ResourceBids,
-                       Vision, encode, json_schema, pilot_message)
-from .params import SCENE_REFRESH
+from .messages import Bids, MissionSummary, Navigation, Pilot, Vision, encode, json_schema, pilot_message
+from .params import DRAW_PERIOD, SCENE_REFRESH
 from .scenario import Scenario
 
 if TYPE_CHECKING:
@@ -78,7 +80,7 @@ WRITE_OPTIONS = MCAPWriteOptions(compression=MCAPCompression.Lz4, compression_th
 1.1 ms to finish, a tenth of a tick's budget; LZ4 is several times cheaper for logs about half
 again as large, and every MCAP reader (the mcap library, Foxglove) reads it."""
 RECOVERED_REASON = "recovered after an abrupt end"
-GROWN_REFRESH_NS = 1_000_000_000  # grown obstacles are redrawn on change, or every simulated second
+DRAW_NS = round(DRAW_PERIOD * 1e9)  # the Pilot's decorations in /robot/scene are drawn at most this often
 ARROW_MIN = 2.0  # force units: weaker forces are not drawn (2 cm at 100 units per metre)
 SYSTEMS = ("pilot", "navigation")  # the bidders at the robot-level auction, always in /bids
 HEIGHT = 0.5  # m: drawn height of walls, obstacles and landmarks
@@ -91,7 +93,10 @@ _FOV = Color(r=0.3, g=0.8, b=0.95, a=0.8)
 _MEMORY_RGB = {"landmark": (0.2, 0.45, 0.9), "obstacle": (0.85, 0.3, 0.25), "bump": (1.0, 0.1, 0.1),
                "target": (0.2, 0.75, 0.3)}
 _MEMORY = {k: (Color(r=r, g=g, b=b, a=0.45), Color(r=r, g=g, b=b, a=0.3)) for k, (r, g, b) in _MEMORY_RGB.items()}
-_RING = [2 * math.pi * k / 16 for k in range(16)]  # rad: the vertices of a support ring
+_RING = [(math.cos(2 * math.pi * k / 16), math.sin(2 * math.pi * k / 16)) for k in range(16)]  # a support ring's vertices
+_NO_TURN = Quaternion(x=0.0, y=0.0, z=0.0, w=1.0)  # the yaw of 0, built once: most primitives are not turned
+_ARROW_BASE = Vector3(x=0.0, y=0.0, z=0.35)  # m: where the force arrows start, in base_link
+_CAMERA_AT = Vector3(x=0.0, y=0.0, z=0.4)  # m: the camera frame's origin in base_link (its field of view's height)
 
 
 def _ts(ns: int) -> Timestamp:
@@ -103,13 +108,21 @@ def _yaw(theta: float) -> Quaternion:
 
 
 def _pose(x: float, y: float, theta: float = 0.0, z: float = 0.0) -> FxPose:
-    return FxPose(position=Vector3(x=x, y=y, z=z), orientation=_yaw(theta))
+    return FxPose(position=Vector3(x=x, y=y, z=z), orientation=_yaw(theta) if theta else _NO_TURN)
 
 
 def _cylinder(x: float, y: float, radius: float, bottom: float, height: float, color: Color) -> CylinderPrimitive:
     """An upright cylinder (or flat disc) of ``radius`` standing on ``z = bottom`` at (x, y)."""
     return CylinderPrimitive(pose=_pose(x, y, z=bottom + height / 2), size=Vector3(x=2 * radius, y=2 * radius, z=height),
                              bottom_scale=1.0, top_scale=1.0, color=color)
+
+
+@functools.cache
+def _schema(cls: type) -> foxglove.Schema:
+    """The JSON Schema of a message class as the log stores it, derived once per process (about
+    1 ms a class: a run in a process that runs many, ``compare`` or a benchmark, no longer pays it)."""
+    schema = json_schema(cls)
+    return foxglove.Schema(name=schema["title"], encoding="jsonschema", data=json.dumps(schema).encode())
 
 
 class LogPathError(ValueError):
@@ -214,19 +227,20 @@ class Recorder:
         self.robot_body = SceneUpdateChannel("/robot/body", context=ctx)
         self.camera_scene = SceneUpdateChannel("/robot/camera", context=ctx)
         self.events = LogChannel("/events", context=ctx)
-        self.pilot = foxglove.Channel("/pilot", schema=json_schema(Pilot), context=ctx)
-        self.bids = foxglove.Channel("/bids", schema=json_schema(Bids), context=ctx)
-        self.summary = foxglove.Channel("/mission/summary", schema=json_schema(MissionSummary), context=ctx)
-        self.vision = foxglove.Channel("/vision", schema=json_schema(Vision), context=ctx)
+        self.pilot = foxglove.Channel("/pilot", schema=_schema(Pilot), message_encoding="json", context=ctx)
+        self.bids = foxglove.Channel("/bids", schema=_schema(Bids), message_encoding="json", context=ctx)
+        self.summary = foxglove.Channel("/mission/summary", schema=_schema(MissionSummary), message_encoding="json",
+                                        context=ctx)
+        self.vision = foxglove.Channel("/vision", schema=_schema(Vision), message_encoding="json", context=ctx)
         self.memory_scene = SceneUpdateChannel("/memory/scene", context=ctx)
-        self.navigation = foxglove.Channel("/navigation", schema=json_schema(Navigation), context=ctx)
+        self.navigation = foxglove.Channel("/navigation", schema=_schema(Navigation), message_encoding="json",
+                                           context=ctx)
         self.map_scene = SceneUpdateChannel("/map/scene", context=ctx)
         self._closed = False
-        self._grown_keys: tuple = ()
-        self._grown_ns = 0
+        self._drawn_ns = -DRAW_NS  # when the Pilot's decorations were last drawn: the first tick draws them
         self._R_min = 0.0
-        self._fov = (0.0, 0.0)  # camera field of view (rad) and range (m)
-        self._pan_drawn: float | None = None
+        self._fov: LinePrimitive | None = None  # the camera's field of view in its frame, built at start
+        self._pan = 0.0  # rad: the camera's pan in the last /tf
         self._flushed_ns = 0
         self.pose_ns = -1  # the time of the last pose written
         self._arena: list[tuple[str, dict]] = []  # the arena's and the body's primitives, built at start
@@ -241,7 +255,8 @@ class Recorder:
         robot's body, and the first poses."""
         sc = spec.scenario
         self._R_min = spec.params.pilot.R_min
-        self._fov = (sc.camera.fov, sc.camera.range)
+        self._fov = LinePrimitive(type=LinePrimitiveLineType.LineStrip, thickness=0.02, color=_FOV,
+                                  points=_fan(sc.camera.fov, sc.camera.range))
         self.writer.write_metadata("run", spec.metadata())
         self.writer.attach(log_time=0, create_time=0, name=Path(sc.source).name or f"{sc.name}.yaml",
                            media_type="application/yaml", data=sc.text.encode())
@@ -250,63 +265,61 @@ class Recorder:
         self._body = {"cylinders": [_cylinder(0.0, 0.0, r, 0.0, 0.3, _ROBOT)],
                       "arrows": [ArrowPrimitive(pose=_pose(0, 0, z=0.32), shaft_length=r, shaft_diameter=0.04,
                                                 head_length=0.1, head_diameter=0.1, color=_ROBOT)]}
-        self._state(0, 0.0)
-        self._pose_msgs(pose, odometry, 0)
+        self._state(0)
+        self._pose_msgs(pose, odometry, 0, 0.0)
 
-    def _state(self, ns: int, pan: float) -> None:
+    def _state(self, ns: int) -> None:
         """The state a viewer needs at any time, each on a topic of its own and complete in every
         message: the arena (``/world/scene``), the robot's body (``/robot/body``) and the camera's
-        field of view (``/robot/camera``). Published at the start and every ``SCENE_REFRESH`` s,
-        so a viewer that seeks or joins late finds them (a viewer restores the latest message of
-        each topic); the field of view also when the pan changes."""
+        field of view (``/robot/camera``, in the frame ``camera`` that /tf turns by the pan).
+        Published at the start and every ``SCENE_REFRESH`` s, so a viewer that seeks or joins late
+        finds them (a viewer restores the latest message of each topic)."""
         ts = _ts(ns)
         arena = [SceneEntity(timestamp=ts, frame_id="world", id=key, **shapes) for key, shapes in self._arena]
         self.world_scene.log(SceneUpdate(entities=arena), log_time=ns)
         body = SceneEntity(timestamp=ts, frame_id="base_link", id="robot", frame_locked=True, **self._body)
         self.robot_body.log(SceneUpdate(entities=[body]), log_time=ns)
-        self._camera(ns, pan)
+        self.camera_scene.log(SceneUpdate(entities=[SceneEntity(timestamp=ts, frame_id="camera", id="camera",
+                                                                frame_locked=True, lines=[self._fov])]), log_time=ns)
         self._state_ns = ns
 
-    def _camera(self, ns: int, pan: float) -> None:
-        self.camera_scene.log(SceneUpdate(entities=[_field_of_view(pan, *self._fov, ns)]), log_time=ns)
-        self._pan_drawn = pan
-
-    def _pose_msgs(self, truth: Pose, odom: Pose, ns: int) -> None:
-        self.pose_ns = ns
+    def _pose_msgs(self, truth: Pose, odom: Pose, ns: int, pan: float) -> None:
+        """/tf (``world`` to ``base_link``: the true pose; ``base_link`` to ``camera``: the pan),
+        /robot/odometry and, last, /robot/pose at ``ns``. The pan is a frame (our design): the
+        field of view drawn once in it turns with the camera, where redrawing it at each change
+        of the pan cost some 10 µs a tick. ``pose_ns`` is set once the pose is written, so a run
+        stopped by a signal in between has them written again by :meth:`finish` (before,
+        ``pose_ns`` was set first: 2 runs in 12 of the SIGTERM test ended with the summary a tick
+        after its last pose)."""
         ts = _ts(ns)
         q = _yaw(truth.theta)
-        self.tf.log(FrameTransforms(transforms=[FrameTransform(
-            timestamp=ts, parent_frame_id="world", child_frame_id="base_link",
-            translation=Vector3(x=truth.x, y=truth.y, z=0.0), rotation=q)]), log_time=ns)
-        self.pose.log(PoseInFrame(timestamp=ts, frame_id="world", pose=FxPose(
-            position=Vector3(x=truth.x, y=truth.y, z=0.0), orientation=q)), log_time=ns)
+        at = Vector3(x=truth.x, y=truth.y, z=0.0)
+        self.tf.log(FrameTransforms(transforms=[
+            FrameTransform(timestamp=ts, parent_frame_id="world", child_frame_id="base_link", translation=at, rotation=q),
+            FrameTransform(timestamp=ts, parent_frame_id="base_link", child_frame_id="camera", translation=_CAMERA_AT,
+                           rotation=_yaw(pan) if pan else _NO_TURN)]), log_time=ns)
+        self._pan = pan
         self.odom.log(PoseInFrame(timestamp=ts, frame_id="world", pose=_pose(odom.x, odom.y, odom.theta)),
                       log_time=ns)
+        self.pose.log(PoseInFrame(timestamp=ts, frame_id="world", pose=FxPose(position=at, orientation=q)), log_time=ns)
+        self.pose_ns = ns
 
     def tick(self, t: Tick) -> None:
         ns = t.time_ns
-        self._pose_msgs(t.pose, t.odometry, ns)
+        pan, state = t.camera
+        self._pose_msgs(t.pose, t.odometry, ns, pan)
         if self.server is not None:
             self.server.broadcast_time(ns)
         v, w = t.command
         self.pilot.log(encode(pilot_message(t.pilot.info, v, math.degrees(w))), log_time=ns)
         self.bids.log(encode(bids_record(t)), log_time=ns)
-        ents = [_force_arrows(t.pilot.arrows, ns)] if t.pilot.arrows else []
-        keys = tuple(o.key for o in t.pilot.obstacles)
-        if keys != self._grown_keys or ns - self._grown_ns >= GROWN_REFRESH_NS:
-            ents.append(_grown(t.pilot.obstacles, t.pose, self._R_min, ns))
-            self._grown_keys, self._grown_ns = keys, ns
-        if ents:
-            self.robot_scene.log(SceneUpdate(entities=ents), log_time=ns)
-        pan, state = t.camera
+        if ns - self._drawn_ns >= DRAW_NS:
+            self._pilot_scene(t, ns)
         if ns - self._state_ns >= round(SCENE_REFRESH * 1e9):
-            self._state(ns, pan)
-        elif pan != self._pan_drawn:
-            self._camera(ns, pan)
-        dets = {d.key or f"obstacle{i}": msgspec.convert(d.as_json(), DetectionMsg)
-                for i, d in enumerate(t.detections or ())}
-        self.vision.log(encode(Vision(pan_deg=math.degrees(pan), state=state, image=t.detections is not None,
-                                      detections=dets)), log_time=ns)
+            self._state(ns)
+        dets = {d.key or f"obstacle{i}": d.as_json() for i, d in enumerate(t.detections or ())}
+        self.vision.log(encode({"pan_deg": math.degrees(pan), "state": state, "image": t.detections is not None,
+                                "detections": dets}), log_time=ns)
         if t.memory is not None:
             self.memory_scene.log(SceneUpdate(deletions=[SceneEntityDeletion(timestamp=_ts(ns), type=SceneEntityDeletionType.All)],
                                               entities=_memory_entities(t.memory, ns)), log_time=ns)
@@ -327,6 +340,15 @@ class Recorder:
             self.writer.flush()
             self._flushed_ns = ns
 
+    def _pilot_scene(self, t: Tick, ns: int) -> None:
+        """``/robot/scene`` every :data:`DRAW_NS`: the Pilot's force arrows and its grown obstacles
+        (the forces themselves are in ``/pilot`` every tick)."""
+        self._drawn_ns = ns
+        ents = [_grown(t.pilot.obstacles, t.pose, self._R_min, ns)]
+        if t.pilot.arrows:
+            ents.append(_force_arrows(t.pilot.arrows, ns))
+        self.robot_scene.log(SceneUpdate(entities=ents), log_time=ns)
+
     def event(self, e: Event, ns: int) -> None:
         self.events.log(Log(timestamp=_ts(ns), level=_LEVEL[e.level], message=e.message, name=e.source),
                         log_time=ns)
@@ -341,7 +363,7 @@ class Recorder:
         self._closed = True
         try:
             if poses is not None and self.pose_ns != ns:
-                self._pose_msgs(*poses, ns)
+                self._pose_msgs(*poses, ns, self._pan)
             self.summary.log(encode(msgspec.convert(summary, MissionSummary)), log_time=ns)
         finally:
             self.writer.close()
@@ -352,22 +374,23 @@ class Recorder:
         return self.path
 
 
-def bids_record(t: Tick) -> Bids:
-    """The ``/bids`` message: fixed keys per resource so every value is plottable in Foxglove."""
-    per: dict = {}
+def bids_record(t: Tick) -> dict:
+    """The ``/bids`` message (a :class:`~navcli.messages.Bids` as plain values): fixed keys per
+    resource so every value is plottable in Foxglove."""
+    msg: dict = {r: {**dict.fromkeys(SYSTEMS, 0.0), "actions": {}} for r in RESOURCES}
+    for b in t.bids:
+        per = msg[b.resource]
+        per[b.bidder] = b.value
+        per["actions"][b.bidder] = b.action.as_json()
     for r in RESOURCES:
-        values = dict.fromkeys(SYSTEMS, 0.0)
-        actions = {}
-        for b in t.bids:
-            if b.resource == r:
-                values[b.bidder] = b.value
-                actions[b.bidder] = msgspec.convert(b.action.as_json(), Action)
         win = t.winners[r]
-        per[r] = ResourceBids(**values, actions=actions, winner=win.bidder if win else msgspec.UNSET)
+        if win is not None:
+            msg[r]["winner"] = win.bidder
     agents: dict = {}
     for b in t.agent_bids:
         agents.setdefault(b.bidder, {})[b.resource] = b.value
-    return Bids(**per, agents=agents)
+    msg["agents"] = agents
+    return msg
 
 
 def _force_arrows(arrows: list[tuple[str, float, float]], ns: int) -> SceneEntity:
@@ -378,45 +401,42 @@ def _force_arrows(arrows: list[tuple[str, float, float]], ns: int) -> SceneEntit
         if mag < ARROW_MIN:
             continue
         L = min(mag / 100.0, 1.5)
-        prims.append(ArrowPrimitive(pose=_pose(0, 0, math.atan2(fy, fx), z=0.35), shaft_length=max(L - 0.08, 0.01),
-                                    shaft_diameter=0.025, head_length=0.08, head_diameter=0.07, color=_ARROW))
+        prims.append(ArrowPrimitive(pose=FxPose(position=_ARROW_BASE, orientation=_yaw(math.atan2(fy, fx))),
+                                    shaft_length=max(L - 0.08, 0.01), shaft_diameter=0.025, head_length=0.08,
+                                    head_diameter=0.07, color=_ARROW))
     return SceneEntity(timestamp=_ts(ns), frame_id="base_link", id="forces", frame_locked=True, arrows=prims)
 
 
-def _field_of_view(pan: float, fov: float, rng: float, ns: int) -> SceneEntity:
-    """The camera's field of view: a fan in ``base_link``, turned by the pan."""
-    pts = [Point3(x=0.0, y=0.0, z=0.4)]
+def _fan(fov: float, rng: float) -> list[Point3]:
+    """The camera's field of view (``fov`` rad wide, ``rng`` m deep) in its frame: a closed fan."""
+    pts = [Point3(x=0.0, y=0.0, z=0.0)]
     for k in range(9):
-        a = pan - fov / 2 + fov * k / 8
-        pts.append(Point3(x=rng * math.cos(a), y=rng * math.sin(a), z=0.4))
-    pts.append(Point3(x=0.0, y=0.0, z=0.4))
-    return SceneEntity(timestamp=_ts(ns), frame_id="base_link", id="camera", frame_locked=True,
-                       lines=[LinePrimitive(type=LinePrimitiveLineType.LineStrip, thickness=0.02, color=_FOV, points=pts)])
+        a = -fov / 2 + fov * k / 8
+        pts.append(Point3(x=rng * math.cos(a), y=rng * math.sin(a), z=0.0))
+    pts.append(Point3(x=0.0, y=0.0, z=0.0))
+    return pts
 
 
-def navigation_record(t: Tick) -> Navigation:
-    """The ``/navigation`` message: every agent's bids, what was forwarded, and why."""
+def navigation_record(t: Tick) -> dict:
+    """The ``/navigation`` message (a :class:`~navcli.messages.Navigation` as plain values): every
+    agent's bids, what was forwarded, and why."""
     nav = t.navigation
-    agents: dict[str, AgentBid] = {}
+    agents: dict[str, dict[str, float]] = {}
     for b in nav.agent_bids:
-        a = agents.setdefault(b.bidder, AgentBid())
-        setattr(a, b.resource, max(getattr(a, b.resource), b.value))
-    fwd = Forwarded()
+        a = agents.setdefault(b.bidder, {"motion": 0.0, "camera": 0.0})
+        a[b.resource] = max(a[b.resource], b.value)
+    fwd: dict = {"motion": 0.0, "camera": 0.0}
     for b in nav.bids:
-        setattr(fwd, b.resource, b.value)
+        fwd[b.resource] = b.value
         owner = next((a.bidder for a in nav.agent_bids if a.resource == b.resource and a.value == b.value), None)
         if owner is not None:
-            setattr(fwd, f"{b.resource}_agent", owner)
-    i = nav.info
-    msg = Navigation(agents=agents, forwarded=fwd, I_a=i["I_a"], risk=i["risk"], quality_ahead=i["quality_ahead"],
-                     quality_around=i["quality_around"], landmarks_known=i["landmarks_known"],
-                     landmarks_ahead=i["landmarks_ahead"], target_source=i["target_source"], rescuer=i["rescuer"],
-                     diverting=nav.diverting, diverting_targets=i["diverting_targets"], failures=i["failures"],
-                     beta_units=i["beta_units"])
+            fwd[f"{b.resource}_agent"] = owner
+    msg = {"agents": agents, "forwarded": fwd, **nav.info, "diverting": nav.diverting}  # info: the scalar fields
     if nav.target is not None:
-        msg.target = XY(*nav.target)
+        msg["target"] = {"x": nav.target[0], "y": nav.target[1]}
     if nav.target_line is not None:
-        msg.line_a, msg.line_b = XY(*nav.target_line[0]), XY(*nav.target_line[1])
+        (ax, ay), (bx, by) = nav.target_line
+        msg["line_a"], msg["line_b"] = {"x": ax, "y": ay}, {"x": bx, "y": by}
     return msg
 
 
@@ -429,7 +449,8 @@ _DIVERTING = Color(r=0.1, g=0.8, b=0.3, a=1.0)
 def _map_entities(m: MapSnapshot, diverting, ns: int) -> list[SceneEntity]:
     """The Map Manager's map in ``base_link``: each mapped landmark with the disc of its 70 % cut
     and its name, the regions' triangles (faint), the beta-units as lines from the encoded landmark
-    to its three basis landmarks, blocked edges in red, and the diverting line in green."""
+    to its three basis landmarks, blocked edges in red, and the diverting line in green. Not
+    frame-locked: drawn every few seconds, a viewer keeps it where the robot was when it was drawn."""
     ts = _ts(ns)
     z = 0.06
     P = lambda xy: Point3(x=xy[0], y=xy[1], z=z)  # noqa: E731
@@ -451,14 +472,16 @@ def _map_entities(m: MapSnapshot, diverting, ns: int) -> list[SceneEntity]:
     if diverting is not None:
         lines.append(LinePrimitive(type=LinePrimitiveLineType.LineStrip, thickness=0.06, color=_DIVERTING,
                                    points=[P(diverting[0]), P(diverting[1])]))
-    return [SceneEntity(timestamp=ts, frame_id="base_link", id="map", frame_locked=True, cylinders=cyl,
+    return [SceneEntity(timestamp=ts, frame_id="base_link", id="map", frame_locked=False, cylinders=cyl,
                         texts=texts, lines=lines)]
 
 
 def _memory_entities(memory: tuple[Remembered, ...], ns: int) -> list[SceneEntity]:
     """The visual memory in ``base_link``: per remembered point a disc the size of its 70 % cut
     (the visible belief) and a faint thin ring for its support, which is often 1-2 m wide and would
-    hide the arena if filled, so Foxglove shows belief (here) next to truth (/world/scene)."""
+    hide the arena if filled, so Foxglove shows belief (here) next to truth (/world/scene). Not
+    frame-locked: drawn every few seconds, a viewer keeps it where the robot was when it was drawn
+    (frame-locked, it would drift along with the robot until the next drawing)."""
     ents = []
     ts = _ts(ns)
     for m in memory:
@@ -467,12 +490,12 @@ def _memory_entities(memory: tuple[Remembered, ...], ns: int) -> list[SceneEntit
         for x, y, r70, r0 in m.spots:
             cyl.append(_cylinder(x, y, max(r70, 0.03), 0.015, 0.03, color))
             lines.append(LinePrimitive(type=LinePrimitiveLineType.LineLoop, thickness=0.01, color=faint, points=[
-                Point3(x=x + r0 * math.cos(a), y=y + r0 * math.sin(a), z=0.01) for a in _RING]))
+                Point3(x=x + r0 * c, y=y + r0 * s, z=0.01) for c, s in _RING]))
         if len(m.spots) == 2:
             (ax, ay, *_), (bx, by, *_) = m.spots
             lines.append(LinePrimitive(type=LinePrimitiveLineType.LineStrip, thickness=0.03, color=color,
                                        points=[Point3(x=ax, y=ay, z=0.04), Point3(x=bx, y=by, z=0.04)]))
-        ents.append(SceneEntity(timestamp=ts, frame_id="base_link", id=f"memory-{m.key}", frame_locked=True,
+        ents.append(SceneEntity(timestamp=ts, frame_id="base_link", id=f"memory-{m.key}", frame_locked=False,
                                 cylinders=cyl, lines=lines))
     return ents
 

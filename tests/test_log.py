@@ -152,6 +152,51 @@ def test_vision_topic_reports_images_with_fuzzy_detections(open_run):
     assert 0 < d["lo0"] < d["hi0"] < 6.0
 
 
+def test_the_pilots_decorations_are_drawn_every_draw_period_and_its_forces_logged_every_tick(open_run):
+    """/robot/scene (force arrows and grown obstacles) is drawn from the first tick on, every
+    DRAW_PERIOD; the forces it draws are in /pilot at every tick."""
+    from navcli.params import DRAW_PERIOD
+
+    _, res, log = open_run
+    scene = log["/robot/scene"]
+    every = round(DRAW_PERIOD / CONTROL_DT)  # ticks between two drawings
+    ticks = (scene["log_time_ns"] // round(CONTROL_DT * 1e9)).to_numpy()
+    assert ticks[0] == 1 and ((ticks - 1) % every == 0).all()
+    assert len(scene) == (res.summary["ticks"] - 1) // every + 1
+    assert all(set(e) == {"forces", "grown-obstacles"} for e in scene["entities"])  # the potential-field pilot has forces
+    pilot = log["/pilot"]
+    assert len(pilot) == res.summary["ticks"] and not pilot[["net.x", "net.y"]].isna().any().any()
+
+
+def test_the_log_ends_with_the_final_memory_and_map(open_run):
+    """Drawn every few seconds (vision.draw_every, navigation.map_draw_every), the visual memory and
+    the map are drawn at the last tick too, so a log's last drawing of each is the final one."""
+    _, _, log = open_run
+    end = log["/robot/pose"]["log_time_ns"].iloc[-1]
+    for topic in ("/memory/scene", "/map/scene"):
+        t = log[topic]["log_time_ns"]
+        assert t.iloc[-1] == end and len(t) >= 2, topic
+
+
+def test_the_camera_frame_in_tf_turns_by_the_pan_of_every_tick(open_run):
+    """Each /tf message holds world -> base_link (the true pose) and base_link -> camera, turned by
+    the pan /vision reports at that time; the field of view is drawn once in that frame."""
+    from analysis.logs import scene_messages
+
+    _, res, log = open_run
+    tf = {ns: m for ns, m in scene_messages(log.path, "/tf")}
+    pans = dict(zip(log["/vision"]["log_time_ns"], log["/vision"]["pan_deg"]))
+    assert len(pans) == res.summary["ticks"] and set(pans) <= set(tf)
+    assert any(abs(p) > 1.0 for p in pans.values())  # the camera did pan
+    for ns, pan in pans.items():
+        base, cam = tf[ns].transforms
+        assert (base.parent_frame_id, base.child_frame_id, cam.parent_frame_id, cam.child_frame_id) == \
+            ("world", "base_link", "base_link", "camera")
+        q = cam.rotation
+        assert math.degrees(2 * math.atan2(q.z, q.w)) == pytest.approx(pan, abs=1e-9)
+    assert all(e == ["camera"] for e in log["/robot/camera"]["entities"])
+
+
 def test_no_numeric_field_of_the_pilot_log_is_missing(open_run):
     _, _, log = open_run
     nums = log["/pilot"].select_dtypes("number")

@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import pytest
 from typer.testing import CliRunner
 
 from conftest import SCENARIOS
@@ -50,6 +51,11 @@ def test_plot_map_draws_the_final_map_of_a_log(tmp_path):
     r = CliRunner().invoke(app, ["plot", "map", str(log), "--out", str(tmp_path / "map.png")])
     assert r.exit_code == 0, r.output
     assert (tmp_path / "map.png").read_bytes().startswith(PNG)
-    short = run_mission(RunSpec.build(sc, time_limit=1.0), out=tmp_path / "s.mcap").log  # before the first map
-    r = CliRunner().invoke(app, ["plot", "map", str(short)])
+    def stop(mission, tick):  # a run stopped before its first map (a finished run draws its final map)
+        if tick.index == 5:
+            raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        run_mission(RunSpec.build(sc), out=tmp_path / "s.mcap", on_tick=stop)
+    r = CliRunner().invoke(app, ["plot", "map", str(tmp_path / "s.mcap")])
     assert r.exit_code == 2 and "no /map/scene" in r.output

@@ -4,12 +4,14 @@ only what the logs hold)."""
 from __future__ import annotations
 
 import json
+import math
 
+import numpy as np
 import pytest
 from PIL import Image
 from typer.testing import CliRunner
 
-from analysis.render import RenderError, render
+from analysis.render import RenderError, memory_in_world, render
 from conftest import SCENARIOS
 from navcli.cli import app
 from navcli.config import RunSpec
@@ -20,7 +22,7 @@ from navcli.scenario import load_scenario
 
 @pytest.fixture(scope="module")
 def short_log(tmp_path_factory):
-    """2 s of the 8 m room: 20 ticks, the memory drawn every 0.5 s."""
+    """2 s of the 8 m room: 20 ticks, the memory drawn once, at the last tick."""
     out = tmp_path_factory.mktemp("render") / "short.mcap"
     run_mission(RunSpec.build(load_scenario(SCENARIOS / "paper-8x8.yaml"), seed=1, time_limit=2.0), out=out)
     return out
@@ -35,6 +37,18 @@ def test_render_writes_a_gif_with_one_frame_per_step(short_log, tmp_path):
         assert im.n_frames == 6 and im.size == (150, 192)
     # --from/--to clip: 0.5 s to 1.5 s at 0.5 s per frame = 3 frames
     assert render(short_log, tmp_path / "clip.gif", speed=2.5, fps=5.0, start=0.5, end=1.5, dpi=20).frames == 3
+
+
+def test_render_places_the_memory_with_the_pose_of_its_drawing():
+    """A memory drawn at 1 s, one spot 1 m ahead of a robot at the origin facing +x; at 2 s the robot
+    is at (5, 0) facing +y. At 2 s the spot stays at (1, 0) in the world (where the 3D view keeps a
+    drawing that is not frame-locked), not 1 m ahead of the robot's new pose (5, 1); before 1 s
+    nothing is drawn."""
+    memory = [(1.0, [("landmark", 1.0, 0.0, 0.1, 0.5)])]
+    poses = tuple(np.array(v) for v in ([0.0, 0.0, 5.0], [0.0, 0.0, 0.0], [0.0, 0.0, math.pi / 2], [0.0, 1.0, 2.0]))
+    (kind, x, y, r70, r0), = memory_in_world(memory, np.array([1.0]), poses, 2.0)
+    assert kind == "landmark" and (x, y) == pytest.approx((1.0, 0.0)) and (r70, r0) == (0.1, 0.5)
+    assert memory_in_world(memory, np.array([1.0]), poses, 0.9) == []
 
 
 def test_render_refuses_what_it_cannot_do(short_log, tmp_path, monkeypatch):
