@@ -23,9 +23,11 @@ from navcli.recorder import FLUSH_EVERY_NS, RECOVERED_REASON, LogPathError, Reco
 from navcli.runner import run_mission
 from navcli.scenario import load_scenario
 
-# A wall across the room: the run lasts until its (long) time limit, long enough to be killed.
+# A wall across the room, and a Rescuer that never gives up: the run lasts until its (long) time
+# limit, long enough to be killed (with 3 failed diverting targets it ended "blocked" after 152 s,
+# about a second of wall time, which a loaded machine could let pass before the test's signal).
 BLOCKED = scenario_dict(name="blocked", obstacles=[{"segment": {"from": [3, 0], "to": [3, 4]}}],
-                        mission={"time_limit": 3000, "seed": 1})
+                        mission={"time_limit": 3000, "seed": 1}, navigation={"max_diverting_failures": 1000000})
 
 
 def start_run(write_scenario, out, *extra):
