@@ -428,9 +428,7 @@ def navigation_record(t: Tick) -> dict:
     fwd: dict = {"motion": 0.0, "camera": 0.0}
     for b in nav.bids:
         fwd[b.resource] = b.value
-        owner = next((a.bidder for a in nav.agent_bids if a.resource == b.resource and a.value == b.value), None)
-        if owner is not None:
-            fwd[f"{b.resource}_agent"] = owner
+        fwd[f"{b.resource}_agent"] = nav.forwarded_by[b.resource]
     msg = {"agents": agents, "forwarded": fwd, **nav.info, "diverting": nav.diverting}  # info: the scalar fields
     if nav.target is not None:
         msg["target"] = {"x": nav.target[0], "y": nav.target[1]}

@@ -131,3 +131,19 @@ def test_every_json_message_of_real_runs_matches_its_schema(logs):
     # rules, a reflex's phases
     assert {"net", "raw_turn_deg", "nearest", "clearance", "rule", "side", "phase"} <= pilot_keys
     assert any(k.startswith("obstacles.") for k in pilot_keys)
+
+
+def test_every_forwarded_bid_names_the_agent_it_came_from(logs):
+    named = 0
+    for name, path in logs.items():
+        msgs = [m for topic, _, m in _json_messages(path) if topic == "/navigation"]
+        agents = set().union(*(m["agents"] for m in msgs))
+        for m in msgs:
+            fwd = m["forwarded"]
+            for r in ("motion", "camera"):
+                if fwd[r] > 0:  # a bid was forwarded: whose, even when it was held from an earlier tick
+                    assert fwd.get(f"{r}_agent") in agents, (name, m)
+                    named += 1
+                else:
+                    assert f"{r}_agent" not in fwd
+    assert named > 100

@@ -54,6 +54,7 @@ class NavigationOutput:
     events: tuple[tuple[str, str, str], ...] = ()  # (agent, level, message)
     give_up: str | None = None
     info: dict = field(default_factory=dict)
+    forwarded_by: dict = field(default_factory=dict)  # resource -> the agent whose bid was forwarded
 
 
 class NavigationSystem:
@@ -119,7 +120,7 @@ class NavigationSystem:
                 "failures": self.rescuer.failures, "beta_units": len(self.map.network)}
         events = tuple((self.rescuer.name, level, msg) for level, msg in rescue.events)
         return NavigationOutput(bids, agent_bids, s.aim, s.target_line, rescue.diverting is not None, events,
-                                rescue.give_up, info)
+                                rescue.give_up, info, self.communicator.forwarded_by)
 
     def _ask(self, beliefs: Beliefs, original: Situation, failed):
         """The Rescuer's word to the Map Manager: the edge of a diverting target that failed (its

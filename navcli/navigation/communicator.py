@@ -4,7 +4,8 @@ thesis node 44).
 It collects the agents' bids over a time window; a later bid from the same agent for the same
 action type (Move/Stop or Look) replaces the earlier one; it then forwards the highest Move/Stop
 bid to the Pilot and the highest Look bid to Vision, with their values, as the Navigation
-system's bids.
+system's bids, and says whose they were (:attr:`Communicator.forwarded_by`: a bid held from an
+earlier tick may win, so this tick's bids alone do not tell).
 """
 
 from __future__ import annotations
@@ -21,6 +22,7 @@ class Communicator:
         self.name = name
         self.window = window
         self._held: dict[tuple[str, Resource], tuple[float, Bid]] = {}
+        self.forwarded_by: dict[Resource, str] = {}  # the agent whose bid each forwarded bid is, last call
 
     def forward(self, agent_bids: Iterable[Bid], time: float = 0.0) -> list[Bid]:
         """Take this tick's bids (at ``time``, s) and return each resource's winning bid among
@@ -32,8 +34,12 @@ class Communicator:
         ...         Bid("a", "camera", Look(0.5), 0.1)]
         >>> [(b.bidder, b.resource, b.value) for b in c.forward(bids, 0.0)]
         [('navigation', 'motion', 0.4), ('navigation', 'camera', 0.1)]
+        >>> c.forwarded_by
+        {'motion': 'b', 'camera': 'a'}
         >>> [(b.resource, b.value) for b in c.forward([Bid("b", "motion", Move(1.0, 0.3), 0.1)], 0.1)]
         [('motion', 0.2), ('camera', 0.1)]
+        >>> c.forwarded_by  # a's earlier motion bid, held in the window, beats b's fresh one
+        {'motion': 'a', 'camera': 'a'}
         >>> [(b.resource, b.value) for b in c.forward([], 0.35)]  # all older than the window
         []
         """
@@ -42,4 +48,5 @@ class Communicator:
         self._held = fresh | {k: (t, b) for k, (t, b) in self._held.items()
                               if k not in fresh and t >= time - self.window - 1e-9}
         winners = arbitrate(b for _, b in self._held.values())
+        self.forwarded_by = {r: b.bidder for r, b in winners.items() if b is not None}
         return [Bid(self.name, r, b.action, b.value) for r, b in winners.items() if b is not None]
