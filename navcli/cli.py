@@ -10,6 +10,7 @@ scenario, a bad option), 3 the mission ended without reaching its target (timeou
 from __future__ import annotations
 
 import contextlib
+import os
 import sys
 from enum import Enum
 from pathlib import Path
@@ -552,8 +553,6 @@ def _extra(module: str, what: str):
 @contextlib.contextmanager
 def _executor(jobs: Optional[int], scheduler: Optional[str]):
     """The execution layer's executor, or exit 2 when the scheduler cannot be reached."""
-    import os
-
     from .experiments.executor import MissingExtra, executor
 
     try:
@@ -646,8 +645,6 @@ def tune(
 ) -> None:
     """Find parameter values that maximise an objective over scenarios and seeds; prints and writes the
     best values, the history, a plot of the objective against trials and a scenario pilot: block."""
-    import os
-
     from .experiments.executor import exit_code
     from .experiments.tune import ALGORITHMS, OBJECTIVES, GASettings, TuneProblem, parse_range
     from .params import ParamError
@@ -843,4 +840,7 @@ def compare_policies(
 
 
 def main() -> None:
+    # One BLAS thread (our design): navcli's arrays hold a few dozen numbers, and the threads OpenBLAS
+    # starts with scipy only spin (some 60 ms of a one-shot run, and more beside compare's workers)
+    os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
     app()
