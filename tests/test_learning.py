@@ -270,6 +270,9 @@ def test_training_records_each_trial_and_resumes_where_the_model_was_saved(tmp_p
     csv_path, logs = trials_paths(out)
     rows = list(csv.DictReader(csv_path.open()))
     assert [int(r["trial"]) for r in rows] == [0, 1, 2] and [p.trials for p in first.curve] == [0, 2, 3]
+    curve = list(csv.DictReader(open(f"{out.with_suffix('')}-curve.csv")))
+    assert [int(c["trials"]) for c in curve] == [0, 2, 3] and first.hand_coded_reward < 0  # every action costs
+    assert {float(c["hand_coded_reward_per_trial"]) for c in curve} == {round(first.hand_coded_reward, 2)}
     assert {o: sum(r["outcome"] == o for r in rows) for o in first.outcomes} == first.outcomes
     for r in rows:
         counts = [int(r[a]) for a in ACTIONS]

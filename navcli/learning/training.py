@@ -116,7 +116,8 @@ class Training:
     seed: int
     trials: int
     curve: list[Point] = field(default_factory=list)
-    hand_coded: int | None = None
+    hand_coded: int | None = None  # the hand-coded policy's successes of the test starts
+    hand_coded_reward: float | None = None  # and its mean reward per trial
     train_s: float = 0.0  # wall time in training trials (this process)
     eval_s: float = 0.0  # summed wall time of the evaluations (worker processes, overlapping training)
     wall_s: float = 0.0
@@ -178,6 +179,7 @@ def train(spec: RunSpec, *, trials: int = 2000, eval_every: int = 100, eval_star
         result.trials = int(meta["trials"])
         result.curve = [Point(**p) for p in meta.get("curve", [])]
         result.hand_coded = meta.get("hand_coded")
+        result.hand_coded_reward = meta.get("hand_coded_reward")
         result.outcomes = dict(meta.get("outcomes", {}))
     test = random_starts(spec.scenario, eval_starts, EVAL_SEED, spec.params.robot.radius)
     task = NavigationTask(spec.replace(navigation="learned"))  # what a trial log's summary says drove it
@@ -208,14 +210,17 @@ def train(spec: RunSpec, *, trials: int = 2000, eval_every: int = 100, eval_star
             result.curve.append(Point(n, sum(r.success for r in rs), float(np.mean([r.reward for r in rs])),
                                       float(np.mean([r.actions for r in rs]))))
         if hand and (block or all(f.done() for f in hand)):
-            result.hand_coded = sum(r.success for r in collect(hand))
+            hs = collect(hand)
+            result.hand_coded = sum(r.success for r in hs)
+            result.hand_coded_reward = float(np.mean([r.reward for r in hs]))
             hand.clear()
 
     def save() -> None:
         meta = {"algorithm": algorithm, "scenario": spec.scenario.name, "scenario_sha256": spec.scenario.sha256,
                 "seed": seed, "trials": result.trials, "eval_every": eval_every, "eval_starts": eval_starts,
                 "eval_seed": EVAL_SEED, "params": spec.params.to_json(), "curve": [asdict(p) for p in result.curve],
-                "hand_coded": result.hand_coded, "outcomes": result.outcomes}
+                "hand_coded": result.hand_coded, "hand_coded_reward": result.hand_coded_reward,
+                "outcomes": result.outcomes}
         model_file.save(out, learner, meta)
 
     with ProcessPoolExecutor(max_workers=workers, mp_context=ctx) as pool:
@@ -266,25 +271,35 @@ def write_curve(result: Training, out: Path) -> dict[str, Path]:
     csv_path, png_path = Path(f"{stem}-curve.csv"), Path(f"{stem}-curve.png")
     with csv_path.open("w", newline="") as f:
         w = csv.writer(f)
-        w.writerow(["trials", "successes", "reward_per_trial", "actions_per_trial", "hand_coded_successes"])
+        w.writerow(["trials", "successes", "reward_per_trial", "actions_per_trial", "hand_coded_successes",
+                    "hand_coded_reward_per_trial"])
+        hc_reward = "" if result.hand_coded_reward is None else f"{result.hand_coded_reward:.2f}"
         for p in result.curve:
-            w.writerow([p.trials, p.successes, f"{p.reward:.2f}", f"{p.actions:.2f}", result.hand_coded])
+            w.writerow([p.trials, p.successes, f"{p.reward:.2f}", f"{p.actions:.2f}", result.hand_coded, hc_reward])
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, ax = plt.subplots(figsize=(6, 4))
-    ax.plot([p.trials for p in result.curve], [p.successes for p in result.curve], "o-",
-            label=f"learned ({result.algorithm})")
+    trials = [p.trials for p in result.curve]
+    fig, (ax, ax2) = plt.subplots(1, 2, figsize=(10, 4))
+    ax.plot(trials, [p.successes for p in result.curve], "o-", label=f"learned ({result.algorithm})")
     if result.hand_coded is not None:
         ax.axhline(result.hand_coded, color="grey", ls="--", label="hand-coded")
     top = max([p.successes for p in result.curve] + [result.hand_coded or 0, 1])
     ax.set_xlabel("training trials")
     ax.set_ylabel("successful test trials")
     ax.set_ylim(0, top * 1.1 + 1)
-    ax.set_title("Successes of the test starts against training trials")
+    ax.set_title("Successes of the test starts (Figure 3)")
     ax.legend(loc="lower right")
+    # where successes do not separate the policies, their cost does: reward per test trial
+    ax2.plot(trials, [p.reward for p in result.curve], "o-", label=f"learned ({result.algorithm})")
+    if result.hand_coded_reward is not None:
+        ax2.axhline(result.hand_coded_reward, color="grey", ls="--", label="hand-coded")
+    ax2.set_xlabel("training trials")
+    ax2.set_ylabel("reward per test trial (higher is cheaper)")
+    ax2.set_title("Reward per trial of the test starts")
+    ax2.legend(loc="best")
     fig.tight_layout()
     fig.savefig(png_path, dpi=100)
     plt.close(fig)
