@@ -15,7 +15,7 @@ from conftest import SCENARIOS
 from navcli.cli import app
 from navcli.config import RunSpec
 from navcli.learning import comparison, model_file
-from navcli.learning.actions import ACTIONS, MVT
+from navcli.learning.actions import ACTIONS, MB, MLL, MVT
 from navcli.learning.q_learning import QLearning
 from navcli.learning.task import NavigationTask, random_starts
 from navcli.learning.training import EVAL_SEED, evaluate
@@ -36,10 +36,21 @@ def always_mvt(tmp_path_factory):
 
 
 @pytest.fixture(scope="module")
-def compared(tmp_path_factory, always_mvt):
+def parity(tmp_path_factory):
+    """A model whose greedy action is MB in even states and MLL in odd ones: its actions turn on
+    the state's last bit, so two runs whose noise differs take different actions (and rewards)."""
+    q = QLearning(980, 5)
+    q.q[0::2, MB] = 1.0
+    q.q[1::2, MLL] = 1.0
+    return model_file.save(tmp_path_factory.mktemp("parity") / "parity.npz", q,
+                           {"algorithm": "q-learning", "trials": 0, "scenario": "none"})
+
+
+@pytest.fixture(scope="module")
+def compared(tmp_path_factory, always_mvt, parity):
     out = tmp_path_factory.mktemp("cmp-policies")
     args = ["compare", "policies", str(ROOM), "--policy", f"learned:{always_mvt}", "--policy", "learned",
-            "--runs", "2", "--starts", "3", "--jobs", "1", "--out", str(out), *SHORT]
+            "--policy", f"learned:{parity}", "--runs", "2", "--starts", "3", "--jobs", "1", "--out", str(out), *SHORT]
     r = CliRunner().invoke(app, args)
     assert r.exit_code == 0, r.output
     return out, args, r.output
@@ -54,14 +65,15 @@ def records(out):
     return got
 
 
-def test_the_table_is_the_mean_over_runs_of_the_per_trial_records(compared, always_mvt):
+def test_the_table_is_the_mean_over_runs_of_the_per_trial_records(compared, always_mvt, parity):
     out, _, output = compared
     recs = records(out)
-    assert len(recs) == 4 and all(len(t) == 3 for t in recs.values())
+    assert len(recs) == 6 and all(len(t) == 3 for t in recs.values())
     with (out / "policies.csv").open() as f:
         table = {row["policy"]: row for row in csv.DictReader(f)}
-    assert list(table) == [f"learned:{always_mvt}", "learned"]
-    assert float(table["learned"]["reward_lo"]) < float(table["learned"]["reward_hi"])  # the runs differ
+    assert list(table) == [f"learned:{always_mvt}", "learned", f"learned:{parity}"]
+    row = table[f"learned:{parity}"]
+    assert float(row["reward_lo"]) < float(row["reward_hi"])  # its runs differ: the interval has a width
     for policy, row in table.items():
         assert row["runs"] == "2" and row["starts"] == "3"
         per_run = {"successes": [], "reward": [], "actions": [], **{a: [] for a in ACTIONS}}
@@ -105,12 +117,12 @@ def test_a_comparison_resumes_and_reruns_only_what_is_missing_or_changed(compare
     out, args, _ = compared
     before = (out / "policies.csv").read_text()
     r = CliRunner().invoke(app, args)
-    assert r.exit_code == 0 and "(0 run now, 4 kept)" in r.output
+    assert r.exit_code == 0 and "(0 run now, 6 kept)" in r.output
     assert (out / "policies.csv").read_text() == before
     victim = sorted((out / "runs").glob("learned-run1-*.json"))[0]
     victim.write_text("{not json")  # a damaged file is run again, not trusted
     r = CliRunner().invoke(app, args)
-    assert r.exit_code == 0 and "(1 run now, 3 kept)" in r.output
+    assert r.exit_code == 0 and "(1 run now, 5 kept)" in r.output
     assert (out / "policies.csv").read_text() == before  # the same configuration gives the same trials
     # another parameter is another configuration: new keys, nothing reused
     spec = RunSpec.build(load_scenario(ROOM), overrides={"learning.max_actions": 4})
