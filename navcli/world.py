@@ -80,7 +80,6 @@ class World:
         self.max_speed = robot.max_speed
         self._substeps = 0
         self._pose: tuple[int, Pose] | None = None
-        self.path_length = 0.0
         self.bumps = 0
         self._v = 0.0  # the drive's current (commanded, rate-limited) speed, m/s
         self._w = 0.0  # and turn rate, rad/s
@@ -114,6 +113,7 @@ class World:
         space.add(body, shape)
         space.on_collision(ROBOT, None, begin=self._begin, separate=self._separate)
         self.body = body
+        self._trail = (0.0, body.position.x, body.position.y)  # metres travelled, and where that was summed to
         self.odometry = Odometry(self.pose, scenario.noise.odometry, rng)
 
     def _add_walls(self) -> None:
@@ -156,6 +156,15 @@ class World:
         return pose
 
     @property
+    def path_length(self) -> float:
+        """Metres travelled, summed physics step by physics step. A tick stopped between two steps
+        (Ctrl-C, SIGTERM) has its last steps counted as the straight line to where the robot is, so
+        the path length always agrees with the pose a run ends at."""
+        path, x, y = self._trail
+        p = self.body.position
+        return path + math.hypot(p.x - x, p.y - y)
+
+    @property
     def speed(self) -> tuple[float, float]:
         """The drive's current (v, omega)."""
         return self._v, self._w
@@ -174,8 +183,7 @@ class World:
         body, space, contacts = self.body, self.space, self._contacts
         self._bumps = bumps = []
         touching = False
-        x, y = start.x, start.y
-        path = 0.0
+        path, x, y = self._trail
         for _ in range(PHYSICS_SUBSTEPS):
             self._v += min(max(v - self._v, -dv), dv)
             self._w += min(max(omega - self._w, -dw), dw)
@@ -184,9 +192,9 @@ class World:
             p = body.position
             path += math.hypot(p.x - x, p.y - y)
             x, y = p.x, p.y
+            self._trail = (path, x, y)  # one assignment: a stop between two steps leaves it whole
             if contacts:
                 touching = True
-        self.path_length += path
         self.touching = touching
         self.odometry.update(*motion_between(start, self.pose))
         return bumps

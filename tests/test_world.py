@@ -125,3 +125,23 @@ def test_odometry_distance_error_has_the_scenario_relative_spread(make_scenario)
     # per-run calibration error (sd 0.05) dominates the averaged per-tick error (sd 0.05/sqrt(100))
     assert 0.03 < float(np.std(rel)) < 0.08
     assert abs(float(np.mean(rel))) < 0.03  # unbiased
+
+
+def test_a_tick_stopped_between_physics_steps_keeps_path_and_pose_together(make_scenario):
+    w = world_for(make_scenario)
+    drive(w, 0.3, 0.0, 2.0)  # straight ahead, at speed
+    x0, y0, before = w.pose.x, w.pose.y, w.path_length
+    real, steps = w.space.step, []
+
+    def step(dt):  # Ctrl-C arrives after the second of the tick's physics steps
+        real(dt)
+        steps.append(dt)
+        if len(steps) == 2:
+            raise KeyboardInterrupt
+
+    w.space.step = step
+    with pytest.raises(KeyboardInterrupt):
+        w.step(0.3, 0.0)
+    moved = math.hypot(w.pose.x - x0, w.pose.y - y0)
+    assert moved > 0.005  # two steps at about 0.3 m/s: a run's log ends at this pose
+    assert w.path_length - before == pytest.approx(moved, rel=1e-9)  # and its path length agrees with it
