@@ -85,11 +85,11 @@ class Regions:
 
 def triangulate(landmarks: dict[str, Point], virtual_distance: float = 10.0) -> Regions | None:
     """Regions of ``landmarks`` (id -> position); ``None`` with fewer than 3 in general position."""
-    from scipy.spatial import Delaunay, QhullError
-
     ids = sorted(landmarks)
     if len(ids) < 3:
         return None
+    from scipy.spatial import Delaunay, QhullError  # ~0.5 s the first time: only when there is something to triangulate
+
     pts = np.array([landmarks[k] for k in ids], dtype=float)
     try:
         hull = Delaunay(pts)
