@@ -40,13 +40,12 @@ class LearningAgent:
 
     def __init__(self, policy: Policy | None = None, params: LearningParams = LEARNING,
                  max_speed: float = ROBOT.max_speed, pan_limit: float = math.radians(100.0),
-                 target_key: str | None = None, label: str = "learned"):
+                 target_key: str | None = None):
         self.policy = policy
         self.params = params
         self.max_speed = max_speed
         self.pan_limit = pan_limit
         self.target_key = target_key
-        self.label = label
         self.ticks_per_action = max(1, round(params.action_s / CONTROL_DT))
         self.action: int | None = None
         self.next_action: int | None = None
@@ -90,4 +89,4 @@ class LearningAgent:
 
 def hand_coded_agent(**kw) -> LearningAgent:
     """The hand-coded policy of section 6 as an agent."""
-    return LearningAgent(hand_coded_action, label="hand-coded", **kw)
+    return LearningAgent(hand_coded_action, **kw)

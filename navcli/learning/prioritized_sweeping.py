@@ -60,11 +60,6 @@ class PrioritizedSweeping:
             q[n < self.explore] = self.optimistic
         return q
 
-    def transition(self, s: int, a: int) -> np.ndarray:
-        """``P(.|s, a)`` over the states and, last, the goal (zeros when a was never tried in s)."""
-        n = self.tried[s, a]
-        return self.counts[s, a] / n if n else np.zeros(self.n_states + 1)
-
     # -- learning
     def observe(self, s: int, a: int, r: float, s_next: int | None, terminal: bool = False) -> None:
         """One real step: ``s`` --a, reward r--> ``s_next``; ``terminal``: the goal was reached

@@ -96,7 +96,7 @@ class NavigationTask:
         spec = spec_at(self.base, start)
         p = spec.params
         agent = LearningAgent(None, p.learning, max_speed=p.robot.max_speed, pan_limit=spec.scenario.camera.pan_limit,
-                              target_key=spec.scenario.target.landmark, label="training")
+                              target_key=spec.scenario.target.landmark)
         m = Mission(spec, policy_agent=agent, snapshots=log is not None)
         nav = m.navigation
         self.mission, self.agent, self.actions, self.outcome = m, agent, 0, None

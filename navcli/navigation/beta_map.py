@@ -44,10 +44,6 @@ class Iv:
     def __init__(self, lo: tuple[float, ...], hi: tuple[float, ...]):
         self.lo, self.hi = lo, hi
 
-    @classmethod
-    def of(cls, f: Fuzzy) -> Iv:
-        return cls(tuple(float(lo) for lo, _ in f.cuts), tuple(float(hi) for _, hi in f.cuts))
-
     def fuzzy(self) -> Fuzzy:
         return Fuzzy(tuple(zip(self.lo, self.hi)))
 
