@@ -4,9 +4,9 @@ Trials run one after another from seeded random starts (trial ``i`` of seed ``N`
 the same place), each until the target is reached, ``max_actions`` actions, or the Rescuer gives
 up; the learner (Prioritized Sweeping, or Q-learning for the model-free baseline) learns from
 every action. Every ``eval_every`` trials its greedy policy runs the same fixed test starts
-(:data:`EVAL_SEED`, whatever the training seed), in worker processes while training goes on; the
-hand-coded policy runs them once for its level. The model is saved after every evaluation, with
-the learning curve so far, so an interrupted training resumes from its file (``--resume``).
+(:data:`EVAL_SEED`, whatever the training seed), in worker processes while training goes on
+(``workers=1``: in this process, between trials); the hand-coded policy runs them once for its
+level. The model is saved after every evaluation, with the learning curve so far, so an interrupted training resumes from its file (``--resume``).
 
 What each training trial did is a row of ``<model>-trials.csv`` (where it started, its outcome,
 actions, reward and the count of each action), written as it ends; with ``log="full"`` every
@@ -21,7 +21,7 @@ import csv
 import itertools
 import math
 import time
-from concurrent.futures import Future, ProcessPoolExecutor
+from concurrent.futures import Future
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Callable
@@ -185,9 +185,8 @@ def train(spec: RunSpec, *, trials: int = 2000, eval_every: int = 100, eval_star
     task = NavigationTask(spec.replace(navigation="learned"))  # what a trial log's summary says drove it
     t_start = time.perf_counter()
 
-    import multiprocessing as mp
+    from ..experiments.executor import executor
 
-    ctx = mp.get_context("fork") if "fork" in mp.get_all_start_methods() else None
     chunks = max(1, workers)
     pending: list[tuple[int, list[Future]]] = []
     hand: list[Future] = []
@@ -223,7 +222,7 @@ def train(spec: RunSpec, *, trials: int = 2000, eval_every: int = 100, eval_star
                 "outcomes": result.outcomes}
         model_file.save(out, learner, meta)
 
-    with ProcessPoolExecutor(max_workers=workers, mp_context=ctx) as pool:
+    with executor(workers) as pool:  # stopped cleanly on Ctrl-C or SIGTERM, like compare's
         if result.hand_coded is None:
             hand = submit(pool, hand_coded_table())
         if result.trials == 0:  # the untrained policy: the curve's first point
