@@ -6,7 +6,8 @@ up; the learner (Prioritized Sweeping, or Q-learning for the model-free baseline
 every action. Every ``eval_every`` trials its greedy policy runs the same fixed test starts
 (:data:`EVAL_SEED`, whatever the training seed), in worker processes while training goes on
 (``workers=1``: in this process, between trials); the hand-coded policy runs them once for its
-level. The model is saved after every evaluation, with the learning curve so far, so an interrupted training resumes from its file (``--resume``).
+level. The model is saved after every evaluation, with the learning curve so far, so an
+interrupted training resumes from its file (``--resume``).
 
 What each training trial did is a row of ``<model>-trials.csv`` (where it started, its outcome,
 actions, reward and the count of each action), written as it ends; with ``log="full"`` every
