@@ -10,7 +10,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from .fuzzy import FuzzyPoint
-from .geometry import Point, Pose
+from .geometry import Point, Pose, midpoint
 
 
 @dataclass(frozen=True)
@@ -49,7 +49,7 @@ class KnownObstacle:
     @property
     def centre(self) -> Point:
         """Where the paper computes a force from: a point obstacle itself, a linear one's middle."""
-        return self.a if self.is_point else ((self.a[0] + self.b[0]) / 2, (self.a[1] + self.b[1]) / 2)
+        return self.a if self.is_point else midpoint(self.a, self.b)
 
 
 @dataclass(frozen=True)

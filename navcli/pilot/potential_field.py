@@ -235,8 +235,7 @@ def facing_loop(obstacles: tuple[KnownObstacle, ...] | list[KnownObstacle]) -> l
             lines.append((j, ax, ay, bx, by, ex, ey, d1 > 0.0))
     out = []
     for i, o in enumerate(obstacles):
-        (ax, ay), (bx, by) = o.a, o.b
-        cx, cy = (ax, ay) if ax == bx and ay == by else ((ax + bx) / 2, (ay + by) / 2)
+        cx, cy = o.centre
         L2 = cx * cx + cy * cy
         free = True
         if L2 > 0.0:

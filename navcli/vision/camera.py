@@ -184,7 +184,7 @@ class Camera:
                 out.append(Detection(key, kind, (self.measure(pose, o.a),), o.radius))
         return out
 
-    def visible_runs(self, pose: Pose, o: ArenaObject, sees: Callable[[float, float, str], bool] | None = None
+    def visible_runs(self, pose: Pose, o: ArenaObject, sees: Callable[[float, float, str], bool]
                      ) -> list[tuple[Point, ...]]:
         """The parts of a linear obstacle in view (``sees``: the image's :meth:`sight`), as the
         end points of each visible stretch.
@@ -197,7 +197,6 @@ class Camera:
         (ax, ay), (bx, by) = o.a, o.b
         if distance_to_segment((pose.x, pose.y), o.a, o.b) > self.spec.range:
             return []
-        sees = sees or self.sight(pose)
         n = max(1, min(SEGMENT_SAMPLES, math.ceil(math.hypot(bx - ax, by - ay) / SEGMENT_STEP)))
         runs, cur = [], []
         key = o.key
