@@ -113,5 +113,6 @@ def test_importing_the_agents_or_analysis_pulls_in_no_simulator():
 def test_the_public_api_is_importable_and_listed():
     import navcli
 
+    assert {"RunSpec", "load_scenario", "run_mission"} <= set(navcli.__all__)  # what the README's API uses
     for name in navcli.__all__:
         assert getattr(navcli, name) is not None, name

@@ -48,7 +48,7 @@ HOSTILE = {
     "huge R_min": (BASE + "pilot: {R_min: 1.0e+308}\n", 6, "pilot.R_min", "at most 5"),
     "huge odometry noise": (BASE + "noise: {odometry: 1.0e+308}\n", 6, "noise.odometry", "at most"),
     "huge arena": (BASE.replace("height: 4", "height: 1.0e+308"), 3, "arena.height", "at most 100"),
-    "lone surrogate id": (BASE + "landmarks: [{id: \"\\ud800\", at: [3, 3]}]\n", 6, None, ""),
+    "lone surrogate id": (BASE + "landmarks: [{id: \"\\ud800\", at: [3, 3]}]\n", 6, None, "invalid Unicode"),
     "50 m/s": (BASE.replace("{start: [1, 2]}", "{start: [1, 2], max_speed: 50}"), 4, "robot.max_speed", "at most 2"),
     "300-character name": (BASE.replace("name: r", "name: " + "r" * 300), 2, "name", "1 to 64"),
     "name ending in a newline": (BASE.replace("name: r", 'name: "r\\n"'), 2, "name", "may hold only"),

@@ -77,7 +77,7 @@ def test_the_ga_settings_reach_deap_and_its_checkpoint_resumes(tiny, tmp_path, m
     settings = tune.GASettings(population=6, generations=2, crossover=0.7, mutation=0.3)
     history = tune.tune_ga(problem, SerialExecutor(), settings=settings, storage=storage)
     assert calls == [{"n": 6, "cxpb": 0.7, "mutpb": 0.3, "ngen": 1, "low": [0.05, 0.0], "up": [1.0, 5.0],
-                      "indpb": 0.5}] * 2
+                      "indpb": 1 / len(names)}] * 2  # each gene mutated with probability 1/n
     assert 6 <= len(history) <= 6 * 3  # the first population, then only the changed offspring
     assert all(0.05 <= r["robot.max_speed"] <= 1.0 and 0 <= r["pilot.K"] <= 5 for r in history)
     state = json.loads(storage.read_text())
