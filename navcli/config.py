@@ -11,6 +11,7 @@ share a log only if they are the same run.
 from __future__ import annotations
 
 import dataclasses
+import functools
 import hashlib
 import json
 from dataclasses import dataclass
@@ -93,10 +94,11 @@ class RunSpec:
         return cls(sc, int(d["seed"]), d["pilot"], d["perception"], float(d["time_limit_s"]),
                    Params.from_json(d["params"]), d.get("navigation", NAVIGATIONS[0]))
 
-    @property
+    @functools.cached_property
     def run_id(self) -> str:
         """sha256 (hex) of the canonical JSON of :meth:`to_json` without the scenario's file name
-        (a moved file is the same scenario), with navcli's version."""
+        (a moved file is the same scenario), with navcli's version. Worked out once per spec (a
+        spec is frozen; :meth:`replace` makes a new one): a sweep's plan reads it several times."""
         d = self.to_json()
         d["scenario"] = {k: v for k, v in d["scenario"].items() if k != "file"}
         blob = json.dumps([d, __version__], sort_keys=True, separators=(",", ":"))

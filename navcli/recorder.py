@@ -80,6 +80,7 @@ WRITE_OPTIONS = MCAPWriteOptions(compression=MCAPCompression.Lz4, compression_th
 1.1 ms to finish, a tenth of a tick's budget; LZ4 is several times cheaper for logs about half
 again as large, and every MCAP reader (the mcap library, Foxglove) reads it."""
 RECOVERED_REASON = "recovered after an abrupt end"
+SCENE_NS = round(SCENE_REFRESH * 1e9)  # the state topics are republished at least this often
 DRAW_NS = round(DRAW_PERIOD * 1e9)  # the Pilot's decorations in /robot/scene are drawn at most this often
 ARROW_MIN = 2.0  # force units: weaker forces are not drawn (2 cm at 100 units per metre)
 SYSTEMS = ("pilot", "navigation")  # the bidders at the robot-level auction, always in /bids
@@ -315,7 +316,7 @@ class Recorder:
         self.bids.log(encode(bids_record(t)), log_time=ns)
         if ns - self._drawn_ns >= DRAW_NS:
             self._pilot_scene(t, ns)
-        if ns - self._state_ns >= round(SCENE_REFRESH * 1e9):
+        if ns - self._state_ns >= SCENE_NS:
             self._state(ns)
         dets = {d.key or f"obstacle{i}": d.as_json() for i, d in enumerate(t.detections or ())}
         self.vision.log(encode({"pan_deg": math.degrees(pan), "state": state, "image": t.detections is not None,
@@ -634,8 +635,8 @@ def recover(partial: str | Path, out: str | Path | None = None) -> tuple[Path, d
             w.add_attachment(a.create_time, a.log_time, a.name, a.media_type, a.data)
         for m in messages:
             w.add_message(channel_ids[m.channel_id], m.log_time, m.data, m.publish_time, m.sequence)
-        schema = json_schema(MissionSummary)
-        sid = w.register_schema(schema["title"], "jsonschema", msgspec.json.encode(schema))
+        schema = _schema(MissionSummary)  # the same bytes as a normal log's
+        sid = w.register_schema(schema.name, schema.encoding, schema.data)
         cid = w.register_channel("/mission/summary", "json", sid)
         w.add_message(cid, end_ns, encode(msgspec.convert(summary, MissionSummary)), end_ns)
         w.finish()

@@ -127,7 +127,8 @@ def run_mission(spec: RunSpec, *, out: Path | None = None, record: bool = True, 
                 recorder.finish(mission.summary(), ns, (w.pose, w.odometry.pose))
         raise
     wall = time.perf_counter() - t0
+    summary = mission.summary()
     if recorder:
         with _signals_held():
-            recorder.finish(mission.summary(), mission.world.time_ns)
-    return RunResult(mission.summary(), path if record or live else None, wall)
+            recorder.finish(summary, mission.world.time_ns)
+    return RunResult(summary, path if record or live else None, wall)

@@ -48,15 +48,14 @@ class Outcome:
     ran: bool = True  # False: a complete log was already there
 
 
-def plan(specs: list[RunSpec], pilots: list[str], reruns: int, out: Path) -> list[Job]:
-    """All runs of a comparison: each base configuration (one per scenario) with every pilot and
-    ``reruns`` seeds derived from its seed."""
+def plan(specs: list[RunSpec], pilots: list[str], n: int, out: Path) -> list[Job]:
+    """All runs of a comparison: each base configuration (one per scenario) with every pilot at
+    its first ``n`` rerun seeds (:func:`reruns`)."""
     jobs = []
     for base in specs:
-        for i in range(reruns):
-            seed = rerun_seed(base.seed, i)
+        for seeded in reruns(base, {}, n):
             for pilot in pilots:
-                spec = base.replace(seed=seed, pilot=pilot)
+                spec = seeded.replace(pilot=pilot)
                 jobs.append(Job(spec, str(spec.default_log_path(out))))
     return jobs
 
