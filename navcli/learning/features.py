@@ -25,7 +25,7 @@ import math
 from dataclasses import dataclass
 
 from ..fuzzy import FuzzyPoint
-from ..navigation.risk_manager import SECTORS
+from ..navigation.risk_manager import SECTORS, sector_of
 from ..navigation.situation import Situation
 from ..params import LEARNING, LearningParams
 
@@ -44,16 +44,6 @@ class Features:
     target_imprecision: float  # I(t)
     count: float  # C-bar, in [0, 4]
     landmark_imprecision: float  # I-bar, in [0, 1]
-
-
-def sector_of(x: float, y: float) -> int:
-    """The index into :data:`SECTORS` of the sector holding the egocentric point (x, y).
-
-    >>> sector_of(1.0, 0.0), sector_of(-1.0, 0.0), sector_of(1.0, 1.0)
-    (0, 5, 1)
-    """
-    h = math.atan2(y, x)
-    return min(range(len(SECTORS)), key=lambda i: abs(math.remainder(h - SECTORS[i], 2 * math.pi)))
 
 
 def sectors(landmarks: dict[str, FuzzyPoint]) -> list[list[float]]:

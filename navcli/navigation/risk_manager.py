@@ -16,6 +16,22 @@ SECTORS = tuple(math.radians(a) for a in (0.0, 60.0, -60.0, 120.0, -120.0, 180.0
 """The centres of the six 60-degree sectors around the robot (learning-agent paper, section 5.2)."""
 
 
+def sector_of(x: float, y: float) -> int:
+    """The index into :data:`SECTORS` of the sector holding the egocentric point (x, y): the
+    nearest centre, the first of equals.
+
+    >>> sector_of(1.0, 0.0), sector_of(-1.0, 0.0), sector_of(1.0, 1.0)
+    (0, 5, 1)
+    """
+    h = math.atan2(y, x)
+    best, off = 0, math.inf
+    for i, c in enumerate(SECTORS):
+        d = abs(math.remainder(h - c, TWO_PI))
+        if d < off:
+            best, off = i, d
+    return best
+
+
 @dataclass(frozen=True)
 class RiskManager:
     """Risk (thesis eq. 9; the operator our copy elides read as ``+``, as the notes propose)::
@@ -42,13 +58,7 @@ class RiskManager:
         ahead on a tie)."""
         counts = {c: 0 for c in SECTORS}
         for lm in s.landmarks.values():
-            h = math.atan2(lm.y, lm.x)
-            centre, off = SECTORS[0], math.inf  # the nearest centre, the first of equals
-            for c in SECTORS:
-                d = abs(math.remainder(h - c, TWO_PI))
-                if d < off:
-                    centre, off = c, d
-            counts[centre] += 1
+            counts[SECTORS[sector_of(lm.x, lm.y)]] += 1
         reachable = [c for c in SECTORS if abs(c) <= self.pan_limit + 1e-9]
         return min(reachable, key=lambda c: (counts[c], abs(c)))
 
