@@ -135,7 +135,7 @@ class Rescuer:
             self._last_crossed = self._crossing.edge
             self._clear_crossing(s)
             line = None
-        if not self._blocked(s):
+        if not self._blocked(s, line):
             return Rescue((), line, tuple(events))
         abandoned = None
         if self._crossing is not None:
@@ -237,11 +237,11 @@ class Rescuer:
         self._progress_since = s.time
         self._bumps.clear()
 
-    def _blocked(self, s: Situation) -> bool:
-        """No progress toward the current target within the window, too many bumps, or a diverting
-        target held too long."""
+    def _blocked(self, s: Situation, line: tuple[Point, Point] | None) -> bool:
+        """No progress toward the current target (``line``: the diverting line, if one is held)
+        within the window, too many bumps, or a diverting target held too long."""
         p = self.params
-        aim = s.aim if self._crossing is None else midpoint(*self._diverting_line(s))
+        aim = s.aim if line is None else midpoint(*line)
         if aim is None:
             return False
         d = math.hypot(*aim)
