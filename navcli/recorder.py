@@ -208,7 +208,7 @@ class Recorder:
                 self.kept_aside = _aside(self.partial)
                 os.replace(self.partial, self.kept_aside)
             ctx = foxglove.Context()
-            self.ctx = ctx
+            self.ctx = ctx  # held for the run: the channels stop logging once their context is collected
             self.writer = foxglove.open_mcap(self.partial, context=ctx, writer_options=WRITE_OPTIONS)
             try:
                 self.server = foxglove.start_server(name="navcli", port=port, context=ctx,
