@@ -46,6 +46,17 @@ def motion_between(before: Pose, after: Pose) -> tuple[float, float]:
     return (after.x - before.x) * math.cos(mid) + (after.y - before.y) * math.sin(mid), dtheta
 
 
+def orthogonal(bearing: float) -> tuple[float, float]:
+    """The heading (rad) square to ``bearing`` that needs the smaller turn from straight ahead, and
+    its side (+1: left of the bearing, -1: right; left on a tie).
+
+    >>> orthogonal(0.5)
+    (-1.0707963267948966, -1.0)
+    """
+    left, right = math.remainder(bearing + math.pi / 2, 2 * math.pi), math.remainder(bearing - math.pi / 2, 2 * math.pi)
+    return (left, 1.0) if abs(left) <= abs(right) else (right, -1.0)
+
+
 def midpoint(a: Point, b: Point) -> Point:
     """The point halfway between ``a`` and ``b``."""
     return (a[0] + b[0]) / 2, (a[1] + b[1]) / 2

@@ -31,6 +31,7 @@ import math
 from typing import Sequence
 
 from ..bidding import Bid, Look, Move
+from ..geometry import orthogonal
 from ..navigation.risk_manager import SECTORS
 from ..navigation.situation import Situation
 from .features import BEST, landmarks_of, sector_imprecision, sectors
@@ -99,5 +100,4 @@ def action_bids(action: int, s: Situation, *, bidder: str, value: float, speed: 
 
 def orthogonal_side(s: Situation) -> float:
     """MOT's side: the one needing the smaller turn (+1 left of the target, -1 right)."""
-    b = target_bearing(s)
-    return 1.0 if abs(math.remainder(b + math.pi / 2, 2 * math.pi)) <= abs(math.remainder(b - math.pi / 2, 2 * math.pi)) else -1.0
+    return orthogonal(target_bearing(s))[1]

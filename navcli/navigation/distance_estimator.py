@@ -9,7 +9,8 @@ import math
 from dataclasses import dataclass
 
 from ..bidding import Bid, Look, Move
-from ..fuzzy import CUT, TWO_PI
+from ..fuzzy import CUT
+from ..geometry import orthogonal
 from ..params import NAVIGATION, ROBOT, NavigationParams
 from .situation import Situation
 
@@ -41,7 +42,6 @@ class DistanceEstimator:
         if value <= 0.0:
             return []
         bearing = math.atan2(s.target.y, s.target.x)
-        left, right = math.remainder(bearing + math.pi / 2, TWO_PI), math.remainder(bearing - math.pi / 2, TWO_PI)
-        heading = right if abs(right) < abs(left) else left  # the smaller turn; left on a tie
+        heading, _ = orthogonal(bearing)  # the smaller turn; left on a tie
         return [Bid(self.name, "motion", Move(heading, self.max_speed), value),
                 Bid(self.name, "camera", Look(bearing), value)]
