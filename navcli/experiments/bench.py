@@ -41,22 +41,31 @@ def benchmark(spec: RunSpec, *, repeat: int = 5, echo: Callable[[str], None] = p
     """Print and return, as medians of ``repeat`` runs measured in this session: the floor (the
     world alone), the stack without logging and with logging, as real-time factors, microseconds
     per tick and ratios to the floor. (Whether a tick costs more late in a long run than early:
-    :func:`long_run_benchmark`, ``navcli bench --long``.)"""
+    :func:`long_run_benchmark`, ``navcli bench --long``.)
+
+    The three are run in turn, ``repeat`` rounds of floor, off, on (our design): on a shared
+    machine the load drifts over seconds, and interleaving puts every configuration under the same
+    drift, so their ratios hold even when the absolute figures wander."""
     results: dict[str, float] = {}
     with tempfile.TemporaryDirectory() as tmp:
         log = Path(tmp) / "bench.mcap"
         first = run_mission(spec, out=log)  # warm-up: imports, caches
         ticks = max(first.summary["ticks"], 1)
-        floor_us = statistics.median(floor(spec, ticks) / ticks * 1e6 for _ in range(repeat))
+        floors: list[float] = []
+        runs: dict[bool, list] = {False: [], True: []}
+        for _ in range(repeat):
+            floors.append(floor(spec, ticks) / ticks * 1e6)
+            for record in (False, True):
+                runs[record].append(run_mission(spec, out=log, record=record))
+        floor_us = statistics.median(floors)
         sim_s = ticks * 0.1
         echo(f"{'floor':12s} {sim_s / (floor_us * ticks / 1e6):8.0f}x real time   {floor_us:7.0f} us/tick   "
-             f"1.00x floor  (the world alone, scripted wheels, {ticks} ticks)")
+             f"{'':11s}  (the world alone, scripted wheels, {ticks} ticks, median of {repeat})")
         results["floor_us"] = floor_us
         for label, record in (("logging off", False), ("logging on", True)):
-            runs = [run_mission(spec, out=log, record=record) for _ in range(repeat)]
-            rtf = statistics.median(r.realtime_factor for r in runs)
-            us = statistics.median(r.wall_s / max(r.summary["ticks"], 1) * 1e6 for r in runs)
-            s = runs[0].summary
+            rtf = statistics.median(r.realtime_factor for r in runs[record])
+            us = statistics.median(r.wall_s / max(r.summary["ticks"], 1) * 1e6 for r in runs[record])
+            s = runs[record][0].summary
             echo(f"{label:12s} {rtf:8.0f}x real time   {us:7.0f} us/tick   {us / floor_us:5.2f}x floor  "
                  f"({s['pilot']}, {s['outcome']} after {s['time_s']:.1f} s sim, {s['ticks']} ticks, median of {repeat})")
             results[label.split()[1]] = rtf
