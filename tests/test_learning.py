@@ -76,17 +76,63 @@ def rollout(choose, T, R, D, start=36):
     return ret
 
 
-def test_prioritized_sweeping_learns_the_optimal_policy_of_slippery_frozen_lake():
+def policy_value(T, R, D, policy, gamma):
+    """The exact value of a deterministic policy: its Bellman equation solved as a linear system."""
+    s = np.arange(len(policy))
+    return np.linalg.solve(np.eye(len(policy)) - gamma * T[s, policy] * ~D[s, policy], R[s, policy])
+
+
+def model_value_sd(T, R, Rt, D, policy, tries, gamma, start):
+    """The standard deviation of a learned model's value of ``start`` under ``policy`` when each
+    state's transitions are estimated from ``tries[s, policy[s]]`` samples, to first order: an error
+    e in the estimated P(.|s, a) moves the value by e . W (W the reward of each landing plus gamma
+    times the value after it), weighted by the discounted visits of s from ``start``; states are
+    sampled independently. Infinite if the policy reaches an action never tried."""
+    s, n = np.arange(len(policy)), tries[np.arange(len(policy)), policy]
+    P, V = T[s, policy], policy_value(T, R, D, policy, gamma)
+    visits = np.linalg.solve((np.eye(len(policy)) - gamma * P * ~D[s, policy]).T, np.eye(len(policy))[start])
+    W = Rt[s, policy] + gamma * np.where(D[s, policy], 0.0, V[None, :])
+    var = (P * (W - (P * W).sum(1, keepdims=True)) ** 2).sum(1)
+    if (n[visits > 1e-12] == 0).any():
+        return math.inf
+    return math.sqrt((visits ** 2 * var / np.maximum(n, 1)).sum())
+
+
+def frozen_lake_check(seed: int, steps: int = 4000) -> None:
+    """Prioritized Sweeping on slippery FrozenLake from ``seed`` (its generator and the MDP's), and
+    what must hold whatever the seed; see the test."""
     T, R, Rt, D = tables("FrozenLake-v1", is_slippery=True)
-    V, Q = value_iteration(T, R, D, 0.99)
-    assert V[0] == pytest.approx(0.542, abs=5e-4)
-    ps = PrioritizedSweeping(16, 4, gamma=0.99, backups=5, threshold=1e-4, explore=10, optimistic=1.0,
-                             rng=np.random.default_rng(1))
-    learn(ps, T, Rt, D, 0, steps=4000)
-    pol = ps.greedy_policy()
-    terminal = {5, 7, 11, 12, 15}  # holes and the goal
-    assert [s for s in range(16) if s not in terminal and Q[s, pol[s]] < V[s] - 1e-6] == []
-    assert ps.values[0] == pytest.approx(V[0], abs=0.06)  # its model's value of the start
+    gamma = 0.99
+    V, Q = value_iteration(T, R, D, gamma)
+    best = Q.argmax(1)
+    assert V == pytest.approx(policy_value(T, R, D, best, gamma), abs=1e-9)  # V* is its greedy policy's value
+    ps = PrioritizedSweeping(16, 4, gamma=gamma, backups=5, threshold=1e-4, explore=10, optimistic=1.0,
+                             rng=np.random.default_rng(seed))
+    learn(ps, T, Rt, D, 0, steps=steps, seed=seed - 1)
+    # its model: every probability it estimated from n tries within 5 binomial standard errors of the
+    # truth (landing in a hole or on the goal ends the episode: its model's last column)
+    n = ps.tried
+    truth = np.concatenate([T * ~D, (T * D).sum(-1, keepdims=True)], axis=-1)
+    est = ps.counts / np.maximum(n, 1)[..., None]
+    assert (n[0] >= ps.explore).all()  # every action tried at the start
+    within = np.abs(est - truth) <= 5 * np.sqrt(truth * (1 - truth) / np.maximum(n, 1)[..., None])
+    assert within[n > 0].all()
+    # its greedy policy, evaluated exactly, and its value of the start: off the optimum by at most
+    # 4 standard deviations of the two models' values (the optimal policy's and its own, from its
+    # tries); the greedy policy is the best of its model, so its loss is at most their two errors
+    policy = ps.greedy_policy().astype(np.int64)
+    tol = 4 * (model_value_sd(T, R, Rt, D, best, n, gamma, 0) + model_value_sd(T, R, Rt, D, policy, n, gamma, 0))
+    assert V[0] - policy_value(T, R, D, policy, gamma)[0] <= tol
+    assert abs(ps.values[0] - V[0]) <= tol
+
+
+def test_prioritized_sweeping_learns_slippery_frozen_lake_within_its_sampling_error():
+    """What Prioritized Sweeping guarantees from 4000 steps whatever the seed: its model is the
+    MDP's within sampling error, and so are its greedy policy's and its own value of the start.
+    Not that the greedy policy is exactly optimal: some states' best actions win by 0.01-0.04, and
+    an action underrated in its ``explore`` tries is not tried again (exactly optimal for 11 of
+    seeds 1-20, and still for only 38 of 40 with 20000 steps and ``explore`` 100)."""
+    frozen_lake_check(1)
 
 
 def test_prioritized_sweeping_walks_the_cliff_edge_in_13_steps():

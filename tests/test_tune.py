@@ -37,26 +37,47 @@ def _problem(path, objective="time", names=(SPEED,)):
                             tuple(lo for _, lo, _ in names), tuple(hi for _, _, hi in names), 1, objective)
 
 
-def test_tpe_improves_on_its_first_trials_and_resumes_from_its_storage(tiny, tmp_path):
+def _startup_trials() -> int:
+    """TPE's random start-up trials (Optuna's default, which ``tune`` keeps); the later ones are guided."""
+    import inspect
+
+    import optuna
+
+    return inspect.signature(optuna.samplers.TPESampler).parameters["n_startup_trials"].default
+
+
+def test_tpe_follows_the_objective_and_resumes_from_its_storage(tiny, tmp_path):
+    """On ``tiny`` the objective (minus the time to the target) never falls as the top speed rises,
+    and levels off where acceleration limits the robot. What TPE does there whatever its seed: its
+    guided trials are, in the median, at least as good as its random start-up. A mean is not: TPE
+    now and then samples its prior, and one timeout there sinks the mean of the guided trials, while
+    a start-up that found the plateau leaves nothing above it. 20 guided trials: the median held for
+    every one of 200 optimiser seeds (on the objective tabulated over the range), and for none with
+    the direction reversed; "mean of 4 guided > mean of the first 4", the old check, for 111."""
     out = tmp_path / "tune"
+    n = 30
     res = CliRunner().invoke(app, ["tune", str(tiny), "--param", "robot.max_speed=0.05:1", "--objective", "time",
-                                   "--trials", "14", "--seeds", "1", "--jobs", "2", "--out", str(out)])
+                                   "--trials", str(n), "--seeds", "1", "--jobs", "2", "--out", str(out)])
     assert res.exit_code == 0, res.output
     h = pd.read_csv(out / "history.csv")
-    assert len(h) == 14 and h["robot.max_speed"].between(0.05, 1.0).all()
-    # the first 10 are TPE's random start-up trials; the guided ones after them do better on average
-    assert h["objective"].iloc[10:].mean() > h["objective"].iloc[:4].mean()
+    assert len(h) == n and h["robot.max_speed"].between(0.05, 1.0).all()
+    # each trial's value is its own speed's: sorted by speed, the objective never falls
+    by_speed = h.sort_values("robot.max_speed")["objective"].to_numpy()
+    assert (by_speed[1:] >= by_speed[:-1]).all()
+    k = _startup_trials()
+    assert h["objective"].iloc[k:].median() >= h["objective"].iloc[:k].median()
     best = json.loads((out / "best.json").read_text())
-    assert best["value"] == h["objective"].max() and best["params"]["robot.max_speed"] > 0.3
+    assert best["value"] == h["objective"].max()
+    assert (h.loc[h["objective"] < best["value"], "robot.max_speed"] < best["params"]["robot.max_speed"]).all()
     assert f"robot.max_speed = {best['params']['robot.max_speed']:.6g}" in res.output
     assert (out / "objective.png").stat().st_size > 0 and "--param robot.max_speed=" in (out / "best.yaml").read_text()
-    # resume: the study in its journal keeps the 14 trials; only 3 more are run
+    # resume: the study in its journal keeps the n trials; only 3 more are run
     ran = []
     with executor(2) as ex:
-        again = tune.tune_optuna(_problem(tiny), ex, algorithm="tpe", trials=17, storage=out / "study.journal",
+        again = tune.tune_optuna(_problem(tiny), ex, algorithm="tpe", trials=n + 3, storage=out / "study.journal",
                                  batch=2, on_trial=ran.append)
-    assert len(ran) == 3 and len(again) == 17
-    assert [t["objective"] for t in again[:14]] == h["objective"].tolist()
+    assert len(ran) == 3 and len(again) == n + 3
+    assert [t["objective"] for t in again[:n]] == h["objective"].tolist()
 
 
 def test_the_ga_settings_reach_deap_and_its_checkpoint_resumes(tiny, tmp_path, monkeypatch):
