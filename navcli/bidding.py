@@ -9,8 +9,7 @@ Communicator (the Navigation agents' internal auction) and the robot-level arbit
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
-from typing import TYPE_CHECKING, Iterable, Literal, Protocol
+from typing import TYPE_CHECKING, Iterable, Literal, NamedTuple, Protocol
 
 from .geometry import wrap_angle
 
@@ -21,31 +20,44 @@ Resource = Literal["motion", "camera"]
 RESOURCES: tuple[Resource, ...] = ("motion", "camera")
 
 
-@dataclass(frozen=True)
-class Move:
-    """A motion action: head for ``heading`` (rad, egocentric: 0 = straight ahead, + = left) at
-    ``speed`` (m/s, negative = backwards). ``Move(0, 0)`` is a stop."""
-
+class _MoveFields(NamedTuple):
     heading: float
     speed: float
 
-    def __post_init__(self) -> None:
-        if not (math.isfinite(self.heading) and math.isfinite(self.speed)):
-            raise ValueError(f"a move needs a finite heading and speed, got {self.heading}, {self.speed}")
+
+class Move(_MoveFields):
+    """A motion action: head for ``heading`` (rad, egocentric: 0 = straight ahead, + = left) at
+    ``speed`` (m/s, negative = backwards). ``Move(0, 0)`` is a stop.
+
+    A NamedTuple, not a frozen dataclass, like :class:`Look` and :class:`Bid`: a dozen actions and
+    bids are made every tick, and a frozen dataclass's ``__init__`` (one ``object.__setattr__`` per
+    field) cost twice as much (measured; the same immutable value, repr and equality)."""
+
+    __slots__ = ()
+
+    def __new__(cls, heading: float, speed: float) -> Move:
+        if not (math.isfinite(heading) and math.isfinite(speed)):
+            raise ValueError(f"a move needs a finite heading and speed, got {heading}, {speed}")
+        return tuple.__new__(cls, (heading, speed))
 
     def as_json(self) -> dict:
         return {"type": "move", "heading_deg": math.degrees(self.heading), "speed": self.speed}
 
 
-@dataclass(frozen=True)
-class Look:
-    """A camera action: pan to ``pan`` (rad, relative to the robot's heading) and take a look."""
-
+class _LookFields(NamedTuple):
     pan: float
 
-    def __post_init__(self) -> None:
-        if not math.isfinite(self.pan):
-            raise ValueError(f"a look needs a finite pan, got {self.pan}")
+
+class Look(_LookFields):
+    """A camera action: pan to ``pan`` (rad, relative to the robot's heading) and take a look.
+    (A NamedTuple: see :class:`Move`.)"""
+
+    __slots__ = ()
+
+    def __new__(cls, pan: float) -> Look:
+        if not math.isfinite(pan):
+            raise ValueError(f"a look needs a finite pan, got {pan}")
+        return tuple.__new__(cls, (pan,))
 
     def as_json(self) -> dict:
         return {"type": "look", "pan_deg": math.degrees(self.pan)}
@@ -65,9 +77,16 @@ def looked_at(looked: float | None, pan: float) -> bool:
 Action = Move | Look
 
 
-@dataclass(frozen=True)
-class Bid:
+class _BidFields(NamedTuple):
+    bidder: str
+    resource: Resource
+    action: Action
+    value: float
+
+
+class Bid(_BidFields):
     """One bidder's offer for one resource: the action it wants and its urgency in [0, 1].
+    (A NamedTuple: see :class:`Move`.)
 
     >>> Bid("pilot", "motion", Move(0.0, 0.3), 0.9).value
     0.9
@@ -77,16 +96,14 @@ class Bid:
     ValueError: bid of pilot for motion is nan, outside [0, 1]
     """
 
-    bidder: str
-    resource: Resource
-    action: Action
-    value: float
+    __slots__ = ()
 
-    def __post_init__(self) -> None:
-        if not (0.0 <= self.value <= 1.0):
-            raise ValueError(f"bid of {self.bidder} for {self.resource} is {self.value}, outside [0, 1]")
-        if self.resource not in RESOURCES:
-            raise ValueError(f"unknown resource {self.resource!r}")
+    def __new__(cls, bidder: str, resource: Resource, action: Action, value: float) -> Bid:
+        if not (0.0 <= value <= 1.0):
+            raise ValueError(f"bid of {bidder} for {resource} is {value}, outside [0, 1]")
+        if resource not in RESOURCES:
+            raise ValueError(f"unknown resource {resource!r}")
+        return tuple.__new__(cls, (bidder, resource, action, value))
 
 
 def arbitrate(bids: Iterable[Bid]) -> dict[Resource, Bid | None]:
@@ -100,7 +117,7 @@ def arbitrate(bids: Iterable[Bid]) -> dict[Resource, Bid | None]:
     consultation (the Pilot before the Navigation system: safety first) decides, and the outcome
     never depends on hashing or timing. A resource nobody bid for maps to ``None``.
     """
-    best: dict[Resource, Bid | None] = {r: None for r in RESOURCES}
+    best: dict[Resource, Bid | None] = dict.fromkeys(RESOURCES)
     for b in bids:
         cur = best[b.resource]
         if cur is None or b.value > cur.value:

@@ -20,7 +20,8 @@ a reason to end the mission as ``blocked`` when the Rescuer gives up.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from types import MappingProxyType
+from typing import Mapping, NamedTuple
 
 import numpy as np
 
@@ -41,10 +42,10 @@ __all__ = ["Communicator", "DistanceEstimator", "MapManager", "NavigationOutput"
            "RiskManager", "Situation", "TargetTracker"]
 
 
-@dataclass(frozen=True)
-class NavigationOutput:
+class NavigationOutput(NamedTuple):
     """The system's bids to the robot's arbiter, the agents' bids they were chosen from, the
-    current target for the Pilot (egocentric point, or a line to cross), and what explains it."""
+    current target for the Pilot (egocentric point, or a line to cross), and what explains it.
+    (A NamedTuple, made every tick: see :class:`~.situation.Situation`.)"""
 
     bids: tuple[Bid, ...]
     agent_bids: tuple[Bid, ...]
@@ -53,8 +54,8 @@ class NavigationOutput:
     diverting: bool = False
     events: tuple[tuple[str, str, str], ...] = ()  # (agent, level, message)
     give_up: str | None = None
-    info: dict = field(default_factory=dict)
-    forwarded_by: dict = field(default_factory=dict)  # resource -> the agent whose bid was forwarded
+    info: Mapping[str, object] = MappingProxyType({})  # read-only: one default serves all
+    forwarded_by: Mapping[str, str] = MappingProxyType({})  # resource -> the agent whose bid was forwarded
 
 
 class NavigationSystem:
@@ -84,11 +85,14 @@ class NavigationSystem:
         if policy_agent is not None:
             self.agents = (policy_agent,)
         self.communicator = Communicator(self.name, params.communicator_window_s)
+        self._ahead_lim = math.radians(params.ahead_deg)  # rad
 
     def situation(self, beliefs: Beliefs, line: tuple[Point, Point] | None = None) -> Situation:
         """What the agents see: the current target (``line``, a diverting target, replaces the
         original one), its imprecision, and the landmarks with the Map Manager's quality."""
-        known = {k: p for k, p in self.map.memory_points(beliefs).items() if k not in (TARGET, self.target_key)}
+        known = dict(self.map.memory_points(beliefs))
+        known.pop(TARGET, None)
+        known.pop(self.target_key, None)
         if line is not None or self.line_target:
             # a diverting line is held by the Rescuer and taken as given (our design); a line
             # target is as imprecise as the memory's worse end
@@ -99,26 +103,32 @@ class NavigationSystem:
             found = self.map.locate(self.target_key, beliefs)
             target, source = found if found is not None else (None, "none")
             spread = target.heading_width() if target is not None else 2 * math.pi
-        ahead_lim = math.radians(self.params.ahead_deg)
-        ahead = tuple(k for k, p in known.items() if abs(math.atan2(p.y, p.x)) <= ahead_lim)
-        return Situation(beliefs, target, line, source, self.tracker.imprecision(spread), known, ahead,
-                         self.map.quality({k: known[k] for k in ahead}), self.map.quality(known))
+        ahead_lim = self._ahead_lim
+        ahead = {k: p for k, p in known.items() if abs(math.atan2(p.y, p.x)) <= ahead_lim}
+        return Situation(beliefs, target, line, source, self.tracker.imprecision(spread), known, tuple(ahead),
+                         self.map.quality(ahead), self.map.quality(known))
 
     def bid(self, beliefs: Beliefs) -> NavigationOutput:
         """One tick of the Navigation system (see the module docstring)."""
         self.map.observe(beliefs)
         original = self.situation(beliefs)
         rescue = self.rescuer.decide(original, lambda failed: self._ask(beliefs, original, failed))
+        # worked out again while diverting, not copied from the original: the Map Manager's quality
+        # cache is cleared when full, which may drop the original's entries, and what it recomputes
+        # now differs in its last bits from what it would recompute a tick later
         s = original if rescue.diverting is None else self.situation(beliefs, rescue.diverting)
         agents = () if self.policy_agent is not None and self.rescuer.state == "sweep" else self.agents
-        agent_bids = rescue.bids + tuple(b for agent in agents for b in agent.bid(s))  # the Rescuer first: it wins ties
+        offered = list(rescue.bids)  # the Rescuer first: it wins ties
+        for agent in agents:
+            offered += agent.bid(s)
+        agent_bids = tuple(offered)
         bids = tuple(self.communicator.forward(agent_bids, beliefs.time))
         info = {"I_a": s.I_a, "risk": self.risk.risk(s), "quality_ahead": s.quality_ahead,
                 "quality_around": s.quality_around, "landmarks_known": len(s.landmarks),
                 "landmarks_ahead": len(s.ahead), "target_source": s.target_source,
                 "rescuer": self.rescuer.state, "diverting_targets": self.rescuer.diverting_targets,
                 "failures": self.rescuer.failures, "beta_units": len(self.map.network)}
-        events = tuple((self.rescuer.name, level, msg) for level, msg in rescue.events)
+        events = tuple([(self.rescuer.name, level, msg) for level, msg in rescue.events]) if rescue.events else ()
         return NavigationOutput(bids, agent_bids, s.aim, s.target_line, rescue.diverting is not None, events,
                                 rescue.give_up, info, self.communicator.forwarded_by)
 

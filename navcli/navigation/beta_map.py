@@ -176,7 +176,7 @@ class BetaNetwork:
         return out
 
     def __len__(self) -> int:
-        return sum(len(u) for u in self.units.values())
+        return sum(map(len, self.units.values()))
 
     def learn(self, viewframe: dict[str, FuzzyPoint], targets: set[str] | None = None) -> list[BetaUnit]:
         """Encode landmarks of one viewframe (at least 4, precise enough: the caller's choice),

@@ -43,10 +43,16 @@ class Communicator:
         >>> [(b.resource, b.value) for b in c.forward([], 0.35)]  # all older than the window
         []
         """
-        fresh = {(b.bidder, b.resource): (time, b) for b in agent_bids}  # a later bid replaces the earlier
+        held = {(b.bidder, b.resource): (time, b) for b in agent_bids}  # a later bid replaces the earlier
         # this tick's bids first, in the order offered, so ties go as the caller ordered them
-        self._held = fresh | {k: (t, b) for k, (t, b) in self._held.items()
-                              if k not in fresh and t >= time - self.window - 1e-9}
-        winners = arbitrate(b for _, b in self._held.values())
-        self.forwarded_by = {r: b.bidder for r, b in winners.items() if b is not None}
-        return [Bid(self.name, r, b.action, b.value) for r, b in winners.items() if b is not None]
+        since = time - self.window - 1e-9
+        for k, tb in self._held.items():
+            if k not in held and tb[0] >= since:
+                held[k] = tb
+        self._held = held
+        self.forwarded_by, out = {}, []
+        for r, b in arbitrate([b for _, b in held.values()]).items():
+            if b is not None:
+                self.forwarded_by[r] = b.bidder
+                out.append(Bid(self.name, r, b.action, b.value))
+        return out

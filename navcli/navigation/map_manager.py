@@ -86,14 +86,23 @@ class MapManager:
     def _landmarks(self, beliefs: Beliefs):
         for lm in beliefs.landmarks:
             yield lm.key, (lm.where, lm.seen)
-        if beliefs.target_at is not None and (self.target_key == TARGET or
-                                              all(lm.key != self.target_key for lm in beliefs.landmarks)):
-            yield self.target_key, (beliefs.target_at, beliefs.target_seen)  # a point target, or a landmark told of
+        if self._has_marker(beliefs):
+            yield self.target_key, (beliefs.target_at, beliefs.target_seen)
+
+    def _has_marker(self, beliefs: Beliefs) -> bool:
+        """Does the memory's target marker stand for ``target_key``: a point target, or a landmark
+        told of that the memory does not hold as a landmark?"""
+        return beliefs.target_at is not None and (self.target_key == TARGET or
+                                                  all(lm.key != self.target_key for lm in beliefs.landmarks))
 
     def memory_points(self, beliefs: Beliefs) -> dict[str, FuzzyPoint]:
-        """Landmarks (and the target's marker) as the visual memory holds them (built once per tick)."""
+        """Landmarks (and the target's marker) as the visual memory holds them, in its order (what
+        :meth:`_landmarks` gives; built once per tick, without the seen times)."""
         if self._points_of is not beliefs:
-            self._points_of, self._points = beliefs, {k: p for k, (p, _) in self._landmarks(beliefs)}
+            points = {lm.key: lm.where for lm in beliefs.landmarks}
+            if self._has_marker(beliefs):
+                points[self.target_key] = beliefs.target_at
+            self._points_of, self._points = beliefs, points
         return self._points
 
     # -- answering

@@ -31,8 +31,7 @@ from __future__ import annotations
 
 import math
 from collections import deque
-from dataclasses import dataclass
-from typing import Callable
+from typing import Callable, NamedTuple
 
 import numpy as np
 
@@ -46,10 +45,10 @@ STOP = Move(0.0, 0.0)  # a value: one serves every stop
 LOST_SCANS = 3  # scans (each followed by a random turn) before a lost target counts as a failure
 
 
-@dataclass(frozen=True)
-class Rescue:
+class Rescue(NamedTuple):
     """The Rescuer's decision this tick: its bids, the diverting target (egocentric line, left end
-    first) if one is set, events ``(level, message)``, and a reason to end the mission as blocked."""
+    first) if one is set, events ``(level, message)``, and a reason to end the mission as blocked.
+    (A NamedTuple, made every tick: see :class:`~.situation.Situation`.)"""
 
     bids: tuple[Bid, ...] = ()
     diverting: tuple[Point, Point] | None = None

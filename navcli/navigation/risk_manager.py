@@ -24,12 +24,8 @@ def sector_of(x: float, y: float) -> int:
     (0, 5, 1)
     """
     h = math.atan2(y, x)
-    best, off = 0, math.inf
-    for i, c in enumerate(SECTORS):
-        d = abs(math.remainder(h - c, TWO_PI))
-        if d < off:
-            best, off = i, d
-    return best
+    off = [abs(math.remainder(h - c, TWO_PI)) for c in SECTORS]
+    return off.index(min(off))  # min and index both take the first of equals
 
 
 @dataclass(frozen=True)

@@ -3,15 +3,15 @@
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from types import MappingProxyType
+from typing import Mapping, NamedTuple
 
 from ..beliefs import Beliefs
 from ..fuzzy import FuzzyPoint
 from ..geometry import Point
 
 
-@dataclass(frozen=True)
-class Situation:
+class Situation(NamedTuple):
     """The Navigation agents' input (they see nothing else).
 
     ``target`` is the current target's best estimate (egocentric fuzzy point: the original
@@ -20,6 +20,9 @@ class Situation:
     line target); ``I_a`` the target's heading imprecision (Target Tracker, eq. 6 of the thesis);
     ``landmarks`` the known landmarks (egocentric fuzzy points); ``quality_ahead`` and
     ``quality_around`` the Map Manager's ``q_S`` of those ahead and of all.
+
+    A NamedTuple, not a frozen dataclass: it is built every tick (twice while diverting), and a
+    frozen dataclass's nine ``object.__setattr__`` calls were most of that cost (measured).
     """
 
     beliefs: Beliefs
@@ -27,7 +30,7 @@ class Situation:
     target_line: tuple[Point, Point] | None
     target_source: str
     I_a: float
-    landmarks: dict[str, FuzzyPoint] = field(default_factory=dict)
+    landmarks: Mapping[str, FuzzyPoint] = MappingProxyType({})  # read-only: one default serves all
     ahead: tuple[str, ...] = ()
     quality_ahead: float = 0.0
     quality_around: float = 0.0

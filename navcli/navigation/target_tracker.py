@@ -45,10 +45,11 @@ class TargetTracker:
         return min(1.0, spread / TWO_PI) ** self.params.beta
 
     def bid(self, s: Situation) -> list[Bid]:
-        if s.aim is None:
+        aim = s.aim
+        if aim is None:
             return []
         p = self.params
-        x, y = s.aim
+        x, y = aim
         if s.target_line is not None:  # a line to cross: through the safe corridor
             (x, y), _ = corridor_aim(*s.target_line, self.corridor_margin)
         i_a = s.I_a
