@@ -111,3 +111,23 @@ def test_the_diverting_target_is_the_first_edge_of_the_shortest_path():
     c2 = first_crossing(r, robot, target, blocked={frozenset({"A", "B"}): 1.0})
     assert c2 is not None and c2.edge != frozenset({"A", "B"}) and c2.virtual
     assert first_crossing(r, (2.0, 6.5), (2.1, 6.6)) is None  # the same region: nothing to cross
+
+
+def test_a_logged_run_is_the_same_file_whatever_pythons_hash_seed(tmp_path):
+    """Same scenario + seed + version = same log, byte for byte, in any process: the map's
+    landmarks once followed the order of a set of strings, which ``PYTHONHASHSEED`` changes."""
+    import os
+    import subprocess
+    import sys
+
+    from conftest import ROOT, SCENARIOS
+
+    logs = []
+    for seed in ("1", "2"):
+        out = tmp_path / f"hash{seed}.mcap"
+        r = subprocess.run([sys.executable, "-m", "navcli", "run", str(SCENARIOS / "landmarks-12.yaml"),
+                            "--time-limit", "15", "--out", str(out)], capture_output=True, text=True, cwd=ROOT,
+                           env=os.environ | {"PYTHONHASHSEED": seed})
+        assert r.returncode == 3 and "timeout" in r.stdout, r.stderr  # 15 s: the map is drawn, the target not reached
+        logs.append(out.read_bytes())
+    assert logs[0] == logs[1]

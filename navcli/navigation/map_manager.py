@@ -153,9 +153,11 @@ class MapManager:
         return cached
 
     def landmark_estimates(self, beliefs: Beliefs, recall: bool = True) -> dict[str, FuzzyPoint]:
-        """Every mapped landmark (memory or recall), egocentric."""
+        """Every mapped landmark (memory or recall), egocentric, by id: sorted, so that the
+        regions' triangulation and the log's map never follow the order of a set of strings,
+        which Python's hash seed changes from one process to the next."""
         out = {}
-        for k in self.network.landmarks | set(self.memory_points(beliefs)):
+        for k in sorted(self.network.landmarks | set(self.memory_points(beliefs))):
             found = self.locate(k, beliefs, recall)
             if found is not None and k != self.target_key:
                 out[k] = found[0]
