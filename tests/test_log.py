@@ -210,3 +210,52 @@ def test_oracle_perception_is_recorded_and_still_reaches(tmp_path):
     log = read_log(tmp_path / "o.mcap")
     assert log.metadata["run"]["perception"] == "oracle" and res.summary["outcome"] == "reached"
     assert "/memory/scene" not in log.topics  # no visual memory to draw
+
+
+def test_the_pose_messages_built_inline_are_those_of_the_plain_helpers(tmp_path):
+    """Recorder._pose_msgs builds its messages inline (a measured hot path); every byte written
+    must be what _ts, _yaw and _pose give, turned or not, at a whole second or between."""
+    from mcap.reader import make_reader
+
+    from navcli.geometry import Pose
+    from navcli.recorder import (_CAMERA_AT, _NO_TURN, FrameTransform, FrameTransforms, FxPose, PoseInFrame, Recorder,
+                                 Vector3, _pose, _ts, _yaw)
+
+    cases = [(Pose(1.5, 2.25, 0.7), Pose(1.4, 2.5, -2.9), 2_000_000_000, 0.3),
+             (Pose(0.0, 3.0, 0.0), Pose(-0.5, 0.0, 0.0), 2_100_000_000, 0.0),
+             (Pose(7.0, 0.5, -math.pi), Pose(7.1, 0.4, 3.1), 2_200_000_000, -1.2)]
+    rec = Recorder(tmp_path / "p.mcap")
+    for truth, odom, ns, pan in cases:
+        rec._pose_msgs(truth, odom, ns, pan)
+    rec.writer.close()
+    with open(rec.partial, "rb") as f:
+        got = [(c.topic, m.log_time, m.data) for _, c, m in make_reader(f).iter_messages(log_time_order=False)]
+    want = []
+    for truth, odom, ns, pan in cases:
+        ts, q = _ts(ns), _yaw(truth.theta)
+        at = Vector3(x=truth.x, y=truth.y, z=0.0)
+        want += [("/tf", ns, FrameTransforms(transforms=[
+                     FrameTransform(timestamp=ts, parent_frame_id="world", child_frame_id="base_link", translation=at,
+                                    rotation=q),
+                     FrameTransform(timestamp=ts, parent_frame_id="base_link", child_frame_id="camera",
+                                    translation=_CAMERA_AT, rotation=_yaw(pan) if pan else _NO_TURN)]).encode()),
+                 ("/robot/odometry", ns, PoseInFrame(timestamp=ts, frame_id="world",
+                                                     pose=_pose(odom.x, odom.y, odom.theta)).encode()),
+                 ("/robot/pose", ns, PoseInFrame(timestamp=ts, frame_id="world",
+                                                 pose=FxPose(position=at, orientation=q)).encode())]
+    assert got == want
+    rec.lock.release()
+
+
+def test_the_arena_stamped_from_its_bytes_is_the_scene_update_built_in_full():
+    """/world/scene is written from the arena's entities encoded once without a timestamp; at any
+    time (sub-second, past 127 s: two-byte varints; 0: an empty stamp) the bytes must be those of
+    the SceneUpdate built in full."""
+    from navcli.recorder import SceneEntity, SceneUpdate, _arena_shapes, _stamped, _ts
+
+    shapes = _arena_shapes(load_scenario(SCENARIOS / "paper-8x8.yaml"))
+    arena = [SceneEntity(frame_id="world", id=key, **s).encode() for key, s in shapes]
+    assert any(len(e) > 127 for e in arena)  # lengths of two varint bytes are exercised
+    for ns in (0, 1_000_000_000, 2_100_000_000, 300_000_000, 200_000_000_000, 3_000_000_000_123):
+        full = SceneUpdate(entities=[SceneEntity(timestamp=_ts(ns), frame_id="world", id=key, **s) for key, s in shapes])
+        assert _stamped(arena, ns) == full.encode(), ns
