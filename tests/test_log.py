@@ -246,16 +246,3 @@ def test_the_pose_messages_built_inline_are_those_of_the_plain_helpers(tmp_path)
     assert got == want
     rec.lock.release()
 
-
-def test_the_arena_stamped_from_its_bytes_is_the_scene_update_built_in_full():
-    """/world/scene is written from the arena's entities encoded once without a timestamp; at any
-    time (sub-second, past 127 s: two-byte varints; 0: an empty stamp) the bytes must be those of
-    the SceneUpdate built in full."""
-    from navcli.recorder import SceneEntity, SceneUpdate, _arena_shapes, _stamped, _ts
-
-    shapes = _arena_shapes(load_scenario(SCENARIOS / "paper-8x8.yaml"))
-    arena = [SceneEntity(frame_id="world", id=key, **s).encode() for key, s in shapes]
-    assert any(len(e) > 127 for e in arena)  # lengths of two varint bytes are exercised
-    for ns in (0, 1_000_000_000, 2_100_000_000, 300_000_000, 200_000_000_000, 3_000_000_000_123):
-        full = SceneUpdate(entities=[SceneEntity(timestamp=_ts(ns), frame_id="world", id=key, **s) for key, s in shapes])
-        assert _stamped(arena, ns) == full.encode(), ns
