@@ -74,7 +74,7 @@ class GeometricPilot(Pilot):
         super().__init__(*args, **kw)
         self._side: str | None = None  # the side chosen to pass what is being avoided, until the way is clear
 
-    def avoid(self, beliefs: Beliefs, obstacles: list[KnownObstacle], request: Move | None) -> Avoidance:
+    def avoid(self, beliefs: Beliefs, obstacles: tuple[KnownObstacle, ...], request: Move | None) -> Avoidance:
         p = self.params
         R = p.R_min
         best, clearance = None, math.inf

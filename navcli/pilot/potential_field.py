@@ -414,7 +414,7 @@ class PotentialFieldPilot(Pilot):
         super().__init__(params, robot)
         self._prev_heading: float | None = None  # the previous step's computed turn, as an odometry-frame heading
 
-    def avoid(self, beliefs: Beliefs, obstacles: list[KnownObstacle], request: Move | None) -> Avoidance:
+    def avoid(self, beliefs: Beliefs, obstacles: tuple[KnownObstacle, ...], request: Move | None) -> Avoidance:
         f = field(beliefs.target, beliefs.target_line, obstacles, self.params)
         theta = beliefs.odometry.theta
         turn = f.turn
@@ -424,10 +424,10 @@ class PotentialFieldPilot(Pilot):
         self._prev_heading = theta + f.turn
         per_obstacle = {}
         arrows = [("net", *f.net), ("target", *f.target)]
-        for o in f.forces:
-            per_obstacle[o.key] = {"x": o.fx, "y": o.fy, "mag": o.magnitude, "facing": o.facing}
-            if o.facing:
-                arrows.append((o.key, o.fx, o.fy))
+        for key, fx, fy, mag, facing_it, _ in f.forces:
+            per_obstacle[key] = {"x": fx, "y": fy, "mag": mag, "facing": facing_it}
+            if facing_it:
+                arrows.append((key, fx, fy))
         info = {
             "turn_deg": math.degrees(turn),
             "raw_turn_deg": math.degrees(f.turn),
