@@ -255,3 +255,77 @@ def test_a_rooms_corner_is_no_sink():
     assert rx > 0 and ry > 0 and rx == pytest.approx(ry)  # out of it, along the diagonal
     f = field((5.0, 5.0), None, walls, PILOT)
     assert 0 < f.turn < math.pi / 2
+
+
+def plain_facing(obstacles):
+    """Section 5's occlusion as the plain n x n loop of the same float tests (facing_loop's
+    definition before its pruning by bearing)."""
+    out = []
+    for i, o in enumerate(obstacles):
+        cx, cy = o.centre
+        L2 = cx * cx + cy * cy
+        free = L2 > 0.0
+        for j, q in enumerate(obstacles):
+            if not free or j == i:
+                continue
+            (ax, ay), (bx, by) = q.a, q.b
+            if q.is_point:
+                t = (ax * cx + ay * cy) / L2
+                if 0.0 < t < 1.0:
+                    dx, dy = ax - t * cx, ay - t * cy
+                    free = not dx * dx + dy * dy < q.radius * q.radius
+                continue
+            ex, ey = bx - ax, by - ay
+            d1 = ex * -ay - ey * -ax
+            d3, d4 = cx * ay - cy * ax, cx * by - cy * bx
+            if d1 == 0.0 or (d3 > 0.0) == (d4 > 0.0) or d3 == 0.0 or d4 == 0.0:
+                continue
+            d2 = ex * (cy - ay) - ey * (cx - ax)
+            free = not (d1 > 0.0) != (d2 > 0.0) or d2 == 0.0
+        out.append(free or L2 == 0.0)
+    return out
+
+
+reals = st.floats(-8.0, 8.0, allow_nan=False)
+
+
+@st.composite
+def grazing_layouts(draw):
+    """Layouts where sight lines graze what might hide them: centres on (or a hair beside) the
+    tangents of discs, on the rays through segments' ends, around the bearing pi where bearings
+    wrap, and discs that nearly hold the robot."""
+    obs = draw(layouts())
+    for k in range(draw(st.integers(1, 6))):
+        x, y = draw(reals), draw(reals)
+        if draw(st.booleans()):  # wrap: just either side of the negative x axis
+            x, y = -abs(x) - 0.1, draw(st.sampled_from([0.0, 1e-12, -1e-12, 1e-3, -1e-3]))
+        r = draw(st.sampled_from([0.0, 0.05, 0.15, 0.3, 0.95 * math.hypot(x, y), 1.2 * math.hypot(x, y)]))
+        if draw(st.booleans()) or math.hypot(x, y) == 0.0:
+            x2, y2 = draw(reals), draw(reals)
+            obs.append(KnownObstacle(f"g{k}", (x, y), (x2, y2), 0.025))
+            end = (x2, y2) if draw(st.booleans()) else (x, y)
+            s = draw(st.floats(1.0, 4.0))
+            obs.append(pt(f"e{k}", end[0] * s, end[1] * s, 0.1))  # on the ray through an end
+        else:
+            obs.append(pt(f"d{k}", x, y, r))
+            d = math.hypot(x, y)
+            if 0.0 < r < d:
+                h = math.atan2(y, x) + draw(st.sampled_from([1, -1])) * math.asin(r / d)
+                h += draw(st.sampled_from([0.0, 1e-15, -1e-15, 1e-12, -1e-12]))
+                s = draw(st.floats(0.5, 3.0)) * d
+                obs.append(pt(f"t{k}", s * math.cos(h), s * math.sin(h), 0.1))  # on a tangent
+    return draw(st.permutations(obs))
+
+
+@settings(deadline=None, max_examples=400)
+@given(grazing_layouts())
+def test_the_occlusion_pruned_by_bearing_gives_the_plain_answers(obstacles):
+    assert facing_loop(obstacles) == plain_facing(obstacles)
+
+
+@settings(deadline=None, max_examples=300)
+@given(st.lists(st.tuples(reals, reals, reals, reals, st.floats(0.0, 0.5), st.booleans()), max_size=14))
+def test_the_occlusion_pruned_by_bearing_gives_the_plain_answers_anywhere(specs):
+    obstacles = [pt(f"p{i}", x, y, r) if point else KnownObstacle(f"s{i}", (x, y), (x2, y2), r)
+                 for i, (x, y, x2, y2, r, point) in enumerate(specs)]
+    assert facing_loop(obstacles) == plain_facing(obstacles)

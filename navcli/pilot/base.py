@@ -85,7 +85,7 @@ class Pilot:
         self._moved: deque[float] = deque(maxlen=window)  # m measured per tick, over the stall window
 
     # -- to be provided by the strategies
-    def avoid(self, beliefs: Beliefs, obstacles: list[KnownObstacle], request: Move | None) -> Avoidance:
+    def avoid(self, beliefs: Beliefs, obstacles: tuple[KnownObstacle, ...], request: Move | None) -> Avoidance:
         return Avoidance(None, 0.0, {})
 
     # -- per tick
@@ -97,7 +97,7 @@ class Pilot:
         self._track(beliefs.odometry)
         self._watch_for_stall(beliefs.touching)
         events, self._events = self._events, []
-        obstacles = list(beliefs.obstacles)  # the visual memory, bumped obstacles included
+        obstacles = tuple(beliefs.obstacles)  # the visual memory, bumped obstacles included (no copy of a tuple)
         look = self.look_bid()
         if self._reflex:
             return self._reflex_output(look, events, obstacles)
@@ -107,7 +107,7 @@ class Pilot:
         info = {"mode": "avoid" if offers else "idle", "bid": a.bid, "look_bid": look} | a.info
         if offers:
             bids.insert(0, Bid(self.name, "motion", a.move, a.bid))
-        return PilotOutput(bids, info, a.arrows, events, tuple(obstacles))
+        return PilotOutput(bids, info, a.arrows, events, obstacles)
 
     def look_bid(self) -> float:
         """Eq. 1: ``(d_l / d_m) ** s``, never above the Pilot's cap of 0.9."""
@@ -183,7 +183,7 @@ class Pilot:
         self._forget_motion()
         self._events.append(message)
 
-    def _reflex_output(self, look: float, events: list[str], obstacles: list[KnownObstacle]) -> PilotOutput:
+    def _reflex_output(self, look: float, events: list[str], obstacles: tuple[KnownObstacle, ...]) -> PilotOutput:
         p = self.params
         while self._reflex and (self._reflex_progress >= self._reflex[0][1] - 1e-9
                                 or self._phase_ticks * CONTROL_DT >= p.reflex_phase_limit_s):
@@ -194,7 +194,7 @@ class Pilot:
         if not self._reflex:
             events.append("reflex done: recomputing with the obstacle that was hit")
             return PilotOutput([], {"mode": "reflex", "phase": "done", "bid": 0.0, "look_bid": look}, [], events,
-                               tuple(obstacles))
+                               obstacles)
         phase = self._reflex[0][0]
         if phase == "stop":
             self._reflex_progress += CONTROL_DT  # this tick is spent standing still
@@ -206,7 +206,7 @@ class Pilot:
         elif look > 0:
             bids.append(Bid(self.name, "camera", LOOK_AHEAD, look))
         return PilotOutput(bids, {"mode": "reflex", "phase": phase, "bid": p.bid_cap, "look_bid": look}, [], events,
-                           tuple(obstacles))
+                           obstacles)
 
     # -- execution
     def execute(self, winner: Bid | None) -> tuple[float, float]:

@@ -74,12 +74,13 @@ class GeometricPilot(Pilot):
         super().__init__(*args, **kw)
         self._side: str | None = None  # the side chosen to pass what is being avoided, until the way is clear
 
-    def avoid(self, beliefs: Beliefs, obstacles: list[KnownObstacle], request: Move | None) -> Avoidance:
+    def avoid(self, beliefs: Beliefs, obstacles: tuple[KnownObstacle, ...], request: Move | None) -> Avoidance:
         p = self.params
         R = p.R_min
         best, clearance = None, math.inf
         for o in obstacles:
-            q = o.a if o.is_point else closest_on_segment(ORIGIN, o.a, o.b)
+            a, b = o.a, o.b
+            q = a if a == b else closest_on_segment(ORIGIN, a, b)
             c = math.hypot(q[0], q[1]) - o.radius - R  # from the prohibited area's edge
             if c < clearance:
                 best, clearance, nearest = o, c, q
