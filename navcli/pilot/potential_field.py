@@ -41,8 +41,6 @@ loop costs less than numpy's call overhead (see the issue note for the measureme
 from __future__ import annotations
 
 import math
-from math import asin, atan2
-from bisect import bisect_left, bisect_right
 from typing import NamedTuple
 
 from ..beliefs import Beliefs, KnownObstacle
@@ -211,109 +209,55 @@ def facing_numpy(obstacles: tuple[KnownObstacle, ...] | list[KnownObstacle]) -> 
     return (~blocked.any(axis=1)).tolist()
 
 
-SIGHT_MARGIN = 1e-9  # rad: the bearing slack of facing_loop's pruning, ~1e6 times any rounding error it covers
-TAU = 2.0 * math.pi
-WIDE = 0.9  # r / |p| above which a disc's cone of bearings is not pruned (asin is ill-conditioned near 1)
-
-
 def facing_loop(obstacles: tuple[KnownObstacle, ...] | list[KnownObstacle]) -> list[bool]:
     """Section 5, 'more than one obstacle in the same direction': an obstacle contributes only
     if the line from its centre to the robot crosses no other obstacle (a point obstacle by its
     body, a linear one by its segment).
 
-    The hot spot of a tick, so :func:`navcli.geometry.blocks_sight` (a point obstacle's body cuts
-    the sight line ``0 -> c``) and :func:`navcli.geometry.crosses_sight` (a linear one crosses it
-    properly) are inlined here, with the robot at the origin, and only the pairs that can answer
-    yes are tested (our design; the answers are those of the n x n tests):
-
-    - every obstacle hides only sight lines whose bearing lies in its cone of bearings: a disc
-      of radius r at p those within ``asin(r / |p|)`` of p's bearing, a segment those between
-      its ends' bearings (a sight line crossing it ends beyond it). The centres' bearings are
-      sorted once, and each obstacle's cone, widened by ``SIGHT_MARGIN`` (far more than the
-      rounding of the tests and of atan2/asin), picks its candidates by bisection;
-    - where the cone is ill-conditioned it is not pruned at all: a disc that nearly holds the
-      robot (``r / |p| > WIDE``), a segment whose line nearly passes through the robot, tiny
-      coordinates; a disc of radius 0 hides nothing (``d^2 < 0`` never holds);
-    - what does not depend on the sight line (the robot's side of each segment) is computed once.
-
-    An obstacle needs no test against itself: a point's own sight line ends on its centre, at
-    ``t == 1`` exactly (the same products over the same sum), which the test excludes, and a
-    segment is skipped by index. ``tests/test_potential_field.py`` checks the answers against
-    the plain n x n definition, also on sight lines built tangent to discs and through ends.
+    The hot spot of a tick (n x n tests), so :func:`navcli.geometry.blocks_sight` (a point
+    obstacle's body cuts the sight line ``0 -> c``) and :func:`navcli.geometry.crosses_sight`
+    (a linear one crosses it properly) are inlined here, with the robot at the origin, and what
+    does not depend on the sight line (the robot's side of each segment) is computed once.
+    A point obstacle needs no test against itself: its own sight line ends on its centre, at
+    ``t == 1`` exactly (the same products over the same sum), which the test excludes.
     """
-    centres = []  # cx, cy, L2 per obstacle
-    bearings = []  # bearing of each centre (rad)
-    always = []  # indices of centres too near the origin for their bearing to prune safely
-    open_ = []  # still to test: not yet hidden, and a sight line of length > 0
-    for i, o in enumerate(obstacles):
-        (ax, ay), (bx, by) = o.a, o.b
-        cx, cy = (ax, ay) if ax == bx and ay == by else ((ax + bx) / 2, (ay + by) / 2)
-        L2 = cx * cx + cy * cy
-        centres.append((cx, cy, L2))
-        bearings.append(atan2(cy, cx))
-        open_.append(L2 > 0.0)
-        if L2 <= 1e-150 and L2 > 0.0:  # (at the origin itself nothing hides a sight line of length 0)
-            always.append(i)
-    order = sorted(range(len(obstacles)), key=bearings.__getitem__)
-    keys = [bearings[i] for i in order]
-    free = [True] * len(obstacles)
+    points = []  # x, y, radius^2
+    lines = []  # index, a, b - a, the robot's side of ab
     for j, o in enumerate(obstacles):
         (ax, ay), (bx, by) = o.a, o.b
-        A2 = ax * ax + ay * ay
-        point = ax == bx and ay == by
-        if point:
-            r = o.radius
-            r2 = r * r
-            if r2 == 0.0:
-                continue
-            if A2 < 1e-150 or r2 >= WIDE * WIDE * A2:
-                lo, hi = -math.pi, math.pi
-            else:
-                h, half = bearings[j], asin(r / math.sqrt(A2)) + SIGHT_MARGIN
-                lo, hi = h - half, h + half
-        else:
-            ex, ey = bx - ax, by - ay
-            d1 = ex * -ay - ey * -ax
-            if d1 == 0.0:  # (the robot on the segment's line: no sight line crosses it properly)
-                continue
-            left = d1 > 0.0
-            lo, hi = atan2(ay, ax), atan2(by, bx)
-            if hi < lo:
-                lo, hi = hi, lo
-            if hi - lo > math.pi:  # the shorter way round passes through the bearing pi
-                lo, hi = hi - TAU, lo
-            B2 = bx * bx + by * by
-            if hi - lo > 3.0 or A2 < 1e-150 or B2 < 1e-150 or d1 * d1 < 1e-18 * (ex * ex + ey * ey) * min(A2, B2):
-                lo, hi = -math.pi, math.pi
-            else:
-                lo, hi = lo - SIGHT_MARGIN, hi + SIGHT_MARGIN
-        candidates = order[bisect_left(keys, lo):bisect_right(keys, hi)]
-        if lo < -math.pi:
-            candidates += order[bisect_left(keys, lo + TAU):]
-        if hi > math.pi:
-            candidates += order[:bisect_right(keys, hi - TAU)]
-        if always:
-            candidates += always
-        for i in candidates:
-            if i == j or not open_[i]:
-                continue
-            cx, cy, L2 = centres[i]
-            if point:
-                t = (ax * cx + ay * cy) / L2
+        if ax == bx and ay == by:
+            points.append((ax, ay, o.radius * o.radius))
+            continue
+        ex, ey = bx - ax, by - ay
+        d1 = ex * -ay - ey * -ax
+        if d1 != 0.0:  # (the robot on the segment's line: no sight line crosses it properly)
+            lines.append((j, ax, ay, bx, by, ex, ey, d1 > 0.0))
+    out = []
+    for i, o in enumerate(obstacles):
+        cx, cy = o.centre
+        L2 = cx * cx + cy * cy
+        free = True
+        if L2 > 0.0:
+            for px, py, r2 in points:
+                t = (px * cx + py * cy) / L2
                 if t <= 0.0 or t >= 1.0:
                     continue  # beside the sight line's ends: the robot or the obstacle itself is nearer
-                dx, dy = ax - t * cx, ay - t * cy
+                dx, dy = px - t * cx, py - t * cy
                 if dx * dx + dy * dy < r2:
-                    free[i] = open_[i] = False
-            else:
-                d3 = cx * ay - cy * ax  # sides of a and b relative to the sight line
-                d4 = cx * by - cy * bx
-                if (d3 > 0.0) == (d4 > 0.0) or d3 == 0.0 or d4 == 0.0:
-                    continue
-                d2 = ex * (cy - ay) - ey * (cx - ax)  # the side of c relative to ab
-                if left != (d2 > 0.0) and d2 != 0.0:
-                    free[i] = open_[i] = False
-    return free
+                    free = False
+                    break
+            if free:
+                for j, ax, ay, bx, by, ex, ey, left in lines:
+                    d3 = cx * ay - cy * ax  # sides of a and b relative to the sight line
+                    d4 = cx * by - cy * bx
+                    if (d3 > 0.0) == (d4 > 0.0) or d3 == 0.0 or d4 == 0.0 or j == i:
+                        continue
+                    d2 = ex * (cy - ay) - ey * (cx - ax)  # the side of c relative to ab
+                    if left != (d2 > 0.0) and d2 != 0.0:
+                        free = False
+                        break
+        out.append(free)
+    return out
 
 
 def pilot_bid(g_max: float, p: PilotParams) -> float:
