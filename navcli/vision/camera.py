@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Callable
+from typing import Callable, NamedTuple
 
 import numpy as np
 
@@ -35,9 +35,9 @@ SEGMENT_SAMPLES = 40  # at most this many samples per linear obstacle
 VIEW_MARGIN = 1e-3  # rad: the field of view widened by this much to choose the samples worth testing
 
 
-@dataclass(frozen=True)
-class Sighting:
-    """One measured point: fuzzy egocentric heading (rad) and distance (m)."""
+class Sighting(NamedTuple):
+    """One measured point: fuzzy egocentric heading (rad) and distance (m). A NamedTuple (our
+    design, for speed: built ~3x faster than a frozen dataclass, one per point in an image)."""
 
     heading: FuzzyAngle
     distance: Fuzzy
