@@ -18,7 +18,6 @@ is told apart from the obstacles in the room by its size, and the Pilot treats i
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 from typing import Callable, NamedTuple
 
 import numpy as np
@@ -43,13 +42,13 @@ class Sighting(NamedTuple):
     distance: Fuzzy
 
 
-@dataclass(frozen=True)
-class Detection:
+class Detection(NamedTuple):
     """What one image showed of one object.
 
     ``key`` is the landmark id, ``target``/``target-a``/``target-b`` for the target's markers,
     and ``""`` for a plain obstacle (not identifiable). ``points`` holds one sighting (a point
     obstacle, a landmark, a single end of a linear obstacle) or two (both ends of one).
+    A NamedTuple, as :class:`Sighting` (several per image).
     """
 
     key: str
