@@ -8,7 +8,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from navcli.fuzzy import ALPHAS, Fuzzy, FuzzyAngle, landmark_imprecision
+from navcli.fuzzy import ALPHAS, CUT, Fuzzy, FuzzyAngle, FuzzyPoint, imprecision, landmark_imprecision
 
 
 def test_trapezoid_cuts_are_linear_between_support_and_core():
@@ -93,3 +93,16 @@ def test_cuts_stay_nested_through_arithmetic(fa, fb):
     for f in (a + b, a - b, a * b, a.widen(0.3)):
         for (lo, hi), (lo2, hi2) in zip(f.cuts, f.cuts[1:]):
             assert lo <= lo2 <= hi2 <= hi
+
+
+@settings(deadline=None)
+@given(values, values, spreads, st.floats(0, 1))
+def test_point_imprecision_is_its_70_cut_read_off_the_disc(x, y, r0, core):
+    """FuzzyPoint.imprecision writes radius() and the half-angle out: the same bits as the plain
+    definition from radius(CUT) and heading_width(CUT), and close to the fuzzy numbers' widths."""
+    d = r0 * (core - 1.0)  # a core of radius core * r0
+    p = FuzzyPoint(x, y, tuple(r0 + a * d for a in ALPHAS))
+    r = p.radius(CUT)
+    assert p.imprecision() == imprecision(p.heading_width(CUT), 2.0 * r)
+    if math.hypot(x, y) > r:
+        assert p.imprecision() == pytest.approx(landmark_imprecision(p.heading(), p.distance()), abs=1e-9)

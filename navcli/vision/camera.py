@@ -18,8 +18,7 @@ is told apart from the obstacles in the room by its size, and the Pilot treats i
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
-from typing import Callable
+from typing import Callable, NamedTuple
 
 import numpy as np
 
@@ -35,21 +34,21 @@ SEGMENT_SAMPLES = 40  # at most this many samples per linear obstacle
 VIEW_MARGIN = 1e-3  # rad: the field of view widened by this much to choose the samples worth testing
 
 
-@dataclass(frozen=True)
-class Sighting:
-    """One measured point: fuzzy egocentric heading (rad) and distance (m)."""
+class Sighting(NamedTuple):
+    """One measured point: fuzzy egocentric heading (rad) and distance (m). A NamedTuple (our
+    design, for speed: built ~3x faster than a frozen dataclass, one per point in an image)."""
 
     heading: FuzzyAngle
     distance: Fuzzy
 
 
-@dataclass(frozen=True)
-class Detection:
+class Detection(NamedTuple):
     """What one image showed of one object.
 
     ``key`` is the landmark id, ``target``/``target-a``/``target-b`` for the target's markers,
     and ``""`` for a plain obstacle (not identifiable). ``points`` holds one sighting (a point
     obstacle, a landmark, a single end of a linear obstacle) or two (both ends of one).
+    A NamedTuple, as :class:`Sighting` (several per image).
     """
 
     key: str

@@ -122,9 +122,14 @@ class VisionPerception(_Senses):
             kind = m.kind
             if kind == "target":
                 continue
-            s0 = m.spots[0]
+            spots = m.spots
+            s0 = spots[0]
             a = (s0.x, s0.y)
-            b = (m.spots[1].x, m.spots[1].y) if len(m.spots) == 2 else a
+            if len(spots) == 2:
+                s1 = spots[1]
+                b = (s1.x, s1.y)
+            else:
+                b = a
             if kind == "landmark":
                 obstacles.append(KnownObstacle(f"L{m.key}", a, b, m.radius, False))
                 landmarks.append(KnownLandmark(m.key, s0.point(), m.seen))

@@ -34,6 +34,7 @@ from .camera import Detection, Sighting
 
 Disc = tuple[float, float, float]  # x, y, radius
 END_TIE = 0.10  # m: ends this close along a linear obstacle count as the same extent; the sharper is kept
+STILL = (0.0,) * 7  # a Spot's drift when just seen: jx, jy, kx, ky, vt, vs, run
 
 
 @dataclass(slots=True)
@@ -41,23 +42,20 @@ class Spot:
     """A remembered point: egocentric centre (m), support and core radii (m).
 
     The support is the radius ``base`` it had when last seen, plus the odometry drift since
-    (see :meth:`VisualMemory.move`), kept as sensitivities so that it is tight: ``J`` and ``K``
-    are how far the centre would shift per unit of the odometry's calibration error in turning
-    and in distance (vectors, m), ``vt`` and ``vs`` the summed squares of the per-tick moves
-    (rad*m, m) whose random errors add up like a random walk, ``run`` the distance driven.
+    (see :meth:`VisualMemory.move`), kept as sensitivities so that it is tight: ``drift`` is
+    ``(jx, jy, kx, ky, vt, vs, run)``: ``J`` and ``K`` are how far the centre would shift per
+    unit of the odometry's calibration error in turning and in distance (vectors, m), ``vt`` and
+    ``vs`` the summed squares of the per-tick moves (rad*m, m) whose random errors add up like a
+    random walk, ``run`` the distance driven. One tuple, not seven fields (our design, for speed:
+    :meth:`VisualMemory.move` updates every spot every tick, and one read and one write of a
+    tuple cost less than seven of each).
     """
 
     x: float
     y: float
     base: float  # support radius when last seen
     r1: float  # core radius
-    jx: float = 0.0
-    jy: float = 0.0
-    kx: float = 0.0
-    ky: float = 0.0
-    vt: float = 0.0
-    vs: float = 0.0
-    run: float = 0.0
+    drift: tuple[float, float, float, float, float, float, float] = STILL
     r0: float = 0.0  # the support radius, kept up to date by VisualMemory
 
     def __post_init__(self) -> None:
@@ -103,23 +101,26 @@ class Memory:
 
     def imprecision(self) -> float:
         """I(l) of the object's worst-known point (section 5.1 of the learning-agent paper)."""
-        return max(_imprecision(s) for s in self.spots)
-
-
-def _imprecision(s: Spot) -> float:
-    """I(l) of a spot from its 70 % cut (:meth:`navcli.fuzzy.FuzzyPoint.imprecision`)."""
-    return s.point().imprecision()
+        first, *rest = self.spots  # max() written out: a generator costs more than one or two spots
+        worst = first.point().imprecision()  # I(l) of a spot from its 70 % cut
+        for s in rest:
+            i = s.point().imprecision()
+            if i > worst:
+                worst = i
+        return worst
 
 
 def _sighting_spot(s: Sighting) -> Spot:
     """The disc around a sighting's polar box, for the support and for the core."""
     h_c, d_c = s.heading.centre, s.distance.centre
-    cx, cy = d_c * math.cos(h_c), d_c * math.sin(h_c)
+    centre = math.cos(h_c), math.sin(h_c)
+    cx, cy = d_c * centre[0], d_c * centre[1]
     radii = []
+    cos, sin = math.cos, math.sin
     for k in (0, len(ALPHAS) - 1):
         dlo, dhi = s.distance.cuts[k]
         hlo, hhi = s.heading.value.cuts[k]
-        rays = [(math.cos(h), math.sin(h)) for h in (hlo, hhi, h_c)]
+        rays = ((cos(hlo), sin(hlo)), (cos(hhi), sin(hhi)), centre)
         r = 0.0
         for d in (dlo, dhi):
             for c, sn in rays:
@@ -243,17 +244,19 @@ class VisualMemory:
         for m in self.items.values():
             for p in m.spots:
                 x, y = p.x, p.y
+                jx, jy, kx, ky, vt, vs, run = p.drift
                 D = hypot(x, y)
                 # a turn error swings the point about the robot: d(position)/d(turn) = perp(p)
-                jx, jy = p.jx - dtheta * y, p.jy + dtheta * x
-                kx, ky = p.kx - sx, p.ky - sy  # a distance error shifts it along the motion
+                jx, jy = jx - dtheta * y, jy + dtheta * x
+                kx, ky = kx - sx, ky - sy  # a distance error shifts it along the motion
                 x, y = x - sx, y - sy
                 p.x, p.y = c * x - s * y, s * x + c * y
-                p.jx, p.jy = jx, jy = c * jx - s * jy, s * jx + c * jy
-                p.kx, p.ky = kx, ky = c * kx - s * ky, s * kx + c * ky
-                p.vt = vt = p.vt + (adt * D) ** 2
-                p.vs = vs = p.vs + ds2
-                p.run = run = p.run + ads
+                jx, jy = c * jx - s * jy, s * jx + c * jy
+                kx, ky = c * kx - s * ky, s * kx + c * ky
+                vt += (adt * D) ** 2
+                vs += ds2
+                run += ads
+                p.drift = (jx, jy, kx, ky, vt, vs, run)
                 p.r0 = p.base + cal * (hypot(jx, jy) + hypot(kx, ky)) + walk * (sqrt(vt) + sqrt(vs)) + floor * run
 
     def shove(self, slip: float) -> None:
