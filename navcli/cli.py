@@ -123,7 +123,7 @@ def run(
         help="Log file (default: logs/<scenario>/<pilot>-seed<N>-<run id>.mcap, the run id a hash of the whole "
              "configuration).")] = None,
     time_limit: Annotated[Optional[float], typer.Option(min=0.1, help="Simulated seconds before the run is declared failed.")] = None,
-    live: Annotated[bool, typer.Option(help="Also serve the run to Foxglove (ws://localhost:PORT), paced to real time.")] = False,
+    live: Annotated[bool, typer.Option(help="Also serve the run to Foxglove (ws://127.0.0.1:PORT), paced to real time.")] = False,
     port: Annotated[int, typer.Option(min=0, max=65535, help="WebSocket port for --live (0: any free port).")] = 8765,
     param: ParamOption = None,
     perception: Annotated[Optional[PerceptionName], typer.Option(

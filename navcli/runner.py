@@ -82,7 +82,7 @@ def run_mission(spec: RunSpec, *, out: Path | None = None, record: bool = True, 
 
     The log goes to ``out``, by default :meth:`RunSpec.default_log_path`.
     ``record=False`` runs without a log (the benchmark's baseline). ``live`` serves the run to
-    Foxglove on ``ws://localhost:<port>`` and paces it to real time. ``on_tick`` is called after
+    Foxglove on ``ws://127.0.0.1:<port>`` and paces it to real time. ``on_tick`` is called after
     every tick (progress display; tests use it to interrupt a run). A ``KeyboardInterrupt`` ends
     the run as ``interrupted`` (:class:`Terminated`: by SIGTERM) and is re-raised after the log is
     closed; any other exception ends it as ``error`` and is re-raised likewise. A log path that
