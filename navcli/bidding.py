@@ -31,7 +31,9 @@ class Move(_MoveFields):
 
     A NamedTuple, not a frozen dataclass, like :class:`Look` and :class:`Bid`: a dozen actions and
     bids are made every tick, and a frozen dataclass's ``__init__`` (one ``object.__setattr__`` per
-    field) cost twice as much (measured; the same immutable value, repr and equality)."""
+    field) cost twice as much (measured). The same immutable value and repr; as tuples, they compare
+    equal to a plain tuple of the same values (``Move(0, 0.3) == (0, 0.3)``), which nothing here
+    does. Build them with the constructor, which checks them: ``_replace`` and ``_make`` would not."""
 
     __slots__ = ()
 

@@ -253,10 +253,7 @@ def imprecision(i_h: float, i_d: float) -> float:
     >>> round(imprecision(math.pi, 1.0), 4)  # 0.2 tanh(1) + 0.8 / 2
     0.5523
     """
-    return LAMBDA * math.tanh(BETA * i_d) + _HEADING_WEIGHT * min(i_h, TWO_PI) / TWO_PI
-
-
-_HEADING_WEIGHT = 1 - LAMBDA
+    return LAMBDA * math.tanh(BETA * i_d) + (1 - LAMBDA) * min(i_h, TWO_PI) / TWO_PI
 
 
 class FuzzyPoint(NamedTuple):

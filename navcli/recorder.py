@@ -80,9 +80,9 @@ FLUSH_EVERY_NS = 1_000_000_000
 """A chunk is finished every simulated second: what a hard kill can lose (the README promises it).
 The trade, measured on paper-8x8 by callgrind: finishing a chunk costs about 135 k instructions
 beyond the compression its bytes need anyway (message indexes, chunk record, write), some 13 k a
-tick at one a second, under 3 % of logging; every 5 s would save 11 k a tick and lose up to 5 s,
-never (a chunk closes at 1 MiB, some 20 simulated seconds here) 13 k and lose up to those 20 s.
-Kept at a second: the rest of logging is far larger (about 0.45 M a tick)."""
+tick at one a second, under 3 % of logging. Flushing every 5 s would save 11 k a tick and risk 5 s;
+never flushing (a chunk then closes at 1 MiB, some 20 simulated seconds here) would save 13 k and
+risk those 20 s. Kept at a second: the rest of logging is far larger (about 0.45 M a tick)."""
 WRITE_OPTIONS = MCAPWriteOptions(compression=MCAPCompression.Lz4, compression_threads=0)
 """LZ4, in this thread (our design, by measurement): zstd's chunk of a simulated second cost about
 1.1 ms to finish, a tenth of a tick's budget; LZ4 is several times cheaper for logs about half

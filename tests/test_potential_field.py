@@ -255,4 +255,3 @@ def test_a_rooms_corner_is_no_sink():
     assert rx > 0 and ry > 0 and rx == pytest.approx(ry)  # out of it, along the diagonal
     f = field((5.0, 5.0), None, walls, PILOT)
     assert 0 < f.turn < math.pi / 2
-

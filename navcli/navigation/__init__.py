@@ -113,9 +113,9 @@ class NavigationSystem:
         self.map.observe(beliefs)
         original = self.situation(beliefs)
         rescue = self.rescuer.decide(original, lambda failed: self._ask(beliefs, original, failed))
-        # worked out again while diverting, not copied from the original: the Map Manager's quality
-        # cache is cleared when full, which may drop the original's entries, and what it recomputes
-        # now differs in its last bits from what it would recompute a tick later
+        # worked out again while diverting, not reused from the original: the Map Manager's quality
+        # cache (cleared when it holds 64 entries) makes a quality depend, in its last bits, on what
+        # the cache held, so reusing the original changed the runs that divert
         s = original if rescue.diverting is None else self.situation(beliefs, rescue.diverting)
         agents = () if self.policy_agent is not None and self.rescuer.state == "sweep" else self.agents
         offered = list(rescue.bids)  # the Rescuer first: it wins ties
