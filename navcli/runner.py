@@ -76,6 +76,32 @@ class RunResult:
         return self.summary["time_s"] / self.wall_s if self.wall_s > 0 else float("inf")
 
 
+def open_log(spec: RunSpec, mission: Mission, path: Path, *, live: bool = False, port: int = 8765):
+    """The log of ``mission`` at ``path``, begun: the configuration, the first pose and the events of
+    the start. The scenario's own file is protected from being overwritten by it. (foxglove is
+    imported here, only when a log is written.)"""
+    from .recorder import Recorder
+
+    recorder = Recorder(path, live=live, port=port, protect=(spec.scenario.source,))
+    try:
+        w = mission.world
+        recorder.start(spec, w.pose, w.odometry.pose)
+        for e in mission.drain_events():
+            recorder.event(e, 0)
+    except BaseException:
+        close_log(recorder, mission)  # a log begun is closed (as interrupted), whatever stopped its start
+        raise
+    return recorder
+
+
+def close_log(recorder, mission: Mission, summary: dict | None = None) -> None:
+    """Write ``mission``'s summary (by default its own) and close its log, with Ctrl-C and SIGTERM
+    held meanwhile; the last poses are written first if a stop inside a tick left them out."""
+    with _signals_held():
+        w = mission.world
+        recorder.finish(mission.summary() if summary is None else summary, w.time_ns, (w.pose, w.odometry.pose))
+
+
 def run_mission(spec: RunSpec, *, out: Path | None = None, record: bool = True, live: bool = False,
                 port: int = 8765, on_tick: Callable[[Mission, Tick], None] | None = None) -> RunResult:
     """Run the configuration ``spec`` to its end and return its summary.
@@ -88,20 +114,11 @@ def run_mission(spec: RunSpec, *, out: Path | None = None, record: bool = True, 
     closed; any other exception ends it as ``error`` and is re-raised likewise. A log path that
     cannot be written raises :class:`~navcli.recorder.LogPathError` before the mission starts.
     """
-    from .recorder import Recorder  # foxglove is imported only when a log is written
-
-    path = None
-    recorder = None
-    if record or live:
-        path = out or spec.default_log_path()
-        recorder = Recorder(path, live=live, port=port, protect=(spec.scenario.source,))
-    mission = Mission(spec, snapshots=recorder is not None)
+    path = (out or spec.default_log_path()) if record or live else None
+    mission = Mission(spec, snapshots=path is not None)
+    recorder = open_log(spec, mission, path, live=live, port=port) if path is not None else None
     t0 = time.perf_counter()
     try:
-        if recorder:
-            recorder.start(spec, mission.world.pose, mission.world.odometry.pose)
-            for e in mission.drain_events():
-                recorder.event(e, 0)
         while mission.outcome is None:
             tick = mission.step()
             if recorder:
@@ -121,14 +138,11 @@ def run_mission(spec: RunSpec, *, out: Path | None = None, record: bool = True, 
             mission.abort("error", f"{type(e).__name__}: {e}")
         if recorder:
             with _signals_held():
-                w = mission.world
-                ns = w.time_ns
-                recorder.event(Event(mission.time, "mission", "error", mission.reason), ns)
-                recorder.finish(mission.summary(), ns, (w.pose, w.odometry.pose))
+                recorder.event(Event(mission.time, "mission", "error", mission.reason), mission.world.time_ns)
+                close_log(recorder, mission)
         raise
     wall = time.perf_counter() - t0
     summary = mission.summary()
     if recorder:
-        with _signals_held():
-            recorder.finish(summary, mission.world.time_ns)
-    return RunResult(summary, path if record or live else None, wall)
+        close_log(recorder, mission, summary)
+    return RunResult(summary, path, wall)

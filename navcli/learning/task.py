@@ -26,6 +26,7 @@ import numpy as np
 from ..config import RunSpec
 from ..geometry import Point, distance_to_segment
 from ..mission import Mission
+from ..runner import close_log, open_log
 from ..scenario import Scenario
 from .actions import REWARDS
 
@@ -101,12 +102,7 @@ class NavigationTask:
         nav = m.navigation
         self.mission, self.agent, self.actions, self.outcome = m, agent, 0, None
         if log is not None:
-            from ..recorder import Recorder
-
-            self.recorder = Recorder(log)
-            self.recorder.start(spec, m.world.pose, m.world.odometry.pose)
-            for e in m.drain_events():
-                self.recorder.event(e, 0)
+            self.recorder = open_log(spec, m, log)
         while m.outcome is None and (agent.state is None or nav.rescuer.state == "sweep"):
             self._tick()
         return agent.state if agent.state is not None else 0
@@ -123,8 +119,7 @@ class NavigationTask:
         m, rec, self.recorder = self.mission, self.recorder, None
         if m.outcome is None:
             m.abort(outcome, reason)
-        w = m.world
-        rec.finish(m.summary(), w.time_ns, (w.pose, w.odometry.pose))
+        close_log(rec, m)
 
     def step(self, action: int) -> tuple[int, float, bool, bool]:
         """Carry out ``action`` for one action's length: (state, reward, reached, ended otherwise)."""
