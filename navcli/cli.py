@@ -735,7 +735,7 @@ def train(
     spec = _spec(scenario, param)
     from .learning.features import check_bounds
     from .learning.model_file import ModelError
-    from .learning.training import train as run_training
+    from .learning.training import train as run_training, trials_paths
 
     try:
         check_bounds(spec.params.learning)
@@ -768,9 +768,10 @@ def train(
     for p in res.curve:
         typer.echo(f"{p.trials:6d}  {p.successes:12d}  {p.reward:12.1f}  {p.actions:13.1f}")
     typer.echo(f"hand-coded policy: {res.hand_coded}/{eval_starts}")
+    trials_csv, trial_logs = trials_paths(out)
     stem = out.with_suffix("")
-    typer.echo(f"wrote {out}, {out.with_suffix('.json')}, {stem}-curve.csv, {stem}-curve.png, {stem}-trials.csv"
-               + (f" and the trial logs in {stem}-trials/" if log == "full" else ""))
+    typer.echo(f"wrote {out}, {out.with_suffix('.json')}, {stem}-curve.csv, {stem}-curve.png, {trials_csv}"
+               + (f" and the trial logs in {trial_logs}/" if log == "full" else ""))
 
 
 @compare_app.command("policies")

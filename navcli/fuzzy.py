@@ -310,11 +310,6 @@ class FuzzyPoint(NamedTuple):
         d = math.hypot(x, y)
         return imprecision(2.0 * (math.pi if r >= d else math.asin(r / d)), 2.0 * r)
 
-    def coords(self) -> tuple[Fuzzy, Fuzzy]:
-        """The fuzzy Cartesian coordinates: each cut's disc enclosed in its box."""
-        return (Fuzzy(tuple((self.x - r, self.x + r) for r in self.radii)),
-                Fuzzy(tuple((self.y - r, self.y + r) for r in self.radii)))
-
     @classmethod
     def enclosing(cls, x: Fuzzy, y: Fuzzy) -> FuzzyPoint:
         """The nested discs that hold the boxes ``x`` x ``y`` cut by cut, centred on the core's
@@ -342,7 +337,7 @@ def _level(alpha: float) -> tuple[int, float | None]:
 
 
 _LEVEL = {a: _level(a) for a in (*ALPHAS, CUT)}  # the levels read every tick, looked up once
-_CUT_K, _CUT_T = _level(CUT)  # FuzzyPoint.imprecision's level: between ALPHAS[1] and ALPHAS[2]
+_CUT_K, _CUT_T = _LEVEL[CUT]  # FuzzyPoint.imprecision's level: between ALPHAS[1] and ALPHAS[2]
 
 
 def _half_angle(r: float, d: float) -> float:

@@ -24,6 +24,7 @@ import pymunk
 
 from .beliefs import Bump
 from .geometry import Pose, motion_between, wrap_angle
+from .noise import bounded_normals
 from .params import NOISE_BOUND, PHYSICS_DT, PHYSICS_DT_NS, PHYSICS_SUBSTEPS, RobotParams
 from .scenario import Scenario
 
@@ -49,19 +50,13 @@ class Odometry:
         self.rng = rng
         self.scale_d, self.scale_a = (1.0, 1.0)
         if noise > 0:
-            ed, ea = self._errors()
+            ed, ea = bounded_normals(self.rng, NOISE_BOUND)
             self.scale_d, self.scale_a = 1.0 + noise * ed, 1.0 + noise * ea
-
-    def _errors(self) -> tuple[float, float]:
-        """Two standard errors, clipped at NOISE_BOUND deviations (a real sensor's errors are bounded).
-        Clipped in Python: np.clip on two numbers costs more than the draw itself."""
-        a, b = self.rng.standard_normal(2).tolist()
-        return min(max(a, -NOISE_BOUND), NOISE_BOUND), min(max(b, -NOISE_BOUND), NOISE_BOUND)
 
     def update(self, ds: float, dtheta: float) -> Pose:
         """Integrate one tick of true motion (ds along the heading, m; dtheta, rad)."""
         if self.noise > 0 and (ds != 0.0 or dtheta != 0.0):
-            ed, ea = self._errors()
+            ed, ea = bounded_normals(self.rng, NOISE_BOUND)
             ds *= self.scale_d + self.noise * ed
             dtheta *= self.scale_a + self.noise * ea
         p = self.pose

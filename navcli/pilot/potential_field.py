@@ -111,13 +111,6 @@ def wall_window(o: KnownObstacle, length: float) -> KnownObstacle:
                          o.radius, o.wall)
 
 
-def obstacle_force(o: KnownObstacle, p: PilotParams) -> tuple[float, float, float, bool]:
-    """Eq. 4 for a point obstacle, section 3.2 for a linear one (a wall through :func:`wall_window`)."""
-    if o.is_point:
-        return point_force(o.a, p.K, p.R_min, o.radius)
-    return linear_force(o.a, o.b, p.K, p.R_min, o.radius)
-
-
 def passable_gap(K: float, A_t: float, radius: float = 0.0) -> float:
     """The narrowest gap (m, between the two obstacles' centres) the robot passes heading
     straight for the gap between two point obstacles of ``radius`` (eq. 8, derived in the module

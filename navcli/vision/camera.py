@@ -25,6 +25,7 @@ import numpy as np
 from ..bidding import Look
 from ..fuzzy import TWO_PI, Fuzzy, FuzzyAngle
 from ..geometry import Point, Pose, distance_to_segment, wrap_angle
+from ..noise import bounded_normals
 from ..params import VISION, VisionParams
 from ..scenario import ArenaObject, Scenario
 
@@ -246,8 +247,7 @@ class Camera:
         d = math.hypot(dx, dy)
         h = wrap_angle(math.atan2(dy, dx) - pose.theta)
         k = P.noise_bound
-        eh, ed = self.rng.standard_normal(2).tolist()
-        eh, ed = min(max(eh, -k), k), min(max(ed, -k), k)  # np.clip's bound, without its call
+        eh, ed = bounded_normals(self.rng, k)
         sh, sd = self.noise.vision_heading, self.noise.vision_distance
         h_m = h + sh * eh
         d_m = d * (1.0 + sd * ed)
