@@ -218,8 +218,8 @@ def test_the_pose_messages_built_inline_are_those_of_the_plain_helpers(tmp_path)
     from mcap.reader import make_reader
 
     from navcli.geometry import Pose
-    from navcli.recorder import (_CAMERA_AT, _NO_TURN, FrameTransform, FrameTransforms, FxPose, PoseInFrame, Recorder,
-                                 Vector3, _pose, _ts, _yaw)
+    from navcli.recorder import (_CAMERA_AT, FrameTransform, FrameTransforms, FxPose, PoseInFrame, Recorder, Vector3,
+                                 _ts, _yaw)
 
     cases = [(Pose(1.5, 2.25, 0.7), Pose(1.4, 2.5, -2.9), 2_000_000_000, 0.3),
              (Pose(0.0, 3.0, 0.0), Pose(-0.5, 0.0, 0.0), 2_100_000_000, 0.0),
@@ -238,9 +238,9 @@ def test_the_pose_messages_built_inline_are_those_of_the_plain_helpers(tmp_path)
                      FrameTransform(timestamp=ts, parent_frame_id="world", child_frame_id="base_link", translation=at,
                                     rotation=q),
                      FrameTransform(timestamp=ts, parent_frame_id="base_link", child_frame_id="camera",
-                                    translation=_CAMERA_AT, rotation=_yaw(pan) if pan else _NO_TURN)]).encode()),
-                 ("/robot/odometry", ns, PoseInFrame(timestamp=ts, frame_id="world",
-                                                     pose=_pose(odom.x, odom.y, odom.theta)).encode()),
+                                    translation=_CAMERA_AT, rotation=_yaw(pan))]).encode()),
+                 ("/robot/odometry", ns, PoseInFrame(timestamp=ts, frame_id="world", pose=FxPose(
+                     position=Vector3(x=odom.x, y=odom.y, z=0.0), orientation=_yaw(odom.theta))).encode()),
                  ("/robot/pose", ns, PoseInFrame(timestamp=ts, frame_id="world",
                                                  pose=FxPose(position=at, orientation=q)).encode())]
     assert got == want

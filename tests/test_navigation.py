@@ -277,9 +277,9 @@ def test_blocked_wall_ends_at_the_target_or_given_up_and_diverts_first_past_a_fe
     assert len(set_) == s["diverting_targets"] and set(set_["name"]) <= {"rescuer"}
     (fence,) = sc.obstacles
     ends = {min(sc.landmarks, key=lambda lm: math.dist(lm.at, end)).id for end in (fence.start, fence.end)}
-    for message in set_["message"][:1]:  # "diverting target set: cross between B (left) and C (right)"
-        pair = set(re.findall(r"between (\S+) \(left\) and (\S+) \(right\)", message)[0])
-        assert pair & ends, (message, ends)
+    message = set_["message"].iloc[0]  # "diverting target set: cross between B (left) and C (right)"
+    pair = set(re.findall(r"between (\S+) \(left\) and (\S+) \(right\)", message)[0])
+    assert pair & ends, (message, ends)
 
 
 def test_a_trap_with_no_way_out_ends_blocked_well_before_its_time_limit():

@@ -15,7 +15,7 @@ from navcli.geometry import Pose, distance_to_segment
 from navcli.mission import Mission
 from navcli.params import CONTROL_DT, VISION
 from navcli.scenario import Circle, load_scenario
-from navcli.vision.camera import Camera
+from navcli.vision.camera import SEGMENT_SAMPLES, SEGMENT_STEP, Camera
 from navcli.vision.visual_memory import Spot, VisualMemory
 
 
@@ -126,7 +126,7 @@ def test_the_samples_left_out_of_a_view_are_never_visible(name):
             if o.kind not in ("segment", "wall"):
                 continue
             (ax, ay), (bx, by) = o.a, o.b
-            n = 40
+            n = max(1, min(SEGMENT_SAMPLES, math.ceil(math.hypot(bx - ax, by - ay) / SEGMENT_STEP)))  # as visible_runs
             visible = {k for k in range(n + 1) if sees(ax + (bx - ax) * k / n, ay + (by - ay) * k / n, o.key)}
             kept = set(cam.in_view(pose, o.a, o.b, n))
             assert visible <= kept, (pose, cam.pan, o.key, sorted(visible - kept))
