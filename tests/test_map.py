@@ -131,3 +131,38 @@ def test_a_logged_run_is_the_same_file_whatever_pythons_hash_seed(tmp_path):
         assert r.returncode == 3 and "timeout" in r.stdout, r.stderr  # 15 s: the map is drawn, the target not reached
         logs.append(out.read_bytes())
     assert logs[0] == logs[1]
+
+
+def test_the_quality_of_a_landmark_set_is_that_of_its_six_best_known_now(monkeypatch):
+    """``q_S`` (the Risk Manager's input) at every call of a run equals its definition worked
+    out afresh: the six least imprecise points of the set *at that tick* (I(l) changes with the
+    distance, so the six change as the robot moves), the largest ``1 - Col`` of their triples.
+    The Map Manager caches it between images: the cache must not answer for an older six."""
+    import itertools
+
+    from conftest import SCENARIOS
+
+    from navcli.config import RunSpec
+    from navcli.navigation.map_manager import MapManager
+    from navcli.runner import run_mission
+    from navcli.scenario import load_scenario
+
+    def fresh(points):
+        six = sorted(points.values(), key=FuzzyPoint.imprecision)[:6]
+        return max((1.0 - collinearity((a.x, a.y), (b.x, b.y), (c.x, c.y))
+                    for a, b, c in itertools.combinations(six, 3)), default=0.0)
+
+    seen = []  # (the Map Manager's answer, the definition's, the set's size) at every call
+    quality = MapManager.quality
+
+    def spy(self, points):
+        got = quality(self, points)
+        seen.append((got, fresh(points), len(points)))
+        return got
+
+    monkeypatch.setattr(MapManager, "quality", spy)
+    run_mission(RunSpec.build(load_scenario(SCENARIOS / "landmarks-12.yaml"), seed=1, time_limit=30.0))
+    assert sum(n > 6 for _, _, n in seen) > 50  # sets where the choice of six matters
+    assert len({round(f, 6) for _, f, _ in seen}) > 10  # and the quality moves during the run
+    for got, want, _ in seen:
+        assert got == pytest.approx(want, abs=1e-9)

@@ -113,9 +113,7 @@ class NavigationSystem:
         self.map.observe(beliefs)
         original = self.situation(beliefs)
         rescue = self.rescuer.decide(original, lambda failed: self._ask(beliefs, original, failed))
-        # worked out again while diverting, not reused from the original: the Map Manager's quality
-        # cache (cleared when it holds 64 entries) makes a quality depend, in its last bits, on what
-        # the cache held, so reusing the original changed the runs that divert
+        # while diverting, the agents weigh the diverting line, not the original target
         s = original if rescue.diverting is None else self.situation(beliefs, rescue.diverting)
         agents = () if self.policy_agent is not None and self.rescuer.state == "sweep" else self.agents
         offered = list(rescue.bids)  # the Rescuer first: it wins ties

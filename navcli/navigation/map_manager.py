@@ -62,7 +62,8 @@ class MapManager:
         self._recalled: dict[str, _Recalled] = {}
         self._tick = 0
         self._images = 0
-        self._quality: dict[tuple, float] = {}
+        self._quality: dict[tuple[str, ...], float] = {}  # q_S by the six keys, for the image count below
+        self._quality_images = 0
         self._points_of: Beliefs | None = None
         self._points: dict[str, FuzzyPoint] = {}
 
@@ -137,19 +138,27 @@ class MapManager:
         return FuzzyPoint(x, y, r.radii), f"map:{r.unit}"
 
     def quality(self, points: dict[str, FuzzyPoint]) -> float:
-        """``q_S = max(1 - Col(S'))`` over the triples of the six best-known points; 0 below three.
+        """``q_S = max(1 - Col(S'))`` over the triples of ``S'``, the six best-known (least
+        imprecise) of ``points``; 0 below three.
 
-        Collinearity does not change when the whole memory is carried by odometry (a rigid
-        motion), only when something is seen again: so it is computed again only after an image
-        or when the set changes (our design, to keep it off the per-tick cost)."""
-        key = (frozenset(points), self._images)
-        cached = self._quality.get(key)
+        Which six are best changes as the robot moves (a point's I(l) depends on its distance),
+        so they are chosen anew at every call. Their collinearity changes only when something is
+        seen again: between two images the memory carries every point by the same odometry (a
+        rigid motion, which keeps the shape of a triangle). So the value is cached by the six
+        chosen and the image count, and the cache is emptied at each image (our design, to keep
+        the twenty triangles off the per-tick cost; a cached value equals a fresh one to
+        rounding). The six are taken in the order of their keys, so the triples, and the last
+        bits of the maximum, do not depend on the order of ``points``."""
+        if self._quality_images != self._images:
+            self._quality.clear()
+            self._quality_images = self._images
+        six = points if len(points) <= 6 else sorted(points, key=lambda k: points[k].imprecision())[:6]
+        best = tuple(sorted(six))
+        cached = self._quality.get(best)
         if cached is None:
-            best = [(p.x, p.y) for p in sorted(points.values(), key=FuzzyPoint.imprecision)[:6]]
-            cached = max((1.0 - collinearity(*t) for t in itertools.combinations(best, 3)), default=0.0)
-            if len(self._quality) > 64:
-                self._quality.clear()
-            self._quality[key] = cached
+            cached = max((1.0 - collinearity(*((points[k].x, points[k].y) for k in t))
+                          for t in itertools.combinations(best, 3)), default=0.0)
+            self._quality[best] = cached
         return cached
 
     def landmark_estimates(self, beliefs: Beliefs, recall: bool = True) -> dict[str, FuzzyPoint]:
