@@ -717,7 +717,7 @@ def train(
     jobs: Annotated[int, typer.Option(min=1, help="Worker processes for the evaluations.")] = 2,
     log: Annotated[str, typer.Option(help="What is recorded of each training trial: summary (a row of "
                                           "FILE-trials.csv) or full (also every tick, one MCAP log per trial "
-                                          "in FILE-trials/, 0.5-1 MB each).")] = "summary",
+                                          "in FILE-trials/, 10-25 kB a simulated second).")] = "summary",
     param: ParamOption = None,
 ) -> None:
     """Train the Learning Agent (learning-agent paper, section 6): trials from seeded random starts,

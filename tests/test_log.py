@@ -246,3 +246,22 @@ def test_the_pose_messages_built_inline_are_those_of_the_plain_helpers(tmp_path)
     assert got == want
     rec.lock.release()
 
+
+
+def test_the_log_format_document_names_every_topic_metadata_field_and_summary_field(open_run):
+    """docs/log-format.md is the reference a user reads: its topic table lists exactly the topics
+    of a run's log, and it names every field of the ``run`` metadata and of the summary (its
+    table once lacked four topics, and the summary three fields)."""
+    import re
+
+    from conftest import ROOT
+
+    from navcli.messages import MissionSummary
+
+    _, _, log = open_run
+    doc = (ROOT / "docs" / "log-format.md").read_text()
+    table = set(re.findall(r"^\| `(/[^`]+)` \|", doc, flags=re.M))
+    assert table == set(log.topics)
+    named = set(re.findall(r"`([a-z_0-9]+)`", doc))
+    assert set(log.metadata["run"]) <= named
+    assert set(MissionSummary.__struct_fields__) <= named

@@ -12,7 +12,7 @@ interrupted training resumes from its file (``--resume``).
 What each training trial did is a row of ``<model>-trials.csv`` (where it started, its outcome,
 actions, reward and the count of each action), written as it ends; with ``log="full"`` every
 tick of every training trial is also recorded, one MCAP log per trial in ``<model>-trials/``
-(readable by ``analysis`` and Foxglove like a ``navcli run`` log; 0.5-1 MB a trial).
+(readable by ``analysis`` and Foxglove like a ``navcli run`` log; 10-25 kB a simulated second).
 Evaluation trials run without logs.
 """
 
