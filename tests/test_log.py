@@ -247,7 +247,6 @@ def test_the_pose_messages_built_inline_are_those_of_the_plain_helpers(tmp_path)
     rec.lock.release()
 
 
-
 def test_the_log_format_document_names_every_topic_metadata_field_and_summary_field(open_run):
     """docs/log-format.md is the reference a user reads: its topic table lists exactly the topics
     of a run's log, and it names every field of the ``run`` metadata and of the summary (its
