@@ -121,7 +121,7 @@ def run(
     pilot: Annotated[Optional[PilotName], typer.Option(help="Pilot (default: the scenario's mission.pilot).")] = None,
     out: Annotated[Optional[Path], typer.Option(
         help="Log file (default: logs/<scenario>/<pilot>-seed<N>-<run id>.mcap, the run id a hash of the whole "
-             "configuration).")] = None,
+             "configuration). Missing folders are created.")] = None,
     time_limit: Annotated[Optional[float], typer.Option(min=0.1, help="Simulated seconds before the run is declared failed.")] = None,
     live: Annotated[bool, typer.Option(help="Also serve the run to Foxglove (ws://127.0.0.1:PORT), paced to real time.")] = False,
     port: Annotated[int, typer.Option(min=0, max=65535, help="WebSocket port for --live (0: any free port).")] = 8765,

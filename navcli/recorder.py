@@ -181,7 +181,10 @@ class _Lock:
     def __init__(self, path: Path):
         self.path = path
         while True:
-            fd = os.open(path, os.O_RDWR | os.O_CREAT, 0o644)
+            try:
+                fd = os.open(path, os.O_RDWR | os.O_CREAT, 0o644)
+            except OSError as e:  # a folder the permission bits allow but the file system refuses (/proc)
+                raise LogPathError(f"cannot write the log {path.with_suffix('')}: {e.strerror or e}") from None
             try:
                 fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
             except OSError:

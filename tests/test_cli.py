@@ -7,6 +7,7 @@ import signal
 import subprocess
 import sys
 import time
+from pathlib import Path
 
 import pytest
 from typer.testing import CliRunner
@@ -75,6 +76,14 @@ def test_unwritable_log_path_is_a_clear_error(tmp_path):
     blocker.write_text("")
     r = invoke("run", SCENARIOS / "open-arena.yaml", "--out", blocker / "run.mcap")
     assert r.exit_code == 2 and f"cannot create the folder {blocker}" in r.output and "Traceback" not in r.output
+
+
+@pytest.mark.skipif(not Path("/proc/self").is_dir(), reason="needs Linux's /proc")
+def test_a_folder_that_refuses_files_is_a_clear_error():
+    """/proc passes the permission check as root but refuses to create a file: the log's lock file
+    is the first file made, and it must come out as bad input too, not an internal error."""
+    r = invoke("run", SCENARIOS / "open-arena.yaml", "--out", "/proc/navcli-test.mcap")
+    assert r.exit_code == 2 and "cannot write" in r.output and "Traceback" not in r.output
 
 
 def test_validate_reports_each_file(write_scenario):
