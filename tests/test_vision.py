@@ -135,6 +135,57 @@ def test_the_samples_left_out_of_a_view_are_never_visible(name):
     assert kept_total < all_total / 2
 
 
+@pytest.mark.parametrize("name", ["paper-8x8", "trap-box", "landmarks-12", "blocked-wall"])
+@pytest.mark.parametrize("reach", [None, 2.5])
+def test_the_images_visibility_test_is_the_geometry_of_lines_of_sight(name, reach):
+    """Camera.sight inlines :func:`blocks_sight` and :func:`crosses_sight` and keeps only the
+    objects that may block inside the view: from random poses and pans, for the points an image
+    tests (every object's centre and every sample of a segment, as its own) and for random points
+    (of no object), it answers exactly what the plain definition does: in range, inside the
+    field of view, and no physical object but its own cuts the line of sight. With the
+    scenario's range, and a short one (``reach``, m) that many objects straddle."""
+    import dataclasses
+
+    from navcli.geometry import blocks_sight, crosses_sight, wrap_angle
+
+    sc = load_scenario(SCENARIOS / f"{name}.yaml")
+    cam = Camera(sc, np.random.default_rng(0))
+    if reach is not None:
+        cam.spec = dataclasses.replace(cam.spec, range=reach)
+    rng = np.random.default_rng(11)
+    discs = [o for o in cam.objects if o.kind in ("landmark", "circle")]
+    lines = [o for o in cam.objects if o.kind in ("segment", "wall")]
+
+    def in_view(pose, p):  # in range and inside the field of view
+        dx, dy = p[0] - pose.x, p[1] - pose.y
+        ahead = abs(wrap_angle(math.atan2(dy, dx) - pose.theta - cam.pan))
+        return math.hypot(dx, dy) <= cam.spec.range and ahead <= cam.spec.fov / 2
+
+    def occluded(pose, p, own):
+        eye = (pose.x, pose.y)
+        return (any(o.key != own and blocks_sight(eye, p, o.a, o.radius) for o in discs)
+                or any(o.key != own and crosses_sight(eye, p, o.a, o.b) for o in lines))
+
+    shown = hidden = 0
+    for _ in range(150):
+        w, h = sc.arena.width, sc.arena.height
+        pose = Pose(float(rng.uniform(0.0, w)), float(rng.uniform(0.0, h)), float(rng.uniform(-4.0, 4.0)))
+        cam.pan = float(rng.uniform(-1.8, 1.8))
+        sees = cam.sight(pose)
+        points = [(o.a, o.key) for o in cam.objects]
+        for o in lines:
+            (ax, ay), (bx, by) = o.a, o.b
+            n = max(1, min(SEGMENT_SAMPLES, math.ceil(math.hypot(bx - ax, by - ay) / SEGMENT_STEP)))
+            points += [((ax + (bx - ax) * k / n, ay + (by - ay) * k / n), o.key) for k in range(n + 1)]
+        points += [((float(x), float(y)), "") for x, y in rng.uniform((0.0, 0.0), (w, h), (40, 2))]
+        for p, own in points:
+            seen, blocked = in_view(pose, p), occluded(pose, p, own)
+            assert sees(p[0], p[1], own) == (seen and not blocked), (pose, cam.pan, p, own)
+            shown += seen and not blocked
+            hidden += seen and blocked
+    assert shown > 300 and hidden > 20  # both answers, and occlusion inside the view, were tested
+
+
 def test_drift_grows_without_looks_and_shrinks_after_a_look(make_scenario):
     sc = make_scenario(landmarks=[{"id": "A", "at": [4.0, 3.0]}], noise={"odometry": 0.02})
     cam = Camera(sc, np.random.default_rng(1))
