@@ -53,7 +53,10 @@ def test_memory_points_are_the_memorys_landmarks_and_marker_in_its_order(target_
                 target_at=fp(5.0, 5.0) if told else None, target_seen=0.5)
     m = MapManager(target_key=target_key)
     got = m.memory_points(b)
-    assert list(got.items()) == [(k, p) for k, (p, _) in m._landmarks(b)]  # the plain definition
+    want = {lm.key: lm.where for lm in lms}  # the memory's landmarks, in its order, then the marker:
+    if told and target_key != "B":  # it stands for a point target, or a landmark the memory lacks
+        want[target_key] = b.target_at
+    assert list(got.items()) == list(want.items())
     assert m.memory_points(b) is got  # once per tick
 
 

@@ -100,10 +100,7 @@ class MapManager:
         """Landmarks (and the target's marker) as the visual memory holds them, in its order (what
         :meth:`_landmarks` gives; built once per tick, without the seen times)."""
         if self._points_of is not beliefs:
-            points = {lm.key: lm.where for lm in beliefs.landmarks}
-            if self._has_marker(beliefs):
-                points[self.target_key] = beliefs.target_at
-            self._points_of, self._points = beliefs, points
+            self._points_of, self._points = beliefs, {k: where for k, (where, _) in self._landmarks(beliefs)}
         return self._points
 
     # -- answering
