@@ -15,7 +15,7 @@ from navcli.geometry import Pose, distance_to_segment
 from navcli.mission import Mission
 from navcli.params import CONTROL_DT, VISION
 from navcli.scenario import Circle, load_scenario
-from navcli.vision.camera import SEGMENT_SAMPLES, SEGMENT_STEP, Camera
+from navcli.vision.camera import Camera, segment_steps
 from navcli.vision.visual_memory import Spot, VisualMemory
 
 
@@ -126,7 +126,7 @@ def test_the_samples_left_out_of_a_view_are_never_visible(name):
             if o.kind not in ("segment", "wall"):
                 continue
             (ax, ay), (bx, by) = o.a, o.b
-            n = max(1, min(SEGMENT_SAMPLES, math.ceil(math.hypot(bx - ax, by - ay) / SEGMENT_STEP)))  # as visible_runs
+            n = segment_steps(o.a, o.b)  # as visible_runs
             visible = {k for k in range(n + 1) if sees(ax + (bx - ax) * k / n, ay + (by - ay) * k / n, o.key)}
             kept = set(cam.in_view(pose, o.a, o.b, n))
             assert visible <= kept, (pose, cam.pan, o.key, sorted(visible - kept))
@@ -175,7 +175,7 @@ def test_the_images_visibility_test_is_the_geometry_of_lines_of_sight(name, reac
         points = [(o.a, o.key) for o in cam.objects]
         for o in lines:
             (ax, ay), (bx, by) = o.a, o.b
-            n = max(1, min(SEGMENT_SAMPLES, math.ceil(math.hypot(bx - ax, by - ay) / SEGMENT_STEP)))
+            n = segment_steps(o.a, o.b)
             points += [((ax + (bx - ax) * k / n, ay + (by - ay) * k / n), o.key) for k in range(n + 1)]
         points += [((float(x), float(y)), "") for x, y in rng.uniform((0.0, 0.0), (w, h), (40, 2))]
         for p, own in points:

@@ -35,6 +35,13 @@ SEGMENT_SAMPLES = 40  # at most this many samples per linear obstacle
 VIEW_MARGIN = 1e-3  # rad: the field of view widened by this much to choose the samples worth testing
 
 
+
+def segment_steps(a: Point, b: Point) -> int:
+    """How many steps segment ``ab`` is sampled in for visibility: its samples are
+    ``a + (b - a) k / n`` for ``k = 0 .. n``, about ``SEGMENT_STEP`` apart, at most
+    ``SEGMENT_SAMPLES`` steps."""
+    return max(1, min(SEGMENT_SAMPLES, math.ceil(math.hypot(b[0] - a[0], b[1] - a[1]) / SEGMENT_STEP)))
+
 class Sighting(NamedTuple):
     """One measured point: fuzzy egocentric heading (rad) and distance (m). A NamedTuple (our
     design, for speed: built ~3x faster than a frozen dataclass, one per point in an image)."""
@@ -189,15 +196,15 @@ class Camera:
         """The parts of a linear obstacle in view (``sees``: the image's :meth:`sight`), as the
         end points of each visible stretch.
 
-        The segment is sampled every ``SEGMENT_STEP`` metres (its ends included); consecutive
-        visible samples form a stretch; a stretch is reported by its two ends (a linear
-        obstacle), a lone sample as a point. Quick rejection: no sample can be in range when the
+        The segment is sampled about every ``SEGMENT_STEP`` metres (:func:`segment_steps`, its
+        ends included); consecutive visible samples form a stretch; a stretch is reported by its
+        two ends (a linear obstacle), a lone sample as a point. Quick rejection: no sample can be in range when the
         whole segment is farther than the range, and only the samples that can lie in the field
         of view (:meth:`in_view`) are tested."""
         (ax, ay), (bx, by) = o.a, o.b
         if distance_to_segment((pose.x, pose.y), o.a, o.b) > self.spec.range:
             return []
-        n = max(1, min(SEGMENT_SAMPLES, math.ceil(math.hypot(bx - ax, by - ay) / SEGMENT_STEP)))
+        n = segment_steps(o.a, o.b)
         runs, cur = [], []
         key = o.key
         for k in self.in_view(pose, o.a, o.b, n):
