@@ -88,17 +88,32 @@ def open_log(spec: RunSpec, mission: Mission, path: Path, *, live: bool = False,
         recorder.start(spec, w.pose, w.odometry.pose)
         for e in mission.drain_events():
             recorder.event(e, 0)
-    except BaseException:
-        close_log(recorder, mission)  # a log begun is closed (as interrupted), whatever stopped its start
+    except BaseException as e:
+        _stop(mission, e)
+        close_log(recorder, mission, stopped=True)  # a log begun is closed, saying what stopped its start
         raise
     return recorder
 
 
-def close_log(recorder, mission: Mission, summary: dict | None = None) -> None:
+def _stop(mission: Mission, e: BaseException) -> None:
+    """End ``mission`` as stopped by the exception ``e``: ``interrupted`` by Ctrl-C or SIGTERM
+    (:class:`Terminated`), ``error`` by anything else, with the reason in words."""
+    if isinstance(e, Terminated):
+        mission.abort("interrupted", "stopped by SIGTERM")
+    elif isinstance(e, KeyboardInterrupt):
+        mission.abort("interrupted", "stopped by the user (Ctrl-C)")
+    else:
+        mission.abort("error", f"{type(e).__name__}: {e}")
+
+
+def close_log(recorder, mission: Mission, summary: dict | None = None, *, stopped: bool = False) -> None:
     """Write ``mission``'s summary (by default its own) and close its log, with Ctrl-C and SIGTERM
-    held meanwhile; the last poses are written first if a stop inside a tick left them out."""
+    held meanwhile; the last poses are written first if a stop inside a tick left them out.
+    ``stopped``: the mission was ended by :func:`_stop`; the log's last event says why."""
     with _signals_held():
         w = mission.world
+        if stopped:
+            recorder.event(Event(mission.time, "mission", "error", mission.reason), w.time_ns)
         recorder.finish(mission.summary() if summary is None else summary, w.time_ns, (w.pose, w.odometry.pose))
 
 
@@ -130,16 +145,9 @@ def run_mission(spec: RunSpec, *, out: Path | None = None, record: bool = True, 
                 if lag > 0:
                     time.sleep(lag)
     except BaseException as e:
-        if isinstance(e, Terminated):
-            mission.abort("interrupted", "stopped by SIGTERM")
-        elif isinstance(e, KeyboardInterrupt):
-            mission.abort("interrupted", "stopped by the user (Ctrl-C)")
-        else:
-            mission.abort("error", f"{type(e).__name__}: {e}")
+        _stop(mission, e)
         if recorder:
-            with _signals_held():
-                recorder.event(Event(mission.time, "mission", "error", mission.reason), mission.world.time_ns)
-                close_log(recorder, mission)
+            close_log(recorder, mission, stopped=True)
         raise
     wall = time.perf_counter() - t0
     summary = mission.summary()

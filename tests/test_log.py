@@ -130,6 +130,29 @@ def test_error_in_a_run_leaves_a_log_marked_error(tmp_path):
     assert s["outcome"] == "error" and "sensor on fire" in s["reason"]
 
 
+
+@pytest.mark.parametrize("stop, outcome, reason", [
+    (KeyboardInterrupt(), "interrupted", "stopped by the user (Ctrl-C)"),
+    (RuntimeError("disk on fire"), "error", "RuntimeError: disk on fire")])
+def test_a_run_stopped_while_its_log_begins_says_why(tmp_path, monkeypatch, stop, outcome, reason):
+    """The log's start (the configuration, the first pose) is written before the first tick: a stop
+    there leaves a log labelled as a stop inside the run is, not an empty reason."""
+    from navcli.recorder import Recorder
+
+    start = Recorder.start
+
+    def start_then_stop(self, *args):
+        start(self, *args)
+        raise stop
+
+    monkeypatch.setattr(Recorder, "start", start_then_stop)
+    out = tmp_path / "early.mcap"
+    with pytest.raises(type(stop)):
+        run_mission(RunSpec.build(load_scenario(SCENARIOS / "open-arena.yaml")), out=out)
+    log = read_log(out)
+    assert (log.summary["outcome"], log.summary["reason"], log.summary["ticks"]) == (outcome, reason, 0)
+    assert log["/events"]["message"].iloc[-1] == reason
+
 def test_time_limit_ends_the_run_as_timeout(tmp_path):
     sc = load_scenario(SCENARIOS / "open-arena.yaml")
     res = run_mission(RunSpec.build(sc, time_limit=2.0), out=tmp_path / "t.mcap")
