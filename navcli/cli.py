@@ -735,7 +735,7 @@ def train(
     spec = _spec(scenario, param)
     from .learning.features import check_bounds
     from .learning.model_file import ModelError
-    from .learning.training import train as run_training, trials_paths
+    from .learning.training import curve_paths, train as run_training, trials_paths
 
     try:
         check_bounds(spec.params.learning)
@@ -762,15 +762,15 @@ def train(
             _err(f"interrupted: the model saved at the last evaluation is in {out}; --resume {out} continues")
             raise typer.Exit(EXIT_INTERRUPTED) from None
     typer.echo(f"{res.trials} trials ({trials} now) in {time.perf_counter() - t0:.0f} s: training {res.train_s:.0f} s, "
-               f"evaluations {res.eval_s:.0f} s of worker time on {jobs} workers")
+               f"evaluations {res.eval_s:.0f} s " + ("in this process" if jobs == 1 else f"of worker time on {jobs} workers"))
     typer.echo(f"training outcomes: {res.outcomes}")
     typer.echo("trials  successes/{}  reward/trial  actions/trial".format(eval_starts))
     for p in res.curve:
         typer.echo(f"{p.trials:6d}  {p.successes:12d}  {p.reward:12.1f}  {p.actions:13.1f}")
     typer.echo(f"hand-coded policy: {res.hand_coded}/{eval_starts}")
     trials_csv, trial_logs = trials_paths(out)
-    stem = out.with_suffix("")
-    typer.echo(f"wrote {out}, {out.with_suffix('.json')}, {stem}-curve.csv, {stem}-curve.png, {trials_csv}"
+    curve_csv, curve_png = curve_paths(out)
+    typer.echo(f"wrote {out}, {out.with_suffix('.json')}, {curve_csv}, {curve_png}, {trials_csv}"
                + (f" and the trial logs in {trial_logs}/" if log == "full" else ""))
 
 

@@ -120,7 +120,7 @@ class Training:
     hand_coded: int | None = None  # the hand-coded policy's successes of the test starts
     hand_coded_reward: float | None = None  # and its mean reward per trial
     train_s: float = 0.0  # wall time in training trials (this process)
-    eval_s: float = 0.0  # summed wall time of the evaluations (worker processes, overlapping training)
+    eval_s: float = 0.0  # summed wall time of the evaluations (worker processes beside training; this one if workers=1)
     wall_s: float = 0.0
     outcomes: dict[str, int] = field(default_factory=dict)
 
@@ -139,6 +139,12 @@ def trials_paths(out: Path) -> tuple[Path, Path]:
     """Where training writes its trials beside the model ``out``: the CSV and the folder of logs."""
     stem = out.with_suffix("")
     return Path(f"{stem}-trials.csv"), Path(f"{stem}-trials")
+
+
+def curve_paths(out: Path) -> tuple[Path, Path]:
+    """Where training writes its learning curve beside the model ``out``: the CSV and the PNG."""
+    stem = out.with_suffix("")
+    return Path(f"{stem}-curve.csv"), Path(f"{stem}-curve.png")
 
 
 def _trials_csv(path: Path, keep: int):
@@ -265,10 +271,9 @@ def train(spec: RunSpec, *, trials: int = 2000, eval_every: int = 100, eval_star
     return result
 
 
-def write_curve(result: Training, out: Path) -> dict[str, Path]:
-    """The learning curve (the paper's Figure 3) as CSV and PNG beside ``out``."""
-    stem = out.with_suffix("")
-    csv_path, png_path = Path(f"{stem}-curve.csv"), Path(f"{stem}-curve.png")
+def write_curve(result: Training, out: Path) -> None:
+    """The learning curve (the paper's Figure 3) as CSV and PNG beside ``out`` (:func:`curve_paths`)."""
+    csv_path, png_path = curve_paths(out)
     with csv_path.open("w", newline="") as f:
         w = csv.writer(f)
         w.writerow(["trials", "successes", "reward_per_trial", "actions_per_trial", "hand_coded_successes",
@@ -303,4 +308,3 @@ def write_curve(result: Training, out: Path) -> dict[str, Path]:
     fig.tight_layout()
     fig.savefig(png_path, dpi=100)
     plt.close(fig)
-    return {"csv": csv_path, "png": png_path}
