@@ -87,12 +87,12 @@ class NavigationSystem:
         self.communicator = Communicator(self.name, params.communicator_window_s)
         self._ahead_lim = math.radians(params.ahead_deg)  # rad
 
-    def situation(self, beliefs: Beliefs, line: tuple[Point, Point] | None = None) -> Situation:
+    def situation(self, beliefs: Beliefs, line: tuple[Point, Point] | None = None,
+                  landmarks_of: Situation | None = None) -> Situation:
         """What the agents see: the current target (``line``, a diverting target, replaces the
-        original one), its imprecision, and the landmarks with the Map Manager's quality."""
-        known = dict(self.map.memory_points(beliefs))
-        known.pop(TARGET, None)
-        known.pop(self.target_key, None)
+        original one), its imprecision, and the landmarks with the Map Manager's quality; those
+        of ``landmarks_of``, a situation of the same tick, if given (they do not depend on the
+        target)."""
         if line is not None or self.line_target:
             # a diverting line is held by the Rescuer and taken as given (our design); a line
             # target is as imprecise as the memory's worse end
@@ -103,10 +103,18 @@ class NavigationSystem:
             found = self.map.locate(self.target_key, beliefs)
             target, source = found if found is not None else (None, "none")
             spread = target.heading_width() if target is not None else 2 * math.pi
+        I_a = self.tracker.imprecision(spread)
+        if landmarks_of is not None:
+            s = landmarks_of
+            return Situation(beliefs, target, line, source, I_a, s.landmarks, s.ahead, s.quality_ahead,
+                             s.quality_around)
+        known = dict(self.map.memory_points(beliefs))
+        known.pop(TARGET, None)
+        known.pop(self.target_key, None)
         ahead_lim = self._ahead_lim
         ahead = {k: p for k, p in known.items() if abs(math.atan2(p.y, p.x)) <= ahead_lim}
-        return Situation(beliefs, target, line, source, self.tracker.imprecision(spread), known, tuple(ahead),
-                         self.map.quality(ahead), self.map.quality(known))
+        return Situation(beliefs, target, line, source, I_a, known, tuple(ahead), self.map.quality(ahead),
+                         self.map.quality(known))
 
     def bid(self, beliefs: Beliefs) -> NavigationOutput:
         """One tick of the Navigation system (see the module docstring)."""
@@ -114,7 +122,7 @@ class NavigationSystem:
         original = self.situation(beliefs)
         rescue = self.rescuer.decide(original, lambda failed: self._ask(beliefs, original, failed))
         # while diverting, the agents weigh the diverting line, not the original target
-        s = original if rescue.diverting is None else self.situation(beliefs, rescue.diverting)
+        s = original if rescue.diverting is None else self.situation(beliefs, rescue.diverting, original)
         agents = () if self.policy_agent is not None and self.rescuer.state == "sweep" else self.agents
         offered = list(rescue.bids)  # the Rescuer first: it wins ties
         for agent in agents:
@@ -135,7 +143,7 @@ class NavigationSystem:
         arc becomes costly), and the question: a diverting target toward the original target."""
         if failed is not None:
             self.map.report_blocked(failed)
-        aim = original.aim if original.target_line is None else midpoint(*original.target_line)
+        aim = original.aim  # a line target's aim is its middle
         return None if aim is None else self.map.diverting_target(beliefs, aim)
 
     def snapshot(self, beliefs: Beliefs) -> MapSnapshot:

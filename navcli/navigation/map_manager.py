@@ -145,7 +145,9 @@ class MapManager:
         chosen and the image count, and the cache is emptied at each image (our design, to keep
         the twenty triangles off the per-tick cost; a cached value equals a fresh one to
         rounding). The six are taken in the order of their keys, so the triples, and the last
-        bits of the maximum, do not depend on the order of ``points``."""
+        bits of the maximum, do not depend on the order of ``points``; they do depend on the tick
+        that first asks for a six after an image, so asking earlier or more often can change a
+        run's last bits (not its sense)."""
         if self._quality_images != self._images:
             self._quality.clear()
             self._quality_images = self._images

@@ -52,11 +52,11 @@ class RiskManager:
     def least_known_sector(self, s: Situation) -> float:
         """The centre (rad) of the reachable sector holding the fewest known landmarks (nearest
         ahead on a tie)."""
-        counts = {c: 0 for c in SECTORS}
+        counts = [0] * len(SECTORS)
         for lm in s.landmarks.values():
-            counts[SECTORS[sector_of(lm.x, lm.y)]] += 1
-        reachable = [c for c in SECTORS if abs(c) <= self.pan_limit + 1e-9]
-        return min(reachable, key=lambda c: (counts[c], abs(c)))
+            counts[sector_of(lm.x, lm.y)] += 1
+        reachable = [i for i, c in enumerate(SECTORS) if abs(c) <= self.pan_limit + 1e-9]
+        return SECTORS[min(reachable, key=lambda i: (counts[i], abs(SECTORS[i])))]
 
     def bid(self, s: Situation) -> list[Bid]:
         r = self.risk(s)

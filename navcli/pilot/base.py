@@ -97,7 +97,7 @@ class Pilot:
         self._track(beliefs.odometry)
         self._watch_for_stall(beliefs.touching)
         events, self._events = self._events, []
-        obstacles = tuple(beliefs.obstacles)  # the visual memory, bumped obstacles included (no copy of a tuple)
+        obstacles = beliefs.obstacles  # the visual memory, bumped obstacles included
         look = self.look_bid()
         if self._reflex:
             return self._reflex_output(look, events, obstacles)

@@ -79,8 +79,7 @@ class GeometricPilot(Pilot):
         R = p.R_min
         best, clearance = None, math.inf
         for o in obstacles:
-            a, b = o.a, o.b
-            q = a if a == b else closest_on_segment(ORIGIN, a, b)
+            q = closest_on_segment(ORIGIN, o.a, o.b)  # a point obstacle's own centre
             c = math.hypot(q[0], q[1]) - o.radius - R  # from the prohibited area's edge
             if c < clearance:
                 best, clearance, nearest = o, c, q

@@ -12,10 +12,10 @@ a fuzzy *position*: a crisp egocentric centre (its core) and nested discs around
 Discs make every update cheap and conservative:
 
 - **moving** by the odometry's ``(ds, dtheta)``: the centre moves exactly as measured; the
-  support grows by the bound on the odometry's error, ``u |ds| + D u |dtheta|`` (``u`` the
-  relative error bound, ``D`` the centre's distance: a turn error swings the disc about the
-  robot without resizing it): the fuzzy sum of the position and a triangular error, so the true
-  position never leaves the support;
+  support grows by what the odometry's error can have shifted it since it was last seen: its
+  calibration error (systematic: the centre's sensitivities to it add up along the path) and its
+  per-tick random error (adding up like a random walk), each at its bound, plus a floor per metre
+  driven (:class:`Spot`, :meth:`VisualMemory.move`), so the true position never leaves the support;
 - **seeing** again: the fuzzy intersection (minimum) of memory and observation, enclosed in the
   smallest disc (the true point lies in both, so in their intersection): sharper, still honest;
 - **reading** it as the papers do: a fuzzy distance and a fuzzy heading whose 70 % cut widths
@@ -101,13 +101,7 @@ class Memory:
 
     def imprecision(self) -> float:
         """I(l) of the object's worst-known point (section 5.1 of the learning-agent paper)."""
-        first, *rest = self.spots  # max() written out: a generator costs more than one or two spots
-        worst = first.point().imprecision()  # I(l) of a spot from its 70 % cut
-        for s in rest:
-            i = s.point().imprecision()
-            if i > worst:
-                worst = i
-        return worst
+        return max(s.point().imprecision() for s in self.spots)  # I(l) of a spot from its 70 % cut
 
 
 def _sighting_spot(s: Sighting) -> Spot:
