@@ -121,12 +121,10 @@ def _pose(x: float, y: float, theta: float = 0.0, z: float = 0.0) -> FxPose:
 
 
 def _cylinder(x: float, y: float, radius: float, bottom: float, height: float, color: Color) -> CylinderPrimitive:
-    """An upright cylinder (or flat disc) of ``radius`` standing on ``z = bottom`` at (x, y). Its
-    pose is built here, not by :func:`_pose` (never turned: a call less for each of the some 30
-    cylinders of a ``/robot/scene``)."""
+    """An upright cylinder (or flat disc) of ``radius`` standing on ``z = bottom`` at (x, y)."""
     d = 2 * radius
-    return CylinderPrimitive(pose=FxPose(position=Vector3(x=x, y=y, z=bottom + height / 2), orientation=_NO_TURN),
-                             size=Vector3(x=d, y=d, z=height), bottom_scale=1.0, top_scale=1.0, color=color)
+    return CylinderPrimitive(pose=_pose(x, y, z=bottom + height / 2), size=Vector3(x=d, y=d, z=height),
+                             bottom_scale=1.0, top_scale=1.0, color=color)
 
 
 def _json_channel(topic: str, cls: type, ctx: foxglove.Context) -> BaseChannel:
@@ -311,8 +309,8 @@ class Recorder:
         of the pan cost some 10 µs a tick. ``pose_ns`` is set once the pose is written, so a run
         stopped by a signal in between has them written again by :meth:`finish` (before,
         ``pose_ns`` was set first: 2 runs in 12 of the SIGTERM test ended with the summary a tick
-        after its last pose). Every tick: the messages' parts are built inline, not by :func:`_pose`
-        and :func:`_yaw` (the same values)."""
+        after its last pose). Every tick: the poses' parts are built inline, not by :func:`_ts`,
+        :func:`_yaw` and :func:`_pose` (the same values; the camera's turn, often none, by :func:`_yaw`)."""
         ts = Timestamp(ns // 1_000_000_000, ns % 1_000_000_000)
         half = truth.theta / 2
         q = Quaternion(x=0.0, y=0.0, z=math.sin(half), w=math.cos(half))
