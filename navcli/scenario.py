@@ -334,14 +334,29 @@ def _refuse(source: str, line: int | None, message: str, field: str = "") -> Sce
 def _bounded(text: str, source: str) -> None:
     """Refuse, before anything is built, a text that breaks one of the bounds above: characters
     YAML forbids, too deep, too many values (aliases expanded), an alias to itself, a value too
-    long. One pass over the parser's events: linear in the file, whatever its aliases."""
+    long. One pass over the parser's events: linear in the file, whatever its aliases.
+
+    libyaml has limits of its own (from PyYAML 6.0.4 its scanner refuses about 1,000 levels of
+    flow nesting while it looks ahead, before our depth check has seen the events). When libyaml
+    refuses, the pass is made again with PyYAML's pure-Python parser, which streams the events,
+    so our bounds speak first and in our words; its own error, if any, is the one reported."""
     if len(text) > MAX_BYTES:
         raise _refuse(source, None, f"is larger than {MAX_BYTES:,} characters; a scenario is a few kilobytes")
     bad = _NOT_YAML_CHARS.search(text)
     if bad:
         line = text.count("\n", 0, bad.start()) + 1
         raise _refuse(source, line, f"holds the character U+{ord(bad.group()):04X}, which a YAML file may not hold")
-    loader = _Loader(text)
+    try:
+        _walk_events(_Loader(text), source)
+    except _LibyamlRefused:
+        _walk_events(yaml.SafeLoader(text), source)
+
+
+class _LibyamlRefused(Exception):
+    """libyaml raised a YAML error: the pure-Python parser is asked again (see _bounded)."""
+
+
+def _walk_events(loader: Any, source: str) -> None:
     try:
         depth = nodes = 0
         sizes: dict[str, int] = {}  # anchor -> values it stands for
@@ -376,9 +391,11 @@ def _bounded(text: str, source: str) -> None:
                 nodes += sizes[ev.anchor]
             if nodes > MAX_NODES:
                 raise _refuse(source, line, f"holds more than {MAX_NODES:,} values (aliases expanded)")
-    except yaml.MarkedYAMLError as e:
-        raise _yaml_problem(e, source) from None
     except yaml.YAMLError as e:
+        if not isinstance(loader, yaml.SafeLoader):
+            raise _LibyamlRefused() from None
+        if isinstance(e, yaml.MarkedYAMLError):
+            raise _yaml_problem(e, source) from None
         raise _refuse(source, None, f"not valid YAML: {e}") from None
     finally:
         loader.dispose()
