@@ -73,6 +73,36 @@ def load_runs(logdir: str | Path | None = None, *, paths: list[str | Path] | Non
     return pd.DataFrame(rows)
 
 
+SWEEP_COLUMNS = {"scenario", "pilot", "perception", "seed", "point", "outcome", "time_s", "path_length_m",
+                 "collisions", "camera_looks", "ticks", "run_id"}
+"""What a ``navcli sweep`` results table holds besides its swept parameters' columns."""
+
+
+def load_sweep(path: str | Path) -> pd.DataFrame:
+    """The runs of a ``navcli sweep`` results table (Parquet, or its CSV copy) in the shape of
+    :func:`load_runs`, so the same tables are built from it: a swept parameter's column ``pilot.K``
+    becomes ``params.pilot.K`` (each point its own condition), and runs that raised are counted as
+    ``error``. The table holds no poses, so nothing here is checked against them (a sweep with
+    logs can be reported from its logs instead), and it makes no trajectory plots."""
+    path = Path(path)
+    try:
+        df = pd.read_csv(path) if path.suffix == ".csv" else pd.read_parquet(path)
+    except Exception as e:  # pyarrow's and pandas' many errors for a file that is no table
+        raise LogError(f"{path}: not a sweep results table ({type(e).__name__}: {e})") from None
+    missing = SWEEP_COLUMNS - set(df.columns)
+    if missing:
+        raise LogError(f"{path}: not a sweep results table (no column {', '.join(sorted(missing))})")
+    if df.empty:
+        raise LogError(f"{path}: the table holds no runs")
+    swept = [c for c in df.columns if "." in c]  # parameter names are dotted (robot.max_speed)
+    runs = df.rename(columns={c: f"params.{c}" for c in swept})
+    runs["log"] = df["log"] if "log" in df else ""
+    runs["reached"] = runs["outcome"] == "reached"
+    runs["path_cm"] = 100.0 * runs["path_length_m"]
+    runs["diverting_targets"] = runs["diverting_targets"] if "diverting_targets" in runs else 0
+    return runs
+
+
 def _run_row(path: Path) -> dict:
     """One run's row of :func:`load_runs`; :class:`LogError` for a log it cannot count."""
     log = read_log(path, topics=["/robot/pose"])
@@ -262,11 +292,38 @@ def _fmt(mean: float, std: float, digits: int = 2) -> tuple[str, str]:
     return f(mean), f(std)
 
 
+def overview(table: pd.DataFrame, imps: pd.DataFrame) -> list[str]:
+    """One Markdown row per condition and pilot against the baseline: both pilots' successes and
+    mean times and paths (reached runs), and the paired improvements in time and path with their
+    95 % intervals and p-values: a sweep's sensitivity at a glance."""
+    if not len(imps):
+        return []
+    lines = ["### Every condition: each pilot against the baseline", "",
+             "| condition | pilot vs baseline | reached | time (s) | path (cm) | pairs | time gain, 95 % CI, p "
+             "| path gain, 95 % CI, p |",
+             "| --- | --- | --- | --- | --- | ---: | --- | --- |"]
+    rows = table.set_index(["condition", "pilot"])
+
+    def gain(r) -> str:
+        return "-" if math.isnan(r.improvement_pct) else \
+            f"{r.improvement_pct:+.1f} % [{r.ci95_low:+.1f}, {r.ci95_high:+.1f}], {r.p_value:.3f}"
+
+    for (condition, pilot), g in imps.groupby(["condition", "pilot"], sort=True):
+        base = g["baseline"].iloc[0]
+        a, b = rows.loc[(condition, pilot)], rows.loc[(condition, base)]
+        by = g.set_index("metric")
+        t = " / ".join(_fmt(x, 0.0, 1)[0] for x in (a.time_s_mean, b.time_s_mean))
+        pth = " / ".join(_fmt(x, 0.0, 0)[0] for x in (a.path_cm_mean, b.path_cm_mean))
+        lines.append(f"| {condition} | {pilot} vs {base} | {a.reached}/{a.runs} vs {b.reached}/{b.runs} | {t} | "
+                     f"{pth} | {int(g['pairs'].iloc[0])} | {gain(by.loc['time_s'])} | {gain(by.loc['path_cm'])} |")
+    return lines + [""]
+
+
 def markdown(table: pd.DataFrame, imps: pd.DataFrame, remarks: list[str] = ()) -> str:
     """The comparison as Markdown: Table 1's layout (times and paths over the reached runs), the
     success rate with its interval and the time with failures counted at the limit beside it;
     then the improvements."""
-    lines = []
+    lines = overview(table, imps) if table["condition"].nunique() > 1 else []
     for condition, g in table.groupby("condition", sort=True):
         lines += [f"### {condition}", "",
                   "| pilot | reached | success (95 % CI) | time avg (s) | time std | path avg (cm) | path std "
@@ -307,20 +364,21 @@ def markdown(table: pd.DataFrame, imps: pd.DataFrame, remarks: list[str] = ()) -
 
 
 def write_report(runs: pd.DataFrame, out: str | Path, baseline: str = "geometric",
-                 skipped: list[tuple[str, str]] = ()) -> dict[str, Path]:
-    """Table (CSV, Markdown with its notes), trajectories and box plots into ``out``; returns what
-    was written."""
-    from . import plots
-
+                 skipped: list[tuple[str, str]] = (), plots: bool = True) -> dict[str, Path]:
+    """Table (CSV, Markdown with its notes) and, with ``plots``, trajectories and box plots into
+    ``out``; returns what was written."""
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     table = pilot_table(runs)
     imps = improvements(runs, baseline) if baseline in set(runs["pilot"]) else improvements(runs.iloc[:0], baseline)
     files = {"runs": out / "runs.csv", "table": out / "table.csv", "improvements": out / "improvements.csv",
              "markdown": out / "table.md"}
-    runs.drop(columns=["xy"]).to_csv(files["runs"], index=False)
+    runs.drop(columns=["xy"], errors="ignore").to_csv(files["runs"], index=False)
     table.to_csv(files["table"], index=False)
     imps.to_csv(files["improvements"], index=False)
     files["markdown"].write_text(markdown(table, imps, notes(runs, table, imps, baseline, skipped)))
-    files.update(plots.comparison_plots(runs, out))
+    if plots:
+        from . import plots as figures
+
+        files.update(figures.comparison_plots(runs, out))
     return files

@@ -373,26 +373,35 @@ def compare_pilots(
 
 @app.command()
 def report(
-    logdir: Annotated[Path, typer.Argument(metavar="LOGDIR", help="A folder of logs (searched recursively).")],
-    out: Annotated[Optional[Path], typer.Option(help="Where to write the table and plots (default: LOGDIR).")] = None,
+    logdir: Annotated[Path, typer.Argument(metavar="LOGDIR", help=(
+        "A folder of logs (searched recursively), or a sweep's results table (results.parquet or "
+        "results.csv): then every parameter point is a condition of its own, and no plots are made."))],
+    out: Annotated[Optional[Path], typer.Option(help="Where to write the table and plots (default: LOGDIR, "
+                                                     "or the results table's folder).")] = None,
     baseline: Annotated[str, typer.Option(help="The pilot the others are compared with.")] = "geometric",
 ) -> None:
-    """Rebuild the comparison table and plots from existing logs, running nothing."""
-    if not logdir.is_dir():
-        _err(f"error: {logdir}: no such folder")
+    """Rebuild the comparison table and plots from existing logs, running nothing; with several
+    conditions (parameter points of a sweep), a table of every pilot against the baseline per
+    condition comes first."""
+    table = logdir.is_file() and logdir.suffix in (".parquet", ".csv")
+    if not (logdir.is_dir() or table):
+        _err(f"error: {logdir}: no such folder" if not logdir.exists() else
+             f"error: {logdir}: expected a folder of logs or a sweep's results table (.parquet or .csv)")
         raise typer.Exit(EXIT_BAD_INPUT)
-    _report(logdir, baseline, out or logdir)
+    _report(logdir, baseline, out or (logdir.parent if table else logdir))
 
 
 def _report(logdir: Path, baseline: str, out: Path, logs: list[str] | None = None) -> None:
-    """The table of the logs under ``logdir`` (or of ``logs``); an unreadable log is skipped with a
-    line naming it; the same run twice, or no readable log at all, exits 2."""
+    """The table of the logs under ``logdir`` (or of ``logs``, or of the sweep results table
+    ``logdir``); an unreadable log is skipped with a line naming it; the same run twice, or no
+    readable log at all, exits 2."""
     from analysis import LogError
-    from analysis.tables import load_runs, write_report
+    from analysis.tables import load_runs, load_sweep, write_report
 
     skipped: list[tuple[str, str]] = []
+    table = logdir.is_file()
     try:
-        runs, error = load_runs(logdir, paths=logs, skipped=skipped), None
+        runs, error = (load_sweep(logdir) if table else load_runs(logdir, paths=logs, skipped=skipped)), None
     except LogError as e:
         runs, error = None, e
     for path, why in skipped:
@@ -400,7 +409,7 @@ def _report(logdir: Path, baseline: str, out: Path, logs: list[str] | None = Non
     if error is not None:
         _err(f"error: {error}")
         raise typer.Exit(EXIT_BAD_INPUT)
-    files = write_report(runs, out, baseline, skipped)
+    files = write_report(runs, out, baseline, skipped, plots=not table)
     typer.echo("")
     typer.echo(files["markdown"].read_text())
     typer.echo(f"wrote {', '.join(str(p) for p in files.values())}")

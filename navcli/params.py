@@ -68,6 +68,16 @@ class RobotParams:
     max_turn_rate: float = _p(math.radians(90.0), above=0.0)  # rad/s
     max_turn_accel: float = _p(math.radians(180.0), above=0.0)  # rad/s^2
 
+    def time_to_drive(self, metres: float) -> float:
+        """Seconds the robot takes to drive ``metres`` at full speed: how the windows that are
+        about progress (the Rescuer's blocked window and diverting timeout, the Pilot's stall
+        watch) become times, so a slow robot is given the time its distance takes.
+
+        >>> RobotParams(max_speed=0.05).time_to_drive(12.0)
+        240.0
+        """
+        return metres / self.max_speed
+
 
 @dataclass(frozen=True)
 class PilotParams:
@@ -79,7 +89,11 @@ class PilotParams:
     R_min: float = _p(0.40, at_least=0.01, at_most=5.0)  # m, radius of the grown obstacles (eq. 3-4)
     bid_cap: float = _p(0.9, at_most=1.0)  # eq. 9: the Pilot never bids above this
     heading_gain: float = _p(1.5)  # 1/s: turn rate per radian of heading error
-    turn_in_place: float = _p(math.radians(45.0))  # above this heading error the robot stops to turn
+    # How a winning move is executed (section 4: "the Pilot executes the turn of the winning bid"):
+    # 1, the speed and the turn commanded together, as a Pioneer's velocity and heading commands do
+    # (the default, our reading of the paper); 0, stop to turn above turn_in_place, slow by cos(error) below
+    drive_while_turning: int = _p(1, at_most=1)
+    turn_in_place: float = _p(math.radians(45.0))  # with drive_while_turning 0: above this heading error the robot stops to turn
     distress_gain: float = _p(1.5)  # section 5: each offending obstacle's force x 1.5 when IN_DISTRESS
     wall_window: float = _p(1.0, above=0.0)  # m: a room wall acts as the stretch this long nearest the robot
     corridor_margin: float = _p(0.40)  # m: section 3.3, the safe corridor keeps this far from the line's ends
@@ -90,9 +104,12 @@ class PilotParams:
     reflex_look_pans_deg: tuple[float, ...] = (-60.0, 0.0, 60.0)  # looks around after a bump
     backup_distance: float = _p(0.30)  # m backed up after a bump
     backup_speed: float = _p(0.15, above=0.0)  # m/s
-    reflex_phase_limit_s: float = _p(4.0, above=0.0)  # s: a reflex phase that cannot finish (backed into something) is given up
-    # No silent stall (our design): pushing without moving starts the reflex too
-    stall_window_s: float = _p(2.0, above=0.0)  # s over which commanded and measured motion are compared
+    # s: a reflex phase that cannot finish (the camera kept busy) is given up; the backup phase is given
+    # at least twice the time backing up takes at the speed it is driven (backed into something)
+    reflex_phase_limit_s: float = _p(4.0, above=0.0)
+    # No silent stall (our design): pushing without moving starts the reflex too. The window is a
+    # distance: the time it takes to drive it at robot.max_speed (0.6 m: 2 s at 0.3 m/s)
+    stall_window_m: float = _p(0.6, above=0.0)  # m of driving at full speed over which commanded and measured motion are compared
     stall_min_distance: float = _p(0.1, above=0.0)  # m commanded in that window before a stall can be called
     stall_progress: float = _p(0.2, at_most=1.0)  # a stall: less than this fraction of the commanded distance moved
     # Section 2, eq. 1: the look-ahead camera bid (d_l / d_m) ** s
@@ -102,6 +119,7 @@ class PilotParams:
     # Geometric pilot (the baseline of Table 1)
     geometric_lookahead: float = _p(1.0)  # m beyond the prohibited area at which it starts to steer
     geometric_clearance: float = _p(0.05)  # m: its tangents pass this far outside the prohibited area
+    geometric_side_memory: float = _p(0.5)  # m driven with the way clear before the side chosen to pass is forgotten
 
 
 @dataclass(frozen=True)
@@ -129,10 +147,13 @@ class NavigationParams:
     communicator_window_s: float = _p(0.2)
     # Rescuer (notes, section 2): blocked, lost, diverting targets
     rescuer_bid: float = _p(1.0, at_most=1.0)  # its stop, look and turn bids: an emergency, above every other bid
-    blocked_window_s: float = _p(40.0, above=0.0)  # no progress toward the target for this long: blocked
+    # The Rescuer's windows are distances, each the time it takes to drive it at robot.max_speed
+    # (our design: progress is about distance, so a slow robot is never blocked for being slow;
+    # 12 m and 27 m are the 40 s and 90 s these windows had at 0.3 m/s)
+    blocked_window_m: float = _p(12.0, above=0.0)  # no progress toward the target while it could drive this far: blocked
     blocked_progress: float = _p(0.5, above=0.0)  # m closer to the target that counts as progress
-    blocked_bumps: int = _p(3, at_least=1)  # or this many bumps within the window: blocked
-    diverting_timeout_s: float = _p(90.0, above=0.0)  # a diverting target not crossed by then has failed
+    blocked_bumps: int = _p(3, at_least=1)  # or this many bumps within the blocked window: blocked
+    diverting_timeout_m: float = _p(27.0, above=0.0)  # a diverting target not crossed while it could drive this far has failed
     max_diverting_failures: int = _p(3, at_least=1)  # failed diverting targets before the mission ends "blocked"
     random_turn_deg: float = _p(120.0, above=0.0, at_most=180.0)  # with no diverting target: turn by up to this much
     scan_pans_deg: tuple[float, ...] = (-90.0, -45.0, 0.0, 45.0, 90.0)  # the looks of a scan (initial sweep, lost)

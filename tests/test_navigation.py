@@ -190,7 +190,7 @@ def test_rescuer_sweeps_then_blocked_diverts_crosses_and_restores_the_original_t
         t += 0.1
         out = r.decide(situation(time=t), ask)
     # progress is measured from the first tick after the sweep; blocked at the first tick past the window
-    assert swept + p.blocked_window_s < t <= swept + 0.1 + p.blocked_window_s + 0.1 + 1e-9 and asked == [None]
+    assert swept + r.window_s < t <= swept + 0.1 + r.window_s + 0.1 + 1e-9 and asked == [None]
     assert out.diverting == ((1.0, 1.0), (1.0, -1.0)) and r.diverting_targets == 1
     assert any("diverting target set" in m for _, m in out.events)
     # the robot drives across the line (the landmarks come nearer and pass behind)
@@ -228,7 +228,7 @@ def test_rescuer_abandons_a_diverting_target_that_cannot_be_reached_and_finally_
     assert give_up == f"{p.max_diverting_failures} diverting targets failed"
     assert failed_edges == [None, frozenset({"A", "B"}), frozenset({"C", "D"})]  # the map hears of each failure
     assert sum("abandoned" in m for m in events) == p.max_diverting_failures
-    assert t < 3 * p.blocked_window_s  # each failure took blocked_bumps bumps, not the time limit
+    assert t < 3 * r.window_s  # each failure took blocked_bumps bumps, not the time limit
 
 
 def test_rescuer_stops_and_scans_when_the_target_is_lost_then_turns():
@@ -263,9 +263,14 @@ def test_blocked_wall_ends_at_the_target_or_given_up_and_diverts_first_past_a_fe
 
     Reaching the target is not asserted: it does not hold across seeds (5 of seeds 1-10 end
     blocked, after crossings between landmarks in front of the fence that lead nowhere; seed 4
-    reaches it without ever being blocked)."""
+    reaches it without ever being blocked).
+
+    Run with the execution that turns in place: the first crossing is the Map Manager's answer
+    to where the robot was blocked, and where that is depends on the execution. Driving while
+    turning at this room's 0.3 m/s, the first crossing passes a fence end in 7 of seeds 1-10
+    (seed 1: between K and F, in front of the fence)."""
     sc = load_scenario(SCENARIOS / "blocked-wall.yaml")
-    spec = RunSpec.build(sc, pilot="geometric")
+    spec = RunSpec.build(sc, pilot="geometric", overrides={"pilot.drive_while_turning": 0})
     res = run_mission(spec, out=tmp_path / "bw.mcap")
     s = res.summary
     assert s["time_s"] < spec.time_limit

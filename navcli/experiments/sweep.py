@@ -6,7 +6,7 @@ A plan file (format version 1; paths relative to the plan file)::
     scenarios: [../scenarios/open-arena.yaml, ../scenarios/paper-fig9.yaml]
     seeds: 5                      # runs per scenario, point and pilot; seeds derived as compare's
     pilots: [potential-field]     # optional (default: each scenario's)
-    perception: vision            # optional (default: each scenario's)
+    perception: vision            # optional (default: each scenario's); or a list, [vision, oracle]
     time_limit: 60                # optional, simulated s (default: each scenario's)
     params: {pilot.R_min: 0.5}    # optional: overrides for every run
     grid:                         # every combination of these values ...
@@ -50,7 +50,8 @@ MAX_RUNS = 1_000_000
 """A plan with more runs than this is refused (a typo in a grid, not an experiment)."""
 FLUSH_S = 10.0
 """Seconds between two rewrites of the results table during a sweep."""
-SUMMARY_FIELDS = ("outcome", "reason", "time_s", "path_length_m", "collisions", "camera_looks", "ticks")
+SUMMARY_FIELDS = ("outcome", "reason", "time_s", "path_length_m", "collisions", "camera_looks", "ticks",
+                  "diverting_targets")
 DONE = ("reached", "timeout", "blocked")
 """Outcomes of a finished run; a row with another (``error``) is run again on resume."""
 
@@ -132,7 +133,7 @@ class _PlanReader(_Reader):
         if seeds == 0:
             self.fail(("seeds",), "must be at least 1")
         pilots = g(self.choices, top.get("pilots"), ("pilots",), PILOT_NAMES)
-        perception = g(lambda: self.opt(top, "perception", (), self.choice, None, choices=PERCEPTIONS))
+        perceptions = g(self.perceptions, top.get("perception"), ("perception",))
         time_limit = g(lambda: self.opt(top, "time_limit", (), self.number, None, positive=True))
         fixed = g(self.overrides, top.get("params", {}), ("params",), default={})
         if "grid" in top:
@@ -148,10 +149,11 @@ class _PlanReader(_Reader):
         bases = []
         for i, sc in enumerate(scenarios):
             for pilot in pilots or [None]:
-                try:
-                    bases.append(RunSpec.build(sc, pilot=pilot, perception=perception, time_limit=time_limit))
-                except ConfigError as e:
-                    self.fail(("scenarios", i), str(e))
+                for perception in perceptions or [None]:
+                    try:
+                        bases.append(RunSpec.build(sc, pilot=pilot, perception=perception, time_limit=time_limit))
+                    except ConfigError as e:
+                        self.fail(("scenarios", i), str(e))
         plan = Plan(self.source, tuple(bases), tuple(points), seeds or 1)
         if not self.problems and plan.size > MAX_RUNS:
             self.fail((), f"{plan.size} runs: more than {MAX_RUNS}; split the plan")
@@ -170,6 +172,10 @@ class _PlanReader(_Reader):
         if not isinstance(v, list) or not v:
             raise self.fail(path, "expected a non-empty list")
         return [self.choice(x, path + (i,), choices) for i, x in enumerate(v)]
+
+    def perceptions(self, v: Any, path: tuple) -> list[str] | None:
+        """``perception: vision`` or a list of them (each a base of its own)."""
+        return [self.choice(v, path, PERCEPTIONS)] if isinstance(v, str) else self.choices(v, path, PERCEPTIONS)
 
     def param(self, name: Any, value: Any, path: tuple) -> float:
         """``value`` checked as the parameter ``name`` (its type and range)."""

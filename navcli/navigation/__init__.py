@@ -77,7 +77,7 @@ class NavigationSystem:
         self.tracker = TargetTracker(params, robot.max_speed, pilot.corridor_margin)
         self.risk = RiskManager(params, pan_limit)
         self.estimator = DistanceEstimator(params, robot.max_speed)
-        self.rescuer = Rescuer(params, rng)
+        self.rescuer = Rescuer(params, rng, robot)
         self.agents: tuple[Agent, ...] = (self.tracker, self.risk, self.estimator)
         # the Learning Agent (or the hand-coded policy) replaces the three (learning-agent paper,
         # section 4); it waits for the Rescuer's initial sweep, so its actions are its own

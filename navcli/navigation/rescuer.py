@@ -8,15 +8,20 @@ What the thesis says, and how we do it:
   followed by a turn of a random angle (the pan unit cannot look behind) and another scan; three
   such scans count as a failure, like a failed diverting target.
 - **Blocked**: the robot makes no progress toward its target (``blocked_progress`` metres closer
-  within ``blocked_window_s``), or it hits something ``blocked_bumps`` times within that window
+  within the blocked window), or it hits something ``blocked_bumps`` times within that window
   (the Pilot's report of an obstacle it cannot easily avoid). The Rescuer asks the Map Manager for
   a **diverting target**, a pair of landmarks to pass between, and broadcasts it as the current
   target (the Pilot crosses it through its safe corridor). When it is crossed the original target
   is restored. If none can be computed: turn by a random angle. If one is not crossed within
-  ``diverting_timeout_s`` (or the robot is blocked again on the way), its edge is reported blocked
+  the diverting timeout (or the robot is blocked again on the way), its edge is reported blocked
   to the Map Manager and another is asked for. So is the edge of one that was crossed when the
   robot is next blocked before anything else happened (our design: crossing it led nowhere, and
   asking again would only send the robot back and forth across it).
+- **Windows in distance** (ours): the blocked window and the diverting timeout are given as
+  distances (``blocked_window_m``, ``diverting_timeout_m``) and last as long as the robot takes
+  to drive them at full speed (:meth:`~navcli.params.RobotParams.time_to_drive`): progress is
+  about distance, so a robot at 5 cm/s is given six times the seconds of one at 30 cm/s, and is
+  never declared blocked for being slow.
 - **Giving up** (ours): after ``max_diverting_failures`` failed or impossible diverting targets the
   mission ends with the outcome ``blocked`` and the reason, instead of grinding on until the time
   limit.
@@ -37,7 +42,7 @@ import numpy as np
 
 from ..bidding import Bid, Look, Move, looked_at
 from ..geometry import Point, Pose, midpoint, wrap_angle
-from ..params import NAVIGATION, NavigationParams
+from ..params import NAVIGATION, ROBOT, NavigationParams, RobotParams
 from .regions import Crossing, Edge
 from .situation import Situation
 
@@ -59,8 +64,11 @@ class Rescue(NamedTuple):
 class Rescuer:
     name = "rescuer"
 
-    def __init__(self, params: NavigationParams = NAVIGATION, rng: np.random.Generator | None = None):
+    def __init__(self, params: NavigationParams = NAVIGATION, rng: np.random.Generator | None = None,
+                 robot: RobotParams = ROBOT):
         self.params = params
+        self.window_s = robot.time_to_drive(params.blocked_window_m)  # the blocked window, s
+        self.timeout_s = robot.time_to_drive(params.diverting_timeout_m)  # the diverting timeout, s
         self.rng = rng if rng is not None else np.random.default_rng(0)
         self.state = "sweep" if params.initial_sweep else "normal"
         self._scan = 0  # index into scan_pans_deg
@@ -85,7 +93,7 @@ class Rescuer:
         events: list[tuple[str, str]] = []
         for bump in b.bumps:
             self._bumps.append(bump.time)
-        while self._bumps and self._bumps[0] < s.time - self.params.blocked_window_s:
+        while self._bumps and self._bumps[0] < s.time - self.window_s:
             self._bumps.popleft()
 
         if self.state == "sweep":
@@ -246,5 +254,5 @@ class Rescuer:
         d = math.hypot(*aim)
         if d < self._progress_best - p.blocked_progress:
             self._progress_best, self._progress_since = d, s.time
-        too_long = self._crossing is not None and s.time - self._crossing_since > p.diverting_timeout_s
-        return too_long or s.time - self._progress_since > p.blocked_window_s or len(self._bumps) >= p.blocked_bumps
+        too_long = self._crossing is not None and s.time - self._crossing_since > self.timeout_s
+        return too_long or s.time - self._progress_since > self.window_s or len(self._bumps) >= p.blocked_bumps

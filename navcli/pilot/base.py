@@ -4,12 +4,17 @@ Every tick the Pilot (1) proposes its own motion with a bid (obstacle avoidance,
 its look-ahead camera bid, and (2) executes whichever motion bid won the arbiter: its own or the
 Navigation system's. This module holds what every pilot shares:
 
-- **execution** of a winning :class:`Move` as a heading servo, with the section 3.5 rule that a
-  turn larger than 160 degrees is driven backwards (turning the complement) while the total
-  distance driven backwards that way stays under ``max_backward``;
+- **execution** of a winning :class:`Move` (section 4: "the Pilot executes the turn of the
+  winning bid"): the speed and the turn commanded together, by default, as a Pioneer's velocity
+  and heading commands are (``pilot.drive_while_turning``; 0 stops to turn above
+  ``turn_in_place``), with the section 3.5 rule that a turn larger than 160 degrees is driven
+  backwards (turning the complement) while the total distance driven backwards that way stays
+  under ``max_backward``;
 - **reflexes** (section 3.5): on a bumper hit, stop, look around, back up ``backup_distance``
   (drive forward from a contact behind), then recompute with the obstacle that was hit (which
-  the visual memory now holds); the same reflex when the robot stalls, pushing without moving;
+  the visual memory now holds); the same reflex when the robot stalls, pushing without moving
+  (over the time it takes to drive ``stall_window_m`` at full speed, so a slow robot is not
+  taken for a stalled one);
 - the **look-ahead camera bid** (eq. 1): ``(d_l / d_m) ** s``, capped at 0.9 like every Pilot bid.
 
 The avoidance strategies subclass :class:`Pilot` and implement :meth:`Pilot.avoid`:
@@ -71,8 +76,12 @@ class Pilot:
         self.params = params
         self.max_speed = robot.max_speed
         self.robot = robot
+        self.backup_speed = min(params.backup_speed, robot.max_speed)  # m/s: the reflex backs up at most at full speed
+        # s: a backup phase is given at least twice the time it takes (our design: a slow robot backs up slowly)
+        self._backup_limit_s = max(params.reflex_phase_limit_s, 2.0 * params.backup_distance / self.backup_speed)
         self.backward = 0.0  # m commanded backwards by section 3.5's backward turns, in total
         self.since_look = 0.0  # d_l of eq. 1, metres
+        self.travelled = 0.0  # metres driven (by odometry), forwards and backwards
         self._reflex: list[tuple[str, float]] = []  # pending reflex phases (name, amount)
         self._reflex_progress = 0.0
         self._reflex_dir = -1.0  # the reflex backs up (-1) or, from a contact behind, drives forward (+1)
@@ -80,7 +89,11 @@ class Pilot:
         self._events: list[str] = []
         self._last_odom: Pose | None = None
         self._last_v = 0.0  # the forward speed last commanded, m/s
-        window = max(1, round(params.stall_window_s / CONTROL_DT))
+        # s: the time to drive stall_window_m at full speed, and at least twice the time to reach full
+        # speed (our design: from a standstill the robot lags its command; over twice that time it has
+        # moved 3/4 of the commanded distance, so starting is never taken for stalling, at any speed)
+        self.stall_window_s = max(robot.time_to_drive(params.stall_window_m), 2.0 * robot.max_speed / robot.max_accel)
+        window = max(1, round(self.stall_window_s / CONTROL_DT))
         self._commanded: deque[float] = deque(maxlen=window)  # m commanded per tick, over the stall window
         self._moved: deque[float] = deque(maxlen=window)  # m measured per tick, over the stall window
 
@@ -132,6 +145,7 @@ class Pilot:
             return
         ds, _ = motion_between(last, odom)
         self.since_look += abs(ds)
+        self.travelled += abs(ds)
         if self._reflex:
             if self._reflex[0][0] == "backup":
                 self._reflex_progress += ds * self._reflex_dir
@@ -155,7 +169,8 @@ class Pilot:
 
     def _watch_for_stall(self, touching: bool) -> None:
         """No silent stall (our design; the paper's reflex fires on a new bump only, and a contact
-        that lasts is no new bump): when, over the last ``stall_window_s``, the pilot commanded at
+        that lasts is no new bump): when, over the last ``stall_window_s`` (the time to drive
+        ``stall_window_m`` at full speed), the pilot commanded at
         least ``stall_min_distance`` of driving but odometry measured less than ``stall_progress``
         of it, the robot is pushing against something (or wedged): the reflex starts, escaping
         opposite to the way the robot was pushing."""
@@ -167,7 +182,7 @@ class Pilot:
         if commanded >= p.stall_min_distance and moved < p.stall_progress * commanded:
             self._start_reflex(+1.0 if self._last_v < 0 else -1.0,
                                f"reflex: stalled ({'bumper pressed, ' if touching else ''}commanded {commanded:.2f} m "
-                               f"in {p.stall_window_s:g} s, moved {moved:.2f} m)")
+                               f"in {self.stall_window_s:g} s, moved {moved:.2f} m)")
 
     def _forget_motion(self) -> None:
         self._commanded.clear()
@@ -186,7 +201,7 @@ class Pilot:
     def _reflex_output(self, look: float, events: list[str], obstacles: tuple[KnownObstacle, ...]) -> PilotOutput:
         p = self.params
         while self._reflex and (self._reflex_progress >= self._reflex[0][1] - 1e-9
-                                or self._phase_ticks * CONTROL_DT >= p.reflex_phase_limit_s):
+                                or self._phase_ticks * CONTROL_DT >= self._phase_limit(self._reflex[0][0])):
             self._reflex.pop(0)  # done, or given up (backing into something, the camera kept busy)
             self._reflex_progress = 0.0
             self._phase_ticks = 0
@@ -198,7 +213,7 @@ class Pilot:
         phase = self._reflex[0][0]
         if phase == "stop":
             self._reflex_progress += CONTROL_DT  # this tick is spent standing still
-        speed = self._reflex_dir * p.backup_speed if phase == "backup" else 0.0
+        speed = self._reflex_dir * self.backup_speed if phase == "backup" else 0.0
         bids = [Bid(self.name, "motion", Move(0.0, speed), p.bid_cap)]
         if phase == "look":
             pan = math.radians(p.reflex_look_pans_deg[int(self._reflex_progress)])
@@ -207,6 +222,10 @@ class Pilot:
             bids.append(Bid(self.name, "camera", LOOK_AHEAD, look))
         return PilotOutput(bids, {"mode": "reflex", "phase": phase, "bid": p.bid_cap, "look_bid": look}, [], events,
                            obstacles)
+
+    def _phase_limit(self, phase: str) -> float:
+        """Seconds after which a reflex phase that cannot finish is given up."""
+        return self._backup_limit_s if phase == "backup" else self.params.reflex_phase_limit_s
 
     # -- execution
     def execute(self, winner: Bid | None) -> tuple[float, float]:
@@ -230,9 +249,19 @@ class Pilot:
         return v, omega
 
     def drive(self, move: Move) -> tuple[float, float]:
-        """Heading servo: turn toward ``move.heading``; drive only when roughly facing it."""
+        """Heading servo: turn toward ``move.heading`` at ``heading_gain`` per radian of error.
+
+        With ``drive_while_turning`` (the default) the move's speed is commanded as it is, with the
+        turn: the paper's Pilot "executes the turn of the winning bid" and sets a speed (section
+        3.5 sets it negative for the largest turns), and states no stop to turn; a Pioneer is
+        driven this way, by a velocity and a heading command that its controller carries out
+        together. Without it (0), the robot stops to turn above ``turn_in_place`` and slows by
+        cos(error) below (navcli's execution before, kept as an option: it makes every large turn
+        cost time at any speed)."""
         err = move.heading
         omega = max(-self.robot.max_turn_rate, min(self.robot.max_turn_rate, self.params.heading_gain * err))
+        if self.params.drive_while_turning:
+            return move.speed, omega
         if abs(err) > self.params.turn_in_place:
             return 0.0, omega
         return move.speed * math.cos(err), omega
