@@ -89,10 +89,9 @@ class Pilot:
         self._events: list[str] = []
         self._last_odom: Pose | None = None
         self._last_v = 0.0  # the forward speed last commanded, m/s
-        # s: the time to drive stall_window_m at full speed, and at least twice the time to reach full
-        # speed (our design: from a standstill the robot lags its command; over twice that time it has
-        # moved 3/4 of the commanded distance, so starting is never taken for stalling, at any speed)
-        self.stall_window_s = max(robot.time_to_drive(params.stall_window_m), 2.0 * robot.max_speed / robot.max_accel)
+        self._drive_v = 0.0  # the speed the drive can have reached, at its acceleration limit, m/s
+        self._drivable_m = 0.0  # and the metres it could cover with the last command
+        self.stall_window_s = robot.time_to_drive(params.stall_window_m)  # s
         window = max(1, round(self.stall_window_s / CONTROL_DT))
         self._commanded: deque[float] = deque(maxlen=window)  # m commanded per tick, over the stall window
         self._moved: deque[float] = deque(maxlen=window)  # m measured per tick, over the stall window
@@ -151,7 +150,7 @@ class Pilot:
                 self._reflex_progress += ds * self._reflex_dir
             self._forget_motion()  # a reflex that cannot move is given up by its phase limit instead
         else:
-            self._commanded.append(abs(self._last_v) * CONTROL_DT)
+            self._commanded.append(self._drivable_m)
             self._moved.append(abs(ds))
 
     # -- reflexes (section 3.5) and the stall watch (our design)
@@ -246,7 +245,17 @@ class Pilot:
             if backward:
                 self.backward += -v * CONTROL_DT
         self._last_v = v
+        self._drivable_m = self._drivable(v)
         return v, omega
+
+    def _drivable(self, v: float) -> float:
+        """Metres the drive can cover this tick when commanded ``v``: it reaches a new speed at most
+        at ``max_accel`` (our design: the stall watch compares motion with this, not with the bare
+        command, so a robot starting from a standstill, which lags its command, is not stalled)."""
+        a = self.robot.max_accel * CONTROL_DT
+        before = self._drive_v
+        self._drive_v = before + max(-a, min(a, v - before))
+        return abs(before + self._drive_v) / 2 * CONTROL_DT
 
     def drive(self, move: Move) -> tuple[float, float]:
         """Heading servo: turn toward ``move.heading`` at ``heading_gain`` per radian of error.

@@ -1,0 +1,153 @@
+"""Progress is measured in distance, not seconds (issue 21): every window that is about progress
+(the Rescuer's blocked window and diverting timeout, the Pilot's stall watch and its reflex's
+backup) lasts as long as the robot takes to cover its distance, so a robot at 0.05, 0.1, 0.3 or
+0.6 m/s is never declared blocked, or stalled, for being slow."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from navcli.bidding import Bid, Move
+from navcli.config import RunSpec
+from navcli.mission import Mission
+from navcli.navigation.regions import Crossing
+from navcli.navigation.rescuer import Rescuer
+from navcli.params import CONTROL_DT, NAVIGATION, PILOT, ROBOT, RobotParams
+from navcli.pilot.base import Pilot
+from test_navigation import _sweep, situation
+from test_pilots import beliefs
+
+SPEEDS = (0.05, 0.1, 0.3, 0.6)
+
+
+@pytest.mark.parametrize("speed", SPEEDS)
+def test_the_rescuer_gives_a_slow_robot_the_time_its_progress_takes(speed):
+    """A robot that gets closer to its target at a tenth of its top speed gains 0.1 x 12 m = 1.2 m
+    in a blocked window, more than the 0.5 m that counts as progress, at any speed: it is never
+    blocked. The same robot making no progress is blocked once the window, 12 m / speed, is over."""
+    robot = RobotParams(max_speed=speed)
+    window = NAVIGATION.blocked_window_m / speed
+    asked = []
+    r = Rescuer(NAVIGATION, np.random.default_rng(0), robot)
+    assert r.window_s == pytest.approx(window) and r.timeout_s == pytest.approx(NAVIGATION.diverting_timeout_m / speed)
+    t = t0 = _sweep(r)
+    while t < t0 + 3 * window:  # three windows of slow progress
+        t += CONTROL_DT
+        d = 5.0 - 0.1 * speed * (t - t0)  # from the 5 m of the sweep's situations, 3.6 m closer in 3 windows
+        r.decide(situation(target=(d, 0.0), time=t), lambda f: asked.append(f))
+    assert asked == [] and r.state == "normal"
+    t_stuck = t
+    while not asked and t < t_stuck + 2 * window:  # now no progress at all
+        t += CONTROL_DT
+        r.decide(situation(target=(d, 0.0), time=t), lambda f: asked.append(f) or None)
+    # the best distance was set at most 0.5 m of progress (5 / speed s) before the robot stopped
+    assert asked == [None] and window < t - t_stuck + 0.5 / (0.1 * speed) + 2 * CONTROL_DT
+    assert t - t_stuck <= window + 2 * CONTROL_DT
+
+
+@pytest.mark.parametrize("speed", SPEEDS)
+def test_the_diverting_timeout_is_a_distance(speed):
+    """A diverting target held while the robot keeps getting closer to its line (never blocked)
+    fails once the robot could have driven diverting_timeout_m at full speed."""
+    robot = RobotParams(max_speed=speed)
+    r = Rescuer(NAVIGATION, np.random.default_rng(0), robot)
+    t = t0 = _sweep(r)
+    crossing = Crossing("L", "R", (30.0, 1.0), (30.0, -1.0), 3.0)
+    asked = []
+
+    def ask(failed):
+        asked.append(failed)
+        return crossing
+
+    while not asked:  # no progress toward the target: blocked, the diverting target is set
+        t += CONTROL_DT
+        r.decide(situation(time=t), ask)
+    set_at = t
+    x = 30.0
+    while len(asked) < 2 and t < set_at + 3 * r.timeout_s:
+        t += CONTROL_DT
+        x -= 0.6 * speed * CONTROL_DT  # steady progress toward the line, which is far away
+        marks = {"L": _crisp(x, 1.0), "R": _crisp(x, -1.0)}
+        r.decide(situation(time=t, landmarks=marks), ask)
+    assert len(asked) == 2 and asked[1] == frozenset({"L", "R"})  # abandoned, its edge reported
+    assert r.timeout_s < t - set_at <= r.timeout_s + 2 * CONTROL_DT
+
+
+def _crisp(x, y):
+    from navcli.fuzzy import FuzzyPoint
+    from test_navigation import CRISP
+
+    return FuzzyPoint(x, y, CRISP)
+
+
+@pytest.mark.parametrize("speed", SPEEDS)
+def test_a_robot_starting_from_a_standstill_is_no_stall_at_any_speed(speed):
+    """From a standstill the robot lags its command while it accelerates (0.5 m/s^2): at 0.6 m/s
+    it takes 1.2 s to reach full speed. The stall watch must not take that for a stall."""
+    robot = RobotParams(max_speed=speed)
+    p = Pilot(PILOT, robot)
+    x, v = 0.0, 0.0
+    nav = Bid("navigation", "motion", Move(0.0, speed), 0.3)
+    for _ in range(round(3 * p.stall_window_s / CONTROL_DT)):
+        cmd, _ = p.execute(nav)
+        v = min(cmd, v + robot.max_accel * CONTROL_DT)  # the drive's rate limit
+        x += v * CONTROL_DT
+        out = p.decide(beliefs(odom=_pose(x)))
+        assert out.info["mode"] != "reflex", (speed, x)
+
+
+@pytest.mark.parametrize("speed", SPEEDS)
+def test_a_reflex_backs_up_its_distance_at_any_speed(speed):
+    """The reflex backs up backup_distance (0.3 m) at most at the robot's top speed: at 0.05 m/s
+    that takes 6 s, longer than the 4 s a stop or look phase may last, and it is not cut short."""
+    robot = RobotParams(max_speed=speed)
+    p = Pilot(PILOT, robot)
+    p._bumped((_bump(),))
+    x, backed_ticks = 0.0, 0
+    out = p.decide(beliefs(odom=_pose(x)))
+    for _ in range(2000):
+        if out.info.get("phase") == "look":
+            p._looked(next(b.action.pan for b in out.bids if b.resource == "camera"))
+        motion = next((b for b in out.bids if b.resource == "motion"), None)
+        v, _ = p.execute(motion)
+        if out.info.get("phase") == "backup":
+            backed_ticks += 1
+            assert v == pytest.approx(-min(PILOT.backup_speed, speed))
+        x += v * CONTROL_DT
+        out = p.decide(beliefs(odom=_pose(x)))
+        if out.info.get("phase") == "done":
+            break
+    assert out.info.get("phase") == "done"
+    assert -x == pytest.approx(PILOT.backup_distance, abs=min(PILOT.backup_speed, speed) * CONTROL_DT + 1e-9)
+    assert backed_ticks == pytest.approx(PILOT.backup_distance / min(PILOT.backup_speed, speed) / CONTROL_DT, abs=1)
+
+
+def _pose(x):
+    from navcli.geometry import Pose
+
+    return Pose(x, 0.0, 0.0)
+
+
+def _bump():
+    from navcli.beliefs import Bump
+
+    return Bump(0.0, "obstacle 0", (0.3, 0.0), 0.0)
+
+
+@pytest.mark.parametrize("speed", SPEEDS)
+def test_a_mission_around_an_obstacle_is_reached_at_any_speed(make_scenario, speed):
+    """A real run: around a post to a target 4.4 m away, at each speed, with vision. Reached, and
+    no blocked or stall event on the way (its time limit is three times the drive at full speed,
+    plus the initial sweep)."""
+    sc = make_scenario(arena={"width": 6.0, "height": 4.0}, robot={"start": [0.8, 2.0], "heading_deg": 0},
+                       target={"at": [5.2, 2.0]}, obstacles=[{"circle": {"center": [3.0, 2.05], "radius": 0.15}}],
+                       mission={"time_limit": round(3 * 4.4 / speed + 20), "seed": 1})
+    m = Mission(RunSpec.build(sc, pilot="potential-field", overrides={"robot.max_speed": speed}), snapshots=False)
+    events = []
+    while m.outcome is None:
+        events += [e.message for e in m.step().events]
+    assert m.outcome == "reached", (m.reason, events[-5:])
+    assert not [e for e in events if "blocked" in e or "stalled" in e]
