@@ -201,6 +201,50 @@ def test_geometric_pilot_passes_a_long_obstacle_around_its_nearer_end():
     assert math.tan(a.move.heading) * 1.0 < -0.5  # ...outside the grown end
 
 
+def test_geometric_pilot_keeps_its_side_over_a_gap_in_the_memory_until_clear_for_a_distance():
+    """The memory cuts a fence into pieces and now and then holds none for a tick. The side chosen
+    for the first piece is kept for the next (though the other side is nearer the request there),
+    and forgotten only once the way has been clear for geometric_side_memory metres of driving."""
+    g = GeometricPilot(PILOT, ROBOT)
+    request = Move(0.0, 0.3)
+    x = 0.0
+
+    def tick(obstacles):
+        g._track(Pose(x, 0.0, 0.0))  # what decide does with the odometry: the distance driven
+        return g.avoid(beliefs(obstacles), tuple(obstacles), request)
+
+    left_piece = KnownObstacle("piece-1", (1.0, 0.1), (1.0, 0.6), 0.025)  # mostly left: pass right
+    right_piece = KnownObstacle("piece-2", (1.0, -0.1), (1.0, -0.6), 0.025)  # mostly right: pass left
+    assert tick([left_piece]).info["side"] == "right"
+    memory = PILOT.geometric_side_memory
+    steps = 4
+    for i in range(steps):  # clear, for less than the memory's distance
+        x += 0.99 * memory / steps
+        assert tick([]).move is None
+    assert tick([right_piece]).info["side"] == "right"  # kept: the clear stretch was too short
+    for i in range(steps + 1):  # clear for more than the memory's distance
+        x += memory / steps
+        tick([])
+    assert tick([right_piece]).info["side"] == "left"  # forgotten: chosen afresh, the nearer side
+
+
+def test_driving_while_turning_hard_along_a_wall_keeps_out_of_it_and_bumps_are_events(make_scenario):
+    """The walls hold with the speed and the turn commanded together: at the robot's top speeds,
+    turning as hard as it can toward the wall it drives along, it never gets into it, and each
+    new contact is one bump event."""
+    for speed in (0.3, 0.6, 2.0):
+        sc = make_scenario(robot={"start": [1.0, 0.6], "heading_deg": 0, "max_speed": speed}, noise={"odometry": 0.0})
+        world = World(sc, np.random.default_rng(0))
+        pilot = Pilot(PILOT, sc.params.robot)
+        bumps = 0
+        for _ in range(round(6.0 / CONTROL_DT)):
+            v, w = pilot.execute(nav(Move(-math.radians(150), speed)))  # toward the south wall, under 160 deg
+            assert v == speed
+            bumps += len(world.step(v, w))
+            assert world.pose.y >= sc.params.robot.radius - 0.01  # never into the wall (y = 0)
+        assert bumps == world.bumps and bumps >= 1
+
+
 # -- equation 8, in the physics world ----------------------------------------------------------
 def gap_scenario(make_scenario, gap, radius=0.1):
     obstacles = [{"circle": {"center": [3.0, 2.0 + s * gap / 2], "radius": radius}} for s in (-1, 1)]

@@ -175,3 +175,45 @@ def test_a_worker_killed_mid_sweep_loses_and_duplicates_nothing(tmp_path, cluste
     with executor(2) as ex:
         sweep.run_sweep(runs, local, ex)
     assert df.equals(sweep.read_table(local))  # and the runs retried elsewhere gave the same rows
+
+
+def test_a_plan_may_list_perceptions_each_a_base_of_its_own(tmp_path):
+    p = sweep.load_plan(_plan(tmp_path, "seeds: 2\npilots: [potential-field, geometric]\n"
+                                        "perception: [vision, oracle]\ngrid:\n  pilot.K: [10, 30]\n"))
+    assert [(b.pilot, b.perception) for b in p.bases] == [(pi, pe) for pi in ("potential-field", "geometric")
+                                                          for pe in ("vision", "oracle")]
+    assert p.size == 2 * 2 * 2 * 2
+    bad = _plan(tmp_path, "seeds: 1\nperception: [vision, sonar]\n", "bad.yaml")
+    res = CliRunner().invoke(app, ["sweep", str(bad)])
+    assert res.exit_code == 2 and "perception[1]" in res.output and "sonar" in res.output
+
+
+def test_report_reads_a_sweep_table_and_pairs_the_pilots_per_point(tmp_path):
+    """A hand-made results table: at K = 10 the potential field takes 9, 18, 27 s where the
+    geometric pilot takes 10, 20, 30 s (paths likewise, in metres), so it is 10 % faster on every
+    seed: the bootstrap interval is [10, 10] and the exact sign-flip p-value is 2/8 (only the
+    all-plus and all-minus signs reach the observed mean). At K = 30 they are equal: 0 %."""
+    rows = []
+    for k, ratio in ((10.0, 0.9), (30.0, 1.0)):
+        for seed, base in zip((1, 2, 3), (10.0, 20.0, 30.0)):
+            for pilot, t in (("geometric", base), ("potential-field", ratio * base)):
+                rows.append({"scenario": "room", "pilot": pilot, "perception": "vision", "seed": seed, "point": int(k),
+                             "pilot.K": k, "outcome": "reached", "reason": "", "time_s": t, "path_length_m": t / 10,
+                             "collisions": 0, "camera_looks": 1, "ticks": int(t * 10), "diverting_targets": 0,
+                             "log": "", "run_id": f"{pilot}-{k}-{seed}", "error": ""})
+    table = tmp_path / "results.parquet"
+    pd.DataFrame(rows).to_parquet(table, index=False)
+    res = CliRunner().invoke(app, ["report", str(table)])
+    assert res.exit_code == 0, res.output
+    lines = res.output.splitlines()
+    over = [ln for ln in lines if ln.startswith("| room (vision perception, pilot.K=")]
+    k10 = next(ln for ln in over if "pilot.K=10.0" in ln and "vs geometric" in ln)
+    k30 = next(ln for ln in over if "pilot.K=30.0" in ln and "vs geometric" in ln)
+    assert k10.count("+10.0 % [+10.0, +10.0], 0.250") == 2  # time and path
+    assert "| 18.0 / 20.0 |" in k10 and "3/3 vs 3/3" in k10
+    assert k30.count("+0.0 % [+0.0, +0.0], 1.000") == 2
+    assert (tmp_path / "table.md").exists() and not list(tmp_path.glob("*.png"))  # no poses: no plots
+    bad = tmp_path / "other.csv"
+    bad.write_text("a,b\n1,2\n")
+    res = CliRunner().invoke(app, ["report", str(bad)])
+    assert res.exit_code == 2 and "not a sweep results table" in res.output
