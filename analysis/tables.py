@@ -96,10 +96,19 @@ def load_sweep(path: str | Path) -> pd.DataFrame:
         raise LogError(f"{path}: the table holds no runs")
     swept = [c for c in df.columns if "." in c]  # parameter names are dotted (robot.max_speed)
     runs = df.rename(columns={c: f"params.{c}" for c in swept})
-    runs["log"] = df["log"] if "log" in df else ""
+    for column, missing in (("log", ""), ("diverting_targets", 0), ("time_limit_s", math.nan)):
+        if column not in runs:  # tables written before navcli kept these
+            runs[column] = missing
     runs["reached"] = runs["outcome"] == "reached"
     runs["path_cm"] = 100.0 * runs["path_length_m"]
-    runs["diverting_targets"] = runs["diverting_targets"] if "diverting_targets" in runs else 0
+    keys = ["scenario", "scenario_sha256", "pilot", "perception", "time_limit_s", "seed"] + \
+        [f"params.{c}" for c in swept]
+    twice = runs[runs.duplicated([k for k in keys if k in runs], keep=False)]
+    if len(twice):
+        r = twice.iloc[0]
+        raise LogError(f"{path}: {len(twice)} rows are the same condition, pilot and seed twice ({r['scenario']}, "
+                       f"{r['pilot']}, seed {r['seed']}: run ids {', '.join(str(i)[:8] for i in twice['run_id'][:2])}): "
+                       "the table holds runs of a scenario or plan since changed; report on a sweep with a new --out")
     return runs
 
 
@@ -170,6 +179,7 @@ def _conditions(runs: pd.DataFrame) -> pd.DataFrame:
             d = dict(zip(keys, key))
             extra = [f"scenario sha256 {str(d['scenario_sha256'])[:8]}" if c == "scenario_sha256"
                      else f"time limit {d[c]:g} s" if c == "time_limit_s" and d[c] != "?"
+                     else f"{c.removeprefix('params.')}={d[c]:g}" if isinstance(d[c], float)
                      else f"{c.removeprefix('params.')}={d[c]}" for c in varying if c != "perception"]
             labels[key] = f"{scenario} ({d['perception']} perception{''.join(', ' + e for e in extra)})"
     runs["condition"] = [labels[tuple(r)] for r in k[keys].itertuples(index=False)]
@@ -202,8 +212,10 @@ def pilot_table(runs: pd.DataFrame) -> pd.DataFrame:
         for col in ("time_s", "path_cm", "collisions", "camera_looks"):
             row[f"{col}_mean"] = float(ok[col].mean()) if len(ok) else math.nan
             row[f"{col}_std"] = float(ok[col].std(ddof=1)) if len(ok) > 1 else math.nan
-        limit = g["time_limit_s"].fillna(g["time_s"]) if "time_limit_s" in g else g["time_s"]
-        row["time_fail_at_limit_mean"] = float(g["time_s"].where(g["reached"], limit).mean()) if n else math.nan
+        # a failed run counts at its time limit; unknown limits (an old sweep table) leave this unknown
+        limit = g["time_limit_s"] if "time_limit_s" in g else pd.Series(math.nan, index=g.index)
+        at_limit = g["time_s"].where(g["reached"], limit)
+        row["time_fail_at_limit_mean"] = float(at_limit.mean()) if n and at_limit.notna().all() else math.nan
         row["collisions_all_mean"] = float(g["collisions"].mean()) if n else math.nan
         for outcome in ("reached", "blocked", "timeout", "error"):  # how the counted runs ended
             row[f"outcome_{outcome}"] = int((g["outcome"] == outcome).sum())
@@ -223,7 +235,7 @@ def improvements(runs: pd.DataFrame, baseline: str) -> pd.DataFrame:
         base = g[(g["pilot"] == baseline) & g["reached"]].set_index("seed")
         for pilot in sorted(set(g["pilot"]) - {baseline}):
             other = g[(g["pilot"] == pilot) & g["reached"]].set_index("seed")
-            seeds = base.index.intersection(other.index)
+            seeds = base.index.intersection(other.index).sort_values()  # sorted: the bootstrap's draws follow it
             for metric in METRICS:
                 b = base.loc[seeds, metric].to_numpy(float)
                 p = other.loc[seeds, metric].to_numpy(float)
@@ -287,9 +299,12 @@ def paired_improvement(base: np.ndarray, pilot: np.ndarray, seed: int = 0) -> tu
     return float(imp), float(lo), float(hi), float(pval)
 
 
+def _number(x: float | None, digits: int = 2) -> str:
+    return "-" if x is None or (isinstance(x, float) and math.isnan(x)) else f"{x:.{digits}f}"
+
+
 def _fmt(mean: float, std: float, digits: int = 2) -> tuple[str, str]:
-    f = lambda x: "-" if x is None or (isinstance(x, float) and math.isnan(x)) else f"{x:.{digits}f}"  # noqa: E731
-    return f(mean), f(std)
+    return _number(mean, digits), _number(std, digits)
 
 
 def overview(table: pd.DataFrame, imps: pd.DataFrame) -> list[str]:
@@ -306,14 +321,16 @@ def overview(table: pd.DataFrame, imps: pd.DataFrame) -> list[str]:
 
     def gain(r) -> str:
         return "-" if math.isnan(r.improvement_pct) else \
-            f"{r.improvement_pct:+.1f} % [{r.ci95_low:+.1f}, {r.ci95_high:+.1f}], {r.p_value:.3f}"
+            f"{r.improvement_pct:+.1f} % [{r.ci95_low:+.1f}, {r.ci95_high:+.1f}], {r.p_value:.4f}"
 
     for (condition, pilot), g in imps.groupby(["condition", "pilot"], sort=True):
         base = g["baseline"].iloc[0]
+        if (condition, pilot) not in rows.index or (condition, base) not in rows.index:
+            continue  # a condition without one of the two pilots: nothing to set side by side
         a, b = rows.loc[(condition, pilot)], rows.loc[(condition, base)]
         by = g.set_index("metric")
-        t = " / ".join(_fmt(x, 0.0, 1)[0] for x in (a.time_s_mean, b.time_s_mean))
-        pth = " / ".join(_fmt(x, 0.0, 0)[0] for x in (a.path_cm_mean, b.path_cm_mean))
+        t = " / ".join(_number(x, 1) for x in (a.time_s_mean, b.time_s_mean))
+        pth = " / ".join(_number(x, 0) for x in (a.path_cm_mean, b.path_cm_mean))
         lines.append(f"| {condition} | {pilot} vs {base} | {a.reached}/{a.runs} vs {b.reached}/{b.runs} | {t} | "
                      f"{pth} | {int(g['pairs'].iloc[0])} | {gain(by.loc['time_s'])} | {gain(by.loc['path_cm'])} |")
     return lines + [""]

@@ -367,7 +367,8 @@ def compare_pilots(
                f"on {workers} workers")
     for r in failed:
         j = r.job.spec
-        typer.echo(f"  failed: {j.scenario.name} {j.pilot} seed {j.seed}: {r.outcome} {r.message} ({r.job.log})")
+        why = r.message if r.message.startswith(r.outcome) else f"{r.outcome}: {r.message}".rstrip(": ")
+        typer.echo(f"  failed: {j.scenario.name} {j.pilot} seed {j.seed}: {why} ({r.job.log})")
     _report(out, names[-1], out, [j.log for j in work])  # the runs planned, not every log under --out
 
 
@@ -385,21 +386,20 @@ def report(
     condition comes first."""
     table = logdir.is_file() and logdir.suffix in (".parquet", ".csv")
     if not (logdir.is_dir() or table):
-        _err(f"error: {logdir}: no such folder" if not logdir.exists() else
+        _err(f"error: {logdir}: no such file or folder" if not logdir.exists() else
              f"error: {logdir}: expected a folder of logs or a sweep's results table (.parquet or .csv)")
         raise typer.Exit(EXIT_BAD_INPUT)
-    _report(logdir, baseline, out or (logdir.parent if table else logdir))
+    _report(logdir, baseline, out or (logdir.parent if table else logdir), table=table)
 
 
-def _report(logdir: Path, baseline: str, out: Path, logs: list[str] | None = None) -> None:
-    """The table of the logs under ``logdir`` (or of ``logs``, or of the sweep results table
-    ``logdir``); an unreadable log is skipped with a line naming it; the same run twice, or no
-    readable log at all, exits 2."""
+def _report(logdir: Path, baseline: str, out: Path, logs: list[str] | None = None, table: bool = False) -> None:
+    """The table of the logs under ``logdir`` (or of ``logs``; with ``table``, of the sweep
+    results table ``logdir``); an unreadable log is skipped with a line naming it; the same run
+    twice, or no readable log at all, exits 2."""
     from analysis import LogError
     from analysis.tables import load_runs, load_sweep, write_report
 
     skipped: list[tuple[str, str]] = []
-    table = logdir.is_file()
     try:
         runs, error = (load_sweep(logdir) if table else load_runs(logdir, paths=logs, skipped=skipped)), None
     except LogError as e:

@@ -336,10 +336,11 @@ def _bounded(text: str, source: str) -> None:
     YAML forbids, too deep, too many values (aliases expanded), an alias to itself, a value too
     long. One pass over the parser's events: linear in the file, whatever its aliases.
 
-    libyaml has limits of its own (from PyYAML 6.0.4 its scanner refuses about 1,000 levels of
-    flow nesting while it looks ahead, before our depth check has seen the events). When libyaml
-    refuses, the pass is made again with PyYAML's pure-Python parser, which streams the events,
-    so our bounds speak first and in our words; its own error, if any, is the one reported."""
+    libyaml has limits of its own: from PyYAML 6.0.4 its scanner refuses about 1,000 levels of
+    flow nesting while it looks ahead, before our depth check has seen the events. So when
+    libyaml refuses a text, what it read up to its error is read again by PyYAML's pure-Python
+    parser, which streams the events: where one of our bounds is broken there, it is reported in
+    our words; else libyaml's error is (the cut text's own end is no error of the file)."""
     if len(text) > MAX_BYTES:
         raise _refuse(source, None, f"is larger than {MAX_BYTES:,} characters; a scenario is a few kilobytes")
     bad = _NOT_YAML_CHARS.search(text)
@@ -348,15 +349,22 @@ def _bounded(text: str, source: str) -> None:
         raise _refuse(source, line, f"holds the character U+{ord(bad.group()):04X}, which a YAML file may not hold")
     try:
         _walk_events(_Loader(text), source)
-    except _LibyamlRefused:
-        _walk_events(yaml.SafeLoader(text), source)
-
-
-class _LibyamlRefused(Exception):
-    """libyaml raised a YAML error: the pure-Python parser is asked again (see _bounded)."""
+    except yaml.YAMLError as e:
+        if _Loader is not yaml.SafeLoader:
+            mark = getattr(e, "problem_mark", None) or getattr(e, "context_mark", None)
+            read = text[:mark.index + 1] if mark is not None and mark.index is not None else text
+            try:
+                _walk_events(yaml.SafeLoader(read), source)
+            except yaml.YAMLError:
+                pass
+        if isinstance(e, yaml.MarkedYAMLError):
+            raise _yaml_problem(e, source) from None
+        raise _refuse(source, None, f"not valid YAML: {e}") from None
 
 
 def _walk_events(loader: Any, source: str) -> None:
+    """The bound pass of :func:`_bounded` with one parser; a bound broken raises
+    :class:`ScenarioError`, the parser's own refusal its ``YAMLError``."""
     try:
         depth = nodes = 0
         sizes: dict[str, int] = {}  # anchor -> values it stands for
@@ -391,12 +399,6 @@ def _walk_events(loader: Any, source: str) -> None:
                 nodes += sizes[ev.anchor]
             if nodes > MAX_NODES:
                 raise _refuse(source, line, f"holds more than {MAX_NODES:,} values (aliases expanded)")
-    except yaml.YAMLError as e:
-        if not isinstance(loader, yaml.SafeLoader):
-            raise _LibyamlRefused() from None
-        if isinstance(e, yaml.MarkedYAMLError):
-            raise _yaml_problem(e, source) from None
-        raise _refuse(source, None, f"not valid YAML: {e}") from None
     finally:
         loader.dispose()
 

@@ -184,3 +184,24 @@ def test_random_bytes_load_or_are_refused(data):
         except ScenarioError as e:
             assert e.problems and all(p.file == str(f) for p in e.problems)
         assert time.perf_counter() - t0 < 1.0
+
+
+class _RefusingLoader(yaml.SafeLoader):
+    """A stand-in for libyaml when it refuses a file on its own (as PyYAML 6.0.4's scanner does at
+    about 1,000 levels of flow nesting, before any event): it refuses at once, at the file's end."""
+
+    def check_event(self, *choices):
+        end = len(self.buffer) - 2  # the reader appends a NUL
+        raise yaml.scanner.ScannerError("while scanning", None, "refused by this parser's own limit",
+                                        yaml.Mark("<text>", end, 0, end, None, None))
+
+
+@pytest.mark.parametrize("text,words", [
+    ("a: " + "[" * 40 + "]" * 40 + "\n", "nested more than"),  # one of our bounds: ours is reported
+    ("a: [1, 2\n", "refused by this parser's own limit"),  # none of ours: the parser's own refusal stands
+], ids=["our bound", "its own refusal"])
+def test_where_the_parser_refuses_on_its_own_our_bounds_still_speak_first(monkeypatch, text, words):
+    import navcli.scenario as scenario
+
+    monkeypatch.setattr(scenario, "_Loader", _RefusingLoader)
+    assert words in str(refused(text))

@@ -23,6 +23,15 @@ from test_pilots import beliefs
 SPEEDS = (0.05, 0.1, 0.3, 0.6)
 
 
+def test_the_rescuers_windows_are_never_shorter_than_a_few_stops():
+    """At 2 m/s, 12 m take 6 s, less than a scan and a reflex; the windows stay at MIN_WINDOW_S."""
+    from navcli.navigation.rescuer import MIN_WINDOW_S
+
+    r = Rescuer(NAVIGATION, np.random.default_rng(0), RobotParams(max_speed=2.0))
+    assert NAVIGATION.blocked_window_m / 2.0 < MIN_WINDOW_S
+    assert r.window_s == MIN_WINDOW_S and r.timeout_s == max(MIN_WINDOW_S, NAVIGATION.diverting_timeout_m / 2.0)
+
+
 @pytest.mark.parametrize("speed", SPEEDS)
 def test_the_rescuer_gives_a_slow_robot_the_time_its_progress_takes(speed):
     """A robot that gets closer to its target at a tenth of its top speed gains 0.1 x 12 m = 1.2 m
@@ -83,10 +92,12 @@ def _crisp(x, y):
     return FuzzyPoint(x, y, CRISP)
 
 
-@pytest.mark.parametrize("speed", SPEEDS)
+@pytest.mark.parametrize("speed", SPEEDS + (2.0,))
 def test_a_robot_starting_from_a_standstill_is_no_stall_at_any_speed(speed):
-    """From a standstill the robot lags its command while it accelerates (0.5 m/s^2): at 0.6 m/s
-    it takes 1.2 s to reach full speed. The stall watch must not take that for a stall."""
+    """From a standstill the robot lags its command while it accelerates (0.5 m/s^2): at 2 m/s,
+    the top speed allowed, it takes 4 s to reach full speed, twice the stall window (0.6 m at 2
+    m/s: 0.3 s), and drives 0.0225 m of the 0.6 m commanded in it (a fifth would be 0.12 m). The
+    stall watch must not take that for a stall."""
     robot = RobotParams(max_speed=speed)
     p = Pilot(PILOT, robot)
     x, v = 0.0, 0.0

@@ -67,7 +67,7 @@ def test_section_3_5_turns_over_160_degrees_are_driven_backwards_within_a_budget
     assert v == (0.3 if params.drive_while_turning else 0.0)  # under 160 degrees: an ordinary turn, forwards
     p.backward = PILOT.max_backward  # the backwards budget is spent
     v, w = p.execute(nav(Move(math.radians(170), 0.3)))
-    assert v >= 0.0 and w > 0
+    assert v == (0.3 if params.drive_while_turning else 0.0) and w > 0  # an ordinary turn, forwards
 
 
 @pytest.mark.parametrize("params", [PILOT, IN_PLACE], ids=["drive-while-turning", "in-place"])
@@ -242,7 +242,7 @@ def test_driving_while_turning_hard_along_a_wall_keeps_out_of_it_and_bumps_are_e
             assert v == speed
             bumps += len(world.step(v, w))
             assert world.pose.y >= sc.params.robot.radius - 0.01  # never into the wall (y = 0)
-        assert bumps == world.bumps and bumps >= 1
+        assert bumps >= 1  # it did meet the wall
 
 
 # -- equation 8, in the physics world ----------------------------------------------------------

@@ -207,11 +207,11 @@ def test_report_reads_a_sweep_table_and_pairs_the_pilots_per_point(tmp_path):
     assert res.exit_code == 0, res.output
     lines = res.output.splitlines()
     over = [ln for ln in lines if ln.startswith("| room (vision perception, pilot.K=")]
-    k10 = next(ln for ln in over if "pilot.K=10.0" in ln and "vs geometric" in ln)
-    k30 = next(ln for ln in over if "pilot.K=30.0" in ln and "vs geometric" in ln)
-    assert k10.count("+10.0 % [+10.0, +10.0], 0.250") == 2  # time and path
+    k10 = next(ln for ln in over if "pilot.K=10)" in ln and "vs geometric" in ln)
+    k30 = next(ln for ln in over if "pilot.K=30)" in ln and "vs geometric" in ln)
+    assert k10.count("+10.0 % [+10.0, +10.0], 0.2500") == 2  # time and path
     assert "| 18.0 / 20.0 |" in k10 and "3/3 vs 3/3" in k10
-    assert k30.count("+0.0 % [+0.0, +0.0], 1.000") == 2
+    assert k30.count("+0.0 % [+0.0, +0.0], 1.0000") == 2
     assert (tmp_path / "table.md").exists() and not list(tmp_path.glob("*.png"))  # no poses: no plots
     bad = tmp_path / "other.csv"
     bad.write_text("a,b\n1,2\n")

@@ -133,7 +133,7 @@ class _PlanReader(_Reader):
         if seeds == 0:
             self.fail(("seeds",), "must be at least 1")
         pilots = g(self.choices, top.get("pilots"), ("pilots",), PILOT_NAMES)
-        perceptions = g(self.perceptions, top.get("perception"), ("perception",))
+        perceptions = g(self.choices, top.get("perception"), ("perception",), PERCEPTIONS, True)
         time_limit = g(lambda: self.opt(top, "time_limit", (), self.number, None, positive=True))
         fixed = g(self.overrides, top.get("params", {}), ("params",), default={})
         if "grid" in top:
@@ -166,16 +166,19 @@ class _PlanReader(_Reader):
             raise self.fail(path, f"expected one of: {', '.join(choices)}, found {v!r}")
         return v
 
-    def choices(self, v: Any, path: tuple, choices: tuple[str, ...]) -> list[str] | None:
+    def choices(self, v: Any, path: tuple, choices: tuple[str, ...], one: bool = False) -> list[str] | None:
+        """A non-empty list of distinct names among ``choices`` (``one``: or a single name)."""
         if v is None:
             return None
+        if one and isinstance(v, str):
+            return [self.choice(v, path, choices)]
         if not isinstance(v, list) or not v:
-            raise self.fail(path, "expected a non-empty list")
-        return [self.choice(x, path + (i,), choices) for i, x in enumerate(v)]
-
-    def perceptions(self, v: Any, path: tuple) -> list[str] | None:
-        """``perception: vision`` or a list of them (each a base of its own)."""
-        return [self.choice(v, path, PERCEPTIONS)] if isinstance(v, str) else self.choices(v, path, PERCEPTIONS)
+            raise self.fail(path, f"expected {'one of ' + ', '.join(choices) + ' or ' if one else ''}a non-empty list")
+        names = [self.choice(x, path + (i,), choices) for i, x in enumerate(v)]
+        twice = sorted({x for x in names if names.count(x) > 1})
+        if twice:
+            raise self.fail(path, f"lists {', '.join(twice)} twice (each would run the same runs again)")
+        return names
 
     def param(self, name: Any, value: Any, path: tuple) -> float:
         """``value`` checked as the parameter ``name`` (its type and range)."""
@@ -260,7 +263,8 @@ def run_row(run: SweepRun) -> dict[str, Any]:
     from ..runner import run_mission
 
     spec = run.spec
-    row: dict[str, Any] = {"scenario": spec.scenario.name, "pilot": spec.pilot, "perception": spec.perception,
+    row: dict[str, Any] = {"scenario": spec.scenario.name, "scenario_sha256": spec.scenario.sha256,
+                           "pilot": spec.pilot, "perception": spec.perception, "time_limit_s": spec.time_limit,
                            "seed": spec.seed, "point": run.point, **run.overrides}
     try:
         res = run_mission(spec, out=Path(run.log) if run.log else None, record=run.log is not None)

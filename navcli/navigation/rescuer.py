@@ -19,9 +19,9 @@ What the thesis says, and how we do it:
   asking again would only send the robot back and forth across it).
 - **Windows in distance** (ours): the blocked window and the diverting timeout are given as
   distances (``blocked_window_m``, ``diverting_timeout_m``) and last as long as the robot takes
-  to drive them at full speed (:meth:`~navcli.params.RobotParams.time_to_drive`): progress is
-  about distance, so a robot at 5 cm/s is given six times the seconds of one at 30 cm/s, and is
-  never declared blocked for being slow.
+  to drive them at full speed (:meth:`~navcli.params.RobotParams.time_to_drive`), and at least
+  ``MIN_WINDOW_S``: progress is about distance, so a robot at 5 cm/s is given six times the
+  seconds of one at 30 cm/s, and is never declared blocked for being slow.
 - **Giving up** (ours): after ``max_diverting_failures`` failed or impossible diverting targets the
   mission ends with the outcome ``blocked`` and the reason, instead of grinding on until the time
   limit.
@@ -47,6 +47,10 @@ from .regions import Crossing, Edge
 from .situation import Situation
 
 STOP = Move(0.0, 0.0)  # a value: one serves every stop
+MIN_WINDOW_S = 20.0
+"""s: the shortest blocked window and diverting timeout, whatever the speed (our design: a few of
+the stops that take fixed time, a scan of five looks about 4 s, a reflex 4-6 s, so a fast robot
+is not declared blocked by its own stops; at 0.3 m/s the windows are 40 s and 90 s)."""
 LOST_SCANS = 3  # scans (each followed by a random turn) before a lost target counts as a failure
 
 
@@ -67,8 +71,8 @@ class Rescuer:
     def __init__(self, params: NavigationParams = NAVIGATION, rng: np.random.Generator | None = None,
                  robot: RobotParams = ROBOT):
         self.params = params
-        self.window_s = robot.time_to_drive(params.blocked_window_m)  # the blocked window, s
-        self.timeout_s = robot.time_to_drive(params.diverting_timeout_m)  # the diverting timeout, s
+        self.window_s = max(robot.time_to_drive(params.blocked_window_m), MIN_WINDOW_S)  # the blocked window, s
+        self.timeout_s = max(robot.time_to_drive(params.diverting_timeout_m), MIN_WINDOW_S)  # the diverting timeout, s
         self.rng = rng if rng is not None else np.random.default_rng(0)
         self.state = "sweep" if params.initial_sweep else "normal"
         self._scan = 0  # index into scan_pans_deg

@@ -65,6 +65,7 @@ class PilotOutput:
 
 
 LOOK_AHEAD = Look(0.0)  # the look-ahead of eq. 1 (a value: one serves every tick)
+MAX_STALL_WINDOW_S = 30.0  # s: the stall watch's longest window (0.6 m takes 60 s at 1 cm/s)
 
 
 class Pilot:
@@ -81,7 +82,7 @@ class Pilot:
         self._backup_limit_s = max(params.reflex_phase_limit_s, 2.0 * params.backup_distance / self.backup_speed)
         self.backward = 0.0  # m commanded backwards by section 3.5's backward turns, in total
         self.since_look = 0.0  # d_l of eq. 1, metres
-        self.travelled = 0.0  # metres driven (by odometry), forwards and backwards
+        self.travelled = 0.0  # metres driven (by odometry), forwards and backwards, outside reflexes
         self._reflex: list[tuple[str, float]] = []  # pending reflex phases (name, amount)
         self._reflex_progress = 0.0
         self._reflex_dir = -1.0  # the reflex backs up (-1) or, from a contact behind, drives forward (+1)
@@ -91,7 +92,8 @@ class Pilot:
         self._last_v = 0.0  # the forward speed last commanded, m/s
         self._drive_v = 0.0  # the speed the drive can have reached, at its acceleration limit, m/s
         self._drivable_m = 0.0  # and the metres it could cover with the last command
-        self.stall_window_s = robot.time_to_drive(params.stall_window_m)  # s
+        # s; at most MAX_STALL_WINDOW_S, so a crawling robot's window stays a few hundred ticks
+        self.stall_window_s = min(robot.time_to_drive(params.stall_window_m), MAX_STALL_WINDOW_S)
         window = max(1, round(self.stall_window_s / CONTROL_DT))
         self._commanded: deque[float] = deque(maxlen=window)  # m commanded per tick, over the stall window
         self._moved: deque[float] = deque(maxlen=window)  # m measured per tick, over the stall window
@@ -144,12 +146,12 @@ class Pilot:
             return
         ds, _ = motion_between(last, odom)
         self.since_look += abs(ds)
-        self.travelled += abs(ds)
         if self._reflex:
             if self._reflex[0][0] == "backup":
                 self._reflex_progress += ds * self._reflex_dir
             self._forget_motion()  # a reflex that cannot move is given up by its phase limit instead
         else:
+            self.travelled += abs(ds)
             self._commanded.append(self._drivable_m)
             self._moved.append(abs(ds))
 
@@ -250,8 +252,10 @@ class Pilot:
 
     def _drivable(self, v: float) -> float:
         """Metres the drive can cover this tick when commanded ``v``: it reaches a new speed at most
-        at ``max_accel`` (our design: the stall watch compares motion with this, not with the bare
-        command, so a robot starting from a standstill, which lags its command, is not stalled)."""
+        at ``max_accel``, as :meth:`navcli.world.World.step` limits it (over the whole tick here,
+        step by step there: the same speed at the tick's end). Our design: the stall watch compares
+        motion with this, not with the bare command, so a robot starting from a standstill, which
+        lags its command, is not stalled."""
         a = self.robot.max_accel * CONTROL_DT
         before = self._drive_v
         self._drive_v = before + max(-a, min(a, v - before))

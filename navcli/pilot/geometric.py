@@ -73,16 +73,19 @@ def blocked_interval(o: KnownObstacle, R: float) -> tuple[float, float]:
 
 
 class GeometricPilot(Pilot):
-    """``--pilot geometric``: the baseline of Table 1 (rules in the module docstring)."""
+    """``--pilot geometric``: the baseline of Table 1 (rules in the module docstring; the side is
+    kept until the way has been clear for ``geometric_side_memory`` m of driving)."""
 
     def __init__(self, *args, **kw):
         super().__init__(*args, **kw)
         self._side: str | None = None  # the side chosen to pass what is being avoided, until the way is clear
-        self._clear_since: float | None = None  # self.travelled when the way was found clear, after avoiding
+        self._clear_run = 0.0  # m driven with the way clear since the side was chosen (or last needed)
+        self._at = 0.0  # self.travelled at the last call
 
     def avoid(self, beliefs: Beliefs, obstacles: tuple[KnownObstacle, ...], request: Move | None) -> Avoidance:
         p = self.params
         R = p.R_min
+        driven, self._at = self.travelled - self._at, self.travelled  # since the last call (not in a reflex)
         best, clearance = None, math.inf
         for o in obstacles:
             q = closest_on_segment(ORIGIN, o.a, o.b)  # a point obstacle's own centre
@@ -92,18 +95,19 @@ class GeometricPilot(Pilot):
         info: dict = {"nearest": best.key if best else None, "clearance": clearance if best else None,
                       "in_distress": clearance <= 0.0}
         if best is None:
-            self._clear(p.geometric_side_memory)
+            self._clear(driven, p.geometric_side_memory)
             return Avoidance(None, 0.0, info)
         cap = p.bid_cap
-        if clearance <= 0.0:  # rule 2: inside the prohibited area
+        if clearance <= 0.0:  # rule 2: inside the prohibited area (escaping it is not a clear way)
+            self._clear_run = 0.0
             away = math.atan2(-nearest[1], -nearest[0])
             return Avoidance(Move(away, self.max_speed), cap, info | {"rule": "escape", "turn_deg": math.degrees(away)})
         h = request.heading if request is not None else 0.0
         if request is None or clearance > p.geometric_lookahead or \
                 not ray_enters(h, best, R, clearance + R + best.radius + p.geometric_lookahead):
-            self._clear(p.geometric_side_memory)
+            self._clear(driven, p.geometric_side_memory)
             return Avoidance(None, 0.0, info | {"rule": "clear"})
-        self._clear_since = None
+        self._clear_run = 0.0
         right, left = blocked_interval(best, R + p.geometric_clearance)  # rule 3: steer along the nearer tangent...
         if self._side is None:  # ...chosen once, so the robot does not dither between sides
             self._side = "right" if abs(wrap_angle(h - right)) <= abs(wrap_angle(h - left)) else "left"
@@ -111,11 +115,12 @@ class GeometricPilot(Pilot):
         return Avoidance(Move(turn, self.max_speed), cap,
                          info | {"rule": "tangent", "side": self._side, "turn_deg": math.degrees(turn)})
 
-    def _clear(self, memory: float) -> None:
-        """The way is clear this tick: forget the side once it has stayed clear for ``memory`` m."""
+    def _clear(self, driven: float, memory: float) -> None:
+        """The way is clear this tick, ``driven`` m after the last: forget the side once it has
+        stayed clear for ``memory`` m of driving (a reflex's backing up, which calls no avoidance,
+        is not counted)."""
         if self._side is None:
             return
-        if self._clear_since is None:
-            self._clear_since = self.travelled
-        if self.travelled - self._clear_since >= memory:
-            self._side = self._clear_since = None
+        self._clear_run += driven
+        if self._clear_run >= memory:
+            self._side, self._clear_run = None, 0.0
