@@ -77,7 +77,9 @@ class Beliefs:
     bumper was pressed during the previous tick (a contact that lasts is no new bump).
     ``landmarks`` are the remembered landmarks with their fuzzy positions; ``target_at`` is the
     target's fuzzy position as remembered (a point or landmark target), ``target_seen`` when it
-    was last seen (s; 0 when only told).
+    was last seen (s; 0 when only told). ``pilot_blocked`` names the long obstacle the Pilot
+    reported during the previous tick as ahead and not easily avoided (the thesis' blocked
+    situation, which the Rescuer answers with a diverting target), None when it reported none.
     """
 
     time: float
@@ -92,3 +94,4 @@ class Beliefs:
     landmarks: tuple[KnownLandmark, ...] = ()
     target_at: FuzzyPoint | None = None
     target_seen: float = 0.0
+    pilot_blocked: str | None = None  # the long obstacle the Pilot reported last tick as one it cannot easily avoid

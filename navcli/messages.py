@@ -86,6 +86,9 @@ class Pilot(_Msg):
     clearance: Annotated[float, Meta(description="m from the robot's centre to that area's edge (negative: inside)")] | UnsetType = UNSET
     rule: Annotated[Literal["escape", "clear", "tangent"], Meta(description="the geometric pilot's rule this tick")] | UnsetType = UNSET
     side: Annotated[Literal["right", "left"], Meta(description="the side the geometric pilot passes on")] | UnsetType = UNSET
+    blocked_by: Annotated[str, Meta(description=(
+        "memory key of the long obstacle ahead that the field cannot lead round: the Pilot reports it to "
+        "the Navigation system once it has lasted the time to drive pilot.blocked_report_m"))] | UnsetType = UNSET
 
 
 def pilot_message(info: dict[str, Any], v: float, omega_deg: float) -> dict[str, Any]:

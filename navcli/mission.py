@@ -99,6 +99,7 @@ class Mission:
         self.outcome: str | None = None
         self.reason = ""
         self.camera_looks = 0
+        self._pilot_blocked: str | None = None  # what the Pilot reported last tick as not easily avoided
         self._pending: list[Event] = [Event(0.0, "mission", "info", self._start_message())]
 
     def _start_message(self) -> str:
@@ -115,7 +116,8 @@ class Mission:
     # -- the phases of one tick
     def perceive(self) -> Beliefs:
         w = self.world
-        return self.perception.observe(w.time, w.pose, w.odometry.pose)
+        beliefs = self.perception.observe(w.time, w.pose, w.odometry.pose)
+        return beliefs if self._pilot_blocked is None else replace(beliefs, pilot_blocked=self._pilot_blocked)
 
     def bid(self, beliefs: Beliefs) -> tuple[NavigationOutput, PilotOutput]:
         """The Navigation system bids first; the Pilot hears its motion request (to carry it out
@@ -125,7 +127,9 @@ class Mission:
         request = next((b.action for b in nav.bids if b.resource == "motion"), None)
         same = nav.target == beliefs.target and nav.target_line == beliefs.target_line
         for_pilot = beliefs if same else replace(beliefs, target=nav.target, target_line=nav.target_line)
-        return nav, self.pilot.decide(for_pilot, request)
+        out = self.pilot.decide(for_pilot, request)
+        self._pilot_blocked = out.blocked_by
+        return nav, out
 
     def act(self, winners: dict[Resource, Bid | None], before: Pose) -> tuple[tuple[float, float], list[Detection] | None]:
         """The Pilot turns the winning motion bid into a wheel command; Vision carries out the

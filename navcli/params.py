@@ -95,6 +95,11 @@ class PilotParams:
     drive_while_turning: int = _p(1, at_most=1)
     turn_in_place: float = _p(math.radians(45.0))  # with drive_while_turning 0: above this heading error the robot stops to turn
     distress_gain: float = _p(1.5)  # section 5: each offending obstacle's force x 1.5 when IN_DISTRESS
+    # m: the field leading away from the target, a long obstacle its strongest push, while the robot
+    # could drive this far and got along the obstacle less than a third of it: the Pilot reports the
+    # obstacle as one it cannot easily avoid (the thesis' blocked situation); 0: no report (the
+    # default: measured, it helps behind long fences and costs paper-8x8 runs, see the README)
+    blocked_report_m: float = _p(0.0)
     wall_window: float = _p(1.0, above=0.0)  # m: a room wall acts as the stretch this long nearest the robot
     corridor_margin: float = _p(0.40)  # m: section 3.3, the safe corridor keeps this far from the line's ends
     # Section 3.5: reflexes and backward motion
@@ -180,6 +185,7 @@ class VisionParams:
     odometry_floor: float = _p(0.005)  # relative: odometry error the memory allows for even without noise
     bump_radius: float = _p(0.10, above=0.0)  # m: support radius of an obstacle found by the bumpers
     bump_merge: float = _p(1.0)  # m: a bump this near another bump or a landmark joins it in a long obstacle
+    line_join_gap: float = _p(0.5)  # m: stretches of a fence or wall seen apart are one only if they overlap or are this near
     forget_above: float = _p(0.35, above=0.0, at_most=1.0)  # I(l) above which an object is forgotten
     forget_every: int = _p(5, at_least=1)  # ticks between two sweeps of the memory for what has become too imprecise
     # ticks between two /memory/scene updates, and the last tick (3 s; our design: drawn once a second it

@@ -166,3 +166,84 @@ def test_the_quality_of_a_landmark_set_is_that_of_its_six_best_known_now(monkeyp
     assert len({round(f, 6) for _, f, _ in seen}) > 10  # and the quality moves during the run
     for got, want, _ in seen:
         assert got == pytest.approx(want, abs=1e-9)
+
+
+# -- regions that know the obstacles (issue 22) ------------------------------------------------------
+from navcli.navigation.regions import (CROSS_MARGIN, NoCrossing, blocked_edges, crossing_along, obstacle_of,  # noqa: E402
+                                       way_out)
+
+# four landmarks around a fence across the middle: the robot below it, the target above it
+AROUND = {"A": (-3.0, -2.0), "B": (3.0, -2.0), "C": (3.0, 3.0), "D": (-3.0, 3.0)}
+FENCE = ("fence", (-2.0, 0.5), (2.0, 0.5))
+
+
+def test_a_known_fence_splits_the_regions_and_the_way_goes_round_one_of_its_ends():
+    r = triangulate(AROUND, obstacles=[FENCE])
+    robot, target = (0.0, -1.0), (0.0, 2.0)
+    assert r.region_of(robot) != r.region_of(target)  # without the fence they share the square's regions
+    assert triangulate(AROUND).region_of(robot) != -1
+    blocked = {e: 1.0 for e in blocked_edges(r, [FENCE])}
+    along = [e for e in blocked if all(obstacle_of(k) == "fence" for k in e)]
+    assert len(along) >= 4  # the fence's chain (5 points, 1 m apart) runs along triangulation edges
+    c = first_crossing(r, robot, target, blocked)
+    assert c is not None
+    ends = {"#fence:0", f"#fence:{max(int(k.split(':')[1]) for k in r.ids if k.startswith('#fence'))}"}
+    assert ends & {c.left, c.right} or not crossing_along(c.left_at, c.right_at, *FENCE[1:], CROSS_MARGIN)
+    # and the way it gives never crosses the fence
+    assert not crossing_along(c.left_at, c.right_at, FENCE[1], FENCE[2], CROSS_MARGIN)
+
+
+def test_an_obstacle_blocks_the_edges_it_crosses_not_those_it_touches_at_an_end():
+    """A bump line drawn from landmark A to a bump point touches every edge of A at A: none of
+    them is blocked for it; the edge it crosses in the middle is."""
+    marks = {"A": (0.0, 0.0), "B": (4.0, 0.0), "C": (2.0, 1.5), "D": (2.0, -1.5)}  # C-D the shorter diagonal
+    bump = ("bump-line", (0.0, 0.0), (2.5, 0.3))  # from A across the edge C-D
+    r = triangulate(marks)
+    blocked = blocked_edges(r, [bump])
+    assert frozenset({"C", "D"}) in blocked and blocked[frozenset({"C", "D"})] == "bump-line"
+    assert not [e for e in blocked if "A" in e]
+
+
+def test_edges_to_virtual_landmarks_are_blocked_by_the_obstacles_they_cross():
+    r = triangulate(SQUARE)
+    outward = ("wall-of-fence", (-5.0, -1.0), (9.0, -1.0))  # under the square, across A-B's virtual edges
+    blocked = blocked_edges(r, [outward])
+    assert any(any(k.startswith("~") for k in e) for e in blocked)
+
+
+def test_an_edge_too_narrow_for_the_robot_is_blocked():
+    marks = {"A": (0.0, 0.0), "B": (0.6, 0.0), "C": (0.3, 3.0), "D": (0.3, -3.0)}
+    r = triangulate(marks)
+    assert blocked_edges(r, [], passable=0.8).get(frozenset({"A", "B"})) == "narrow"
+    assert frozenset({"A", "B"}) not in blocked_edges(r, [], passable=0.5)
+
+
+def test_the_map_tells_no_way_out_from_too_little_known():
+    from navcli.beliefs import Beliefs, KnownLandmark, KnownObstacle
+    from navcli.geometry import Pose
+    from navcli.navigation.map_manager import MapManager
+
+    mm = MapManager()
+    point = lambda x, y: FuzzyPoint(x, y, (0.02, 0.014, 0.006, 0.0))  # noqa: E731
+    few = Beliefs(0.0, Pose(0, 0, 0), (5.0, 0.0), None, (), landmarks=(KnownLandmark("A", point(1.0, 1.0), 0.0),))
+    why = mm.diverting_target(few, (5.0, 0.0))
+    assert isinstance(why, NoCrossing) and not why.trapped and "too few" in why.why
+    # inside a closed fenced box, every edge out of the robot's region crosses a known side
+    inside = {"A": (-1.0, -1.0), "B": (1.0, -1.0), "C": (1.0, 1.0), "D": (-1.0, 1.0), "E": (4.0, 0.0), "F": (4.0, 3.0)}
+    box = [((-2.0, -2.0), (2.0, -2.0)), ((2.0, -2.0), (2.0, 2.0)), ((2.0, 2.0), (-2.0, 2.0)), ((-2.0, 2.0), (-2.0, -2.0))]
+    b = Beliefs(0.0, Pose(0, 0, 0), (5.0, 1.5), None,
+                tuple(KnownObstacle(f"side-{i}", p, q, 0.025) for i, (p, q) in enumerate(box)),
+                landmarks=tuple(KnownLandmark(k, point(*p), 0.0) for k, p in inside.items()))
+    trapped = MapManager().diverting_target(b, (5.0, 1.5))
+    assert isinstance(trapped, NoCrossing) and trapped.trapped
+    # with one side open, there is a way
+    open_ = Beliefs(0.0, Pose(0, 0, 0), (5.0, 1.5), None, b.obstacles[:1] + b.obstacles[2:], landmarks=b.landmarks)
+    assert not isinstance(MapManager().diverting_target(open_, (5.0, 1.5)), NoCrossing)
+
+
+def test_way_out_is_a_way_through_edges_not_blocked_out_of_the_robots_regions():
+    r = triangulate(SQUARE)
+    start = r.region_of((2.0, 1.0))
+    edges = [e for i, j, e in r.edges() if start in (i, j)]
+    assert way_out(r, (2.0, 1.0), {}) and not way_out(r, (2.0, 1.0), {e: 1.0 for e in edges})
+    assert way_out(r, (2.0, 1.0), {e: 1.0 for e in edges[1:]})  # one edge open: out through it

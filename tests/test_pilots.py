@@ -373,3 +373,24 @@ def test_turning_in_place_is_no_stall(params, speed):
         assert v == 0.0
         out = p.decide(beliefs())
     assert out.info["mode"] != "reflex"
+
+
+# -- the Pilot's report of a long obstacle it cannot easily avoid (an option, issue 22) -------------
+def test_the_pilot_reports_a_long_obstacle_it_is_held_in_front_of_but_not_one_it_goes_round():
+    """With ``blocked_report_m`` set, the potential-field pilot reports a fence seen square on
+    between it and its target (the field leads back, the robot goes nowhere along the fence) once
+    it has lasted the time to drive that far; a robot moving along the fence is not reported, and
+    with the report off (the default) nothing is."""
+    fence = KnownObstacle("fence", (0.5, -3.0), (0.5, 3.0), 0.025)  # 0.475 m: K / d^2 = 80 > A_t = 50
+    on = replace(PILOT, blocked_report_m=0.3)
+    ticks = round(ROBOT.time_to_drive(0.3) / CONTROL_DT)  # 10 at 0.3 m/s
+
+    def run(params, ys):
+        p = PotentialFieldPilot(params, ROBOT)
+        return [p.decide(beliefs([fence], target=(5.0, 0.0), odom=Pose(0.0, y, 0.0))).blocked_by for y in ys]
+
+    held = run(on, [0.0] * (ticks + 2))
+    assert held[:ticks - 1] == [None] * (ticks - 1) and held[ticks - 1] == "fence"  # after the window, once
+    assert held[ticks] is None  # a new report takes another window
+    assert set(run(on, [0.05 * i for i in range(ticks + 2)])) == {None}  # 0.5 m along the fence: going round
+    assert set(run(PILOT, [0.0] * (ticks + 2))) == {None}

@@ -289,3 +289,68 @@ def test_bumps_near_each_other_or_a_landmark_become_a_long_obstacle():
     to_mark = mem.add_bump(Spot(2.9, 1.3, 0.1, 0.0), 0.05)  # 0.71 m from landmark A
     assert to_mark.kind == "obstacle" and (to_mark.spots[0].x, to_mark.spots[0].y) == (3.0, 2.0)
     assert "A" in mem.items  # the landmark stays a landmark
+
+
+# -- lines only where things are (issue 22) --------------------------------------------------------
+def _stretch(a, b, r=0.05):
+    return [Spot(a[0], a[1], r, 0.0), Spot(b[0], b[1], r, 0.0)]
+
+
+def test_stretches_of_a_fence_join_when_they_overlap_or_nearly_touch_and_never_across_open_space():
+    gap = VISION.line_join_gap
+    mem = VisualMemory(0.0)
+    mem._observe_obstacle(_stretch((2.0, -1.0), (2.0, 0.0)), 0.025, 0.0)
+    mem._observe_obstacle(_stretch((2.0, 0.0 + 0.9 * gap), (2.0, 1.0)), 0.025, 0.1)  # nearly touching: one line
+    (line,) = [m for m in mem.items.values() if m.kind == "obstacle"]
+    assert sorted(round(s.y, 6) for s in line.spots) == [-1.0, 1.0]
+    mem._observe_obstacle(_stretch((2.0, 1.0 + 1.5 * gap), (2.0, 2.0)), 0.025, 0.2)  # past the gap: another
+    assert len([m for m in mem.items.values() if m.kind == "obstacle"]) == 2
+    # even when the remembered ends are very imprecise (metres of support), the gap is measured
+    # between their crisp positions: no line across open space
+    wide = VisualMemory(0.0)
+    wide._observe_obstacle(_stretch((2.0, -1.0), (2.0, 0.0), r=3.0), 0.025, 0.0)
+    wide._observe_obstacle(_stretch((2.0, 4.0), (2.0, 5.0)), 0.025, 0.1)
+    assert len(wide.items) == 2
+
+
+def test_a_stretch_across_a_line_is_not_part_of_it():
+    """Round a corner, the next wall's stretch lies within a far sighting's supports of the first
+    wall; their crisp directions differ by 90 degrees: two walls, not one skewed one."""
+    mem = VisualMemory(0.0)
+    mem._observe_obstacle(_stretch((0.0, 3.0), (4.0, 3.0), r=1.2), 0.05, 0.0, "wall")
+    mem._observe_obstacle(_stretch((4.0, 3.0), (4.0, 1.5), r=0.3), 0.05, 0.1, "wall")
+    assert len([m for m in mem.items.values() if m.kind == "wall"]) == 2
+
+
+def test_a_lone_sample_of_a_wall_is_no_obstacle_and_extends_no_fence():
+    mem = VisualMemory(0.0)
+    mem._observe_obstacle(_stretch((2.0, -1.0), (2.0, 0.0)), 0.025, 0.0)
+    mem._observe_obstacle([Spot(2.0, 3.0, 0.05, 0.0)], 0.05, 0.1, "wall")  # on the fence's line, 3 m on
+    assert [m.kind for m in mem.items.values()] == ["obstacle"]
+    assert max(s.y for s in next(iter(mem.items.values())).spots) == 0.0
+
+
+@pytest.mark.parametrize("name", ["blocked-wall.yaml", "hidden-fence.yaml"])
+def test_the_memorys_lines_lie_along_the_true_obstacles_over_a_run(name):
+    """Every remembered linear obstacle or wall, put in the world by the true pose, lies along one
+    true linear obstacle or wall: each end within its support (plus the obstacle's half-width)."""
+    from navcli.experiments.compare import rerun_seed
+
+    sc = load_scenario(SCENARIOS / name)
+    m = Mission(RunSpec.build(sc, seed=rerun_seed(1, 0), time_limit=60.0), snapshots=False)
+    W, H = sc.arena.width, sc.arena.height
+    segs = [(o.a, o.b, o.radius) for o in sc.objects if o.kind == "segment"]
+    walls = [((0, 0), (W, 0), 0.0), ((W, 0), (W, H), 0.0), ((W, H), (0, H), 0.0), ((0, H), (0, 0), 0.0)]
+    checked = 0
+    while m.outcome is None:
+        m.step()
+        pose = m.world.pose
+        for mem in m.perception.memory.items.values():
+            if len(mem.spots) != 2 or mem.kind not in ("obstacle", "wall") or not mem.seen:
+                continue
+            ends = [(pose.to_world((s.x, s.y)), s.r0) for s in mem.spots]
+            off = min(max(distance_to_segment(p, a, b) - r - rad for p, r in ends)
+                      for a, b, rad in (walls if mem.kind == "wall" else segs))
+            assert off <= 0.05, (m.time, mem.key, ends)
+            checked += 1
+    assert checked > 100

@@ -73,7 +73,7 @@ class NavigationSystem:
         self.params = params
         self.target_key = target_key
         self.line_target = line_target
-        self.map = MapManager(params, target_key)
+        self.map = MapManager(params, target_key, passable=2 * pilot.R_min)
         self.tracker = TargetTracker(params, robot.max_speed, pilot.corridor_margin)
         self.risk = RiskManager(params, pan_limit)
         self.estimator = DistanceEstimator(params, robot.max_speed)

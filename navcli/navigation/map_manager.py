@@ -11,9 +11,12 @@ agents' questions. It makes no bids.
   ignores is small beside a recall's own imprecision).
 - **Quality** of a landmark set for the Risk Manager: ``q_S = max(1 - Col(S'))`` over its triples
   (the notes' ``Col``; the six best-known landmarks are enough, since the risk saturates at six).
-- **Diverting targets** for the Rescuer: the regions of :mod:`.regions` over the mapped landmarks,
-  arcs blocked when a known linear obstacle (or wall) crosses their edge or a diverting target
-  through them failed, and the first edge of the cheapest path to the target's region.
+- **Diverting targets** for the Rescuer: the regions of :mod:`.regions` over the mapped landmarks
+  and the known long obstacles (which split the regions they cross), arcs blocked when a known
+  linear obstacle or wall crosses their edge, when the edge runs along an obstacle, or when a
+  diverting target through them failed, and the first edge of the cheapest path to the target's
+  region; or, when there is none, why (:class:`~.regions.NoCrossing`), telling apart a map that
+  knows too little (look around) from one that shows no way out of the robot's region.
 """
 
 from __future__ import annotations
@@ -23,10 +26,10 @@ from dataclasses import dataclass
 
 from ..beliefs import Beliefs
 from ..fuzzy import FuzzyPoint
-from ..geometry import Point, Pose, segments_intersect
+from ..geometry import Point, Pose
 from ..params import CONTROL_DT, NAVIGATION, NavigationParams
 from .beta_map import BetaNetwork, collinearity
-from .regions import Crossing, Edge, first_crossing, triangulate
+from .regions import Crossing, Edge, NoCrossing, blocked_edges, first_crossing, triangulate, way_out
 
 TARGET = "target"  # the key of a point target's marker, as the visual memory holds it
 
@@ -54,11 +57,14 @@ class MapSnapshot:
 class MapManager:
     name = "map-manager"
 
-    def __init__(self, params: NavigationParams = NAVIGATION, target_key: str = TARGET):
+    def __init__(self, params: NavigationParams = NAVIGATION, target_key: str = TARGET, passable: float = 0.8):
+        """``passable``: the narrowest edge (m, between its ends' centres) the robot can be sent
+        across (the Navigation system gives twice the Pilot's R_min: both ends' prohibited areas)."""
         self.params = params
+        self.passable = passable
         self.network = BetaNetwork(params.map_units_per_landmark)
         self.target_key = target_key
-        self.blocked: dict[Edge, float] = {}
+        self.blocked: dict[Edge, float] = {}  # edges of failed diverting targets: how often
         self._recalled: dict[str, _Recalled] = {}
         self._tick = 0
         self._images = 0
@@ -171,22 +177,25 @@ class MapManager:
                 out[k] = found[0]
         return out
 
-    def diverting_target(self, beliefs: Beliefs, target: Point) -> Crossing | None:
-        """The first edge to cross toward ``target`` (egocentric), or ``None``."""
+    def diverting_target(self, beliefs: Beliefs, target: Point) -> Crossing | NoCrossing:
+        """The first edge to cross toward ``target`` (egocentric), or why there is none."""
         marks = {k: (p.x, p.y) for k, p in self.landmark_estimates(beliefs).items()}
-        regions = triangulate(marks, self.params.virtual_distance)
+        # the known long obstacles split the regions and block the edges they cross; the room's walls
+        # do not: they bound the room, and an edge crosses one only outside it (toward a virtual landmark)
+        lines = [(o.key, o.a, o.b) for o in beliefs.obstacles if not o.is_point and not o.wall]
+        regions = triangulate(marks, self.params.virtual_distance, lines)
         if regions is None:
-            return None
+            return NoCrossing(f"{len(marks)} landmark(s) mapped, too few for regions")
         blocked = dict(self.blocked)
-        lines = [(o.a, o.b) for o in beliefs.obstacles if not o.is_point]
-        for _, _, e in regions.edges():
-            u, v = sorted(e)
-            if u.startswith("~") or v.startswith("~"):
-                continue
-            a, b = marks[u], marks[v]
-            if any(segments_intersect(a, b, p, q) for p, q in lines):
-                blocked[e] = blocked.get(e, 0.0) + 1.0
-        return first_crossing(regions, (0.0, 0.0), target, blocked, self.params.blocked_cost)
+        for e in blocked_edges(regions, lines, self.passable):
+            blocked[e] = blocked.get(e, 0.0) + 1.0
+        if not way_out(regions, (0.0, 0.0), blocked, target):
+            return NoCrossing("the known obstacles close in the robot's regions: every edge out is blocked", trapped=True)
+        c = first_crossing(regions, (0.0, 0.0), target, blocked, self.params.blocked_cost)
+        if c is None:
+            same = regions.region_of((0.0, 0.0)) == regions.region_of(target)
+            return NoCrossing("the target is in the robot's region" if same else "every way to the target is blocked")
+        return c
 
     def report_blocked(self, edge: Edge) -> None:
         """A diverting target through ``edge`` failed: make its arc costly."""

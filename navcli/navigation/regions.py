@@ -11,6 +11,13 @@ Levitt and Lawton's qualitative navigation:
   (``scipy.spatial.Delaunay``);
 - beyond each edge of the convex hull a *virtual landmark* is placed ``virtual_distance`` metres
   out from the edge's middle, so the space around the landmarks belongs to outer regions too;
+- **known long obstacles split what they cross**: each is put into the triangulation as a chain of
+  *obstacle points* (ids ``#<key>:<i>``, its ends and points at most ``OBSTACLE_STEP`` apart
+  along it), so the triangles lie on one side of it or the other and the edges of the chain run
+  along it. An edge whose ends lie on the same obstacle (along it) is blocked, and so is every
+  edge, to a virtual landmark too, that a known obstacle or wall crosses (:func:`blocked_edges`):
+  a robot in front of a fence and a target behind it are in different regions, and the way
+  between them goes round the fence's ends, where an edge joins an end to a landmark;
 - two regions sharing an edge are joined by an arc whose cost is 1, or ``blocked_cost`` when the
   edge is known to be blocked (a long obstacle crosses it, or a diverting target through it
   failed); the shortest path is ``scipy.sparse.csgraph.dijkstra``;
@@ -26,8 +33,26 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..geometry import distance_to_segment
+
 Point = tuple[float, float]
 Edge = frozenset  # of two landmark ids
+OBSTACLE_STEP = 1.0
+"""m: the longest stretch of a known obstacle between two of its points in the triangulation (our
+design: short enough that the triangulation's edges follow the obstacle between its points)."""
+CROSS_MARGIN = 0.05
+"""m: an obstacle that meets an edge this near one of the edge's ends touches it there (a bump
+line drawn from a landmark, the end of a fence at its own point) and does not block it."""
+
+
+def is_real(key: str) -> bool:
+    """A landmark, not a virtual landmark (``~``) or an obstacle's point (``#``)."""
+    return not key.startswith(("~", "#"))
+
+
+def obstacle_of(key: str) -> str | None:
+    """The key of the obstacle an obstacle point (``#<key>:<i>``) lies on, else None."""
+    return key[1:].rpartition(":")[0] if key.startswith("#") else None
 
 
 @dataclass(frozen=True)
@@ -47,7 +72,20 @@ class Crossing:
 
     @property
     def virtual(self) -> bool:
-        return self.left.startswith("~") or self.right.startswith("~")
+        """One end is no landmark: a virtual landmark or an obstacle's point (its position is
+        carried by odometry from where it was set)."""
+        return not (is_real(self.left) and is_real(self.right))
+
+
+@dataclass(frozen=True)
+class NoCrossing:
+    """Why no diverting target could be given: ``why`` in words; ``trapped`` when every edge out
+    of the robot's region is blocked (the map shows no way out), else the map does not yet know
+    enough (too few landmarks, the target's region is the robot's, no path cheaper than a blocked
+    arc) and looking around may tell it more."""
+
+    why: str
+    trapped: bool = False
 
 
 @dataclass(frozen=True)
@@ -83,11 +121,93 @@ class Regions:
         return out
 
 
-def triangulate(landmarks: dict[str, Point], virtual_distance: float = 10.0) -> Regions | None:
-    """Regions of ``landmarks`` (id -> position); ``None`` with fewer than 3 in general position."""
-    ids = sorted(landmarks)
-    if len(ids) < 3:
+def obstacle_points(obstacles: list[tuple[str, Point, Point]]) -> dict[str, Point]:
+    """The points by which known linear obstacles (key, end, end) enter the triangulation: each
+    end and points at most ``OBSTACLE_STEP`` apart between them."""
+    out = {}
+    for key, a, b in obstacles:
+        n = max(1, math.ceil(math.dist(a, b) / OBSTACLE_STEP))
+        for i in range(n + 1):
+            out[f"#{key}:{i}"] = (a[0] + (b[0] - a[0]) * i / n, a[1] + (b[1] - a[1]) * i / n)
+    return out
+
+
+def blocked_edges(regions: Regions, lines: list[tuple[str, Point, Point]], passable: float = 0.0) -> dict[Edge, str]:
+    """The edges the known ``lines`` (key, end, end: the long obstacles) block, with what blocks
+    each: the edges along an obstacle (both ends its points, or both within ``CROSS_MARGIN`` of
+    it, as where two obstacles meet at a corner), the edges a line crosses farther than
+    ``CROSS_MARGIN`` from both of the edge's ends, and (``narrow``) the edges between two real
+    things, landmarks or obstacle points, shorter than ``passable`` metres."""
+    out: dict[Edge, str] = {}
+    pos = dict(zip(regions.ids, map(tuple, regions.points)))
+    for _, _, e in regions.edges():
+        u, v = sorted(e)
+        ou, ov = obstacle_of(u), obstacle_of(v)
+        if ou is not None and ou == ov:
+            out[e] = ou
+            continue
+        a, b = pos[u], pos[v]
+        if not (u.startswith("~") or v.startswith("~")) and math.dist(a, b) < passable:
+            out[e] = "narrow"
+            continue
+        for key, p, q in lines:
+            along = distance_to_segment(a, p, q) < CROSS_MARGIN and distance_to_segment(b, p, q) < CROSS_MARGIN
+            if along or crossing_along(a, b, p, q, CROSS_MARGIN):  # along one (ends of two met at a corner), or across
+                out[e] = key
+                break
+    return out
+
+
+def crossing_along(a: Point, b: Point, p: Point, q: Point, margin: float) -> bool:
+    """Does segment ``pq`` meet segment ``ab`` farther than ``margin`` from both ``a`` and ``b``?
+
+    >>> crossing_along((0, 0), (2, 0), (1, -1), (1, 1), 0.05), crossing_along((0, 0), (2, 0), (0, 0), (0, 3), 0.05)
+    (True, False)
+    """
+    rx, ry = b[0] - a[0], b[1] - a[1]
+    sx, sy = q[0] - p[0], q[1] - p[1]
+    den = rx * sy - ry * sx
+    L = math.hypot(rx, ry)
+    if L == 0.0 or den == 0.0:
+        return False  # parallel: an obstacle along an edge is no crossing of it
+    t = ((p[0] - a[0]) * sy - (p[1] - a[1]) * sx) / den  # along ab
+    u = ((p[0] - a[0]) * ry - (p[1] - a[1]) * rx) / den  # along pq
+    return margin / L < t < 1.0 - margin / L and 0.0 <= u <= 1.0
+
+
+def way_out(regions: Regions, robot: Point, blocked: dict[Edge, float], target: Point | None = None) -> bool:
+    """Does the map show a way out of where the robot is: through edges not blocked, to the
+    target's region or to an outer region (one with a virtual landmark: space the landmarks do
+    not enclose)? False when the robot's regions are closed in by blocked edges."""
+    start = regions.region_of(robot)
+    goal = regions.region_of(target) if target is not None else -2
+    outer = {i for i, tri in enumerate(regions.triangles) if any(regions.ids[v].startswith("~") for v in tri)}
+    arcs: dict[int, list[int]] = {}
+    for i, j, e in regions.edges():
+        if not blocked.get(e):
+            arcs.setdefault(i, []).append(j)
+            arcs.setdefault(j, []).append(i)
+    seen, todo = {start}, [start]
+    while todo:
+        i = todo.pop()
+        if i == goal or i in outer:
+            return True
+        for j in arcs.get(i, ()):
+            if j not in seen:
+                seen.add(j)
+                todo.append(j)
+    return False
+
+
+def triangulate(landmarks: dict[str, Point], virtual_distance: float = 10.0,
+                obstacles: list[tuple[str, Point, Point]] = ()) -> Regions | None:
+    """Regions of ``landmarks`` (id -> position) and of the known linear ``obstacles`` (key, end,
+    end), which enter as points (:func:`obstacle_points`); ``None`` with fewer than 3 landmarks
+    in general position."""
+    if len(landmarks) < 3:
         return None
+    landmarks = dict(landmarks) | obstacle_points(list(obstacles))
+    ids = sorted(landmarks)
     from scipy.spatial import Delaunay, QhullError  # ~0.5 s the first time: only when there is something to triangulate
 
     pts = np.array([landmarks[k] for k in ids], dtype=float)

@@ -12,7 +12,9 @@ What the thesis says, and how we do it:
   (the Pilot's report of an obstacle it cannot easily avoid). The Rescuer asks the Map Manager for
   a **diverting target**, a pair of landmarks to pass between, and broadcasts it as the current
   target (the Pilot crosses it through its safe corridor). When it is crossed the original target
-  is restored. If none can be computed: turn by a random angle. If one is not crossed within
+  is restored. If none can be computed, the Rescuer **explores** (our design, after MLL): it
+  turns by a random angle and scans for landmarks, then, blocked again, asks again with what was
+  learned; this is no failure. If one is not crossed within
   the diverting timeout (or the robot is blocked again on the way), its edge is reported blocked
   to the Map Manager and another is asked for. So is the edge of one that was crossed when the
   robot is next blocked before anything else happened (our design: crossing it led nowhere, and
@@ -22,9 +24,10 @@ What the thesis says, and how we do it:
   to drive them at full speed (:meth:`~navcli.params.RobotParams.time_to_drive`), and at least
   ``MIN_WINDOW_S``: progress is about distance, so a robot at 5 cm/s is given six times the
   seconds of one at 30 cm/s, and is never declared blocked for being slow.
-- **Giving up** (ours): after ``max_diverting_failures`` failed or impossible diverting targets the
-  mission ends with the outcome ``blocked`` and the reason, instead of grinding on until the time
-  limit.
+- **Giving up** (ours): after ``max_diverting_failures`` diverting targets tried and failed (or
+  lost-target scans, above), or when the map shows no way out of the robot's region (every edge
+  out of it blocked), the mission ends with the outcome ``blocked`` and the reason, instead of
+  grinding on until the time limit.
 
 The Rescuer bids ``rescuer_bid`` (1.0, our design: its actions are the emergencies of the
 Navigation system, and a stop is always safe) to stop while it sweeps or scans, to look at each
@@ -43,7 +46,7 @@ import numpy as np
 from ..bidding import Bid, Look, Move, looked_at
 from ..geometry import Point, Pose, midpoint, wrap_angle
 from ..params import NAVIGATION, ROBOT, NavigationParams, RobotParams
-from .regions import Crossing, Edge
+from .regions import Crossing, Edge, NoCrossing
 from .situation import Situation
 
 STOP = Move(0.0, 0.0)  # a value: one serves every stop
@@ -77,6 +80,8 @@ class Rescuer:
         self.state = "sweep" if params.initial_sweep else "normal"
         self._scan = 0  # index into scan_pans_deg
         self._turn_to: float | None = None  # odometry-frame heading to turn to
+        self._scan_after_turn = False  # exploring: the turn is followed by a scan for landmarks
+        self._trapped = False  # the map showed no way out at the last request: explored once since
         self._crossing: Crossing | None = None
         self._last_crossed: Edge | None = None  # the edge of the last diverting target crossed
         self._lost_scans = 0  # scans in a row that did not find the lost target
@@ -90,9 +95,9 @@ class Rescuer:
         self._bumps: deque[float] = deque()
 
     # -- the state machine
-    def decide(self, s: Situation, ask: Callable[[Edge | None], Crossing | None]) -> Rescue:
+    def decide(self, s: Situation, ask: Callable[[Edge | None], Crossing | NoCrossing | None]) -> Rescue:
         """``ask(failed_edge)`` tells the Map Manager of the edge of a failed diverting target (if
-        any) and asks it for a diverting target toward the original target."""
+        any) and asks it for a diverting target toward the original target (or why there is none)."""
         b = s.beliefs
         events: list[tuple[str, str]] = []
         for bump in b.bumps:
@@ -112,7 +117,17 @@ class Rescuer:
             if abs(err) > math.radians(10.0):
                 return Rescue((Bid(self.name, "motion", Move(err, 0.0), self.params.rescuer_bid),),
                               events=tuple(events))
+            if self._scan_after_turn:
+                self._scan_after_turn = False
+                self._enter("explore", s)
+                return Rescue(self._scan_bids(), events=tuple(events))
             self._enter("normal", s)
+
+        if self.state == "explore":
+            if not self._scanned(b.looked):
+                return Rescue(self._scan_bids(), events=tuple(events))
+            self._enter("normal", s)
+            events.append(("info", f"looked around: {len(s.landmarks)} landmarks in view or remembered"))
 
         if self.state == "lost":
             if s.I_a <= self.params.I_a_bar:
@@ -141,23 +156,43 @@ class Rescuer:
 
         line = self._diverting_line(s)
         if line is not None and self._crossed(line):
-            events.append(("info", f"diverting target crossed between {self._crossing.left} and "
-                                   f"{self._crossing.right}: back to the original target"))
-            self._last_crossed = self._crossing.edge
+            crossed = self._crossing
             self._clear_crossing(s)
             line = None
-        if not self._blocked(s, line):
+            after = ask(None)  # the next step of the way, from the region the robot is in now
+            if isinstance(after, Crossing) and after.edge != crossed.edge:
+                self._set_crossing(after, s)  # the same diverting target's way, one step on: not counted again
+                events.append(("info", f"diverting target crossed between {crossed.left} and {crossed.right}; "
+                                       f"next: cross between {after.left} (left) and {after.right} (right)"))
+                return Rescue((), self._diverting_line(s), tuple(events))
+            events.append(("info", f"diverting target crossed between {crossed.left} and {crossed.right}: "
+                                   "back to the original target"))
+            self._last_crossed = crossed.edge
+        why = self._blocked(s, line)
+        if why is None:
             return Rescue((), line, tuple(events))
         abandoned = None
+        tried = self._crossing.edge if self._crossing is not None else self._last_crossed
+        if tried is not None and s.beliefs.pilot_blocked is not None:
+            # the Pilot sees a long obstacle across the way: the map, which knows it now, may lead
+            # another way, and that is no failure of the old one (our design: only a way tried and
+            # failed counts, by bumps, no progress or time; a way seen to be closed was not tried)
+            again = ask(None)
+            if isinstance(again, Crossing) and again.edge != tried:
+                u, v = sorted(tried)
+                events.append(("info", f"blocked ({why}) on the way across {u}-{v}: the map now leads another way"))
+                self._clear_crossing(s)
+                self._last_crossed = None
+                return self._divert(again, s, events)
         if self._crossing is not None:
             self.failures += 1
             c = self._crossing
             events.append(("warning", f"diverting target between {c.left} and {c.right} abandoned "
-                                      f"({self.failures} failed)"))
+                                      f"({why}; {self.failures} failed)"))
             abandoned = c.edge
             self._clear_crossing(s)
         else:
-            events.append(("warning", "blocked: no progress toward the target"))
+            events.append(("warning", f"blocked: {why}"))
             if self._last_crossed is not None:  # the last diverting target was crossed but led nowhere
                 self.failures += 1
                 abandoned, self._last_crossed = self._last_crossed, None
@@ -168,18 +203,30 @@ class Rescuer:
             events.append(("error", f"giving up: {give_up}"))
             return Rescue(events=tuple(events), give_up=give_up)
         crossing = ask(abandoned)
-        if crossing is None:
-            self.failures += 1
-            self._start_turn(b.odometry, events, "no diverting target can be computed")
+        if crossing is None or isinstance(crossing, NoCrossing):
+            why = crossing.why if crossing is not None else "the map gives none"
+            trapped = crossing is not None and crossing.trapped
+            if trapped and self._trapped:  # no way out, still, after looking around for one
+                give_up = f"no way out: {why}"
+                events.append(("error", f"giving up: {give_up}"))
+                return Rescue(events=tuple(events), give_up=give_up)
+            self._trapped = trapped
+            self._start_turn(b.odometry, events, f"no diverting target ({why}); exploring")
+            self._scan_after_turn = True
             self._reset_progress(s)
             return Rescue(events=tuple(events))
+        return self._divert(crossing, s, events)
+
+    def _divert(self, crossing: Crossing, s: Situation, events: list) -> Rescue:
+        """Set ``crossing`` as the diverting target, with one stop (the thesis' Rescuer wins one
+        stop bid per request)."""
+        self._trapped = False
         self._set_crossing(crossing, s)
         self.diverting_targets += 1
         events.append(("info", f"diverting target set: cross between {crossing.left} (left) and "
                                f"{crossing.right} (right)"))
-        line = self._diverting_line(s)
-        stop = Bid(self.name, "motion", STOP, self.params.rescuer_bid)  # one stop per request
-        return Rescue((stop,), line, tuple(events))
+        stop = Bid(self.name, "motion", STOP, self.params.rescuer_bid)
+        return Rescue((stop,), self._diverting_line(s), tuple(events))
 
     # -- scans and turns
     def _scan_bids(self) -> tuple[Bid, ...]:
@@ -248,15 +295,24 @@ class Rescuer:
         self._progress_since = s.time
         self._bumps.clear()
 
-    def _blocked(self, s: Situation, line: tuple[Point, Point] | None) -> bool:
-        """No progress toward the current target (``line``: the diverting line, if one is held)
-        within the window, too many bumps, or a diverting target held too long."""
+    def _blocked(self, s: Situation, line: tuple[Point, Point] | None) -> str | None:
+        """Why the robot is blocked on its way to the current target (``line``: the diverting line,
+        if one is held), or None: the Pilot reports a long obstacle ahead it cannot easily avoid
+        (the thesis' blocked situation), no progress within the window, too many bumps within
+        it, or a diverting target held too long."""
         p = self.params
         aim = s.aim if line is None else midpoint(*line)
         if aim is None:
-            return False
+            return None
         d = math.hypot(*aim)
         if d < self._progress_best - p.blocked_progress:
             self._progress_best, self._progress_since = d, s.time
-        too_long = self._crossing is not None and s.time - self._crossing_since > self.timeout_s
-        return too_long or s.time - self._progress_since > self.window_s or len(self._bumps) >= p.blocked_bumps
+        if s.beliefs.pilot_blocked is not None:
+            return f"the Pilot reports {s.beliefs.pilot_blocked} ahead, which it cannot easily avoid"
+        if self._crossing is not None and s.time - self._crossing_since > self.timeout_s:
+            return "the diverting target was not crossed in time"
+        if s.time - self._progress_since > self.window_s:
+            return "no progress toward the target"
+        if len(self._bumps) >= p.blocked_bumps:
+            return f"{len(self._bumps)} bumps"
+        return None

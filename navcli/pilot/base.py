@@ -60,6 +60,7 @@ class PilotOutput:
     arrows: list[tuple[str, float, float]] = field(default_factory=list)
     events: list[str] = field(default_factory=list)
     obstacles: tuple[KnownObstacle, ...] = ()  # what the pilot avoided this tick, egocentric
+    blocked_by: str | None = None  # the long obstacle reported to the Navigation system as not easily avoided
 
 
 
@@ -88,12 +89,16 @@ class Pilot:
         self._reflex_dir = -1.0  # the reflex backs up (-1) or, from a contact behind, drives forward (+1)
         self._phase_ticks = 0  # ticks spent in the current reflex phase
         self._events: list[str] = []
+        # what the avoidance finds blocking, for how many ticks, and where (odometry) that began, with
+        # the obstacle's direction there: (x, y, ux, uy)
+        self._blocking: tuple[str | None, int, tuple[float, float, float, float] | None] = (None, 0, None)
         self._last_odom: Pose | None = None
         self._last_v = 0.0  # the forward speed last commanded, m/s
         self._drive_v = 0.0  # the speed the drive can have reached, at its acceleration limit, m/s
         self._drivable_m = 0.0  # and the metres it could cover with the last command
         # s; at most MAX_STALL_WINDOW_S, so a crawling robot's window stays a few hundred ticks
         self.stall_window_s = min(robot.time_to_drive(params.stall_window_m), MAX_STALL_WINDOW_S)
+        self._report_s = robot.time_to_drive(params.blocked_report_m)  # s: see _report
         window = max(1, round(self.stall_window_s / CONTROL_DT))
         self._commanded: deque[float] = deque(maxlen=window)  # m commanded per tick, over the stall window
         self._moved: deque[float] = deque(maxlen=window)  # m measured per tick, over the stall window
@@ -114,6 +119,7 @@ class Pilot:
         obstacles = beliefs.obstacles  # the visual memory, bumped obstacles included
         look = self.look_bid()
         if self._reflex:
+            self._blocking = (None, 0, None)
             return self._reflex_output(look, events, obstacles)
         a = self.avoid(beliefs, obstacles, request)
         bids = [Bid(self.name, "camera", LOOK_AHEAD, look)] if look > 0 else []
@@ -121,7 +127,32 @@ class Pilot:
         info = {"mode": "avoid" if offers else "idle", "bid": a.bid, "look_bid": look} | a.info
         if offers:
             bids.insert(0, Bid(self.name, "motion", a.move, a.bid))
-        return PilotOutput(bids, info, a.arrows, events, obstacles)
+        return PilotOutput(bids, info, a.arrows, events, obstacles,
+                           self._report(a.info.get("blocked_by"), beliefs.odometry, obstacles))
+
+    def _report(self, blocked: str | None, odom: Pose, obstacles: tuple[KnownObstacle, ...]) -> str | None:
+        """The long obstacle to report as not easily avoided (our reading of the thesis' blocked
+        situation): the one the avoidance has found blocking, in a row, for as long as the robot
+        takes to drive ``blocked_report_m`` at full speed, while it got along the obstacle less
+        than a third of that: held in front of it, going back and forth toward it and away. A
+        robot rounding the obstacle's end, led away from its target for a while, moves along it
+        and is not reported."""
+        key, ticks, since = self._blocking
+        if blocked is None or self.params.blocked_report_m == 0.0:
+            self._blocking = (None, 0, None)
+            return None
+        if blocked != key:
+            o = next(o for o in obstacles if o.key == blocked)
+            along = odom.theta + math.atan2(o.b[1] - o.a[1], o.b[0] - o.a[0])  # its direction, odometry frame
+            ticks, since = 0, (odom.x, odom.y, math.cos(along), math.sin(along))
+        ticks += 1
+        if ticks * CONTROL_DT >= self._report_s - 1e-9:
+            self._blocking = (None, 0, None)  # a new report takes another window
+            x, y, ux, uy = since
+            held = abs((odom.x - x) * ux + (odom.y - y) * uy) < self.params.blocked_report_m / 3
+            return blocked if held else None
+        self._blocking = (blocked, ticks, since)
+        return None
 
     def look_bid(self) -> float:
         """Eq. 1: ``(d_l / d_m) ** s``, never above the Pilot's cap of 0.9."""

@@ -378,4 +378,23 @@ class PotentialFieldPilot(Pilot):
         }
         if f.in_corridor is not None:
             info["in_corridor"] = f.in_corridor
+        blocked = blocking(f, obstacles)
+        if blocked is not None:
+            info["blocked_by"] = blocked
         return Avoidance(Move(turn, self.max_speed), f.bid, info, arrows)
+
+
+def blocking(f: Field, obstacles: tuple[KnownObstacle, ...]) -> str | None:
+    """The long obstacle the field cannot lead round, or None (our reading of the thesis' "the
+    Pilot reports a long obstacle ahead that cannot be easily avoided"): the net force leads
+    away from the target (more than 90 degrees off the attraction) and the strongest push comes
+    from a linear obstacle that is no wall of the room. In front of a fence seen square on, the
+    potential field's minimum: the robot would only go back and forth there."""
+    (nx, ny), (tx, ty) = f.net, f.target
+    if nx * tx + ny * ty >= 0.0 or f.passed:
+        return None
+    strongest = max((of for of in f.forces if of.facing), key=lambda of: of.magnitude, default=None)
+    if strongest is None:
+        return None
+    o = next(o for o in obstacles if o.key == strongest.key)
+    return o.key if not o.is_point and not o.wall else None

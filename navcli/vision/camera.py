@@ -183,7 +183,7 @@ class Camera:
         for o in self.objects:
             if o.kind in ("segment", "wall"):
                 for run in self.visible_runs(pose, o, sees):
-                    kind = "wall" if o.kind == "wall" and len(run) == 2 else "obstacle"
+                    kind = "wall" if o.kind == "wall" else "obstacle"  # a lone sample of a wall is still a wall
                     out.append(Detection("", kind, tuple(self.measure(pose, p) for p in run), o.radius))
             elif sees(o.a[0], o.a[1], o.key):
                 key = "" if o.kind == "circle" else o.key

@@ -28,12 +28,15 @@ import math
 from dataclasses import dataclass, field
 
 from ..fuzzy import ALPHAS, CUT, FuzzyAngle, FuzzyPoint
-from ..geometry import distance_to_segment
 from ..params import VISION, VisionParams
 from .camera import Detection, Sighting
 
 Disc = tuple[float, float, float]  # x, y, radius
 END_TIE = 0.10  # m: ends this close along a linear obstacle count as the same extent; the sharper is kept
+JOIN_ANGLE = math.radians(30.0)
+"""Stretches whose crisp directions differ by more than this are never one line (our design: the
+supports of a far sighting allow a 1.5 m piece of the next wall, round a corner, to lie "on" a
+wall; joining two things whose best estimates meet at a right angle draws a skewed wall)."""
 STILL = (0.0,) * 7  # a Spot's drift when just seen: jx, jy, kx, ky, vt, vs, run
 
 
@@ -295,16 +298,18 @@ class VisualMemory:
         A linear sighting joins the remembered linear obstacle of its kind it lies along (within
         the supports), which then spans both; a point sighting is absorbed by a linear obstacle or
         wall it lies on, or fused with the remembered point whose support it meets (nearest first)."""
-        lines = [m for m in self.items.values() if len(m.spots) == 2 and m.kind in ("obstacle", "wall")
-                 and (len(spots) == 1 or m.kind == kind)]
+        gap = self.params.line_join_gap
+        lines = [m for m in self.items.values() if len(m.spots) == 2 and m.kind == kind]
         if len(spots) == 1:
             for m in lines:
-                if _near_line(spots[0], m.spots):  # a sliver of a linear obstacle already known
+                if _near_line(spots[0], m.spots, gap):  # a sliver of a linear obstacle already known
                     _extend(m, spots)
                     m.radius, m.seen = radius, time
                     return
+            if kind == "wall":  # a lone sample of a wall on no wall known: too little to remember
+                return
         else:
-            same = [m for m in lines if _same_line(m.spots, spots, gap=math.inf if kind == "wall" else None)]
+            same = [m for m in lines if _same_line(m.spots, spots, gap)]
             if same:  # the stretch seen extends what is known, and may join two known stretches
                 keep = same[0]
                 _extend(keep, spots)
@@ -326,7 +331,7 @@ class VisualMemory:
                 return
         else:  # a new linear obstacle swallows the points and bumps that lie on it
             for k in [k for k, m in self.items.items() if m.kind in ("obstacle", "bump") and len(m.spots) == 1
-                      and _near_line(m.spots[0], spots)]:
+                      and _near_line(m.spots[0], spots, gap)]:
                 del self.items[k]
         self.add_found(kind, spots, radius, time)
 
@@ -335,33 +340,46 @@ def _meets(a: Spot, b: Spot) -> bool:
     return math.hypot(a.x - b.x, a.y - b.y) <= a.r0 + b.r0
 
 
-def _same_line(ends: list[Spot], spots: list[Spot], gap: float | None = None) -> bool:
-    """Is the sighted stretch ``spots`` part of the same linear obstacle as the remembered
-    ``ends``? Both sighted ends lie on the remembered one's line (within the supports) and the two
-    stretches overlap along it, or leave a gap of at most ``gap`` metres (default: the supports; a
-    wall, being one straight thing, takes any gap)."""
+def _same_line(ends: list[Spot], spots: list[Spot], gap: float) -> bool:
+    """Is the sighted stretch ``spots`` part of the same linear obstacle (or wall) as the
+    remembered ``ends``? Both sighted ends lie on the remembered one's line (plausibly: within their
+    70 % cuts, not merely their supports, which at the camera's range are a metre wide) and the two
+    stretches overlap along it, or leave a gap of at most ``gap`` metres between
+    their crisp ends (``vision.line_join_gap``; our design: two views of one fence meet where a
+    view was cut, a few centimetres apart; a wider gap is open space or another thing, and
+    joining across it, as supports of metres once allowed, drew walls through open rooms)."""
     a, b = ends
     ux, uy = b.x - a.x, b.y - a.y
     L = math.hypot(ux, uy)
     if L < 1e-9:
         return False
     ux, uy = ux / L, uy / L
-    tol = max(a.r0, b.r0)
+    p, q = spots
+    vx, vy = q.x - p.x, q.y - p.y
+    lv = math.hypot(vx, vy)
+    if lv > p.r0 + q.r0 and abs(ux * vy - uy * vx) > math.sin(JOIN_ANGLE) * lv:
+        return False  # across the line, not along it (a stretch shorter than its supports has no direction)
+    tol = max(a.radius(CUT), b.radius(CUT))  # plausibly on the line: the 70 % cuts, not the supports
     along = []
     for s in spots:
         rx, ry = s.x - a.x, s.y - a.y
-        if abs(rx * uy - ry * ux) > s.r0 + tol:  # off the line
+        if abs(rx * uy - ry * ux) > s.radius(CUT) + tol:  # off the line
             return False
         along.append(rx * ux + ry * uy)
-    reach = (max(s.r0 for s in spots) + tol) if gap is None else gap
-    return min(along) <= L + reach and max(along) >= -reach
+    return min(along) <= L + gap and max(along) >= -gap
 
 
-def _near_line(s: Spot, ends: list[Spot]) -> bool:
-    """Does spot ``s`` lie on the segment between ``ends``, within the supports?"""
+def _near_line(s: Spot, ends: list[Spot], gap: float) -> bool:
+    """Does spot ``s`` lie on the segment between ``ends``: off its line by no more than their 70 %
+    cuts, and along it between the ends or at most ``gap`` beyond one (see :func:`_same_line`)?"""
     a, b = ends
-    d = distance_to_segment((s.x, s.y), (a.x, a.y), (b.x, b.y))
-    return d <= s.r0 + max(a.r0, b.r0)
+    ux, uy = b.x - a.x, b.y - a.y
+    L = math.hypot(ux, uy)
+    if L < 1e-9:
+        return math.hypot(s.x - a.x, s.y - a.y) <= s.radius(CUT) + max(a.radius(CUT), b.radius(CUT))
+    rx, ry = s.x - a.x, s.y - a.y
+    t = (rx * ux + ry * uy) / L
+    return -gap <= t <= L + gap and abs(rx * uy - ry * ux) / L <= s.radius(CUT) + max(a.radius(CUT), b.radius(CUT))
 
 
 def _extend(m: Memory, spots: list[Spot]) -> None:
