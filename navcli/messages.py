@@ -87,8 +87,8 @@ class Pilot(_Msg):
     rule: Annotated[Literal["escape", "clear", "tangent"], Meta(description="the geometric pilot's rule this tick")] | UnsetType = UNSET
     side: Annotated[Literal["right", "left"], Meta(description="the side the geometric pilot passes on")] | UnsetType = UNSET
     blocked_by: Annotated[str, Meta(description=(
-        "memory key of the long obstacle ahead that the field cannot lead round: the Pilot reports it to "
-        "the Navigation system once it has lasted the time to drive pilot.blocked_report_m"))] | UnsetType = UNSET
+        "memory key of the long obstacle ahead that the field cannot lead round this tick; with "
+        "pilot.blocked_report_m set, reported to the Navigation system once it has lasted the time to drive that far"))] | UnsetType = UNSET
 
 
 def pilot_message(info: dict[str, Any], v: float, omega_deg: float) -> dict[str, Any]:

@@ -341,9 +341,35 @@ def test_the_rescuer_gives_up_only_when_the_map_still_shows_no_way_out_after_exp
     t, out, _ = _blocked_until_asked(r, t, trapped)
     assert out.give_up is None and r.state == "turn"  # the first time: look around first
     looked = None
-    while r.state != "normal":
+    for _ in range(400):  # the turn and the scan
+        if r.state == "normal":
+            break
         t += 0.1
         out = r.decide(situation(time=t, looked=looked, odometry=Pose(0.0, 0.0, r._turn_to or 0.0)), lambda f: None)
         looked = next((b.action.pan for b in out.bids if b.resource == "camera"), None)
+    assert r.state == "normal"
     t, out, _ = _blocked_until_asked(r, t, trapped, limit=t + 200.0)
     assert out.give_up == "no way out: every edge out is blocked" and r.failures == 0
+
+
+def test_looking_around_is_bounded_too():
+    """A map that never gives a diverting target (too few landmarks, say) ends the mission after
+    max_diverting_failures looks around, not at the time limit."""
+    from navcli.navigation.regions import NoCrossing
+
+    r = Rescuer(NAVIGATION, np.random.default_rng(0))
+    t = _sweep(r)
+    looked, give_up, asked = None, None, 0
+
+    def ask(failed):
+        nonlocal asked
+        asked += 1
+        return NoCrossing("too few landmarks")
+
+    while give_up is None and t < 2000.0:
+        t += 0.1
+        out = r.decide(situation(time=t, looked=looked, odometry=Pose(0.0, 0.0, r._turn_to or 0.0)), ask)
+        looked = next((b.action.pan for b in out.bids if b.resource == "camera"), None)
+        give_up = out.give_up
+    assert asked == NAVIGATION.max_diverting_failures + 1 and r.failures == 0
+    assert give_up.startswith(f"the map gives no diverting target after {NAVIGATION.max_diverting_failures} looks around")

@@ -308,24 +308,25 @@ def test_stretches_of_a_fence_join_when_they_overlap_or_nearly_touch_and_never_a
     # even when the remembered ends are very imprecise (metres of support), the gap is measured
     # between their crisp positions: no line across open space
     wide = VisualMemory(0.0)
-    wide._observe_obstacle(_stretch((2.0, -1.0), (2.0, 0.0), r=3.0), 0.025, 0.0)
+    wide._observe_obstacle(_stretch((2.0, -1.0), (2.0, 0.0), r=5.0), 0.025, 0.0)  # supports wider than the 4 m gap
     wide._observe_obstacle(_stretch((2.0, 4.0), (2.0, 5.0)), 0.025, 0.1)
     assert len(wide.items) == 2
 
 
 def test_a_stretch_across_a_line_is_not_part_of_it():
-    """Round a corner, the next wall's stretch lies within a far sighting's supports of the first
-    wall; their crisp directions differ by 90 degrees: two walls, not one skewed one."""
+    """A sharp 1.5 m stretch square across a very imprecise wall, both its ends within the wall's
+    70 % cuts (3 m supports: cuts 0.9 m wide): their crisp directions differ by 90 degrees, so two
+    walls, not one skewed one."""
     mem = VisualMemory(0.0)
-    mem._observe_obstacle(_stretch((0.0, 3.0), (4.0, 3.0), r=1.2), 0.05, 0.0, "wall")
-    mem._observe_obstacle(_stretch((4.0, 3.0), (4.0, 1.5), r=0.3), 0.05, 0.1, "wall")
+    mem._observe_obstacle(_stretch((0.0, 3.0), (4.0, 3.0), r=3.0), 0.05, 0.0, "wall")
+    mem._observe_obstacle(_stretch((3.0, 3.75), (3.0, 2.25), r=0.1), 0.05, 0.1, "wall")
     assert len([m for m in mem.items.values() if m.kind == "wall"]) == 2
 
 
 def test_a_lone_sample_of_a_wall_is_no_obstacle_and_extends_no_fence():
     mem = VisualMemory(0.0)
     mem._observe_obstacle(_stretch((2.0, -1.0), (2.0, 0.0)), 0.025, 0.0)
-    mem._observe_obstacle([Spot(2.0, 3.0, 0.05, 0.0)], 0.05, 0.1, "wall")  # on the fence's line, 3 m on
+    mem._observe_obstacle([Spot(2.0, 0.3, 0.05, 0.0)], 0.05, 0.1, "wall")  # on the fence's line, 0.3 m on
     assert [m.kind for m in mem.items.values()] == ["obstacle"]
     assert max(s.y for s in next(iter(mem.items.values())).spots) == 0.0
 

@@ -13,8 +13,8 @@ agents' questions. It makes no bids.
   (the notes' ``Col``; the six best-known landmarks are enough, since the risk saturates at six).
 - **Diverting targets** for the Rescuer: the regions of :mod:`.regions` over the mapped landmarks
   and the known long obstacles (which split the regions they cross), arcs blocked when a known
-  linear obstacle or wall crosses their edge, when the edge runs along an obstacle, or when a
-  diverting target through them failed, and the first edge of the cheapest path to the target's
+  long obstacle crosses their edge or the edge runs along one, when it is too narrow, when a wall
+  leaves no room between it and the edge's end, or when a diverting target through them failed, and the first edge of the cheapest path to the target's
   region; or, when there is none, why (:class:`~.regions.NoCrossing`), telling apart a map that
   knows too little (look around) from one that shows no way out of the robot's region.
 """
@@ -186,11 +186,13 @@ class MapManager:
         regions = triangulate(marks, self.params.virtual_distance, lines)
         if regions is None:
             return NoCrossing(f"{len(marks)} landmark(s) mapped, too few for regions")
-        blocked = dict(self.blocked)
-        for e in blocked_edges(regions, lines, self.passable):
-            blocked[e] = blocked.get(e, 0.0) + 1.0
-        if not way_out(regions, (0.0, 0.0), blocked, target):
+        walls = [(o.key, o.a, o.b) for o in beliefs.obstacles if o.wall]
+        known = blocked_edges(regions, lines, self.passable, walls)
+        if not way_out(regions, (0.0, 0.0), known, target):  # what is known to close it in, not what failed
             return NoCrossing("the known obstacles close in the robot's regions: every edge out is blocked", trapped=True)
+        blocked = dict(self.blocked)
+        for e in known:
+            blocked[e] = blocked.get(e, 0.0) + 1.0
         c = first_crossing(regions, (0.0, 0.0), target, blocked, self.params.blocked_cost)
         if c is None:
             same = regions.region_of((0.0, 0.0)) == regions.region_of(target)

@@ -15,9 +15,11 @@ Levitt and Lawton's qualitative navigation:
   *obstacle points* (ids ``#<key>:<i>``, its ends and points at most ``OBSTACLE_STEP`` apart
   along it), so the triangles lie on one side of it or the other and the edges of the chain run
   along it. An edge whose ends lie on the same obstacle (along it) is blocked, and so is every
-  edge, to a virtual landmark too, that a known obstacle or wall crosses (:func:`blocked_edges`):
-  a robot in front of a fence and a target behind it are in different regions, and the way
-  between them goes round the fence's ends, where an edge joins an end to a landmark;
+  edge, to a virtual landmark too, that a known obstacle crosses, or that is too narrow for the
+  robot, or that a wall crosses near its end (:func:`blocked_edges`): a robot in front of a fence
+  and a target behind it are in different regions, and the way between them goes round the
+  fence's ends, where an edge joins an end to a landmark. Obstacle points' ids follow the
+  memory's keys and the obstacle's length, so they are not stable over a run as landmarks' are;
 - two regions sharing an edge are joined by an arc whose cost is 1, or ``blocked_cost`` when the
   edge is known to be blocked (a long obstacle crosses it, or a diverting target through it
   failed); the shortest path is ``scipy.sparse.csgraph.dijkstra``;
@@ -132,12 +134,16 @@ def obstacle_points(obstacles: list[tuple[str, Point, Point]]) -> dict[str, Poin
     return out
 
 
-def blocked_edges(regions: Regions, lines: list[tuple[str, Point, Point]], passable: float = 0.0) -> dict[Edge, str]:
+def blocked_edges(regions: Regions, lines: list[tuple[str, Point, Point]], passable: float = 0.0,
+                  walls: list[tuple[str, Point, Point]] = ()) -> dict[Edge, str]:
     """The edges the known ``lines`` (key, end, end: the long obstacles) block, with what blocks
     each: the edges along an obstacle (both ends its points, or both within ``CROSS_MARGIN`` of
     it, as where two obstacles meet at a corner), the edges a line crosses farther than
-    ``CROSS_MARGIN`` from both of the edge's ends, and (``narrow``) the edges between two real
-    things, landmarks or obstacle points, shorter than ``passable`` metres."""
+    ``CROSS_MARGIN`` from both of the edge's ends, (``narrow``) the edges between two real
+    things, landmarks or obstacle points, shorter than ``passable`` metres, and the edges a known
+    stretch of the room's ``walls`` crosses nearer than ``passable`` to the edge's real end (no
+    room for the robot between that end and the wall: a fence built up to the wall). A wall
+    crossing an edge farther out only bounds the room the edge's region lies in."""
     out: dict[Edge, str] = {}
     pos = dict(zip(regions.ids, map(tuple, regions.points)))
     for _, _, e in regions.edges():
@@ -155,6 +161,12 @@ def blocked_edges(regions: Regions, lines: list[tuple[str, Point, Point]], passa
             if along or crossing_along(a, b, p, q, CROSS_MARGIN):  # along one (ends of two met at a corner), or across
                 out[e] = key
                 break
+        else:
+            real = b if v.startswith("~") else a
+            for key, p, q in walls:
+                if crossing_along(a, b, p, q, 0.0) and distance_to_segment(real, p, q) < passable:
+                    out[e] = key
+                    break
     return out
 
 
@@ -206,7 +218,11 @@ def triangulate(landmarks: dict[str, Point], virtual_distance: float = 10.0,
     in general position."""
     if len(landmarks) < 3:
         return None
-    landmarks = dict(landmarks) | obstacle_points(list(obstacles))
+    points = obstacle_points(list(obstacles))
+    marks = list(landmarks.values())
+    # an obstacle's point on a landmark (a bump line drawn from it) is that landmark: Qhull keeps one of two
+    points = {k: p for k, p in points.items() if all(math.dist(p, m) > CROSS_MARGIN for m in marks)}
+    landmarks = dict(landmarks) | points
     ids = sorted(landmarks)
     from scipy.spatial import Delaunay, QhullError  # ~0.5 s the first time: only when there is something to triangulate
 

@@ -25,9 +25,10 @@ What the thesis says, and how we do it:
   ``MIN_WINDOW_S``: progress is about distance, so a robot at 5 cm/s is given six times the
   seconds of one at 30 cm/s, and is never declared blocked for being slow.
 - **Giving up** (ours): after ``max_diverting_failures`` diverting targets tried and failed (or
-  lost-target scans, above), or when the map shows no way out of the robot's region (every edge
-  out of it blocked), the mission ends with the outcome ``blocked`` and the reason, instead of
-  grinding on until the time limit.
+  lost-target scans, above), when the map shows no way out of the robot's regions (closed in by
+  known obstacles) after the robot has looked around once more, or when the map has given no
+  diverting target after ``max_diverting_failures`` looks around in a row, the mission ends with
+  the outcome ``blocked`` and the reason, instead of grinding on until the time limit.
 
 The Rescuer bids ``rescuer_bid`` (1.0, our design: its actions are the emergencies of the
 Navigation system, and a stop is always safe) to stop while it sweeps or scans, to look at each
@@ -82,6 +83,7 @@ class Rescuer:
         self._turn_to: float | None = None  # odometry-frame heading to turn to
         self._scan_after_turn = False  # exploring: the turn is followed by a scan for landmarks
         self._trapped = False  # the map showed no way out at the last request: explored once since
+        self._explorations = 0  # looks around in a row that the map answered with no diverting target
         self._crossing: Crossing | None = None
         self._last_crossed: Edge | None = None  # the edge of the last diverting target crossed
         self._lost_scans = 0  # scans in a row that did not find the lost target
@@ -161,7 +163,9 @@ class Rescuer:
             line = None
             after = ask(None)  # the next step of the way, from the region the robot is in now
             if isinstance(after, Crossing) and after.edge != crossed.edge:
-                self._set_crossing(after, s)  # the same diverting target's way, one step on: not counted again
+                since = self._crossing_since
+                self._set_crossing(after, s)  # the same diverting target's way, one step on: not counted again,
+                self._crossing_since = since  # and its timeout runs on: the way as a whole must be done in time
                 events.append(("info", f"diverting target crossed between {crossed.left} and {crossed.right}; "
                                        f"next: cross between {after.left} (left) and {after.right} (right)"))
                 return Rescue((), self._diverting_line(s), tuple(events))
@@ -211,6 +215,11 @@ class Rescuer:
                 events.append(("error", f"giving up: {give_up}"))
                 return Rescue(events=tuple(events), give_up=give_up)
             self._trapped = trapped
+            self._explorations += 1
+            if self._explorations > self.params.max_diverting_failures:  # our design: looking around is bounded too
+                give_up = f"the map gives no diverting target after {self._explorations - 1} looks around ({why})"
+                events.append(("error", f"giving up: {give_up}"))
+                return Rescue(events=tuple(events), give_up=give_up)
             self._start_turn(b.odometry, events, f"no diverting target ({why}); exploring")
             self._scan_after_turn = True
             self._reset_progress(s)
@@ -221,6 +230,7 @@ class Rescuer:
         """Set ``crossing`` as the diverting target, with one stop (the thesis' Rescuer wins one
         stop bid per request)."""
         self._trapped = False
+        self._explorations = 0
         self._set_crossing(crossing, s)
         self.diverting_targets += 1
         events.append(("info", f"diverting target set: cross between {crossing.left} (left) and "

@@ -295,9 +295,10 @@ class VisualMemory:
     def _observe_obstacle(self, spots: list[Spot], radius: float, time: float, kind: str = "obstacle") -> None:
         """Associate a plain obstacle's (or a wall's) sighting with what is remembered, or remember it.
 
-        A linear sighting joins the remembered linear obstacle of its kind it lies along (within
-        the supports), which then spans both; a point sighting is absorbed by a linear obstacle or
-        wall it lies on, or fused with the remembered point whose support it meets (nearest first)."""
+        A linear sighting joins the remembered line of its kind (a fence or a wall) it lies along
+        (:func:`_same_line`), which then spans both; a point sighting is absorbed by a linear
+        obstacle it lies on (:func:`_near_line`), or fused with the remembered point whose support
+        it meets (nearest first); a lone sample of a wall joins a wall or is dropped."""
         gap = self.params.line_join_gap
         lines = [m for m in self.items.values() if len(m.spots) == 2 and m.kind == kind]
         if len(spots) == 1:
@@ -331,7 +332,7 @@ class VisualMemory:
                 return
         else:  # a new linear obstacle swallows the points and bumps that lie on it
             for k in [k for k, m in self.items.items() if m.kind in ("obstacle", "bump") and len(m.spots) == 1
-                      and _near_line(m.spots[0], spots, gap)]:
+                      and _near_line(m.spots[0], spots, 0.0)]:  # on it, between its ends
                 del self.items[k]
         self.add_found(kind, spots, radius, time)
 
