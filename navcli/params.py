@@ -98,7 +98,7 @@ class PilotParams:
     # m: the field leading away from the target, a long obstacle its strongest push, while the robot
     # could drive this far and got along the obstacle less than a third of it: the Pilot reports the
     # obstacle as one it cannot easily avoid (the thesis' blocked situation); 0: no report (the
-    # default: measured, it helps behind long fences and costs paper-8x8 runs, see the README)
+    # default: measured, it helps behind long fences and costs paper-8x8 runs; README, trap rooms)
     blocked_report_m: float = _p(0.0)
     wall_window: float = _p(1.0, above=0.0)  # m: a room wall acts as the stretch this long nearest the robot
     corridor_margin: float = _p(0.40)  # m: section 3.3, the safe corridor keeps this far from the line's ends
