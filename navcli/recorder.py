@@ -496,10 +496,11 @@ def _map_entities(m: MapSnapshot, diverting, ns: int) -> list[SceneEntity]:
             lines.append(LinePrimitive(type=LinePrimitiveLineType.LineList, thickness=0.008, color=_MAP_FAINT,
                                        points=[P(marks[d]), P(marks[a]), P(marks[d]), P(marks[b]),
                                                P(marks[d]), P(marks[c])]))
+    at = marks | m.vertices  # a blocked edge may end at an obstacle's point or a virtual landmark
     for u, v in m.blocked:
-        if u in marks and v in marks:
+        if u in at and v in at:
             lines.append(LinePrimitive(type=LinePrimitiveLineType.LineStrip, thickness=0.04, color=_BLOCKED,
-                                       points=[P(marks[u]), P(marks[v])]))
+                                       points=[P(at[u]), P(at[v])]))
     if diverting is not None:
         lines.append(LinePrimitive(type=LinePrimitiveLineType.LineStrip, thickness=0.06, color=_DIVERTING,
                                    points=[P(diverting[0]), P(diverting[1])]))

@@ -251,3 +251,20 @@ def test_way_out_is_a_way_through_edges_not_blocked_out_of_the_robots_regions():
     edges = [e for i, j, e in r.edges() if start in (i, j)]
     assert way_out(r, (2.0, 1.0), {}) and not way_out(r, (2.0, 1.0), {e: 1.0 for e in edges})
     assert way_out(r, (2.0, 1.0), {e: 1.0 for e in edges[1:]})  # one edge open: out through it
+
+
+def test_the_logged_map_shows_the_regions_and_blocked_edges_the_diverting_targets_use():
+    from navcli.beliefs import Beliefs, KnownLandmark, KnownObstacle
+    from navcli.geometry import Pose
+    from navcli.navigation.map_manager import MapManager
+
+    point = lambda x, y: FuzzyPoint(x, y, (0.02, 0.014, 0.006, 0.0))  # noqa: E731
+    b = Beliefs(0.0, Pose(0, 0, 0), (0.0, 2.0), None, (KnownObstacle("fence", FENCE[1], FENCE[2], 0.025),),
+                landmarks=tuple(KnownLandmark(k, point(*p), 0.0) for k, p in AROUND.items()))
+    snap = MapManager().snapshot(b)
+    fence_points = {k for k in snap.vertices if k.startswith("#fence")}
+    assert len(fence_points) == 5  # the chain the regions are built with
+    corners = {v for tri in snap.regions for v in tri}
+    assert all(snap.vertices[k] in corners for k in fence_points)
+    along = [e for e in snap.blocked if all(k.startswith("#fence") for k in e)]
+    assert len(along) == 4  # the edges along the fence, drawn blocked

@@ -22,7 +22,7 @@ agents' questions. It makes no bids.
 from __future__ import annotations
 
 import itertools
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 from ..beliefs import Beliefs
 from ..fuzzy import FuzzyPoint
@@ -46,12 +46,15 @@ class _Recalled:
 @dataclass(frozen=True)
 class MapSnapshot:
     """What the map holds, for the log: landmark estimates (egocentric), beta-units as triangles
-    of ids, region triangles, blocked edges."""
+    of ids, region triangles (of landmarks, virtual landmarks and the known obstacles' points, as
+    the diverting targets are computed), blocked edges as pairs of ids, and where every id of
+    the regions is (``vertices``, egocentric)."""
 
     landmarks: dict[str, FuzzyPoint]
     units: tuple[tuple[str, str, str, str], ...]
     regions: tuple[tuple[Point, Point, Point], ...]
     blocked: tuple[tuple[str, str], ...]
+    vertices: dict[str, Point] = field(default_factory=dict)
 
 
 class MapManager:
@@ -207,6 +210,12 @@ class MapManager:
         """For the log: what the map knows now, from the memory and the recalls already made."""
         marks = self.landmark_estimates(beliefs, recall=False)
         units = tuple((*basis, target) for target, per in self.network.units.items() for basis in per)
-        r = triangulate({k: (p.x, p.y) for k, p in marks.items()}, self.params.virtual_distance)
-        tris = () if r is None else tuple(tuple(tuple(map(float, r.points[v])) for v in t) for t in r.triangles)
-        return MapSnapshot(marks, units, tris, tuple(tuple(sorted(e)) for e in self.blocked))
+        lines = [(o.key, o.a, o.b) for o in beliefs.obstacles if not o.is_point and not o.wall]
+        r = triangulate({k: (p.x, p.y) for k, p in marks.items()}, self.params.virtual_distance, lines)
+        if r is None:
+            return MapSnapshot(marks, units, (), tuple(tuple(sorted(e)) for e in self.blocked))
+        tris = tuple(tuple(tuple(map(float, r.points[v])) for v in t) for t in r.triangles)
+        walls = [(o.key, o.a, o.b) for o in beliefs.obstacles if o.wall]
+        blocked = set(self.blocked) | set(blocked_edges(r, lines, self.passable, walls))
+        vertices = {k: (float(x), float(y)) for k, (x, y) in zip(r.ids, r.points)}
+        return MapSnapshot(marks, units, tris, tuple(sorted(tuple(sorted(e)) for e in blocked)), vertices)
