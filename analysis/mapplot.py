@@ -76,5 +76,6 @@ def plot_map(log_path: str | Path, out: str | Path) -> Path:
     summary = log.summary
     ax.set_title(f"{summary.get('scenario', path.stem)}: the map at {ns / 1e9:.0f} s "
                  f"({summary.get('outcome', '?')}, diverting targets: {summary.get('diverting_targets', 0)})\n"
-                 "purple: mapped landmarks (70 % cut), regions; red: blocked; green: diverting", fontsize=10)
+                 "the map (purple): landmarks (70 % cut), regions, blocked edges (thick, pink), the diverting line (green);\n"
+                 "the truth: obstacles (red), landmarks (blue), the path (grey)", fontsize=9)
     return save_figure(fig, out, dpi=110)

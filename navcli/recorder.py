@@ -473,7 +473,7 @@ def navigation_record(t: Tick) -> dict:
 
 _MAP = Color(r=0.55, g=0.3, b=0.85, a=0.9)
 _MAP_FAINT = Color(r=0.55, g=0.3, b=0.85, a=0.35)
-_BLOCKED = Color(r=0.9, g=0.1, b=0.1, a=0.9)
+_BLOCKED = Color(r=0.9, g=0.2, b=0.7, a=0.9)  # pink: apart from the true obstacles (red) in a plot
 _DIVERTING = Color(r=0.1, g=0.8, b=0.3, a=1.0)
 
 

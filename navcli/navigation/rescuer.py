@@ -87,6 +87,7 @@ class Rescuer:
         self._crossing: Crossing | None = None
         self._last_crossed: Edge | None = None  # the edge of the last diverting target crossed
         self._lost_scans = 0  # scans in a row that did not find the lost target
+        self._lost_failures = 0  # failures that were such scans (the rest: diverting targets)
         self._crossing_world: tuple[Point, Point] | None = None  # its ends in the odometry frame
         self._crossing_since = 0.0
         self._side: float | None = None  # which side of the diverting line the robot is on
@@ -141,9 +142,12 @@ class Rescuer:
                 if self._lost_scans >= LOST_SCANS:  # our design: a target no scan finds counts as a failure
                     self._lost_scans = 0
                     self.failures += 1
+                    self._lost_failures += 1
                     events.append(("warning", f"target not found in {LOST_SCANS} scans ({self.failures} failed)"))
                     if self.failures >= self.params.max_diverting_failures:
-                        give_up = f"the target is lost ({self.failures} failures)"
+                        lost, diverting = self._lost_failures, self.failures - self._lost_failures
+                        give_up = f"the target is lost ({self.failures} failures: {lost} of {LOST_SCANS} scans " + \
+                            f"without it{f', {diverting} diverting targets' if diverting else ''})"
                         events.append(("error", f"giving up: {give_up}"))
                         return Rescue(events=tuple(events), give_up=give_up)
                 self._start_turn(b.odometry, events, "target still lost after a scan")
