@@ -2,7 +2,8 @@
 
 The log's ``/map/scene`` holds the map as the robot knew it, in ``base_link`` (egocentric): each
 mapped landmark's estimate (a disc the size of its 70 % cut, named ``A'``), the regions' triangles,
-the beta-units, blocked edges and the diverting line. The last message is placed in the arena with
+the beta-units, blocked edges, the diverting line, and the diverting lines ended so far, each
+named by how it ended. The last message is placed in the arena with
 the robot's true pose at that time, so the drawing shows belief (purple) over truth (blue), and
 how far the map had drifted. Reads logs only; never imports the simulator.
 """
@@ -76,6 +77,7 @@ def plot_map(log_path: str | Path, out: str | Path) -> Path:
     summary = log.summary
     ax.set_title(f"{summary.get('scenario', path.stem)}: the map at {ns / 1e9:.0f} s "
                  f"({summary.get('outcome', '?')}, diverting targets: {summary.get('diverting_targets', 0)})\n"
-                 "the map (purple): landmarks (70 % cut), regions, blocked edges (thick, pink), the diverting line (green);\n"
-                 "the truth: obstacles (red), landmarks (blue), the path (grey)", fontsize=9)
+                 "the map (purple): landmarks (70 % cut), regions, blocked edges (thick, pink), the diverting line (green),\n"
+                 "the diverting lines ended (thin green, named by how they ended); "
+                 "the truth: obstacles (red), landmarks (blue), the path (grey)", fontsize=8)
     return save_figure(fig, out, dpi=110)

@@ -475,6 +475,7 @@ _MAP = Color(r=0.55, g=0.3, b=0.85, a=0.9)
 _MAP_FAINT = Color(r=0.55, g=0.3, b=0.85, a=0.35)
 _BLOCKED = Color(r=0.9, g=0.2, b=0.7, a=0.9)  # pink: apart from the true obstacles (red) in a plot
 _DIVERTING = Color(r=0.1, g=0.8, b=0.3, a=1.0)
+_DIVERTING_ENDED = Color(r=0.1, g=0.55, b=0.25, a=0.8)  # a diverting line the Rescuer is done with
 
 
 def _map_entities(m: MapSnapshot, diverting, ns: int) -> list[SceneEntity]:
@@ -501,6 +502,12 @@ def _map_entities(m: MapSnapshot, diverting, ns: int) -> list[SceneEntity]:
         if u in at and v in at:
             lines.append(LinePrimitive(type=LinePrimitiveLineType.LineStrip, thickness=0.04, color=_BLOCKED,
                                        points=[P(at[u]), P(at[v])]))
+    for a, b, ending in m.tried:  # the diverting lines ended, thin, named by how they ended
+        lines.append(LinePrimitive(type=LinePrimitiveLineType.LineStrip, thickness=0.02, color=_DIVERTING_ENDED,
+                                   points=[P(a), P(b)]))
+        mid = ((a[0] + b[0]) / 2, (a[1] + b[1]) / 2)
+        texts.append(TextPrimitive(pose=_pose(*mid, z=0.5), billboard=True, font_size=11.0, scale_invariant=True,
+                                   color=_DIVERTING_ENDED, text=ending))
     if diverting is not None:
         lines.append(LinePrimitive(type=LinePrimitiveLineType.LineStrip, thickness=0.06, color=_DIVERTING,
                                    points=[P(diverting[0]), P(diverting[1])]))

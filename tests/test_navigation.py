@@ -273,6 +273,13 @@ def test_blocked_wall_is_passed_round_a_fence_end_and_every_diverting_target_is_
     events = read_log(res.log, topics=["/events"])["/events"]
     set_ = events[events["message"].str.startswith("diverting target set")]
     assert len(set_) == s["diverting_targets"] == len(crossings) and set(set_["name"]) <= {"rescuer"}
+    # the log's last map names every diverting line the Rescuer ended, by how it ended
+    from analysis.mapplot import _last_map
+
+    _, scene = _last_map(res.log)
+    labels = [t.text for e in scene.entities for t in e.texts]
+    crossed = events["message"].str.contains("diverting target crossed").sum()
+    assert crossed >= 1 and labels.count("crossed") + labels.count("crossed, led nowhere") == crossed
 
 
 def test_a_trap_with_no_way_out_ends_blocked_well_before_its_time_limit():

@@ -20,6 +20,7 @@ a reason to end the mission as ``blocked`` when the Rescuer gives up.
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 from types import MappingProxyType
 from typing import Mapping, NamedTuple
 
@@ -147,5 +148,8 @@ class NavigationSystem:
         return None if aim is None else self.map.diverting_target(beliefs, aim)
 
     def snapshot(self, beliefs: Beliefs) -> MapSnapshot:
-        return self.map.snapshot(beliefs)
+        """The map for the log, with every diverting line the Rescuer has ended, egocentric."""
+        odo = beliefs.odometry
+        tried = tuple((odo.to_local(a), odo.to_local(b), ending) for a, b, ending in self.rescuer.tried)
+        return replace(self.map.snapshot(beliefs), tried=tried)
 

@@ -47,14 +47,16 @@ class _Recalled:
 class MapSnapshot:
     """What the map holds, for the log: landmark estimates (egocentric), beta-units as triangles
     of ids, region triangles (of landmarks, virtual landmarks and the known obstacles' points, as
-    the diverting targets are computed), blocked edges as pairs of ids, and where every id of
-    the regions is (``vertices``, egocentric)."""
+    the diverting targets are computed), blocked edges as pairs of ids, where every id of the
+    regions is (``vertices``, egocentric), and the Rescuer's diverting lines ended so far with how
+    each ended (``tried``: crossed, crossed but led nowhere, abandoned, replaced)."""
 
     landmarks: dict[str, FuzzyPoint]
     units: tuple[tuple[str, str, str, str], ...]
     regions: tuple[tuple[Point, Point, Point], ...]
     blocked: tuple[tuple[str, str], ...]
     vertices: dict[str, Point] = field(default_factory=dict)
+    tried: tuple[tuple[Point, Point, str], ...] = ()  # every diverting line ended so far (egocentric) and how
 
 
 class MapManager:

@@ -92,6 +92,7 @@ class Rescuer:
         self._crossing_since = 0.0
         self._side: float | None = None  # which side of the diverting line the robot is on
         self.failures = 0
+        self.tried: list[tuple[Point, Point, str]] = []  # each diverting line ended (odometry frame) and how
         self.diverting_targets = 0
         self._progress_best = math.inf
         self._progress_since = 0.0
@@ -163,7 +164,7 @@ class Rescuer:
         line = self._diverting_line(s)
         if line is not None and self._crossed(line):
             crossed = self._crossing
-            self._clear_crossing(s)
+            self._clear_crossing(s, "crossed")
             line = None
             after = ask(None)  # the next step of the way, from the region the robot is in now
             if isinstance(after, Crossing) and after.edge != crossed.edge:
@@ -189,7 +190,7 @@ class Rescuer:
             if isinstance(again, Crossing) and again.edge != tried:
                 u, v = sorted(tried)
                 events.append(("info", f"blocked ({why}) on the way across {u}-{v}: the map now leads another way"))
-                self._clear_crossing(s)
+                self._clear_crossing(s, "replaced: the way seen closed")
                 self._last_crossed = None
                 return self._divert(again, s, events)
         if self._crossing is not None:
@@ -198,12 +199,14 @@ class Rescuer:
             events.append(("warning", f"diverting target between {c.left} and {c.right} abandoned "
                                       f"({why}; {self.failures} failed)"))
             abandoned = c.edge
-            self._clear_crossing(s)
+            self._clear_crossing(s, "abandoned")
         else:
             events.append(("warning", f"blocked: {why}"))
             if self._last_crossed is not None:  # the last diverting target was crossed but led nowhere
                 self.failures += 1
                 abandoned, self._last_crossed = self._last_crossed, None
+                if self.tried and self.tried[-1][2] == "crossed":
+                    self.tried[-1] = (*self.tried[-1][:2], "crossed, led nowhere")
                 u, v = sorted(abandoned)
                 events.append(("warning", f"crossing between {u} and {v} led nowhere ({self.failures} failed)"))
         if self.failures >= self.params.max_diverting_failures:
@@ -275,7 +278,9 @@ class Rescuer:
         self._side = None
         self._reset_progress(s)
 
-    def _clear_crossing(self, s: Situation) -> None:
+    def _clear_crossing(self, s: Situation, ending: str) -> None:
+        if self._crossing_world is not None:
+            self.tried.append((*self._crossing_world, ending))
         self._crossing = self._crossing_world = None
         self._side = None
         self._reset_progress(s)
