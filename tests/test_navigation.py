@@ -380,3 +380,23 @@ def test_looking_around_is_bounded_too():
         give_up = out.give_up
     assert asked == NAVIGATION.max_diverting_failures + 1 and r.failures == 0
     assert give_up.startswith(f"the map gives no diverting target after {NAVIGATION.max_diverting_failures} looks around")
+
+
+def test_a_target_no_scan_finds_ends_the_mission_saying_what_failed():
+    """Lost for good: every LOST_SCANS scans without the target are a failure; at
+    max_diverting_failures the mission ends, its reason counting the scans' failures."""
+    from navcli.navigation.rescuer import LOST_SCANS
+
+    r = Rescuer(NAVIGATION, np.random.default_rng(0))
+    t = _sweep(r)
+    looked, give_up = None, None
+    for _ in range(5000):
+        t += 0.1
+        out = r.decide(situation(time=t, I_a=0.9, looked=looked, odometry=Pose(0.0, 0.0, r._turn_to or 0.0)),
+                       lambda f: None)
+        looked = next((b.action.pan for b in out.bids if b.resource == "camera"), None)
+        if out.give_up:
+            give_up = out.give_up
+            break
+    n = NAVIGATION.max_diverting_failures
+    assert give_up == f"the target is lost ({n} failures: {n} times {LOST_SCANS} scans without it)"

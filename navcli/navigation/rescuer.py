@@ -147,8 +147,9 @@ class Rescuer:
                     events.append(("warning", f"target not found in {LOST_SCANS} scans ({self.failures} failed)"))
                     if self.failures >= self.params.max_diverting_failures:
                         lost, diverting = self._lost_failures, self.failures - self._lost_failures
-                        give_up = f"the target is lost ({self.failures} failures: {lost} of {LOST_SCANS} scans " + \
-                            f"without it{f', {diverting} diverting targets' if diverting else ''})"
+                        tried = f", {diverting} diverting target{'s' if diverting > 1 else ''}" if diverting else ""
+                        give_up = f"the target is lost ({self.failures} failures: {lost} times {LOST_SCANS} scans " \
+                                  f"without it{tried})"
                         events.append(("error", f"giving up: {give_up}"))
                         return Rescue(events=tuple(events), give_up=give_up)
                 self._start_turn(b.odometry, events, "target still lost after a scan")
