@@ -29,7 +29,7 @@ from ..fuzzy import FuzzyPoint
 from ..geometry import Point, Pose
 from ..params import CONTROL_DT, NAVIGATION, NavigationParams
 from .beta_map import BetaNetwork, collinearity
-from .regions import Crossing, Edge, NoCrossing, blocked_edges, first_crossing, triangulate, way_out
+from .regions import Crossing, Edge, NoCrossing, Regions, blocked_edges, first_crossing, triangulate, way_out
 
 TARGET = "target"  # the key of a point target's marker, as the visual memory holds it
 
@@ -184,15 +184,10 @@ class MapManager:
 
     def diverting_target(self, beliefs: Beliefs, target: Point) -> Crossing | NoCrossing:
         """The first edge to cross toward ``target`` (egocentric), or why there is none."""
-        marks = {k: (p.x, p.y) for k, p in self.landmark_estimates(beliefs).items()}
-        # the known long obstacles split the regions and block the edges they cross; the room's walls
-        # do not: they bound the room, and an edge crosses one only outside it (toward a virtual landmark)
-        lines = [(o.key, o.a, o.b) for o in beliefs.obstacles if not o.is_point and not o.wall]
-        regions = triangulate(marks, self.params.virtual_distance, lines)
+        marks = self.landmark_estimates(beliefs)
+        regions, known = self._regions(beliefs, marks)
         if regions is None:
             return NoCrossing(f"{len(marks)} landmark(s) mapped, too few for regions")
-        walls = [(o.key, o.a, o.b) for o in beliefs.obstacles if o.wall]
-        known = blocked_edges(regions, lines, self.passable, walls)
         if not way_out(regions, (0.0, 0.0), known, target):  # what is known to close it in, not what failed
             return NoCrossing("the known obstacles close in the robot's regions: every edge out is blocked", trapped=True)
         blocked = dict(self.blocked)
@@ -204,6 +199,19 @@ class MapManager:
             return NoCrossing("the target is in the robot's region" if same else "every way to the target is blocked")
         return c
 
+    def _regions(self, beliefs: Beliefs, marks: dict[str, FuzzyPoint]) -> tuple[Regions | None, dict[Edge, str]]:
+        """The regions of the mapped ``marks`` and the known long obstacles, and the edges the
+        known obstacles block (:func:`~.regions.blocked_edges`, with what blocks each). The long
+        obstacles split the regions and block the edges they cross; the room's walls only where
+        they leave no room beside an edge's end: they bound the room, and an edge to a virtual
+        landmark crosses one outside it."""
+        lines = [(o.key, o.a, o.b) for o in beliefs.obstacles if not o.is_point and not o.wall]
+        regions = triangulate({k: (p.x, p.y) for k, p in marks.items()}, self.params.virtual_distance, lines)
+        if regions is None:
+            return None, {}
+        walls = [(o.key, o.a, o.b) for o in beliefs.obstacles if o.wall]
+        return regions, blocked_edges(regions, lines, self.passable, walls)
+
     def report_blocked(self, edge: Edge) -> None:
         """A diverting target through ``edge`` failed: make its arc costly."""
         self.blocked[edge] = self.blocked.get(edge, 0.0) + 1.0
@@ -212,12 +220,10 @@ class MapManager:
         """For the log: what the map knows now, from the memory and the recalls already made."""
         marks = self.landmark_estimates(beliefs, recall=False)
         units = tuple((*basis, target) for target, per in self.network.units.items() for basis in per)
-        lines = [(o.key, o.a, o.b) for o in beliefs.obstacles if not o.is_point and not o.wall]
-        r = triangulate({k: (p.x, p.y) for k, p in marks.items()}, self.params.virtual_distance, lines)
+        r, known = self._regions(beliefs, marks)
+        blocked = tuple(sorted(tuple(sorted(e)) for e in set(self.blocked) | set(known)))
         if r is None:
-            return MapSnapshot(marks, units, (), tuple(tuple(sorted(e)) for e in self.blocked))
+            return MapSnapshot(marks, units, (), blocked)
         tris = tuple(tuple(tuple(map(float, r.points[v])) for v in t) for t in r.triangles)
-        walls = [(o.key, o.a, o.b) for o in beliefs.obstacles if o.wall]
-        blocked = set(self.blocked) | set(blocked_edges(r, lines, self.passable, walls))
         vertices = {k: (float(x), float(y)) for k, (x, y) in zip(r.ids, r.points)}
-        return MapSnapshot(marks, units, tris, tuple(sorted(tuple(sorted(e)) for e in blocked)), vertices)
+        return MapSnapshot(marks, units, tris, blocked, vertices)

@@ -148,10 +148,8 @@ class Rescuer:
                     if self.failures >= self.params.max_diverting_failures:
                         lost, diverting = self._lost_failures, self.failures - self._lost_failures
                         tried = f", {diverting} diverting target{'s' if diverting > 1 else ''}" if diverting else ""
-                        give_up = f"the target is lost ({self.failures} failures: {lost} times {LOST_SCANS} scans " \
-                                  f"without it{tried})"
-                        events.append(("error", f"giving up: {give_up}"))
-                        return Rescue(events=tuple(events), give_up=give_up)
+                        return self._give_up(f"the target is lost ({self.failures} failures: {lost} times "
+                                             f"{LOST_SCANS} scans without it{tried})", events)
                 self._start_turn(b.odometry, events, "target still lost after a scan")
                 return Rescue(events=tuple(events))
             else:
@@ -211,23 +209,18 @@ class Rescuer:
                 u, v = sorted(abandoned)
                 events.append(("warning", f"crossing between {u} and {v} led nowhere ({self.failures} failed)"))
         if self.failures >= self.params.max_diverting_failures:
-            give_up = f"{self.failures} diverting targets failed"
-            events.append(("error", f"giving up: {give_up}"))
-            return Rescue(events=tuple(events), give_up=give_up)
+            return self._give_up(f"{self.failures} diverting targets failed", events)
         crossing = ask(abandoned)
         if crossing is None or isinstance(crossing, NoCrossing):
             why = crossing.why if crossing is not None else "the map gives none"
             trapped = crossing is not None and crossing.trapped
             if trapped and self._trapped:  # no way out, still, after looking around for one
-                give_up = f"no way out: {why}"
-                events.append(("error", f"giving up: {give_up}"))
-                return Rescue(events=tuple(events), give_up=give_up)
+                return self._give_up(f"no way out: {why}", events)
             self._trapped = trapped
             self._explorations += 1
             if self._explorations > self.params.max_diverting_failures:  # our design: looking around is bounded too
-                give_up = f"the map gives no diverting target after {self._explorations - 1} looks around ({why})"
-                events.append(("error", f"giving up: {give_up}"))
-                return Rescue(events=tuple(events), give_up=give_up)
+                return self._give_up(f"the map gives no diverting target after {self._explorations - 1} looks "
+                                     f"around ({why})", events)
             self._start_turn(b.odometry, events, f"no diverting target ({why}); exploring")
             self._scan_after_turn = True
             self._reset_progress(s)
@@ -245,6 +238,11 @@ class Rescuer:
                                f"{crossing.right} (right)"))
         stop = Bid(self.name, "motion", STOP, self.params.rescuer_bid)
         return Rescue((stop,), self._diverting_line(s), tuple(events))
+
+    def _give_up(self, why: str, events: list) -> Rescue:
+        """End the mission as ``blocked`` for ``why``, said in the events too."""
+        events.append(("error", f"giving up: {why}"))
+        return Rescue(events=tuple(events), give_up=why)
 
     # -- scans and turns
     def _scan_bids(self) -> tuple[Bid, ...]:

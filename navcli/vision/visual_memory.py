@@ -360,11 +360,10 @@ def _same_line(ends: list[Spot], spots: list[Spot], gap: float) -> bool:
     lv = math.hypot(vx, vy)
     if lv > p.r0 + q.r0 and abs(ux * vy - uy * vx) > math.sin(JOIN_ANGLE) * lv:
         return False  # across the line, not along it (a stretch shorter than its supports has no direction)
-    tol = max(a.radius(CUT), b.radius(CUT))  # plausibly on the line: the 70 % cuts, not the supports
     along = []
     for s in spots:
         rx, ry = s.x - a.x, s.y - a.y
-        if abs(rx * uy - ry * ux) > s.radius(CUT) + tol:  # off the line
+        if abs(rx * uy - ry * ux) > _plausible(s, ends):  # off the line
             return False
         along.append(rx * ux + ry * uy)
     return min(along) <= L + gap and max(along) >= -gap
@@ -376,11 +375,18 @@ def _near_line(s: Spot, ends: list[Spot], gap: float) -> bool:
     a, b = ends
     ux, uy = b.x - a.x, b.y - a.y
     L = math.hypot(ux, uy)
+    tol = _plausible(s, ends)
     if L < 1e-9:
-        return math.hypot(s.x - a.x, s.y - a.y) <= s.radius(CUT) + max(a.radius(CUT), b.radius(CUT))
+        return math.hypot(s.x - a.x, s.y - a.y) <= tol
     rx, ry = s.x - a.x, s.y - a.y
     t = (rx * ux + ry * uy) / L
-    return -gap <= t <= L + gap and abs(rx * uy - ry * ux) / L <= s.radius(CUT) + max(a.radius(CUT), b.radius(CUT))
+    return -gap <= t <= L + gap and abs(rx * uy - ry * ux) / L <= tol
+
+
+def _plausible(s: Spot, ends: list[Spot]) -> float:
+    """How far off a remembered line's ``ends`` the spot ``s`` may lie and plausibly be on it:
+    their 70 % cuts, not their supports, which at the camera's range are a metre wide."""
+    return s.radius(CUT) + max(e.radius(CUT) for e in ends)
 
 
 def _extend(m: Memory, spots: list[Spot]) -> None:
