@@ -93,7 +93,10 @@ class PilotParams:
     # 1, the speed and the turn commanded together, as a Pioneer's velocity and heading commands do
     # (the default, our reading of the paper); 0, stop to turn above turn_in_place, slow by cos(error) below
     drive_while_turning: int = _p(1, at_most=1)
-    turn_in_place: float = _p(math.radians(45.0))  # with drive_while_turning 0: above this heading error the robot stops to turn
+    # m: clearance the body keeps along the arc of a large turn driven at speed (see Pilot._arc_clear)
+    arc_margin: float = _p(0.1, at_least=0.0)
+    # above this heading error the robot stops to turn (drive_while_turning 0), or checks the turn's arc (1)
+    turn_in_place: float = _p(math.radians(45.0))
     distress_gain: float = _p(1.5)  # section 5: each offending obstacle's force x 1.5 when IN_DISTRESS
     # m: the field leading away from the target, a long obstacle its strongest push, while the robot
     # could drive this far and got along the obstacle less than a third of it: the Pilot reports the
@@ -101,6 +104,8 @@ class PilotParams:
     # default: measured, it helps behind long fences and costs paper-8x8 runs; README, trap rooms)
     blocked_report_m: float = _p(0.0)
     wall_window: float = _p(1.0, above=0.0)  # m: a room wall acts as the stretch this long nearest the robot
+    # m: a linear obstacle longer than this acts as the stretch this long nearest the robot (the paper's are shorter)
+    line_window: float = _p(3.0, above=0.0)
     corridor_margin: float = _p(0.40)  # m: section 3.3, the safe corridor keeps this far from the line's ends
     # Section 3.5: reflexes and backward motion
     backward_turn: float = _p(math.radians(160.0), at_most=math.pi)  # turns larger than this are driven backwards...
@@ -186,7 +191,10 @@ class VisionParams:
     bump_radius: float = _p(0.10, above=0.0)  # m: support radius of an obstacle found by the bumpers
     bump_merge: float = _p(1.0)  # m: a bump this near another bump or a landmark joins it in a long obstacle
     line_join_gap: float = _p(0.5)  # m: stretches of a fence or wall seen apart are one only if they overlap or are this near
-    forget_above: float = _p(0.35, above=0.0, at_most=1.0)  # I(l) above which an object is forgotten
+    forget_above: float = _p(0.35, above=0.0, at_most=1.0)  # I(l) above which a landmark or the target is forgotten
+    # 0: a linear obstacle (or wall) is forgotten when both its ends are above forget_above; 1: when one is
+    # (navcli before: the near end of a fence the robot drives along blurs first, and the fence went with it)
+    forget_line_by_one_end: int = _p(0, at_most=1)
     forget_every: int = _p(5, at_least=1)  # ticks between two sweeps of the memory for what has become too imprecise
     # ticks between two /memory/scene updates, and the last tick (3 s; our design: drawn once a second it
     # cost some 40 µs a tick; each drawing stays where it was in the world, see DRAW_PERIOD)

@@ -245,6 +245,38 @@ def test_the_map_tells_no_way_out_from_too_little_known():
     assert not isinstance(MapManager().diverting_target(open_, (5.0, 1.5)), NoCrossing)
 
 
+def test_what_a_fence_was_seen_to_block_between_landmarks_stays_known_when_the_memory_forgets_it():
+    """The thesis' map keeps its arcs blocked once reported; the visual memory forgets a fence
+    (and sees it again under a new key) as the robot moves. The Map Manager keeps, from every
+    image, the landmark pairs a known fence crosses: with the fence gone from the memory, the
+    way from below it to the target above no longer leads through it, as it does for a map that
+    never saw it."""
+    from navcli.beliefs import Beliefs, KnownLandmark, KnownObstacle
+    from navcli.geometry import Pose
+    from navcli.navigation.map_manager import MapManager
+    from navcli.navigation.regions import crossed_pairs
+
+    point = lambda x, y: FuzzyPoint(x, y, (0.02, 0.014, 0.006, 0.0))  # noqa: E731
+    marks = {"A": (-3.0, -2.0), "B": (3.0, -2.0), "C": (3.5, 3.0), "D": (-3.0, 3.2), "E": (0.3, 4.5)}
+    across = KnownObstacle("obstacle-7", (-2.5, 0.5), (2.5, 0.5), 0.025)  # short of A-D and B-C
+    robot, target = (0.0, -1.5), (-2.0, 2.5)  # the origin is the robot: the map is egocentric
+    shift = lambda p: (p[0] - robot[0], p[1] - robot[1])  # noqa: E731
+    rel = {k: shift(p) for k, p in marks.items()}
+    landmarks = tuple(KnownLandmark(k, point(*p), 0.0) for k, p in rel.items())
+    fence = KnownObstacle(across.key, shift(across.a), shift(across.b), across.radius)
+    seen = Beliefs(0.0, Pose(0, 0, 0), shift(target), None, (fence,), looked=0.0, landmarks=landmarks)
+    forgot = Beliefs(0.1, Pose(0, 0, 0), shift(target), None, (), landmarks=landmarks)
+    expected = set(crossed_pairs(rel, [(fence.key, fence.a, fence.b)]))
+    assert expected == {frozenset(p) for p in ("AC", "BD", "AE", "BE")}  # the pairs from below to above
+    mm = MapManager()
+    mm.observe(seen)
+    assert set(mm.seen_blocked) == expected and set(mm.seen_blocked.values()) == {"obstacle-7"}
+    through = MapManager().diverting_target(forgot, shift(target))  # a map that never saw it: straight across
+    assert through.edge == frozenset("AE")
+    way = mm.diverting_target(forgot, shift(target))
+    assert way.edge not in expected and way.cost > through.cost  # round it
+
+
 def test_way_out_is_a_way_through_edges_not_blocked_out_of_the_robots_regions():
     r = triangulate(SQUARE)
     start = r.region_of((2.0, 1.0))

@@ -90,6 +90,60 @@ def test_the_backward_budget_is_a_total_of_commanded_backward_driving(params):
     assert v == (0.3 if params.drive_while_turning else 0.0)  # ...and the budget is still spent: an ordinary turn
 
 
+def fence(y: float, key: str = "fence") -> KnownObstacle:
+    """A known fence along x at lateral offset ``y`` (m), from 2 m behind to 2 m ahead."""
+    return KnownObstacle(key, (-2.0, y), (2.0, y), 0.025)
+
+
+def test_a_request_that_would_drive_into_a_known_fence_is_turned_on_the_spot():
+    """Section 2: the Pilot implements the Navigation system's requests "if they are safe". A
+    fence 0.45 m to the left: heading 90 degrees left at speed would sweep an arc of radius
+    0.3 / (pi/2) = 0.19 m, bringing the body's edge to 0.19 + 0.25 = 0.44 m of lateral reach,
+    inside the fence's 0.425 m face less the margin, then drive on into it: turn on the spot."""
+    p = Pilot(PILOT, ROBOT)
+    p.decide(beliefs([fence(0.45)]))
+    assert p.execute(nav(Move(math.radians(90), 0.3))) == (0.0, pytest.approx(ROBOT.max_turn_rate))
+    v, _ = p.execute(nav(Move(math.radians(-90), 0.3)))  # away from it: the arc stays clear
+    assert v == 0.3
+    assert p.execute(nav(Move(0.0, 0.3)))[0] == 0.3  # straight along it: 0.45 - 0.025 - 0.25 = 0.175 m clear
+    p.decide(beliefs([fence(1.5)]))  # far enough that arc and run stay clear by more than the margin
+    assert p.execute(nav(Move(math.radians(90), 0.3)))[0] == 0.3
+
+
+def test_a_request_straight_at_a_fence_ahead_stops_the_robot_short_of_it():
+    """Heading for a target behind a fence: the request is safe while the robot can still stop
+    clear of it. At 0.3 m/s it needs a tick (0.03 m) and 0.3^2 / (2 x 0.5) = 0.09 m of braking:
+    0.12 m, after which a fence 0.45 m ahead would be 0.45 - 0.12 - 0.025 = 0.305 m from the
+    centre, less than the body's 0.25 m and the 0.1 m margin: no speed (the base Pilot has no
+    move of its own). From a fence 0.6 m ahead 0.455 m remain: full speed."""
+    p = Pilot(PILOT, ROBOT)
+    p.decide(beliefs([KnownObstacle("fence", (0.45, -2.0), (0.45, 2.0), 0.025)]))
+    assert p.execute(nav(Move(0.0, 0.3)))[0] == 0.0
+    p.decide(beliefs([KnownObstacle("fence", (0.6, -2.0), (0.6, 2.0), 0.025)]))
+    assert p.execute(nav(Move(0.0, 0.3)))[0] == 0.3
+
+
+def test_instead_of_a_request_that_is_not_safe_the_pilot_carries_out_its_own_move():
+    """Section 2: the Pilot implements a request if it is safe and is responsible for avoiding
+    obstacles: the potential field's own move (away from the fence) is executed instead."""
+    p = PotentialFieldPilot(PILOT, ROBOT)
+    out = p.decide(beliefs([fence(0.45)], target=(0.0, 5.0)))  # the target straight left, behind the fence
+    own = next(b for b in out.bids if b.resource == "motion").action
+    assert own.heading < 0.0  # the field turns it away, to the right
+    assert p.execute(nav(Move(math.radians(90), 0.3))) == p.drive(own)
+
+
+def test_the_pilots_own_large_turn_beside_a_fence_is_made_on_the_spot_and_small_ones_at_speed():
+    """The Pilot's own moves are checked along the arc of large turns only (above turn_in_place):
+    avoidance is its own business, but a 90-degree swing toward a fence at speed hits it."""
+    p = Pilot(PILOT, ROBOT)
+    p.decide(beliefs([fence(0.45)]))
+    own = Bid("pilot", "motion", Move(math.radians(90), 0.3), 0.8)
+    assert p.execute(own)[0] == 0.0
+    small = Bid("pilot", "motion", Move(math.radians(20), 0.3), 0.8)
+    assert p.execute(small)[0] == 0.3
+
+
 # -- eq. 1: the look-ahead camera bid ------------------------------------------------------------
 def test_eq1_look_bid_grows_with_distance_since_the_last_look_ahead():
     p = PotentialFieldPilot(PILOT, ROBOT)

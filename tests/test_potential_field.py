@@ -255,3 +255,21 @@ def test_a_rooms_corner_is_no_sink():
     assert rx > 0 and ry > 0 and rx == pytest.approx(ry)  # out of it, along the diagonal
     f = field((5.0, 5.0), None, walls, PILOT)
     assert 0 < f.turn < math.pi / 2
+
+
+def test_a_fence_longer_than_the_line_window_pushes_away_from_its_near_stretch_not_along_it():
+    """Section 3.2 takes the direction from a linear obstacle's centre: beside one end of a 9 m
+    fence 0.6 m to the left, the centre is 4 m ahead, and the push points back along the fence
+    (atan2(-0.6, -4), -171 degrees). Longer than ``line_window`` (3 m), the fence acts as its
+    3 m stretch nearest the robot, clipped at the fence's end 0.5 m behind: from -0.5 to 2.5 m,
+    centred 1 m ahead, so the push turns away from the fence (atan2(-0.6, -1), -149 degrees).
+    A 2.8 m obstacle, the paper's kind, is unchanged."""
+    long = KnownObstacle("fence", (-0.5, 0.6), (8.5, 0.6), 0.0)
+    f = field((5.0, 0.0), None, [long], PILOT)
+    (fx, fy), = [(o.fx, o.fy) for o in f.forces]
+    assert math.degrees(math.atan2(fy, fx)) == pytest.approx(math.degrees(math.atan2(-0.6, -1.0)))
+    paper = replace(PILOT, line_window=100.0)
+    (gx, gy), = [(o.fx, o.fy) for o in field((5.0, 0.0), None, [long], paper).forces]
+    assert math.degrees(math.atan2(gy, gx)) == pytest.approx(math.degrees(math.atan2(-0.6, -4.0)))
+    short = KnownObstacle("post-row", (-0.5, 0.6), (2.3, 0.6), 0.0)
+    assert field((5.0, 0.0), None, [short], PILOT).forces == field((5.0, 0.0), None, [short], paper).forces

@@ -4,6 +4,7 @@ sharpens and is forgotten, and that it stays honest over a whole mission."""
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -226,6 +227,28 @@ def test_objects_too_imprecise_are_forgotten_but_not_the_target():
         mem.move(0.05, 0.2)
     mem.forget()
     assert "target" in mem.items  # what the robot was told is kept, however blurred
+
+
+def test_a_fence_is_forgotten_when_both_its_ends_blur_not_when_the_near_one_does():
+    """I(l) is mostly the heading's width, and odometry errs in metres: driving up to one end of
+    a fence blurs that end (a wide angle seen from nearby) while the far end, 6 m off, stays
+    sharp. The fence is kept until both ends pass forget_above; with forget_line_by_one_end 1 it
+    goes with its near end."""
+    def drive(params):
+        mem = VisualMemory(0.2, params)  # a poor odometry (20 %): the blur grows fast
+        mem.add_found("obstacle", [Spot(3.0, 0.6, 0.02, 0.0), Spot(3.0, 6.0, 0.02, 0.0)], 0.025)
+        (key, m), = mem.items.items()
+        for _ in range(140):  # 2.8 m ahead, toward the near end
+            mem.move(0.02, 0.0)
+            mem.forget()
+        return mem, key, m
+
+    mem, key, m = drive(VISION)
+    near, far = m.spots
+    assert near.point().imprecision() > VISION.forget_above >= far.point().imprecision()  # the case in point...
+    assert key in mem.items  # ...and the fence is kept
+    mem, key, _ = drive(replace(VISION, forget_line_by_one_end=1))
+    assert key not in mem.items and mem.forgotten == [key]
 
 
 def test_fusing_keeps_the_truth_and_sharpens():

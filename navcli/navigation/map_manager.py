@@ -15,7 +15,10 @@ agents' questions. It makes no bids.
   and the known long obstacles (which split the regions they cross), arcs blocked when a known
   long obstacle crosses their edge or the edge runs along one, when it is too narrow, when a wall
   leaves no room between it and the edge's end, or when a diverting target through them failed, and the first edge of the cheapest path to the target's
-  region; or, when there is none, why (:class:`~.regions.NoCrossing`), telling apart a map that
+  region. What the long obstacles block between two landmarks is kept from every image
+  (``seen_blocked``), as the thesis' map keeps the arcs reported blocked: the visual memory
+  forgets a fence and sees it again under a new key, landmark ids stay (our design; an edge seen
+  blocked wrongly is still used, at ``blocked_cost``, when nothing else leads on); or, when there is none, why (:class:`~.regions.NoCrossing`), telling apart a map that
   knows too little (look around) from one that shows no way out of the robot's region.
 """
 
@@ -29,7 +32,8 @@ from ..fuzzy import FuzzyPoint
 from ..geometry import Point, Pose
 from ..params import CONTROL_DT, NAVIGATION, NavigationParams
 from .beta_map import BetaNetwork, collinearity
-from .regions import Crossing, Edge, NoCrossing, Regions, blocked_edges, first_crossing, triangulate, way_out
+from .regions import (Crossing, Edge, NoCrossing, Regions, blocked_edges, crossed_pairs, first_crossing, triangulate,
+                      way_out)
 
 TARGET = "target"  # the key of a point target's marker, as the visual memory holds it
 
@@ -70,6 +74,7 @@ class MapManager:
         self.network = BetaNetwork(params.map_units_per_landmark)
         self.target_key = target_key
         self.blocked: dict[Edge, float] = {}  # edges of failed diverting targets: how often
+        self.seen_blocked: dict[Edge, str] = {}  # landmark pairs a known long obstacle was seen across: by what
         self._recalled: dict[str, _Recalled] = {}
         self._tick = 0
         self._images = 0
@@ -86,6 +91,11 @@ class MapManager:
             return 0
         self._images += 1
         known = self.memory_points(beliefs)
+        lines = [(o.key, o.a, o.b) for o in beliefs.obstacles if not o.is_point and not o.wall]
+        if lines:  # what the obstacles block between landmarks stays known when the memory forgets them
+            marks = {k: (p.x, p.y) for k, p in known.items() if k != self.target_key}
+            for e, key in crossed_pairs(marks, lines).items():
+                self.seen_blocked.setdefault(e, key)
         fresh = beliefs.time - CONTROL_DT - 1e-6
         shown = {k for k, lm in self._landmarks(beliefs) if lm[1] >= fresh}
         if not shown:
@@ -193,7 +203,8 @@ class MapManager:
         blocked = dict(self.blocked)
         for e in known:
             blocked[e] = blocked.get(e, 0.0) + 1.0
-        c = first_crossing(regions, (0.0, 0.0), target, blocked, self.params.blocked_cost)
+        sight = [(o.key, o.a, o.b) for o in beliefs.obstacles if not o.is_point]
+        c = first_crossing(regions, (0.0, 0.0), target, blocked, self.params.blocked_cost, sight)
         if c is None:
             same = regions.region_of((0.0, 0.0)) == regions.region_of(target)
             return NoCrossing("the target is in the robot's region" if same else "every way to the target is blocked")
@@ -210,7 +221,10 @@ class MapManager:
         if regions is None:
             return None, {}
         walls = [(o.key, o.a, o.b) for o in beliefs.obstacles if o.wall]
-        return regions, blocked_edges(regions, lines, self.passable, walls)
+        known = blocked_edges(regions, lines, self.passable, walls)
+        for e, key in self.seen_blocked.items():
+            known.setdefault(e, key)
+        return regions, known
 
     def report_blocked(self, edge: Edge) -> None:
         """A diverting target through ``edge`` failed: make its arc costly."""

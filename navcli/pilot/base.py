@@ -9,7 +9,11 @@ Navigation system's. This module holds what every pilot shares:
   and heading commands are (``pilot.drive_while_turning``; 0 stops to turn above
   ``turn_in_place``), with the section 3.5 rule that a turn larger than 160 degrees is driven
   backwards (turning the complement) while the total distance driven backwards that way stays
-  under ``max_backward``;
+  under ``max_backward``; and the section 2 rule that the Pilot implements the Navigation
+  system's requests "if they are safe" (our reading, :meth:`Pilot._path_clear`): a request whose
+  turn and stopping distance would bring the body within ``arc_margin`` of a known obstacle is
+  replaced by the Pilot's own move, and any large turn (above ``turn_in_place``) whose arc at
+  speed would is made on the spot;
 - **reflexes** (section 3.5): on a bumper hit, stop, look around, back up ``backup_distance``
   (drive forward from a contact behind), then recompute with the obstacle that was hit (which
   the visual memory now holds); the same reflex when the robot stalls, pushing without moving
@@ -32,7 +36,7 @@ from dataclasses import dataclass, field
 
 from ..beliefs import Beliefs, Bump, KnownObstacle
 from ..bidding import Bid, Look, Move, looked_at
-from ..geometry import Pose, motion_between, wrap_angle
+from ..geometry import Pose, distance_to_segment, motion_between, wrap_angle
 from ..params import CONTROL_DT, PILOT, ROBOT, PilotParams, RobotParams
 
 
@@ -93,6 +97,8 @@ class Pilot:
         # the obstacle's direction there: (x, y, ux, uy)
         self._blocking: tuple[str | None, int, tuple[float, float, float, float] | None] = (None, 0, None)
         self._last_odom: Pose | None = None
+        self._obstacles: tuple[KnownObstacle, ...] = ()
+        self._own: Move | None = None
         self._last_v = 0.0  # the forward speed last commanded, m/s
         self._drive_v = 0.0  # the speed the drive can have reached, at its acceleration limit, m/s
         self._drivable_m = 0.0  # and the metres it could cover with the last command
@@ -117,11 +123,13 @@ class Pilot:
         self._watch_for_stall(beliefs.touching)
         events, self._events = self._events, []
         obstacles = beliefs.obstacles  # the visual memory, bumped obstacles included
+        self._obstacles = obstacles  # what the execution's swept-arc check (``drive``) tests against
         look = self.look_bid()
         if self._reflex:
             self._blocking = (None, 0, None)
             return self._reflex_output(look, events, obstacles)
         a = self.avoid(beliefs, obstacles, request)
+        self._own = a.move  # what the execution carries out instead of a request that is not safe
         bids = [Bid(self.name, "camera", LOOK_AHEAD, look)] if look > 0 else []
         offers = a.move is not None and a.bid > 0.0  # a bid of 0 is not offered: it would drive a silent robot
         info = {"mode": "avoid" if offers else "idle", "bid": a.bid, "look_bid": look} | a.info
@@ -274,7 +282,7 @@ class Pilot:
             backward = abs(move.heading) > p.backward_turn and move.speed > 0 and self.backward < p.max_backward
             if backward:
                 move = Move(wrap_angle(move.heading - math.pi), -move.speed)  # back up, turn the complement
-            v, omega = self.drive(move)
+            v, omega = self.drive(move, requested=winner.bidder != self.name)
             if backward:
                 self.backward += -v * CONTROL_DT
         self._last_v = v
@@ -292,7 +300,43 @@ class Pilot:
         self._drive_v = before + max(-a, min(a, v - before))
         return abs(before + self._drive_v) / 2 * CONTROL_DT
 
-    def drive(self, move: Move) -> tuple[float, float]:
+    def _path_clear(self, v: float, omega: float, err: float, ahead: float = 0.0, samples: int = 6) -> bool:
+        """Does driving at ``v`` (m/s) while turning at ``omega`` (rad/s) until the heading error
+        ``err`` (rad) is gone, and then ``ahead`` metres straight on, keep the body clear of every
+        known obstacle by ``arc_margin``?
+
+        Our design, the paper's Pilot implementing a motion "if it is safe" (section 2): a large
+        turn at speed sweeps an arc of radius v / omega (0.19 m at 0.3 m/s and 90 deg/s), which
+        beside a fence swings the robot into it; and the Navigation system's request to head for
+        a target behind a fence drives straight into it. Tested at ``samples`` points of the arc
+        (the last where the turn ends) and two of the straight run, egocentric (the robot at the
+        origin heading along x)."""
+        obstacles = self._obstacles
+        if not obstacles:
+            return True
+        r = v / omega if omega else 0.0
+        phi_end = omega * abs(err / omega) if omega else 0.0
+        points = [(r * math.sin(phi_end * k / samples), r * (1.0 - math.cos(phi_end * k / samples)))
+                  for k in range(1, samples + 1)] if omega else [(0.0, 0.0)]
+        if ahead:
+            ex, ey = points[-1]
+            h = err if omega else 0.0
+            step = math.copysign(ahead, v) / 2
+            points += [(ex + step * k * math.cos(h), ey + step * k * math.sin(h)) for k in (1, 2)]
+        clear = self.robot.radius + self.params.arc_margin
+        for p in points:
+            for o in obstacles:
+                d = math.hypot(p[0] - o.a[0], p[1] - o.a[1]) if o.a == o.b else distance_to_segment(p, o.a, o.b)
+                if d - o.radius < clear:
+                    return False
+        return True
+
+    def _stopping(self, v: float) -> float:
+        """Metres the robot covers at ``v`` before it can stand: a tick's reaction and the braking
+        at ``max_accel`` (0.12 m at 0.3 m/s and 0.5 m/s^2)."""
+        return v * v / (2.0 * self.robot.max_accel) + abs(v) * CONTROL_DT
+
+    def drive(self, move: Move, requested: bool = False, instead: bool = True) -> tuple[float, float]:
         """Heading servo: turn toward ``move.heading`` at ``heading_gain`` per radian of error.
 
         With ``drive_while_turning`` (the default) the move's speed is commanded as it is, with the
@@ -305,7 +349,12 @@ class Pilot:
         err = move.heading
         omega = max(-self.robot.max_turn_rate, min(self.robot.max_turn_rate, self.params.heading_gain * err))
         if self.params.drive_while_turning:
-            return move.speed, omega
-        if abs(err) > self.params.turn_in_place:
-            return 0.0, omega
-        return move.speed * math.cos(err), omega
+            v = move.speed
+        else:
+            v = 0.0 if abs(err) > self.params.turn_in_place else move.speed * math.cos(err)
+        if v and (abs(err) > self.params.turn_in_place or requested) and not self._path_clear(
+                v, omega, err, self._stopping(v) if requested else 0.0):
+            if requested and instead and self._own is not None:  # the paper's "if they are safe": else
+                return self.drive(self._own, instead=False)  # the Pilot's own move
+            return 0.0, omega  # turning on the spot is always safe
+        return v, omega

@@ -7,7 +7,8 @@ the paper's units (K = 18, A_t = 50: a force of 50 is the target's pull).
 Section by section:
 - 3.1 point obstacles: ``point_force`` (equations 2-4), the target: ``target_force`` (eq. 5);
 - 3.2 linear obstacles: ``linear_force`` (magnitude from the nearest point, direction from the centre),
-  and the room's walls as a bounded stretch of wall (``wall_window``, our design);
+  and the room's walls, and linear obstacles longer than the paper's, as a bounded stretch of
+  them (``wall_window``, our design);
 - 3.3 diverting targets: ``line_target_force`` (the safe corridor);
 - 3.4 net force and turn angle: ``field`` (eq. 6, 7);
 - 4 the bid: ``pilot_bid`` (eq. 9);
@@ -292,7 +293,7 @@ class Field(NamedTuple):
 def field(beliefs_target: Point | None, target_line: tuple[Point, Point] | None,
           obstacles: tuple[KnownObstacle, ...] | list[KnownObstacle], p: PilotParams) -> Field:
     """Net force, turn angle and bid for the robot at the origin (eq. 4-7 and 9, section 5)."""
-    obstacles = [wall_window(o, p.wall_window) if o.wall else o for o in obstacles]
+    obstacles = [wall_window(o, p.wall_window if o.wall else p.line_window) for o in obstacles]
     face = facing(obstacles)
     K, R_min = p.K, p.R_min
     forces = []
