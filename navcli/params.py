@@ -95,6 +95,8 @@ class PilotParams:
     drive_while_turning: int = _p(1, at_most=1)
     # m: clearance the body keeps along the arc of a large turn driven at speed (see Pilot._arc_clear)
     arc_margin: float = _p(0.1, at_least=0.0)
+    # 1: moves are executed only if safe (section 2, see Pilot._path_clear); 0: as they come (navcli before)
+    safe_execution: int = _p(1, at_most=1)
     # above this heading error the robot stops to turn (drive_while_turning 0), or checks the turn's arc (1)
     turn_in_place: float = _p(math.radians(45.0))
     distress_gain: float = _p(1.5)  # section 5: each offending obstacle's force x 1.5 when IN_DISTRESS
@@ -177,6 +179,8 @@ class NavigationParams:
     map_draw_every: int = _p(100, at_least=1)
     virtual_distance: float = _p(10.0, above=0.0)  # m: virtual landmarks beyond the hull edges
     blocked_cost: float = _p(1000.0, above=1.0)  # cost of a region arc known to be blocked
+    # 1: the diverting target is the farthest edge of the way the robot sees straight; 0: the first (navcli before)
+    diverting_in_sight: int = _p(1, at_most=1)
 
 
 @dataclass(frozen=True)

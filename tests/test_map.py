@@ -113,6 +113,19 @@ def test_the_diverting_target_is_the_first_edge_of_the_shortest_path():
     assert first_crossing(r, (2.0, 6.5), (2.1, 6.6)) is None  # the same region: nothing to cross
 
 
+def test_given_what_blocks_the_view_the_diverting_target_is_the_farthest_edge_of_the_way_in_sight():
+    """The way from below A-B to C-D-E crosses A-B, the diagonal A-C and D-C. With nothing known
+    in the way the robot is sent straight across D-C, the way's last edge; with a fence across
+    the sight line to D-C's middle (2, 4), across the diagonal A-C, whose middle (2, 2) it sees;
+    without ``lines`` (``navigation.diverting_in_sight`` 0), across the first, A-B."""
+    r = triangulate(SQUARE)
+    robot, target = (2.0, -1.0), (2.0, 6.5)
+    assert first_crossing(r, robot, target, lines=[]).edge == frozenset("CD")
+    fence = ("fence", (0.5, 3.0), (3.5, 3.2))
+    assert first_crossing(r, robot, target, lines=[fence]).edge == frozenset("AC")
+    assert first_crossing(r, robot, target).edge == frozenset("AB")
+
+
 def test_a_logged_run_is_the_same_file_whatever_pythons_hash_seed(tmp_path):
     """Same scenario + seed + version = same log, byte for byte, in any process: the map's
     landmarks once followed the order of a set of strings, which ``PYTHONHASHSEED`` changes."""

@@ -108,6 +108,9 @@ def test_a_request_that_would_drive_into_a_known_fence_is_turned_on_the_spot():
     assert p.execute(nav(Move(0.0, 0.3)))[0] == 0.3  # straight along it: 0.45 - 0.025 - 0.25 = 0.175 m clear
     p.decide(beliefs([fence(1.5)]))  # far enough that arc and run stay clear by more than the margin
     assert p.execute(nav(Move(math.radians(90), 0.3)))[0] == 0.3
+    as_asked = Pilot(replace(PILOT, safe_execution=0), ROBOT)  # navcli before: the request as it comes
+    as_asked.decide(beliefs([fence(0.45)]))
+    assert as_asked.execute(nav(Move(math.radians(90), 0.3)))[0] == 0.3
 
 
 def test_a_request_straight_at_a_fence_ahead_stops_the_robot_short_of_it():

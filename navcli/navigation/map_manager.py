@@ -203,7 +203,7 @@ class MapManager:
         blocked = dict(self.blocked)
         for e in known:
             blocked[e] = blocked.get(e, 0.0) + 1.0
-        sight = [(o.key, o.a, o.b) for o in beliefs.obstacles if not o.is_point]
+        sight = [(o.key, o.a, o.b) for o in beliefs.obstacles if not o.is_point] if self.params.diverting_in_sight else None
         c = first_crossing(regions, (0.0, 0.0), target, blocked, self.params.blocked_cost, sight)
         if c is None:
             same = regions.region_of((0.0, 0.0)) == regions.region_of(target)

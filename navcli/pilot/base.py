@@ -352,8 +352,8 @@ class Pilot:
             v = move.speed
         else:
             v = 0.0 if abs(err) > self.params.turn_in_place else move.speed * math.cos(err)
-        if v and (abs(err) > self.params.turn_in_place or requested) and not self._path_clear(
-                v, omega, err, self._stopping(v) if requested else 0.0):
+        check = self.params.safe_execution and (abs(err) > self.params.turn_in_place or requested)
+        if v and check and not self._path_clear(v, omega, err, self._stopping(v) if requested else 0.0):
             if requested and instead and self._own is not None:  # the paper's "if they are safe": else
                 return self.drive(self._own, instead=False)  # the Pilot's own move
             return 0.0, omega  # turning on the spot is always safe
