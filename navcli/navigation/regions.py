@@ -198,23 +198,23 @@ def crossed_pairs(points: dict[str, Point], lines: list[tuple[str, Point, Point]
     [(['A', 'B'], 'f')]
     """
     ids = sorted(points)
-    if len(ids) < 2 or not lines:
-        return {}
-    i, j = np.triu_indices(len(ids), 1)
-    pts = np.array([points[k] for k in ids], dtype=float)
-    a, b = pts[i][:, None, :], pts[j][:, None, :]  # (pairs, 1, 2)
-    p = np.array([l[1] for l in lines], dtype=float)[None]  # (1, lines, 2)
-    q = np.array([l[2] for l in lines], dtype=float)[None]
-    r, sv, ap = b - a, q - p, p - a
-    den = r[..., 0] * sv[..., 1] - r[..., 1] * sv[..., 0]
-    L = np.hypot(r[..., 0], r[..., 1])
-    with np.errstate(divide="ignore", invalid="ignore"):
-        t = (ap[..., 0] * sv[..., 1] - ap[..., 1] * sv[..., 0]) / den
-        u = (ap[..., 0] * r[..., 1] - ap[..., 1] * r[..., 0]) / den
-        m = margin / L
-        hit = (den != 0.0) & (L > 0.0) & (t > m) & (t < 1.0 - m) & (u >= 0.0) & (u <= 1.0)
-    return {frozenset((ids[i[k]], ids[j[k]])): lines[int(np.argmax(hit[k]))][0]
-            for k in np.nonzero(hit.any(axis=1))[0]}
+    out: dict[Edge, str] = {}
+    if len(ids) < 2:
+        return out
+    pts = [points[k] for k in ids]
+    for key, p, q in lines:  # plain Python: a dozen landmarks and a few lines cost less than numpy's calls
+        px, py = p
+        sx, sy = q[0] - px, q[1] - py
+        side = [sx * (y - py) - sy * (x - px) for x, y in pts]  # each point's side of the line through pq
+        for a in range(len(ids)):
+            sa = side[a]
+            for b in range(a + 1, len(ids)):
+                if sa * side[b] >= 0.0:
+                    continue  # both on one side of pq's line: pq cannot cross ab
+                e = frozenset((ids[a], ids[b]))
+                if e not in out and crossing_along(pts[a], pts[b], p, q, margin):
+                    out[e] = key
+    return out
 
 
 def way_out(regions: Regions, robot: Point, blocked: dict[Edge, float], target: Point | None = None) -> bool:
