@@ -127,6 +127,7 @@ class Pilot:
         look = self.look_bid()
         if self._reflex:
             self._blocking = (None, 0, None)
+            self._own = None  # no move of its own to carry out instead: an unsafe request turns on the spot
             return self._reflex_output(look, events, obstacles)
         a = self.avoid(beliefs, obstacles, request)
         self._own = a.move  # what the execution carries out instead of a request that is not safe
@@ -283,7 +284,7 @@ class Pilot:
             if backward:
                 move = Move(wrap_angle(move.heading - math.pi), -move.speed)  # back up, turn the complement
             v, omega = self.drive(move, requested=winner.bidder != self.name)
-            if backward:
+            if backward and v < 0.0:  # (the Pilot's own move, carried out instead, may go forwards)
                 self.backward += -v * CONTROL_DT
         self._last_v = v
         self._drivable_m = self._drivable(v)
@@ -345,7 +346,10 @@ class Pilot:
         driven this way, by a velocity and a heading command that its controller carries out
         together. Without it (0), the robot stops to turn above ``turn_in_place`` and slows by
         cos(error) below (navcli's execution before, kept as an option: it makes every large turn
-        cost time at any speed)."""
+        cost time at any speed). Either way, with ``safe_execution``, a ``requested`` move (the
+        Navigation system's) whose path is not clear (:meth:`_path_clear`, with the stopping
+        distance) is replaced by the Pilot's own move, if ``instead`` and it has one, else turned
+        on the spot; so is any move turning more than ``turn_in_place`` whose arc is not clear."""
         err = move.heading
         omega = max(-self.robot.max_turn_rate, min(self.robot.max_turn_rate, self.params.heading_gain * err))
         if self.params.drive_while_turning:
