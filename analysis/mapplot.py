@@ -77,7 +77,7 @@ def plot_map(log_path: str | Path, out: str | Path) -> Path:
     summary = log.summary
     ax.set_title(f"{summary.get('scenario', path.stem)}: the map at {ns / 1e9:.0f} s "
                  f"({summary.get('outcome', '?')}, diverting targets: {summary.get('diverting_targets', 0)})\n"
-                 "the map (purple): landmarks (70 % cut), regions, blocked edges (thick, pink), the diverting line (green),\n"
-                 "the diverting lines ended (thin green, named by how they ended); "
+                 "the map (purple): landmarks (70 % cut), regions, blocked edges (thick, pink),\n"
+                 "the diverting line (green), those ended (thin green, named by how they ended);\n"
                  "the truth: obstacles (red), landmarks (blue), the path (grey)", fontsize=8)
     return save_figure(fig, out, dpi=110)

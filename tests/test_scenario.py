@@ -47,7 +47,7 @@ def line_of(text: str, needle: str) -> int:
     return next(i for i, ln in enumerate(text.splitlines(), 1) if needle in ln)
 
 
-# Each refusal of shared/spec/scenario-format.md: (scenario, field named, words in the message)
+# Each refusal of docs/scenario-format.md: (scenario, field named, words in the message)
 CASES = {
     "unknown top-level key": (scenario_dict(obstacels=[]), "obstacels", "unknown field 'obstacels'"),
     "missing required field": (scenario_dict(target=None), "", "missing required field 'target'"),
