@@ -100,6 +100,9 @@ class PilotParams:
     # above this heading error the robot stops to turn (drive_while_turning 0), or checks the turn's arc (1)
     turn_in_place: float = _p(math.radians(45.0))
     distress_gain: float = _p(1.5)  # section 5: each offending obstacle's force x 1.5 when IN_DISTRESS
+    # 1: a linear obstacle IN_DISTRESS pushes from its nearest point (our design: from its centre, section 3.2,
+    # a corner of two fences is a sink); 0: from its centre there too (navcli before)
+    distress_from_nearest: int = _p(1, at_most=1)
     # m: the field leading away from the target, a long obstacle its strongest push, while the robot
     # could drive this far and got along the obstacle less than a third of it: the Pilot reports the
     # obstacle as one it cannot easily avoid (the thesis' blocked situation); 0: no report (the
@@ -168,6 +171,10 @@ class NavigationParams:
     diverting_timeout_m: float = _p(27.0, above=0.0)  # a diverting target not crossed while it could drive this far has failed
     max_diverting_failures: int = _p(3, at_least=1)  # failed diverting targets before the mission ends "blocked"
     random_turn_deg: float = _p(120.0, above=0.0, at_most=180.0)  # with no diverting target: turn by up to this much
+    # exploring (no diverting target): turn away from the target (within half random_turn_deg), drive up to this far
+    # looking around until a new landmark is seen, then scan (our design: what hides the landmarks from where the
+    # robot is blocked is a long obstacle, about 3 m in the papers' rooms); 0: turn and scan in place (navcli before)
+    explore_m: float = _p(3.0, at_least=0.0)
     scan_pans_deg: tuple[float, ...] = (-90.0, -45.0, 0.0, 45.0, 90.0)  # the looks of a scan (initial sweep, lost)
     initial_sweep: int = _p(1, at_most=1)  # 1: the Rescuer's initial sweep (thesis node 81); 0: none (short experiments)
     # Map Manager (notes, sections 3-4)

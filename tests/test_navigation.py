@@ -19,7 +19,7 @@ from navcli.geometry import Pose
 from navcli.navigation import Communicator, DistanceEstimator, NavigationSystem, RiskManager, Situation, TargetTracker
 from navcli.navigation.regions import Crossing
 from navcli.navigation.rescuer import Rescuer
-from navcli.params import CLUSTERS, NAVIGATION, PILOT
+from navcli.params import CLUSTERS, NAVIGATION, PILOT, ROBOT
 from navcli.runner import run_mission
 from navcli.scenario import load_scenario
 
@@ -337,6 +337,98 @@ def test_a_request_the_map_cannot_answer_leads_to_exploring_not_to_a_failure():
         if r.state == "normal":
             break
     assert r.state == "normal" and r.failures == 0 and any("looked around" in m for _, m in out.events)
+
+
+def _explore_until_driving(seed: int, target=(3.0, 4.0)):
+    """A Rescuer blocked with a map that cannot answer, turned (odometry follows the turn)
+    until it drives; returns it, the time and the first drive tick's bids."""
+    from navcli.navigation.regions import NoCrossing
+
+    r = Rescuer(NAVIGATION, np.random.default_rng(seed))
+    t = _sweep(r)
+    t, out, _ = _blocked_until_asked(r, t, NoCrossing("too few landmarks"))
+    turned_to = r._turn_to
+    while r.state == "turn":
+        t += 0.1
+        out = r.decide(situation(target=target, time=t, odometry=Pose(0.0, 0.0, turned_to)), lambda f: None)
+    return r, t, turned_to, out
+
+
+def test_exploring_turns_away_from_the_target_and_drives_looking_around():
+    """No diverting target: the robot turns to a heading within half of random_turn_deg of the
+    one away from the target (bearing atan2(4, 3) = 53.1 deg, away -126.9 deg), then drives
+    straight on at full speed, looking around, for up to explore_m (odometry), then scans."""
+    P = NAVIGATION
+    away = math.atan2(4.0, 3.0) + math.pi
+    for seed in range(8):
+        r, t, turned_to, out = _explore_until_driving(seed)
+        assert abs(math.remainder(turned_to - away, 2 * math.pi)) <= math.radians(P.random_turn_deg) / 2 + 1e-9
+        assert r.state == "drive" and r.failures == 0
+        bids = {b.resource: b.action for b in out.bids}
+        assert bids["motion"] == Move(0.0, ROBOT.max_speed) and "camera" in bids
+    # driven explore_m along the turned heading, it stops to scan
+    step = ROBOT.max_speed * 0.1
+    for k in range(1, 200):
+        d = min(k * step, P.explore_m)
+        t += 0.1
+        r.decide(situation(time=t, odometry=Pose(d * math.cos(turned_to), d * math.sin(turned_to), turned_to)),
+                 lambda f: None)
+        if r.state != "drive":
+            break
+    assert r.state == "explore" and d == pytest.approx(P.explore_m)
+
+
+def test_an_exploring_drive_ends_when_a_new_landmark_is_seen():
+    r, t, turned_to, out = _explore_until_driving(0)
+    assert r.state == "drive"
+    seen = {"A": FuzzyPoint(2.0, 0.0, CRISP)}  # one more landmark known than when the drive began
+    r.decide(situation(time=t + 0.1, odometry=Pose(0.0, 0.0, turned_to), landmarks=seen), lambda f: None)
+    assert r.state == "explore"
+
+
+def test_explore_m_0_looks_around_in_place_as_before():
+    from dataclasses import replace as dc_replace
+
+    from navcli.navigation.regions import NoCrossing
+
+    r = Rescuer(dc_replace(NAVIGATION, explore_m=0.0), np.random.default_rng(0))
+    t = _sweep(r)
+    t, out, _ = _blocked_until_asked(r, t, NoCrossing("too few landmarks"))
+    while r.state == "turn":
+        t += 0.1
+        r.decide(situation(time=t, odometry=Pose(0.0, 0.0, r._turn_to)), lambda f: None)
+    assert r.state == "explore"
+
+
+def test_after_a_diverting_target_is_crossed_a_target_in_sight_is_headed_for_directly():
+    """Crossed, the Rescuer asks the map for the next step only while a known long obstacle
+    lies across the straight way to the target; in sight, it goes back to the original target."""
+    from navcli.beliefs import KnownObstacle
+    from navcli.navigation.regions import Crossing
+
+    def crossed_with(obstacles):
+        r = Rescuer(NAVIGATION, np.random.default_rng(0))
+        t = _sweep(r)
+        nxt = Crossing("C", "D", (5.0, 1.0), (5.0, -1.0), 2.0)
+        r._set_crossing(Crossing("A", "B", (1.0, 1.0), (1.0, -1.0), 1.0), situation(time=t))
+        asked = []
+
+        def ask(failed):
+            asked.append(failed)
+            return nxt
+
+        for x in (1.0, -0.5):  # the line A-B ahead, then behind: the robot has passed it
+            t += 0.1
+            marks = {"A": FuzzyPoint(x, 1.0, CRISP), "B": FuzzyPoint(x, -1.0, CRISP)}
+            b = Beliefs(t, Pose(0, 0, 0), (3.0, 4.0), None, tuple(obstacles), 0.0)
+            r.decide(Situation(b, FuzzyPoint(3.0, 4.0, CRISP), None, "memory", 0.0, marks), ask)
+        return r, asked
+
+    r, asked = crossed_with([])
+    assert r._crossing is None and asked == []  # in sight: back to the original target
+    fence_across = KnownObstacle("fence", (-1.0, 2.0), (4.0, 2.0), 0.025)
+    r, asked = crossed_with([fence_across])
+    assert asked == [None] and r._crossing is not None and r._crossing.left == "C"  # the way goes on
 
 
 def test_the_rescuer_gives_up_only_when_the_map_still_shows_no_way_out_after_exploring():

@@ -95,22 +95,38 @@ def fence(y: float, key: str = "fence") -> KnownObstacle:
     return KnownObstacle(key, (-2.0, y), (2.0, y), 0.025)
 
 
-def test_a_request_that_would_drive_into_a_known_fence_is_turned_on_the_spot():
+def test_a_request_that_would_drive_into_a_known_fence_is_replaced_by_the_nearest_safe_heading():
     """Section 2: the Pilot implements the Navigation system's requests "if they are safe". A
     fence 0.45 m to the left: heading 90 degrees left at speed would sweep an arc of radius
     0.3 / (pi/2) = 0.19 m, bringing the body's edge to 0.19 + 0.25 = 0.44 m of lateral reach,
-    inside the fence's 0.425 m face less the margin, then drive on into it: turn on the spot."""
+    inside the fence's 0.425 m face less the margin, then drive on into it. The body must keep
+    its centre at most 0.45 - 0.025 - 0.25 - 0.1 = 0.075 m to the left. Of the headings 15
+    degrees apart, nearest first (105, 75, 120, 60, ... 165, 15), the first clear is 15 degrees:
+    turn rate 1.5 x 0.262 = 0.393 rad/s, an arc of radius 0.3 / 0.393 = 0.764 m ending
+    0.764 (1 - cos 15) = 0.026 m left, and the stopping distance 0.12 m on adds 0.12 sin 15 =
+    0.031 m: 0.057 m. At 30 degrees: 0.382 (1 - cos 30) + 0.12 sin 30 = 0.111 m, too far."""
     p = Pilot(PILOT, ROBOT)
     p.decide(beliefs([fence(0.45)]))
-    assert p.execute(nav(Move(math.radians(90), 0.3))) == (0.0, pytest.approx(ROBOT.max_turn_rate))
+    assert p.execute(nav(Move(math.radians(90), 0.3))) == (0.3, pytest.approx(1.5 * math.radians(15)))
     v, _ = p.execute(nav(Move(math.radians(-90), 0.3)))  # away from it: the arc stays clear
     assert v == 0.3
     assert p.execute(nav(Move(0.0, 0.3)))[0] == 0.3  # straight along it: 0.45 - 0.025 - 0.25 = 0.175 m clear
     p.decide(beliefs([fence(1.5)]))  # far enough that arc and run stay clear by more than the margin
-    assert p.execute(nav(Move(math.radians(90), 0.3)))[0] == 0.3
+    assert p.execute(nav(Move(math.radians(90), 0.3))) == (0.3, pytest.approx(ROBOT.max_turn_rate))
     as_asked = Pilot(replace(PILOT, safe_execution=0), ROBOT)  # navcli before: the request as it comes
     as_asked.decide(beliefs([fence(0.45)]))
-    assert as_asked.execute(nav(Move(math.radians(90), 0.3)))[0] == 0.3
+    assert as_asked.execute(nav(Move(math.radians(90), 0.3))) == (0.3, pytest.approx(ROBOT.max_turn_rate))
+
+
+def test_a_request_with_no_safe_heading_turns_on_the_spot():
+    """Boxed in: fences 0.45 m ahead, left and right. No heading of the half turn each way keeps
+    the body clear along its arc and stopping distance (a 90-degree arc at speed already reaches
+    0.19 m ahead and 0.19 m aside, past the 0.075 m allowed), so the robot turns on the spot
+    toward the request."""
+    p = Pilot(PILOT, ROBOT)
+    box = [KnownObstacle("ahead", (0.45, -2.0), (0.45, 2.0), 0.025), fence(0.45, "left"), fence(-0.45, "right")]
+    p.decide(beliefs(box))
+    assert p.execute(nav(Move(math.radians(30), 0.3))) == (0.0, pytest.approx(1.5 * math.radians(30)))
 
 
 def test_a_request_straight_at_a_fence_ahead_stops_the_robot_short_of_it():

@@ -122,6 +122,24 @@ def test_section_5_in_distress_each_offender_weighs_1_5_and_the_target_is_ignore
     assert f.net == pytest.approx(want) and f.target == pytest.approx((50.0, 0.0))
 
 
+def test_in_the_corner_of_two_fences_distress_pushes_out_from_their_nearest_points():
+    """Inside the corner of a U: a fence 0.3 m to the left, running ahead from the corner
+    (-0.3, 0.3) to (2.7, 0.3), and one 0.3 m behind, running from the corner to (-0.3, -2.7). Both are IN_DISTRESS (0.3 - 0.025 <= R_min), so the target is
+    ignored and each weighs 1.5. Section 3.2 pushes from their centres (1.2, 0.3) and
+    (-0.3, -1.2): (-0.970, -0.243) and (0.243, 0.970), each along the other fence, which sum to
+    (-0.728, 0.728): straight into the corner, at 135 degrees, a sink. From the nearest points
+    (0, 0.3) and (-0.3, 0) (``distress_from_nearest``, our design): (0, -1) and (1, 0), out
+    of the corner at -45 degrees."""
+    corner = [seg("left", (-0.3, 0.3), (2.7, 0.3)), seg("behind", (-0.3, 0.3), (-0.3, -2.7))]
+    centre = field((0.0, 5.0), None, corner, replace(PILOT, distress_from_nearest=0))
+    assert centre.in_distress
+    assert math.degrees(math.atan2(centre.net[1], centre.net[0])) == pytest.approx(135.0)
+    u = 1.2 / math.hypot(1.2, 0.3) - 0.3 / math.hypot(1.2, 0.3)  # |each component| of the sum
+    assert centre.net == pytest.approx((-1.5 * F_MAX * u, 1.5 * F_MAX * u))
+    nearest = field((0.0, 5.0), None, corner, PILOT)
+    assert nearest.net == pytest.approx((1.5 * F_MAX, -1.5 * F_MAX))
+
+
 def test_section_5_repulsion_from_passed_obstacles_is_dropped():
     f = field((5.0, 0.0), None, [pt("behind", -1.0, 0.2, r=0.0)], PILOT)  # repulsion points at the target
     assert f.passed and f.repulsion == (0.0, 0.0) and f.net == pytest.approx((50.0, 0.0)) and f.turn == 0.0

@@ -45,7 +45,7 @@ from typing import Callable, NamedTuple
 import numpy as np
 
 from ..bidding import Bid, Look, Move, looked_at
-from ..geometry import Point, Pose, midpoint, wrap_angle
+from ..geometry import ORIGIN, Point, Pose, midpoint, segments_intersect, wrap_angle
 from ..params import NAVIGATION, ROBOT, NavigationParams, RobotParams
 from .regions import Crossing, Edge, NoCrossing
 from .situation import Situation
@@ -69,6 +69,14 @@ class Rescue(NamedTuple):
     give_up: str | None = None
 
 
+def _in_sight(s: Situation) -> bool:
+    """Is the original target in sight on the map: known, and no known long obstacle (no wall of
+    the room) across the straight way to it?"""
+    aim = s.aim
+    return aim is not None and not any(segments_intersect(ORIGIN, aim, o.a, o.b) for o in s.beliefs.obstacles
+                                       if not o.is_point and not o.wall)
+
+
 class Rescuer:
     name = "rescuer"
 
@@ -77,11 +85,16 @@ class Rescuer:
         self.params = params
         self.window_s = max(robot.time_to_drive(params.blocked_window_m), MIN_WINDOW_S)  # the blocked window, s
         self.timeout_s = max(robot.time_to_drive(params.diverting_timeout_m), MIN_WINDOW_S)  # the diverting timeout, s
+        self.speed = robot.max_speed
+        self.drive_s = 2.0 * robot.time_to_drive(params.explore_m)  # the longest an exploring drive lasts, s
         self.rng = rng if rng is not None else np.random.default_rng(0)
         self.state = "sweep" if params.initial_sweep else "normal"
         self._scan = 0  # index into scan_pans_deg
         self._turn_to: float | None = None  # odometry-frame heading to turn to
-        self._scan_after_turn = False  # exploring: the turn is followed by a scan for landmarks
+        self._scan_after_turn = False  # exploring: the turn is followed by a drive and a scan for landmarks
+        self._drive_from: Pose | None = None  # exploring: where the drive began (odometry frame)
+        self._drive_since = 0.0
+        self._drive_known = 0  # landmarks known when it began: it ends when something new is seen
         self._trapped = False  # the map showed no way out at the last request: explored once since
         self._explorations = 0  # looks around in a row that the map answered with no diverting target
         self._crossing: Crossing | None = None
@@ -123,9 +136,29 @@ class Rescuer:
                               events=tuple(events))
             if self._scan_after_turn:
                 self._scan_after_turn = False
-                self._enter("explore", s)
-                return Rescue(self._scan_bids(), events=tuple(events))
-            self._enter("normal", s)
+                if self.params.explore_m > 0:
+                    self._enter("drive", s)
+                    self._drive_from, self._drive_since, self._drive_known = b.odometry, s.time, len(s.landmarks)
+                else:
+                    self._enter("explore", s)
+                    return Rescue(self._scan_bids(), events=tuple(events))
+            else:
+                self._enter("normal", s)
+
+        if self.state == "drive":
+            o, start = b.odometry, self._drive_from
+            if (math.hypot(o.x - start.x, o.y - start.y) < self.params.explore_m and not b.bumps
+                    and len(s.landmarks) <= self._drive_known and b.pilot_blocked is None
+                    and s.time - self._drive_since < self.drive_s):
+                pans = self.params.scan_pans_deg  # looking around on the way, a pan an image
+                if looked_at(b.looked, math.radians(pans[self._scan % len(pans)])):
+                    self._scan += 1
+                v = self.params.rescuer_bid
+                return Rescue((Bid(self.name, "motion", Move(wrap_angle(start.theta - o.theta), self.speed), v),
+                               Bid(self.name, "camera", Look(math.radians(pans[self._scan % len(pans)])), v)),
+                              events=tuple(events))
+            events.append(("info", f"explored {math.hypot(o.x - start.x, o.y - start.y):.1f} m away from the target"))
+            self._enter("explore", s)
 
         if self.state == "explore":
             if not self._scanned(b.looked):
@@ -165,7 +198,9 @@ class Rescuer:
             crossed = self._crossing
             self._clear_crossing(s, "crossed")
             line = None
-            after = ask(None)  # the next step of the way, from the region the robot is in now
+            # the next step of the way, from the region the robot is in now; none once the target is in
+            # sight (our design: the regions' way may still go round, through virtual landmarks' regions)
+            after = None if _in_sight(s) else ask(None)
             if isinstance(after, Crossing) and after.edge != crossed.edge:
                 since = self._crossing_since
                 self._set_crossing(after, s)  # the same diverting target's way, one step on: not counted again,
@@ -221,7 +256,7 @@ class Rescuer:
             if self._explorations > self.params.max_diverting_failures:  # our design: looking around is bounded too
                 return self._give_up(f"the map gives no diverting target after {self._explorations - 1} looks "
                                      f"around ({why})", events)
-            self._start_turn(b.odometry, events, f"no diverting target ({why}); exploring")
+            self._start_turn(b.odometry, events, f"no diverting target ({why}); exploring", away=s.aim)
             self._scan_after_turn = True
             self._reset_progress(s)
             return Rescue(events=tuple(events))
@@ -257,9 +292,14 @@ class Rescuer:
             self._scan += 1
         return self._scan >= len(pans)
 
-    def _start_turn(self, odo: Pose, events: list, why: str) -> None:
+    def _start_turn(self, odo: Pose, events: list, why: str, away: Point | None = None) -> None:
+        """Turn by a random angle of up to ``random_turn_deg``; exploring (``away``: the target,
+        egocentric), to a random heading within half that of the one away from the target."""
         lim = math.radians(self.params.random_turn_deg)
-        angle = float(self.rng.uniform(-lim, lim))
+        if away is None:
+            angle = float(self.rng.uniform(-lim, lim))
+        else:
+            angle = wrap_angle(math.atan2(away[1], away[0]) + math.pi + float(self.rng.uniform(-lim / 2, lim / 2)))
         self._turn_to = wrap_angle(odo.theta + angle)
         self.state = "turn"
         events.append(("warning", f"{why}: turning by {math.degrees(angle):.0f} deg"))

@@ -69,6 +69,8 @@ class PilotOutput:
 
 
 
+SAFE_STEP = math.radians(15.0)  # rad between the headings :meth:`Pilot._nearest_safe` tries
+SAFE_STEPS = 12  # each way: up to a half turn
 LOOK_AHEAD = Look(0.0)  # the look-ahead of eq. 1 (a value: one serves every tick)
 MAX_STALL_WINDOW_S = 30.0  # s: the stall watch's longest window (0.6 m takes 60 s at 1 cm/s)
 
@@ -348,8 +350,10 @@ class Pilot:
         cos(error) below (navcli's execution before, kept as an option: it makes every large turn
         cost time at any speed). Either way, with ``safe_execution``, a ``requested`` move (the
         Navigation system's) whose path is not clear (:meth:`_path_clear`, with the stopping
-        distance) is replaced by the Pilot's own move, if ``instead`` and it has one, else turned
-        on the spot; so is any move turning more than ``turn_in_place`` whose arc is not clear."""
+        distance) is replaced by the Pilot's own move, if ``instead`` and it has one and that one
+        drives, else by the nearest heading whose path is clear (:meth:`_nearest_safe`), else
+        turned on the spot; any move of its own turning more than ``turn_in_place`` whose arc is
+        not clear is turned on the spot."""
         err = move.heading
         omega = max(-self.robot.max_turn_rate, min(self.robot.max_turn_rate, self.params.heading_gain * err))
         if self.params.drive_while_turning:
@@ -358,7 +362,32 @@ class Pilot:
             v = 0.0 if abs(err) > self.params.turn_in_place else move.speed * math.cos(err)
         check = self.params.safe_execution and (abs(err) > self.params.turn_in_place or requested)
         if v and check and not self._path_clear(v, omega, err, self._stopping(v) if requested else 0.0):
-            if requested and instead and self._own is not None:  # the paper's "if they are safe": else
-                return self.drive(self._own, instead=False)  # the Pilot's own move
+            if requested and instead:  # the paper's "if they are safe": else
+                if self._own is not None:
+                    own = self.drive(self._own, instead=False)  # the Pilot's own move
+                    if own[0]:
+                        return own
+                safe = self._nearest_safe(move)  # or the nearest heading that is safe
+                if safe is not None:
+                    return safe
             return 0.0, omega  # turning on the spot is always safe
         return v, omega
+
+    def _nearest_safe(self, move: Move) -> tuple[float, float] | None:
+        """The command toward the heading nearest the requested ``move``'s whose path, with the
+        stopping distance, is clear (headings ``SAFE_STEP`` apart, each way, up to a half turn;
+        one to turn to on the spot first, without ``drive_while_turning``), or None (our design:
+        a robot whose request and own move were both unsafe stood still for good, facing its
+        target past a landmark it would have grazed; a mobile robot's controller takes the
+        admissible heading nearest the one wanted)."""
+        p, max_w = self.params, self.robot.max_turn_rate
+        for k in range(1, SAFE_STEPS + 1):
+            for side in (1.0, -1.0):
+                err = wrap_angle(move.heading + side * k * SAFE_STEP)
+                omega = max(-max_w, min(max_w, p.heading_gain * err))
+                v = move.speed if p.drive_while_turning or abs(err) <= p.turn_in_place else 0.0
+                if not v:
+                    return 0.0, omega
+                if self._path_clear(v, omega, err, self._stopping(v)):
+                    return v, omega
+        return None

@@ -6,7 +6,8 @@ the paper's units (K = 18, A_t = 50: a force of 50 is the target's pull).
 
 Section by section:
 - 3.1 point obstacles: ``point_force`` (equations 2-4), the target: ``target_force`` (eq. 5);
-- 3.2 linear obstacles: ``linear_force`` (magnitude from the nearest point, direction from the centre),
+- 3.2 linear obstacles: ``linear_force`` (magnitude from the nearest point, direction from the centre,
+  and, our design, from the nearest point when IN_DISTRESS),
   and the room's walls, and linear obstacles longer than the paper's, as a bounded stretch of
   them (``wall_window``, our design);
 - 3.3 diverting targets: ``line_target_force`` (the safe corridor);
@@ -70,14 +71,33 @@ def point_force(o: Point, K: float, R_min: float, radius: float = 0.0) -> tuple[
     return -o[0] / c * mag, -o[1] / c * mag, mag, distress
 
 
-def linear_force(a: Point, b: Point, K: float, R_min: float, radius: float = 0.0) -> tuple[float, float, float, bool]:
+def linear_force(a: Point, b: Point, K: float, R_min: float, radius: float = 0.0,
+                 distress_from_nearest: bool = False) -> tuple[float, float, float, bool]:
     """Force of a linear obstacle ``ab`` of half-width ``radius`` (section 3.2): the magnitude of
     eq. 4 taken at the segment's nearest point (less the half-width), the direction from the
-    segment's centre (Figure 6)."""
+    segment's centre (Figure 6).
+
+    ``distress_from_nearest``: inside the prohibited area the direction is from the nearest point
+    instead (our design, ``pilot.distress_from_nearest``). There the push from the centre can
+    point along the obstacle or into its neighbour: in the corner of two fences each one's
+    centre pushes the robot toward the other, and the corner is a sink the robot spun in for
+    minutes, touching both. Only the normal from the nearest point takes the body off what it
+    is about to touch.
+
+    >>> fx, fy, _, _ = linear_force((0.3, 0.0), (0.3, 3.0), 18.0, 0.4, distress_from_nearest=True)
+    >>> round(fx, 6), round(fy, 6) + 0.0  # 18 / 0.4**2 straight back from the nearest point (0.3, 0)
+    (-112.5, 0.0)
+    >>> fx, fy, _, _ = linear_force((0.3, 0.0), (0.3, 3.0), 18.0, 0.4)  # section 3.2: from the centre (0.3, 1.5)
+    >>> round(math.degrees(math.atan2(fy, fx)), 1)  # atan2(-1.5, -0.3)
+    -101.3
+    """
     q = closest_on_segment(ORIGIN, a, b)
-    d = math.hypot(q[0], q[1]) - radius
+    dq = math.hypot(q[0], q[1])
+    d = dq - radius
     distress = d <= R_min
     mag = K / (R_min * R_min) if distress else K / (d * d)
+    if distress and distress_from_nearest and dq > 1e-12:
+        return -q[0] / dq * mag, -q[1] / dq * mag, mag, distress
     cx, cy = (a[0] + b[0]) / 2, (a[1] + b[1]) / 2
     dc = math.hypot(cx, cy)
     if dc < 1e-12:  # the robot sits on the centre: flee along the segment's normal, away from q
@@ -295,14 +315,15 @@ def field(beliefs_target: Point | None, target_line: tuple[Point, Point] | None,
     """Net force, turn angle and bid for the robot at the origin (eq. 4-7 and 9, section 5)."""
     obstacles = [wall_window(o, p.wall_window if o.wall else p.line_window) for o in obstacles]
     face = facing(obstacles)
-    K, R_min = p.K, p.R_min
+    K, R_min, nearest = p.K, p.R_min, bool(p.distress_from_nearest)
     forces = []
     rx = ry = 0.0
     g_max = 0.0
     in_distress = False
     for o, f in zip(obstacles, face):
         a, b = o.a, o.b
-        fx, fy, mag, distress = point_force(a, K, R_min, o.radius) if a == b else linear_force(a, b, K, R_min, o.radius)
+        fx, fy, mag, distress = (point_force(a, K, R_min, o.radius) if a == b else
+                                 linear_force(a, b, K, R_min, o.radius, nearest))
         f = f or distress  # our design: the occlusion test never hides what the robot is about to touch
         forces.append(ObstacleForce(o.key, fx, fy, mag, f, distress))
         in_distress = in_distress or distress
