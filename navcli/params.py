@@ -97,6 +97,9 @@ class PilotParams:
     arc_margin: float = _p(0.1, at_least=0.0)
     # 1: moves are executed only if safe (section 2, see Pilot._path_clear); 0: as they come (navcli before)
     safe_execution: int = _p(1, at_most=1)
+    # 1: a request not safe, and no own move that drives, is replaced by the nearest safe heading (15 deg steps);
+    # 0: turned on the spot (navcli before: it could stand still for good, facing its target past a landmark)
+    nearest_safe: int = _p(1, at_most=1)
     # above this heading error the robot stops to turn (drive_while_turning 0), or checks the turn's arc (1)
     turn_in_place: float = _p(math.radians(45.0))
     distress_gain: float = _p(1.5)  # section 5: each offending obstacle's force x 1.5 when IN_DISTRESS
@@ -175,6 +178,9 @@ class NavigationParams:
     # looking around until a new landmark is seen, then scan (our design: what hides the landmarks from where the
     # robot is blocked is a long obstacle, about 3 m in the papers' rooms); 0: turn and scan in place (navcli before)
     explore_m: float = _p(3.0, at_least=0.0)
+    # 1: once a diverting target is crossed, a target in sight (no known long obstacle across the straight way)
+    # is headed for directly; 0: the map is asked for the way's next step all the same (navcli before)
+    sight_ends_way: int = _p(1, at_most=1)
     scan_pans_deg: tuple[float, ...] = (-90.0, -45.0, 0.0, 45.0, 90.0)  # the looks of a scan (initial sweep, lost)
     initial_sweep: int = _p(1, at_most=1)  # 1: the Rescuer's initial sweep (thesis node 81); 0: none (short experiments)
     # Map Manager (notes, sections 3-4)

@@ -406,8 +406,8 @@ def test_after_a_diverting_target_is_crossed_a_target_in_sight_is_headed_for_dir
     from navcli.beliefs import KnownObstacle
     from navcli.navigation.regions import Crossing
 
-    def crossed_with(obstacles):
-        r = Rescuer(NAVIGATION, np.random.default_rng(0))
+    def crossed_with(obstacles, params=NAVIGATION):
+        r = Rescuer(params, np.random.default_rng(0))
         t = _sweep(r)
         nxt = Crossing("C", "D", (5.0, 1.0), (5.0, -1.0), 2.0)
         r._set_crossing(Crossing("A", "B", (1.0, 1.0), (1.0, -1.0), 1.0), situation(time=t))
@@ -429,6 +429,10 @@ def test_after_a_diverting_target_is_crossed_a_target_in_sight_is_headed_for_dir
     fence_across = KnownObstacle("fence", (-1.0, 2.0), (4.0, 2.0), 0.025)
     r, asked = crossed_with([fence_across])
     assert asked == [None] and r._crossing is not None and r._crossing.left == "C"  # the way goes on
+    from dataclasses import replace as dc_replace
+
+    r, asked = crossed_with([], dc_replace(NAVIGATION, sight_ends_way=0))  # navcli before: the way goes on
+    assert asked == [None] and r._crossing.left == "C"
 
 
 def test_the_rescuer_gives_up_only_when_the_map_still_shows_no_way_out_after_exploring():

@@ -116,6 +116,9 @@ def test_a_request_that_would_drive_into_a_known_fence_is_replaced_by_the_neares
     as_asked = Pilot(replace(PILOT, safe_execution=0), ROBOT)  # navcli before: the request as it comes
     as_asked.decide(beliefs([fence(0.45)]))
     assert as_asked.execute(nav(Move(math.radians(90), 0.3))) == (0.3, pytest.approx(ROBOT.max_turn_rate))
+    on_the_spot = Pilot(replace(PILOT, nearest_safe=0), ROBOT)  # navcli before: turned on the spot
+    on_the_spot.decide(beliefs([fence(0.45)]))
+    assert on_the_spot.execute(nav(Move(math.radians(90), 0.3))) == (0.0, pytest.approx(ROBOT.max_turn_rate))
 
 
 def test_a_request_with_no_safe_heading_turns_on_the_spot():

@@ -200,7 +200,7 @@ class Rescuer:
             line = None
             # the next step of the way, from the region the robot is in now; none once the target is in
             # sight (our design: the regions' way may still go round, through virtual landmarks' regions)
-            after = None if _in_sight(s) else ask(None)
+            after = None if self.params.sight_ends_way and _in_sight(s) else ask(None)
             if isinstance(after, Crossing) and after.edge != crossed.edge:
                 since = self._crossing_since
                 self._set_crossing(after, s)  # the same diverting target's way, one step on: not counted again,

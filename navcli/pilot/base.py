@@ -367,7 +367,7 @@ class Pilot:
                     own = self.drive(self._own, instead=False)  # the Pilot's own move
                     if own[0]:
                         return own
-                safe = self._nearest_safe(move)  # or the nearest heading that is safe
+                safe = self._nearest_safe(move) if self.params.nearest_safe else None  # or the nearest safe heading
                 if safe is not None:
                     return safe
             return 0.0, omega  # turning on the spot is always safe
