@@ -56,6 +56,8 @@ class RunSpec:
         if not (0.0 < self.time_limit <= limit.hi):
             raise ConfigError(f"the time limit must be more than 0 and at most {limit.hi:g} simulated seconds, "
                               f"got {self.time_limit!r}")
+        if not self.params.vision.told_target and self.scenario.target.kind == "line":
+            raise ConfigError("vision.told_target=0 needs a point or landmark target: a line is not seen, only told")
         bound = self.params.vision.noise_bound
         noise = self.scenario.noise
         for name, sd in (("noise.odometry", noise.odometry), ("noise.vision_distance", noise.vision_distance)):

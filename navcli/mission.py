@@ -23,6 +23,7 @@ from . import __version__
 from .beliefs import Beliefs, Bump
 from .bidding import Bid, Resource, arbitrate
 from .config import RunSpec
+from .fuzzy import FuzzyPoint
 from .geometry import Pose, segments_intersect
 from .navigation import MapSnapshot, NavigationOutput, NavigationSystem
 from .params import CONTROL_DT
@@ -164,7 +165,7 @@ class Mission:
         bumps = self.step_world(command)
         self.ticks += 1
         after = world.pose
-        self._check_end(before, after, nav.give_up)
+        self._check_end(before, after, nav.give_up, nav.believed)
         return self._record(command, bids, nav, winners, pilot_out, bumps, detections, beliefs)
 
     def _record(self, command, bids, nav: NavigationOutput, winners, pilot_out: PilotOutput, bumps: list[Bump],
@@ -189,13 +190,24 @@ class Mission:
                     winners, pilot_out, tuple(events), (cam.pan, cam.state),
                     tuple(detections) if detections is not None else None, memory, nav, map_)
 
-    def _check_end(self, before: Pose, after: Pose, give_up: str | None = None) -> None:
-        if self._reached(before, after):
+    def _check_end(self, before: Pose, after: Pose, give_up: str | None = None,
+                   believed: FuzzyPoint | None = None) -> None:
+        if self._reached(before, after) and self._confident(believed):
             self._end("reached", f"target reached after {self.world.time:.1f} s")
         elif give_up is not None:
             self._end("blocked", f"blocked after {self.world.time:.1f} s: {give_up}")
         elif self.world.time >= self.spec.time_limit - 1e-9:
             self._end("timeout", f"time limit of {self.spec.time_limit:g} s reached")
+
+    def _confident(self, believed: FuzzyPoint | None) -> bool:
+        """With ``navigation.reach_confident`` (the learning paper's trials: the robot "reaches the
+        target (and is confident that it has reached the target)"), does the robot also believe
+        the target within reach, its I(t) at most that? Always, without it."""
+        limit = self.spec.params.navigation.reach_confident
+        if not limit:
+            return True
+        return (believed is not None and math.hypot(believed.x, believed.y) <= self._reach
+                and believed.imprecision() <= limit)
 
     def drain_events(self) -> list[Event]:
         """Events raised outside a step (the mission's start) and not yet handed out."""

@@ -134,6 +134,9 @@ class PilotParams:
     look_d_max: float = _p(1.0, above=0.0)  # m: d_m, the longest drive without looking ahead
     look_exponent: float = _p(2.0, above=0.0)  # s
     look_ahead_cone: float = _p(math.radians(30.0))  # rad: a look this close to straight ahead resets d_l
+    # 1: the Pilot bids for the camera (eq. 1's look-ahead, a reflex's looks around); 0: never (the learning
+    # paper's task: the camera is the Learning Agent's; the Pilot still avoids what the memory holds)
+    looks: int = _p(1, at_most=1)
     # Geometric pilot (the baseline of Table 1)
     geometric_lookahead: float = _p(1.0)  # m beyond the prohibited area at which it starts to steer
     geometric_clearance: float = _p(0.05)  # m: its tangents pass this far outside the prohibited area
@@ -183,6 +186,13 @@ class NavigationParams:
     sight_ends_way: int = _p(1, at_most=1)
     scan_pans_deg: tuple[float, ...] = (-90.0, -45.0, 0.0, 45.0, 90.0)  # the looks of a scan (initial sweep, lost)
     initial_sweep: int = _p(1, at_most=1)  # 1: the Rescuer's initial sweep (thesis node 81); 0: none (short experiments)
+    # 1: the Rescuer looks (the initial sweep, a lost target's scans, looking around to explore); 0: never, and a
+    # lost target is left to the agents (the learning paper's task, where the camera is the Learning Agent's)
+    rescuer_looks: int = _p(1, at_most=1)
+    blocked_ends: int = _p(0, at_most=1)  # 1: the first blocked situation ends the mission "blocked" (the learning paper's trials)
+    # > 0: the target counts as reached only when the robot also believes it within reach, its I(t) (the
+    # learning paper's I(l)) at most this ("and is confident that it has reached the target"); 0: the body alone
+    reach_confident: float = _p(0.0, at_most=1.0)
     # Map Manager (notes, sections 3-4)
     map_encode_imprecision: float = _p(0.25, above=0.0, at_most=1.0)  # landmarks at most this imprecise are encoded
     map_units_per_landmark: int = _p(6, at_least=1)  # beta-units kept per landmark (the sharpest)
@@ -201,6 +211,7 @@ class VisionParams:
     """The camera's measurement model and the visual memory (notes, sections 1 and 3)."""
 
     noise_bound: float = _p(NOISE_BOUND, above=0.0)  # sensor errors are bounded at this many standard deviations
+    told_target: int = _p(1, at_most=1)  # 1: the robot is told where the target is at the start; 0: it must see it
     heading_floor: float = _p(math.radians(0.5))  # rad: the fuzzy heading's least half-spread (a pixel or so)
     distance_floor: float = _p(0.02)  # m: the fuzzy distance's least half-spread
     walk_bound: float = _p(4.0)  # the per-tick odometry errors' random walk is bounded at this many deviations
@@ -250,9 +261,10 @@ class LearningParams:
     - **bid**: the Learning Agent bids this for the wheels and the camera: above the Pilot's quiet
       bids (its look-ahead look, eq. 1, early on) and below its danger bids (up to 0.9), so the
       Pilot still overrules when it must; the Rescuer's 1.0 overrules both.
-    - **Prioritized Sweeping**: ``gamma`` 0.99 (the paper sums rewards undiscounted; a
-      discount just below 1 keeps values finite where the model has never seen the target
-      reached, and changes little over 50-150 actions); ``backups`` k = 20 per real step and
+    - **Prioritized Sweeping**: ``gamma`` 1 (the paper's objective, the total reward: every
+      trial ends, at the target, blocked, or cut at 500 actions; where the model has never
+      seen an end, values only fall, which the greedy policy avoids; navcli's first task used
+      0.99); ``backups`` k = 20 per real step and
       ``threshold`` 1e-3 (the notes' starting points for 980 states, rewards of size 1-10);
       ``explore`` 2: an action tried fewer times than this in a state is preferred there
       (Moore & Atkeson's exploration of rarely tried actions, locally).
@@ -267,12 +279,13 @@ class LearningParams:
     action_s: float = _p(1.0, above=0.0)  # s one action lasts
     max_actions: int = _p(500, at_least=1)  # actions before a trial ends (the paper's 500)
     bid: float = _p(0.5, above=0.0, at_most=1.0)  # its bids for the wheels and the camera
-    gamma: float = _p(0.99, above=0.0, at_most=1.0)
+    gamma: float = _p(1.0, above=0.0, at_most=1.0)
     backups: int = _p(20, at_least=0)  # k: backups per real step
     threshold: float = _p(1e-3, above=0.0)  # priorities at or below this are not queued
     explore: int = _p(2, at_least=0)  # tries of each action in a state before it is judged on its values
     q_alpha: float = _p(0.1, above=0.0, at_most=1.0)  # Q-learning's step size
     q_epsilon: float = _p(0.1, at_most=1.0)  # Q-learning's exploration rate
+    paper_task: int = _p(1, at_most=1)  # 1: train, compare policies and the env run the paper's task (learning/task.py)
 
 
 @dataclass(frozen=True)

@@ -83,6 +83,7 @@ RANGES: dict[str, Range] = {
     "mission.seed": Range(0, 2 ** 64 - 1),
     # noise * NOISE_BOUND < 1, so a clipped error never turns a distance or a scale negative
     "noise.odometry": Range(0.0, 0.3),
+    "noise.odometry_drift_deg_per_m": Range(0.0, 10.0, unit="deg/m"),
     "noise.vision_heading_deg": Range(0.0, 20.0, "deg"),
     "noise.vision_distance": Range(0.0, 0.3),
     "camera.fov_deg": Range(0.0, 360.0, "deg", lo_open=True),
@@ -168,6 +169,7 @@ class Noise:
     odometry: float  # relative error of travelled distance and of turned angle
     vision_heading: float  # rad, standard deviation
     vision_distance: float  # relative standard deviation
+    heading_drift: float = 0.0  # rad per metre driven: standard deviation of the odometry's heading drift
 
 
 @dataclass(frozen=True)
@@ -735,13 +737,14 @@ class _Reader:
 
     def noise(self, v: Any) -> Noise:
         P = ("noise",)
-        m = self.mapping(v, P, (), ("odometry", "vision_heading_deg", "vision_distance"))
+        m = self.mapping(v, P, (), ("odometry", "odometry_drift_deg_per_m", "vision_heading_deg", "vision_distance"))
         def get(key: str, default: float) -> float:
             return self.opt(m, key, P, self.number, default, rng=f"noise.{key}")
 
         return Noise(get("odometry", DEFAULTS.odometry_noise),
                      math.radians(get("vision_heading_deg", DEFAULTS.vision_heading_deg)),
-                     get("vision_distance", DEFAULTS.vision_distance))
+                     get("vision_distance", DEFAULTS.vision_distance),
+                     math.radians(get("odometry_drift_deg_per_m", 0.0)))
 
     def camera(self, v: Any) -> CameraSpec:
         P = ("camera",)
@@ -926,6 +929,8 @@ def json_schema() -> dict[str, Any]:
                             "time_limit": num("mission.time_limit", "simulated seconds"),
                             "seed": {"type": "integer", "minimum": 0, "maximum": 2 ** 64 - 1}}),
             "noise": obj({"odometry": num("noise.odometry", "relative standard deviation"),
+                          "odometry_drift_deg_per_m": num("noise.odometry_drift_deg_per_m",
+                                                          "degrees of heading drift per metre driven, standard deviation"),
                           "vision_heading_deg": num("noise.vision_heading_deg", "degrees, standard deviation"),
                           "vision_distance": num("noise.vision_distance", "relative standard deviation")}),
             "camera": obj({k: num(f"camera.{k}", u) for k, u in (

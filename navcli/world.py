@@ -40,25 +40,37 @@ class Odometry:
     Each tick the true forward distance and turned angle are measured with a relative error made
     of a per-run calibration error (drawn once: the systematic drift of real odometry) and a
     per-tick random error, both with standard deviation ``noise`` (scenario ``noise.odometry``),
-    clipped at ``NOISE_BOUND`` deviations.
-    Zero noise gives exact dead reckoning.
+    clipped at ``NOISE_BOUND`` deviations. With ``heading_drift`` (rad per metre, scenario
+    ``noise.odometry_drift_deg_per_m``) the measured heading also drifts as the robot drives, by
+    a per-run rate and a per-tick random part of that standard deviation per metre: the drift of
+    a differential drive whose wheels differ a little in diameter (UMBmark's E_d), which no
+    measured turn shows. Zero noise gives exact dead reckoning.
     """
 
-    def __init__(self, start: Pose, noise: float, rng: np.random.Generator):
+    def __init__(self, start: Pose, noise: float, rng: np.random.Generator, heading_drift: float = 0.0):
         self.pose = start
         self.noise = noise
         self.rng = rng
+        self.heading_drift = heading_drift
         self.scale_d, self.scale_a = (1.0, 1.0)
+        self.drift_rate = 0.0  # rad per metre: the per-run heading drift
         if noise > 0:
             ed, ea = bounded_normals(self.rng, NOISE_BOUND)
             self.scale_d, self.scale_a = 1.0 + noise * ed, 1.0 + noise * ea
+        if heading_drift > 0:
+            self.drift_rate = heading_drift * bounded_normals(self.rng, NOISE_BOUND)[0]
 
     def update(self, ds: float, dtheta: float) -> Pose:
         """Integrate one tick of true motion (ds along the heading, m; dtheta, rad)."""
+        if self.heading_drift > 0 and ds != 0.0:  # drawn first: the turn's scale applies to the turn alone
+            drift = abs(ds) * (self.drift_rate + self.heading_drift * bounded_normals(self.rng, NOISE_BOUND)[0])
+        else:
+            drift = 0.0
         if self.noise > 0 and (ds != 0.0 or dtheta != 0.0):
             ed, ea = bounded_normals(self.rng, NOISE_BOUND)
             ds *= self.scale_d + self.noise * ed
             dtheta *= self.scale_a + self.noise * ea
+        dtheta += drift
         p = self.pose
         mid = p.theta + dtheta / 2
         self.pose = Pose(p.x + ds * math.cos(mid), p.y + ds * math.sin(mid), wrap_angle(p.theta + dtheta))
@@ -109,7 +121,7 @@ class World:
         space.on_collision(ROBOT, None, begin=self._begin, separate=self._separate)
         self.body = body
         self._trail = (0.0, body.position.x, body.position.y)  # metres travelled, and where that was summed to
-        self.odometry = Odometry(self.pose, scenario.noise.odometry, rng)
+        self.odometry = Odometry(self.pose, scenario.noise.odometry, rng, scenario.noise.heading_drift)
 
     def _add_walls(self) -> None:
         W, H = self.scenario.arena.width, self.scenario.arena.height

@@ -3,6 +3,7 @@ sharpens and is forgotten, and that it stays honest over a whole mission."""
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import replace
 
@@ -272,9 +273,12 @@ def true_clearance(sc, x, y):
 
 
 @pytest.mark.parametrize("pilot", ["potential-field", "geometric"])
-def test_memory_stays_honest_over_a_whole_mission_and_the_target_is_reached(pilot):
-    """With the default noise the true position stays inside every estimate's support."""
+@pytest.mark.parametrize("drift", [0.0, 2.0])
+def test_memory_stays_honest_over_a_whole_mission_and_the_target_is_reached(pilot, drift):
+    """With the default noise (and with a heading drift of 2 deg/m besides) the true position
+    stays inside every estimate's support."""
     sc = load_scenario(SCENARIOS / "paper-8x8.yaml")
+    sc = dataclasses.replace(sc, noise=dataclasses.replace(sc.noise, heading_drift=math.radians(drift)))
     m = Mission(RunSpec.build(sc, pilot=pilot))
     checked = 0
     while m.outcome is None:

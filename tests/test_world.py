@@ -127,6 +127,23 @@ def test_odometry_distance_error_has_the_scenario_relative_spread(make_scenario)
     assert abs(float(np.mean(rel))) < 0.03  # unbiased
 
 
+def test_odometry_heading_drifts_along_a_straight_run_by_the_scenario_spread(make_scenario):
+    """``noise.odometry_drift_deg_per_m: 1`` and no other error: driving straight 3 m (0.3 m/s,
+    10 s), the believed heading turns by 3 m x (the per-run rate, sd 1 deg/m) plus the per-tick
+    parts (30 ticks of 0.03 m x sd 1 deg/m: sd 0.03 x sqrt(100) = 0.3 deg all told), while the
+    true heading stays. Over 60 runs the spread is about 3 deg, the mean about 0."""
+    sc = make_scenario(robot={"start": [1.0, 2.0], "heading_deg": 0},
+                       noise={"odometry": 0.0, "odometry_drift_deg_per_m": 1.0})
+    turned = []
+    for seed in range(60):
+        w = World(sc, np.random.default_rng(seed))
+        drive(w, 0.3, 0.0, 10.0)
+        assert abs(w.pose.theta) < 1e-3  # the truth goes straight
+        turned.append(math.degrees(w.odometry.pose.theta) / w.path_length)  # deg per metre believed
+    assert 0.7 < float(np.std(turned)) < 1.3
+    assert abs(float(np.mean(turned))) < 0.4  # unbiased: sd 1 / sqrt(60) = 0.13
+
+
 def test_a_tick_stopped_between_physics_steps_keeps_path_and_pose_together(make_scenario):
     w = world_for(make_scenario)
     drive(w, 0.3, 0.0, 2.0)  # straight ahead, at speed

@@ -1,8 +1,10 @@
 """The Learning Agent's task as a Gymnasium environment: observation ``Discrete(980)`` (the belief
 state of :mod:`navcli.learning.features`), action ``Discrete(5)`` (MB, MLL, MOT, MVL, MVT),
-rewards of section 5.3; ``terminated`` when the target is reached, ``truncated`` after
-``max_actions`` actions or when the robot is blocked. ``reset(seed=...)`` draws the start from the
-environment's seeded generator (:func:`navcli.learning.task.random_starts`'s rules)."""
+rewards of section 5.3, under the paper's task (:mod:`navcli.learning.task`; ``learning.paper_task``
+0 for navcli's first task); ``terminated`` when the trial ends in an end state (the target reached,
+or the robot blocked in the paper's task), ``truncated`` after ``max_actions`` actions (or blocked,
+in the first task). ``reset(seed=...)`` draws the start from the environment's seeded generator
+(:func:`navcli.learning.task.random_starts`'s rules)."""
 
 from __future__ import annotations
 
@@ -47,4 +49,6 @@ class LandmarkNavigationEnv(gym.Env):
         if not self.action_space.contains(int(action)):
             raise ValueError(f"action {action!r} is not one of {len(ACTIONS)}")
         state, reward, reached, ended = self.task.step(int(action))
-        return int(state), float(reward), bool(reached), bool(ended), {"outcome": self.task.outcome}
+        terminated = self.task.terminal
+        return (int(state), float(reward), terminated, bool((reached or ended) and not terminated),
+                {"outcome": self.task.outcome})

@@ -44,7 +44,7 @@ import numpy as np
 
 from ..config import RunSpec
 from .actions import ACTIONS
-from .task import Start, random_starts, spec_at
+from .task import Start, random_starts, spec_at, task_spec
 
 POLICY_KINDS = ("learned", "hand-coded", "agents")
 DEFAULT_POLICIES = POLICY_KINDS
@@ -164,7 +164,7 @@ def run_trials(job: Job) -> list[dict]:
     if job.policy.kind == "agents":
         from ..mission import Mission
 
-        base = spec.replace(navigation="agents")
+        base = task_spec(spec).replace(navigation="agents")  # the same task as the policies' (task.py)
         for i, st in enumerate(job.starts):
             m = Mission(spec_at(base, st), snapshots=False)
             m.step()

@@ -1,17 +1,35 @@
 """The Learning Agent's task as trials, action by action (learning-agent paper, section 6): the
 robot starts at a random place of the scenario's room and must reach the target; a trial ends
-when it has (reward 0), after ``max_actions`` actions, or when the Rescuer gives up (blocked).
+when it has, after ``max_actions`` actions, or when the robot is blocked.
 
 :class:`NavigationTask` runs a :class:`~navcli.mission.Mission` without a log, its Navigation
 system's Learning Agent told each action by the caller (:meth:`NavigationTask.step`), and
 reports the belief state after it, the action's reward and whether the trial ended: what both
 learners and the Gymnasium environment (:mod:`navcli.envs`) step through.
 
-Our design: a trial "reaches the target" as the mission does (the robot's body within the
-target's tolerance of the landmark); the robot is confident of it then, since the target was told
-at the start and is tracked by its own sightings. The initial sweep of the Rescuer comes before
-the first action and is not counted. A blocked trial and one cut at ``max_actions`` are not
-terminal for the learner (the target was not reached; values are not pulled toward 0).
+**The paper's task** (``learning.paper_task`` 1, the default; :data:`PAPER_TASK`), its conditions
+as the paper states them:
+
+- the robot "knows nothing" at the start: the target is one of the landmarks, visible, but its
+  position is not given (``vision.told_target`` 0); the robot knows it when it sees it;
+- the camera is the Learning Agent's: the Pilot still avoids what the memory holds, but bids for
+  no look (``pilot.looks`` 0: neither eq. 1's look-ahead nor a reflex's looks), and the Rescuer
+  neither sweeps nor scans (``navigation.rescuer_looks`` 0);
+- a trial succeeds when the robot "reaches the target (and is confident that it has reached the
+  target)": the body within reach of the landmark and the robot's belief of it within reach
+  too, with I(t) at most ``navigation.reach_confident`` = 0.04 (our reading of "confident": the
+  upper bound of the paper's second-sharpest I(t) interval of ours, what a sighting from 1-2 m
+  gives; the README shows the result's sensitivity to it);
+- it terminates when the robot is blocked (``navigation.blocked_ends`` 1: the Rescuer's first
+  blocked situation ends it, no diverting target), a terminal state of value 0 for the learner,
+  as reaching the target is; after 500 actions (``max_actions``) it is cut, not terminal;
+- the objective is the total reward, undiscounted (``learning.gamma`` 1).
+
+Each condition is set by the task unless the configuration gives it a value of its own (so
+``--param navigation.reach_confident=0.07`` is heard); ``learning.paper_task=0`` gives navcli's
+first task: the target told at the start (+-2 cm, never forgotten), the camera free to all,
+success by the body alone, blocked not terminal, with ``--param learning.gamma=0.99`` as it was.
+The initial sweep, where the Rescuer makes one, comes before the first action and is not counted.
 """
 
 from __future__ import annotations
@@ -26,10 +44,14 @@ import numpy as np
 from ..config import RunSpec
 from ..geometry import Point, distance_to_segment
 from ..mission import Mission
+from ..params import Params
 from ..runner import close_log, open_log
 from ..scenario import Scenario
 from .actions import REWARDS
 
+PAPER_TASK = {"vision.told_target": 0, "pilot.looks": 0, "navigation.rescuer_looks": 0,
+              "navigation.blocked_ends": 1, "navigation.reach_confident": 0.04}
+"""The conditions of the paper's task (module docstring), by parameter."""
 START_CLEARANCE = 0.3  # m between the robot's body and any wall, landmark or obstacle at a start
 START_MIN_DISTANCE = 1.5  # m from the target at least: a trial that starts at the target teaches nothing
 
@@ -68,6 +90,16 @@ def _clear(scenario: Scenario, p: Point, r: float) -> bool:
     return True
 
 
+def task_spec(spec: RunSpec) -> RunSpec:
+    """``spec`` under the paper's task (:data:`PAPER_TASK`) when ``learning.paper_task`` is 1: each
+    condition set unless the configuration gives that parameter a value other than navcli's default."""
+    if not spec.params.learning.paper_task:
+        return spec
+    mine, defaults = spec.params.flat(), Params().flat()
+    changes = {k: v for k, v in PAPER_TASK.items() if mine[k] == defaults[k]}
+    return spec.replace(params=spec.params.override(changes)) if changes else spec
+
+
 def spec_at(base: RunSpec, start: Start) -> RunSpec:
     """``base`` with the robot at ``start`` and its seed."""
     sc = base.scenario
@@ -80,12 +112,13 @@ class NavigationTask:
     starts given to :meth:`reset`."""
 
     def __init__(self, base: RunSpec):
-        self.base = base
+        self.base = base = task_spec(base)
         self.params = base.params.learning
         self.mission: Mission | None = None
         self.recorder = None  # the trial's log, when reset was given one
         self.actions = 0
         self.outcome: str | None = None
+        self.terminal = False  # the last step ended the trial in an end state (the target, or blocked in the paper's task)
 
     def reset(self, start: Start, log: Path | None = None) -> int:
         """Start a trial at ``start``; runs the initial sweep; returns the first belief state.
@@ -137,6 +170,7 @@ class NavigationTask:
         reward = REWARDS[action]  # the action is paid for; reaching the target adds AT_TARGET (0)
         reached = m.outcome == "reached"
         ended = not reached and (m.outcome is not None or self.actions >= self.params.max_actions)
+        self.terminal = reached or (m.outcome == "blocked" and bool(self.base.params.navigation.blocked_ends))
         if reached or ended:
             self.outcome = m.outcome or "timeout"
             self.close("timeout", f"{self.actions} actions without reaching the target")

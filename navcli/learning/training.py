@@ -61,16 +61,17 @@ class TrialResult:
 
 def run_trial(task: NavigationTask, start: Start, choose: Callable[[int], int],
               learn: Callable[[int, int, float, int, bool], None] | None = None, log: Path | None = None) -> TrialResult:
-    """One trial from ``start``, actions chosen by ``choose(state)``; ``learn(s, a, r, s', reached)``
-    hears every step; with ``log`` every tick is recorded there (MCAP)."""
+    """One trial from ``start``, actions chosen by ``choose(state)``; ``learn(s, a, r, s', terminal)``
+    hears every step (terminal: the target reached, or blocked in the paper's task); with ``log``
+    every tick is recorded there (MCAP)."""
     s = task.reset(start, log)
     counts = [0] * len(ACTIONS)
     while task.outcome is None and task.mission.outcome is None:
         a = choose(s)
-        s2, r, reached, _ = task.step(a)
+        s2, r, _, _ = task.step(a)
         counts[a] += 1
         if learn is not None:
-            learn(s, a, r, s2, reached)
+            learn(s, a, r, s2, task.terminal)
         s = s2
     return TrialResult(task.outcome or task.mission.outcome, task.actions, tuple(counts))
 

@@ -57,6 +57,7 @@ class NavigationOutput(NamedTuple):
     give_up: str | None = None
     info: Mapping[str, object] = MappingProxyType({})  # read-only: one default serves all
     forwarded_by: Mapping[str, str] = MappingProxyType({})  # resource -> the agent whose bid was forwarded
+    believed: FuzzyPoint | None = None  # the original target as the system believes it (egocentric), if at all
 
 
 class NavigationSystem:
@@ -137,7 +138,7 @@ class NavigationSystem:
                 "failures": self.rescuer.failures, "beta_units": len(self.map.network)}
         events = tuple([(self.rescuer.name, level, msg) for level, msg in rescue.events]) if rescue.events else ()
         return NavigationOutput(bids, agent_bids, s.aim, s.target_line, rescue.diverting is not None, events,
-                                rescue.give_up, info, self.communicator.forwarded_by)
+                                rescue.give_up, info, self.communicator.forwarded_by, original.target)
 
     def _ask(self, beliefs: Beliefs, original: Situation, failed):
         """The Rescuer's word to the Map Manager: the edge of a diverting target that failed (its

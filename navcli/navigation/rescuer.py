@@ -24,6 +24,10 @@ What the thesis says, and how we do it:
   to drive them at full speed (:meth:`~navcli.params.RobotParams.time_to_drive`), and at least
   ``MIN_WINDOW_S``: progress is about distance, so a robot at 5 cm/s is given six times the
   seconds of one at 30 cm/s, and is never declared blocked for being slow.
+- **The learning paper's task** (``rescuer_looks`` 0, ``blocked_ends`` 1): no looks at all (no
+  sweep, no scans: the camera is the Learning Agent's; a lost target is left to it), and the
+  first blocked situation ends the mission ``blocked`` (its trials "terminate ... if the robot
+  is blocked").
 - **Giving up** (ours): after ``max_diverting_failures`` diverting targets tried and failed (or
   lost-target scans, above), when the map shows no way out of the robot's regions (closed in by
   known obstacles) after the robot has looked around once more, or when the map has given no
@@ -88,7 +92,7 @@ class Rescuer:
         self.speed = robot.max_speed
         self.drive_s = 2.0 * robot.time_to_drive(params.explore_m)  # the longest an exploring drive lasts, s
         self.rng = rng if rng is not None else np.random.default_rng(0)
-        self.state = "sweep" if params.initial_sweep else "normal"
+        self.state = "sweep" if params.initial_sweep and params.rescuer_looks else "normal"
         self._scan = 0  # index into scan_pans_deg
         self._turn_to: float | None = None  # odometry-frame heading to turn to
         self._scan_after_turn = False  # exploring: the turn is followed by a drive and a scan for landmarks
@@ -139,9 +143,11 @@ class Rescuer:
                 if self.params.explore_m > 0:
                     self._enter("drive", s)
                     self._drive_from, self._drive_since, self._drive_known = b.odometry, s.time, len(s.landmarks)
-                else:
+                elif self.params.rescuer_looks:
                     self._enter("explore", s)
                     return Rescue(self._scan_bids(), events=tuple(events))
+                else:
+                    self._enter("normal", s)
             else:
                 self._enter("normal", s)
 
@@ -154,11 +160,12 @@ class Rescuer:
                 if looked_at(b.looked, math.radians(pans[self._scan % len(pans)])):
                     self._scan += 1
                 v = self.params.rescuer_bid
-                return Rescue((Bid(self.name, "motion", Move(wrap_angle(start.theta - o.theta), self.speed), v),
-                               Bid(self.name, "camera", Look(math.radians(pans[self._scan % len(pans)])), v)),
-                              events=tuple(events))
+                bids = (Bid(self.name, "motion", Move(wrap_angle(start.theta - o.theta), self.speed), v),)
+                if self.params.rescuer_looks:
+                    bids += (Bid(self.name, "camera", Look(math.radians(pans[self._scan % len(pans)])), v),)
+                return Rescue(bids, events=tuple(events))
             events.append(("info", f"explored {math.hypot(o.x - start.x, o.y - start.y):.1f} m away from the target"))
-            self._enter("explore", s)
+            self._enter("explore" if self.params.rescuer_looks else "normal", s)
 
         if self.state == "explore":
             if not self._scanned(b.looked):
@@ -188,7 +195,7 @@ class Rescuer:
             else:
                 return Rescue(self._scan_bids(), events=tuple(events))
 
-        if self.state == "normal" and self._crossing is None and s.I_a > self.params.I_a_bar:
+        if self.state == "normal" and self._crossing is None and s.I_a > self.params.I_a_bar and self.params.rescuer_looks:
             self.state, self._scan = "lost", 0
             events.append(("warning", f"target lost (I_a = {s.I_a:.2f} > {self.params.I_a_bar:g}): stopping to scan"))
             return Rescue(self._scan_bids(), events=tuple(events))
@@ -214,6 +221,8 @@ class Rescuer:
         why = self._blocked(s, line)
         if why is None:
             return Rescue((), line, tuple(events))
+        if self.params.blocked_ends:  # the learning paper's trials end when the robot is blocked
+            return self._give_up(why, events)
         abandoned = None
         tried = self._crossing.edge if self._crossing is not None else self._last_crossed
         if tried is not None and s.beliefs.pilot_blocked is not None:

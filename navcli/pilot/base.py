@@ -166,8 +166,10 @@ class Pilot:
         return None
 
     def look_bid(self) -> float:
-        """Eq. 1: ``(d_l / d_m) ** s``, never above the Pilot's cap of 0.9."""
+        """Eq. 1: ``(d_l / d_m) ** s``, never above the Pilot's cap of 0.9; 0 without ``looks``."""
         p = self.params
+        if not p.looks:
+            return 0.0
         return min(p.bid_cap, (self.since_look / p.look_d_max) ** p.look_exponent)
 
     def _looked(self, pan: float) -> None:
@@ -235,6 +237,8 @@ class Pilot:
         p = self.params
         self._reflex = [("stop", p.reflex_stop_s), ("look", float(len(p.reflex_look_pans_deg))),
                         ("backup", p.backup_distance)]
+        if not p.looks:
+            del self._reflex[1]  # no looks around: the camera is not the Pilot's
         self._reflex_progress = 0.0
         self._reflex_dir = direction
         self._phase_ticks = 0

@@ -101,11 +101,13 @@ class VisionPerception(_Senses):
                  robot: RobotParams = ROBOT):
         super().__init__(scenario, rng, params)
         self.robot = robot
-        self.memory = VisualMemory(scenario.noise.odometry, params)
+        self.memory = VisualMemory(scenario.noise.odometry, params, heading_drift=scenario.noise.heading_drift)
         start = Pose(*scenario.robot.start, scenario.robot.heading)
         told = params.distance_floor  # what the robot is told is precise to a couple of cm
         t = scenario.target
-        if t.kind == "line":
+        if not params.told_target:
+            pass  # (the learning paper's robot "knows nothing": the target is found by the camera)
+        elif t.kind == "line":
             self.memory.add("target-a", "target", [start.to_local(t.line[0])], 0.0, told, prior=True)
             self.memory.add("target-b", "target", [start.to_local(t.line[1])], 0.0, told, prior=True)
         else:
@@ -142,9 +144,12 @@ class VisionPerception(_Senses):
             target = midpoint(line[0], line[1])
             spread = max(a.heading().width(), b.heading().width())
         else:
-            m = items.get(self._target_key) or items["target"]
-            target_at, seen = m.spots[0].point(), m.seen
-            target, spread = (target_at.x, target_at.y), target_at.heading_width()
+            m = items.get(self._target_key) or items.get("target")
+            if m is None:  # not told, not seen yet (or forgotten): no belief of it at all
+                target, spread = None, 2 * math.pi
+            else:
+                target_at, seen = m.spots[0].point(), m.seen
+                target, spread = (target_at.x, target_at.y), target_at.heading_width()
         return self._beliefs(time, odometry, target, line, obstacles, spread, tuple(landmarks), target_at, seen)
 
     def look(self, time: float, truth: Pose, request: Look | None) -> list[Detection] | None:

@@ -37,7 +37,7 @@ JOIN_ANGLE = math.radians(30.0)
 """Stretches whose crisp directions differ by more than this are never one line (our design: the
 supports of a far sighting allow a 1.5 m piece of the next wall, round a corner, to lie "on" a
 wall; joining two things whose best estimates meet at a right angle draws a skewed wall)."""
-STILL = (0.0,) * 7  # a Spot's drift when just seen: jx, jy, kx, ky, vt, vs, run
+STILL = (0.0,) * 10  # a Spot's drift when just seen: jx, jy, kx, ky, vt, vs, run, hx, hy, vh
 
 
 @dataclass(slots=True)
@@ -46,19 +46,20 @@ class Spot:
 
     The support is the radius ``base`` it had when last seen, plus the odometry drift since
     (see :meth:`VisualMemory.move`), kept as sensitivities so that it is tight: ``drift`` is
-    ``(jx, jy, kx, ky, vt, vs, run)``: ``J`` and ``K`` are how far the centre would shift per
-    unit of the odometry's calibration error in turning and in distance (vectors, m), ``vt`` and
-    ``vs`` the summed squares of the per-tick moves (rad*m, m) whose random errors add up like a
-    random walk, ``run`` the distance driven. One tuple, not seven fields (our design, for speed:
-    :meth:`VisualMemory.move` updates every spot every tick, and one read and one write of a
-    tuple cost less than seven of each).
+    ``(jx, jy, kx, ky, vt, vs, run, hx, hy, vh)``: ``J`` and ``K`` are how far the centre would
+    shift per unit of the odometry's calibration error in turning and in distance (vectors, m),
+    ``vt`` and ``vs`` the summed squares of the per-tick moves (rad*m, m) whose random errors add
+    up like a random walk, ``run`` the distance driven, ``H`` and ``vh`` the same as ``J`` and
+    ``vt`` for the heading drift per metre driven (m*m, m*m). One tuple, not ten fields (our
+    design, for speed: :meth:`VisualMemory.move` updates every spot every tick, and one read and
+    one write of a tuple cost less than ten of each).
     """
 
     x: float
     y: float
     base: float  # support radius when last seen
     r1: float  # core radius
-    drift: tuple[float, float, float, float, float, float, float] = STILL
+    drift: tuple[float, ...] = STILL
     r0: float = 0.0  # the support radius, kept up to date by VisualMemory
 
     def __post_init__(self) -> None:
@@ -172,14 +173,16 @@ def fuse(m: Spot, o: Spot) -> Spot:
 class VisualMemory:
     """The remembered objects, moved by odometry, sharpened by sightings, pruned by imprecision.
 
-    ``odometry_noise`` is the odometry's relative deviation (scenario ``noise.odometry``), from
-    which :meth:`move` bounds the drift."""
+    ``odometry_noise`` is the odometry's relative deviation (scenario ``noise.odometry``) and
+    ``heading_drift`` its heading drift (rad per metre, ``noise.odometry_drift_deg_per_m``),
+    from which :meth:`move` bounds the drift."""
 
     odometry_noise: float
     params: VisionParams = VISION
     items: dict[str, Memory] = field(default_factory=dict)
     forgotten: list[str] = field(default_factory=list)
     _n: int = 0
+    heading_drift: float = 0.0
 
     def add(self, key: str, kind: str, points: list[tuple[float, float]], radius: float, r0: float,
             prior: bool = False) -> Memory:
@@ -225,12 +228,14 @@ class VisualMemory:
         was seen: the per-run calibration errors of distance and turn act linearly, through the
         sensitivities K and J; the per-tick errors add up as a random walk (bounded at
         ``walk_bound`` of its standard deviations); plus a floor for the physics' own
-        integration error, ``odometry_floor`` per metre driven."""
+        integration error, ``odometry_floor`` per metre driven; and the heading drift's, per metre
+        driven, like the turn's (a systematic rate and a random walk, ``heading_drift`` each)."""
         if ds == 0.0 and dtheta == 0.0:
             return
         P = self.params
-        sig = self.odometry_noise
+        sig, hd = self.odometry_noise, self.heading_drift
         cal, walk = P.noise_bound * sig, P.walk_bound * sig
+        hcal, hwalk = P.noise_bound * hd, P.walk_bound * hd
         floor = P.odometry_floor
         half = dtheta / 2
         ux, uy = math.cos(half), math.sin(half)
@@ -241,20 +246,24 @@ class VisualMemory:
         for m in self.items.values():
             for p in m.spots:
                 x, y = p.x, p.y
-                jx, jy, kx, ky, vt, vs, run = p.drift
+                jx, jy, kx, ky, vt, vs, run, hx, hy, vh = p.drift
                 D = hypot(x, y)
                 # a turn error swings the point about the robot: d(position)/d(turn) = perp(p)
                 jx, jy = jx - dtheta * y, jy + dtheta * x
+                hx, hy = hx - ads * y, hy + ads * x  # and so does a heading drift, per metre driven
                 kx, ky = kx - sx, ky - sy  # a distance error shifts it along the motion
                 x, y = x - sx, y - sy
                 p.x, p.y = c * x - s * y, s * x + c * y
                 jx, jy = c * jx - s * jy, s * jx + c * jy
+                hx, hy = c * hx - s * hy, s * hx + c * hy
                 kx, ky = c * kx - s * ky, s * kx + c * ky
                 vt += (adt * D) ** 2
+                vh += (ads * D) ** 2
                 vs += ds2
                 run += ads
-                p.drift = (jx, jy, kx, ky, vt, vs, run)
-                p.r0 = p.base + cal * (hypot(jx, jy) + hypot(kx, ky)) + walk * (sqrt(vt) + sqrt(vs)) + floor * run
+                p.drift = (jx, jy, kx, ky, vt, vs, run, hx, hy, vh)
+                p.r0 = (p.base + cal * (hypot(jx, jy) + hypot(kx, ky)) + walk * (sqrt(vt) + sqrt(vs)) + floor * run
+                        + hcal * hypot(hx, hy) + hwalk * sqrt(vh))
 
     def shove(self, slip: float) -> None:
         """Sliding along something may have moved the robot ``slip`` metres sideways, which the
