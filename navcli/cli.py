@@ -788,7 +788,9 @@ def compare_policies(
     scenario: Annotated[Path, typer.Argument(metavar="SCENARIO", help="Scenario YAML file (the paper's setting: scenarios/landmarks-12.yaml).")],
     policy: Annotated[Optional[list[str]], typer.Option(
         "--policy", metavar="POLICY", help="learned (the bundled model), learned:FILE (a model of `navcli train`, Prioritized Sweeping "
-                         "or Q-learning), hand-coded or agents; repeatable (default: learned, hand-coded, agents).")] = None,
+                         "or Q-learning), hand-coded, agents, or a baseline of one action in every state (all-MB, all-MLL, all-MOT, "
+                         "all-MVL, all-MVT); repeatable (default: learned, hand-coded, agents). Every policy runs the "
+                         "learning paper's task (learning.paper_task=0: navcli's first one).")] = None,
     runs: Annotated[int, typer.Option(min=1, help="Runs (seeds of the missions' noise) per policy.")] = 5,
     starts: Annotated[int, typer.Option(min=1, help="Fixed random starts per run, those `navcli train` evaluates on "
                                                     "(the paper: 99).")] = 99,

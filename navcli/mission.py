@@ -23,7 +23,7 @@ from . import __version__
 from .beliefs import Beliefs, Bump
 from .bidding import Bid, Resource, arbitrate
 from .config import RunSpec
-from .fuzzy import FuzzyPoint
+from .fuzzy import CUT, FuzzyPoint
 from .geometry import Pose, segments_intersect
 from .navigation import MapSnapshot, NavigationOutput, NavigationSystem
 from .params import CONTROL_DT
@@ -201,13 +201,15 @@ class Mission:
 
     def _confident(self, believed: FuzzyPoint | None) -> bool:
         """With ``navigation.reach_confident`` (the learning paper's trials: the robot "reaches the
-        target (and is confident that it has reached the target)"), does the robot also believe
-        the target within reach, its I(t) at most that? Always, without it."""
-        limit = self.spec.params.navigation.reach_confident
-        if not limit:
+        target (and is confident that it has reached the target)"), is the robot also sure of it:
+        every place its belief of the target allows, at the papers' 70 % cut, within reach (and,
+        with ``navigation.reach_imprecision``, its I(t) below that)? Always, without it."""
+        nav = self.spec.params.navigation
+        if not nav.reach_confident:
             return True
-        return (believed is not None and math.hypot(believed.x, believed.y) <= self._reach
-                and believed.imprecision() <= limit)
+        if believed is None or math.hypot(believed.x, believed.y) + believed.radius(CUT) > self._reach:
+            return False
+        return not nav.reach_imprecision or believed.imprecision() < nav.reach_imprecision
 
     def drain_events(self) -> list[Event]:
         """Events raised outside a step (the mission's start) and not yet handed out."""

@@ -190,9 +190,11 @@ class NavigationParams:
     # lost target is left to the agents (the learning paper's task, where the camera is the Learning Agent's)
     rescuer_looks: int = _p(1, at_most=1)
     blocked_ends: int = _p(0, at_most=1)  # 1: the first blocked situation ends the mission "blocked" (the learning paper's trials)
-    # > 0: the target counts as reached only when the robot also believes it within reach, its I(t) (the
-    # learning paper's I(l)) at most this ("and is confident that it has reached the target"); 0: the body alone
-    reach_confident: float = _p(0.0, at_most=1.0)
+    # 1: the target counts as reached only when the robot is also confident of it ("and is confident that it
+    # has reached the target"): the 70 % cut of its belief of the target wholly within reach; 0: the body alone
+    reach_confident: int = _p(0, at_most=1)
+    # > 0: and the belief's I(t) (the learning paper's I(l)) below this (a stricter reading, for the sensitivity)
+    reach_imprecision: float = _p(0.0, at_most=1.0)
     # Map Manager (notes, sections 3-4)
     map_encode_imprecision: float = _p(0.25, above=0.0, at_most=1.0)  # landmarks at most this imprecise are encoded
     map_units_per_landmark: int = _p(6, at_least=1)  # beta-units kept per landmark (the sharpest)

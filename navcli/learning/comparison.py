@@ -8,7 +8,8 @@ exactly the trials of ``navcli train``'s evaluations; run ``r`` >= 1 uses
 fixed model file, so the runs measure how much the noise moves the numbers, not how much
 learning varies between training seeds (our design: training is a separate command).
 
-- ``learned[:FILE]`` and ``hand-coded`` choose one of the five actions per belief state; their
+- ``learned[:FILE]``, ``hand-coded`` and the baselines ``all-MB``, ``all-MLL`` ... (one action in
+  every state) choose one of the five actions per belief state; their
   trials are :func:`~.training.run_trial`'s, the evaluations' own (an action lasts ``action_s``;
   a trial ends at the target, after ``max_actions`` actions, at the scenario's time limit, or when
   the Rescuer gives up). A model made by Q-learning is a table like any other.
@@ -46,8 +47,9 @@ from ..config import RunSpec
 from .actions import ACTIONS
 from .task import Start, random_starts, spec_at, task_spec
 
-POLICY_KINDS = ("learned", "hand-coded", "agents")
-DEFAULT_POLICIES = POLICY_KINDS
+CONSTANT = tuple(f"all-{a}" for a in ACTIONS)  # one action in every state: the baselines all-MB, all-MLL ...
+POLICY_KINDS = ("learned", "hand-coded", "agents") + CONSTANT
+DEFAULT_POLICIES = ("learned", "hand-coded", "agents")
 METRICS = ("successes", "reward", "actions") + ACTIONS + ("time_s",)
 """The table's columns: successes out of the starts, then means per trial."""
 
@@ -75,7 +77,13 @@ def parse_policy(text: str) -> Policy:
     :class:`~.model_file.ModelError` for a model file that cannot be used."""
     kind, sep, file = text.partition(":")
     if kind not in POLICY_KINDS or (sep and (kind != "learned" or not file)):
-        raise PolicyError(f"unknown policy {text!r} (expected learned, learned:FILE, hand-coded or agents)")
+        raise PolicyError(f"unknown policy {text!r} (expected learned, learned:FILE, hand-coded, agents, "
+                          f"or one action everywhere: {', '.join(CONSTANT)})")
+    if kind in CONSTANT:
+        from .features import N_STATES
+
+        action = ACTIONS.index(kind[4:])
+        return Policy(text, kind, np.full(N_STATES, action, dtype=np.int8).tobytes(), f"{kind[4:]} in every state")
     if kind == "agents":
         return Policy(text, kind, None, "the Navigation system's bidding agents")
     if kind == "hand-coded":
@@ -114,7 +122,8 @@ def run_starts(starts: list[Start], run: int) -> tuple[Start, ...]:
 def job_key(spec: RunSpec, policy: Policy, run: int, starts: tuple[Start, ...]) -> str:
     """sha256 (hex) of what decides a job's trials (see the module docstring)."""
     table = hashlib.sha256(policy.table).hexdigest() if policy.table is not None else None
-    blob = json.dumps([spec.replace(navigation=policy.kind).run_id, table, run,
+    nav = "learned" if policy.kind in CONSTANT else policy.kind  # a table like a learned one's (in the key too)
+    blob = json.dumps([spec.replace(navigation=nav).run_id, table, run,
                        [dataclasses.asdict(s) for s in starts]], sort_keys=True)
     return hashlib.sha256(blob.encode()).hexdigest()
 

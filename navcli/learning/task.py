@@ -16,10 +16,11 @@ as the paper states them:
   no look (``pilot.looks`` 0: neither eq. 1's look-ahead nor a reflex's looks), and the Rescuer
   neither sweeps nor scans (``navigation.rescuer_looks`` 0);
 - a trial succeeds when the robot "reaches the target (and is confident that it has reached the
-  target)": the body within reach of the landmark and the robot's belief of it within reach
-  too, with I(t) at most ``navigation.reach_confident`` = 0.04 (our reading of "confident": the
-  upper bound of the paper's second-sharpest I(t) interval of ours, what a sighting from 1-2 m
-  gives; the README shows the result's sensitivity to it);
+  target)": the body within reach of the landmark (as a mission's), and the robot sure of it,
+  every place its belief of the target allows at the papers' 70 % cut within that reach
+  (``navigation.reach_confident`` 1; our reading of "confident", in the papers' own terms, the
+  cut that defines I(l)); ``navigation.reach_imprecision`` adds a bound on I(t) itself, for the
+  README's sensitivity;
 - it terminates when the robot is blocked (``navigation.blocked_ends`` 1: the Rescuer's first
   blocked situation ends it, no diverting target), a terminal state of value 0 for the learner,
   as reaching the target is; after 500 actions (``max_actions``) it is cut, not terminal;
@@ -50,7 +51,7 @@ from ..scenario import Scenario
 from .actions import REWARDS
 
 PAPER_TASK = {"vision.told_target": 0, "pilot.looks": 0, "navigation.rescuer_looks": 0,
-              "navigation.blocked_ends": 1, "navigation.reach_confident": 0.04}
+              "navigation.blocked_ends": 1, "navigation.reach_confident": 1}
 """The conditions of the paper's task (module docstring), by parameter."""
 START_CLEARANCE = 0.3  # m between the robot's body and any wall, landmark or obstacle at a start
 START_MIN_DISTANCE = 1.5  # m from the target at least: a trial that starts at the target teaches nothing
