@@ -730,7 +730,11 @@ def train(
     param: ParamOption = None,
 ) -> None:
     """Train the Learning Agent (learning-agent paper, section 6): trials from seeded random starts,
-    the greedy policy evaluated on fixed starts, the model saved (resumable) with its learning curve."""
+    the greedy policy evaluated on fixed starts, the model saved (resumable) with its learning curve.
+
+    Trials run the paper's task: the robot is not told where the target is, the camera is the
+    Learning Agent's alone, a trial succeeds only when the robot is also confident it is at the
+    target, and ends when it is blocked (--param learning.paper_task=0: navcli's first task)."""
     import time
 
     from .learning.training import ALGORITHMS, LOGS

@@ -212,13 +212,27 @@ def test_actions_move_and_look_as_section_5_3_says():
 
 
 @pytest.mark.parametrize("intervals, action", [
-    ((4, 0, 0, 0), MLL), ((3, 0, 1, 6), MLL),  # far, few landmarks
-    ((4, 0, 2, 3), MVL),  # far, enough landmarks but blurred
-    ((4, 4, 3, 0), MOT), ((3, 3, 3, 2), MB),  # far, landmarks good: target blurred or not
-    ((2, 5, 0, 5), MVL), ((1, 6, 3, 2), MVT),  # not far, target blurred: landmarks blurred or not
-    ((0, 1, 0, 6), MVT), ((2, 0, 0, 6), MB),  # target precise: really near, medium
+    # "If the robot is far from the target and there are few landmarks, it executes an MLL"
+    pytest.param((4, 0, 0, 0), MLL, id="far, few landmarks: MLL"),
+    pytest.param((3, 0, 1, 6), MLL, id="far (3 m), few landmarks, blurred: still MLL"),
+    # "if there are enough landmarks but they are highly imprecise, an MVL is executed"
+    pytest.param((4, 0, 2, 3), MVL, id="far, enough landmarks, highly imprecise: MVL"),
+    # "if the landmarks are good enough, an MOT is executed if the target's location has a high
+    # imprecision, and an MB is executed otherwise"
+    pytest.param((4, 4, 3, 0), MOT, id="far, landmarks good, target highly imprecise: MOT"),
+    pytest.param((3, 3, 3, 2), MB, id="far, landmarks good, target precise: MB"),
+    # "If the robot is not far from the target but its location is highly imprecise, then an MVL
+    # or an MVT is executed, depending on whether the overall imprecision of landmarks is high or not"
+    pytest.param((2, 5, 0, 5), MVL, id="not far, target highly imprecise, landmarks imprecise: MVL"),
+    pytest.param((1, 6, 3, 2), MVT, id="not far, target highly imprecise, landmarks sharp: MVT"),
+    # "if the target's location has low imprecision, then if the robot is really near the target it
+    # executes an MVT, and an MB is executed if the distance is medium"
+    pytest.param((0, 1, 0, 6), MVT, id="really near, target precise: MVT"),
+    pytest.param((2, 0, 0, 6), MB, id="medium distance, target precise: MB"),
 ])
 def test_the_hand_coded_policy_follows_section_6(intervals, action):
+    """Section 6's hand-coded policy, sentence by sentence (the intervals: distance, I(t), count,
+    I-bar; the bounds of each word in :mod:`navcli.learning.hand_coded`)."""
     assert hand_coded_action(int(np.ravel_multi_index(intervals, SHAPE))) == action
 
 

@@ -13,8 +13,12 @@ What the thesis says, and how we do it:
   a **diverting target**, a pair of landmarks to pass between, and broadcasts it as the current
   target (the Pilot crosses it through its safe corridor). When it is crossed the original target
   is restored. If none can be computed, the Rescuer **explores** (our design, after MLL): it
-  turns by a random angle and scans for landmarks, then, blocked again, asks again with what was
-  learned; this is no failure. If one is not crossed within
+  turns to a random heading within half of ``random_turn_deg`` of the one away from the target,
+  drives up to ``explore_m`` that way looking around until it sees a landmark it did not know
+  (what hides the landmarks from where it is blocked is a long obstacle; they are back the way
+  it came), scans for landmarks, then, blocked again, asks again with what was learned; this is
+  no failure. Once a diverting target is crossed, the original target in sight (no known long
+  obstacle across the straight way to it, ``sight_ends_way``) ends the way. If one is not crossed within
   the diverting timeout (or the robot is blocked again on the way), its edge is reported blocked
   to the Map Manager and another is asked for. So is the edge of one that was crossed when the
   robot is next blocked before anything else happened (our design: crossing it led nowhere, and
