@@ -27,7 +27,7 @@ as the paper states them:
 - the objective is the total reward, undiscounted (``learning.gamma`` 1).
 
 Each condition is set by the task unless the configuration gives it a value of its own (so
-``--param navigation.reach_confident=0.07`` is heard); ``learning.paper_task=0`` gives navcli's
+``--param navigation.reach_imprecision=0.07`` is heard); ``learning.paper_task=0`` gives navcli's
 first task: the target told at the start (+-2 cm, never forgotten), the camera free to all,
 success by the body alone, blocked not terminal, with ``--param learning.gamma=0.99`` as it was.
 The initial sweep, where the Rescuer makes one, comes before the first action and is not counted.

@@ -5,7 +5,8 @@ The agents never see the world; they see :class:`Beliefs`, made each tick by a p
 - :class:`VisionPerception` (the default): the camera (:mod:`navcli.vision.camera`) and the visual
   memory (:mod:`navcli.vision.visual_memory`). The robot knows what it has seen (the walls too, as linear
   obstacles), where its memory and odometry put it, and what it was told at the start: where the
-  target is.
+  target is (with ``vision.told_target`` 0, as in the learning paper's task, nothing: the
+  target is known once the camera has seen it).
 - :class:`OraclePerception` (``--perception oracle``): ground truth of every obstacle, landmark,
   wall and the target; for experiments that isolate the pilot from vision. Never the default.
 

@@ -250,20 +250,24 @@ class VisualMemory:
                 D = hypot(x, y)
                 # a turn error swings the point about the robot: d(position)/d(turn) = perp(p)
                 jx, jy = jx - dtheta * y, jy + dtheta * x
-                hx, hy = hx - ads * y, hy + ads * x  # and so does a heading drift, per metre driven
+                if hd:  # and so does a heading drift, per metre driven (skipped without one: a hot loop)
+                    hx, hy = hx - ads * y, hy + ads * x
                 kx, ky = kx - sx, ky - sy  # a distance error shifts it along the motion
                 x, y = x - sx, y - sy
                 p.x, p.y = c * x - s * y, s * x + c * y
                 jx, jy = c * jx - s * jy, s * jx + c * jy
-                hx, hy = c * hx - s * hy, s * hx + c * hy
                 kx, ky = c * kx - s * ky, s * kx + c * ky
                 vt += (adt * D) ** 2
-                vh += (ads * D) ** 2
                 vs += ds2
                 run += ads
+                r0 = p.base + cal * (hypot(jx, jy) + hypot(kx, ky)) + walk * (sqrt(vt) + sqrt(vs)) + floor * run
+                if hd:
+                    hx, hy = c * hx - s * hy, s * hx + c * hy
+                    vh += (ads * D) ** 2
+                    r0 += hcal * hypot(hx, hy)
+                    r0 += hwalk * sqrt(vh)
                 p.drift = (jx, jy, kx, ky, vt, vs, run, hx, hy, vh)
-                p.r0 = (p.base + cal * (hypot(jx, jy) + hypot(kx, ky)) + walk * (sqrt(vt) + sqrt(vs)) + floor * run
-                        + hcal * hypot(hx, hy) + hwalk * sqrt(vh))
+                p.r0 = r0
 
     def shove(self, slip: float) -> None:
         """Sliding along something may have moved the robot ``slip`` metres sideways, which the
