@@ -157,7 +157,8 @@ class Rescuer:
 
         if self.state == "drive":
             o, start = b.odometry, self._drive_from
-            if (math.hypot(o.x - start.x, o.y - start.y) < self.params.explore_m and not b.bumps
+            driven = math.hypot(o.x - start.x, o.y - start.y)
+            if (driven < self.params.explore_m and not b.bumps
                     and len(s.landmarks) <= self._drive_known and b.pilot_blocked is None
                     and s.time - self._drive_since < self.drive_s):
                 pans = self.params.scan_pans_deg  # looking around on the way, a pan an image
@@ -168,7 +169,7 @@ class Rescuer:
                 if self.params.rescuer_looks:
                     bids += (Bid(self.name, "camera", Look(math.radians(pans[self._scan % len(pans)])), v),)
                 return Rescue(bids, events=tuple(events))
-            events.append(("info", f"explored {math.hypot(o.x - start.x, o.y - start.y):.1f} m away from the target"))
+            events.append(("info", f"explored {driven:.1f} m away from the target"))
             self._enter("explore" if self.params.rescuer_looks else "normal", s)
 
         if self.state == "explore":

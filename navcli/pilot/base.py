@@ -359,11 +359,7 @@ class Pilot:
         turned on the spot; any move of its own turning more than ``turn_in_place`` whose arc is
         not clear is turned on the spot."""
         err = move.heading
-        omega = max(-self.robot.max_turn_rate, min(self.robot.max_turn_rate, self.params.heading_gain * err))
-        if self.params.drive_while_turning:
-            v = move.speed
-        else:
-            v = 0.0 if abs(err) > self.params.turn_in_place else move.speed * math.cos(err)
+        v, omega = self._servo(err, move.speed)
         check = self.params.safe_execution and (abs(err) > self.params.turn_in_place or requested)
         if v and check and not self._path_clear(v, omega, err, self._stopping(v) if requested else 0.0):
             if requested and instead:  # the paper's "if they are safe": else
@@ -377,6 +373,19 @@ class Pilot:
             return 0.0, omega  # turning on the spot is always safe
         return v, omega
 
+    def _servo(self, err: float, speed: float, slow: bool = True) -> tuple[float, float]:
+        """The command for a heading error ``err`` (rad) at ``speed`` (m/s): the turn at
+        ``heading_gain`` per radian, within the turn-rate limit; the speed as it is with
+        ``drive_while_turning``, else none above ``turn_in_place`` and, with ``slow``, times
+        cos(err) below."""
+        p, max_w = self.params, self.robot.max_turn_rate
+        omega = max(-max_w, min(max_w, p.heading_gain * err))
+        if p.drive_while_turning:
+            return speed, omega
+        if abs(err) > p.turn_in_place:
+            return 0.0, omega
+        return (speed * math.cos(err) if slow else speed), omega
+
     def _nearest_safe(self, move: Move) -> tuple[float, float] | None:
         """The command toward the heading nearest the requested ``move``'s whose path, with the
         stopping distance, is clear (headings ``SAFE_STEP`` apart, each way, up to a half turn;
@@ -384,12 +393,10 @@ class Pilot:
         a robot whose request and own move were both unsafe stood still for good, facing its
         target past a landmark it would have grazed; a mobile robot's controller takes the
         admissible heading nearest the one wanted)."""
-        p, max_w = self.params, self.robot.max_turn_rate
         for k in range(1, SAFE_STEPS + 1):
             for side in (1.0, -1.0):
                 err = wrap_angle(move.heading + side * k * SAFE_STEP)
-                omega = max(-max_w, min(max_w, p.heading_gain * err))
-                v = move.speed if p.drive_while_turning or abs(err) <= p.turn_in_place else 0.0
+                v, omega = self._servo(err, move.speed, slow=False)
                 if not v:
                     return 0.0, omega
                 if self._path_clear(v, omega, err, self._stopping(v)):

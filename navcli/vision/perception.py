@@ -106,13 +106,12 @@ class VisionPerception(_Senses):
         start = Pose(*scenario.robot.start, scenario.robot.heading)
         told = params.distance_floor  # what the robot is told is precise to a couple of cm
         t = scenario.target
-        if not params.told_target:
-            pass  # (the learning paper's robot "knows nothing": the target is found by the camera)
-        elif t.kind == "line":
-            self.memory.add("target-a", "target", [start.to_local(t.line[0])], 0.0, told, prior=True)
-            self.memory.add("target-b", "target", [start.to_local(t.line[1])], 0.0, told, prior=True)
-        else:
-            self.memory.add("target", "target", [start.to_local(t.point)], 0.0, told, prior=True)
+        if params.told_target:  # (untold, the learning paper's robot "knows nothing": the camera finds the target)
+            if t.kind == "line":
+                self.memory.add("target-a", "target", [start.to_local(t.line[0])], 0.0, told, prior=True)
+                self.memory.add("target-b", "target", [start.to_local(t.line[1])], 0.0, told, prior=True)
+            else:
+                self.memory.add("target", "target", [start.to_local(t.point)], 0.0, told, prior=True)
         self._target_key = t.landmark if t.kind == "landmark" else "target"
         self._ticks = 0
 
