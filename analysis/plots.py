@@ -10,6 +10,7 @@ from pathlib import Path
 
 import pandas as pd
 
+from .files import atomic
 from .logs import read_log
 
 
@@ -45,14 +46,16 @@ def _scenario_of(log_path: str) -> dict:
 
 
 def save_figure(fig, out: str | Path, dpi: int = 100) -> Path:
-    """Write ``fig`` as a PNG to ``out`` (its folder made if need be), close it, return the path."""
+    """Write ``fig`` as a PNG to ``out`` (its folder made if need be; atomically), close it, return the path."""
     import matplotlib.pyplot as plt
 
     out = Path(out)
-    out.parent.mkdir(parents=True, exist_ok=True)
     fig.tight_layout()
-    fig.savefig(out, dpi=dpi)
-    plt.close(fig)
+    try:
+        with atomic(out) as tmp:
+            fig.savefig(tmp, dpi=dpi)
+    finally:
+        plt.close(fig)
     return out
 
 

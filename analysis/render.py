@@ -23,6 +23,7 @@ from typing import Callable
 import numpy as np
 import pandas as pd
 
+from .files import atomic
 from .logs import LogError, read_log, scene_messages
 from .plots import _arena
 
@@ -195,9 +196,8 @@ def render(log_path: str | Path, out: str | Path, *, speed: float = 10.0, start:
         cursor.set_xdata([t, t])
         clock.set_text(f"t = {t:5.1f} s")
 
-    out.parent.mkdir(parents=True, exist_ok=True)
-    with writer.saving(fig, str(out), dpi):  # one draw per frame (FuncAnimation.save draws each twice)
-        for k in range(len(times)):
+    with atomic(out) as tmp, writer.saving(fig, str(tmp), dpi):  # one draw per frame (FuncAnimation.save
+        for k in range(len(times)):                                # draws each twice)
             draw(k)
             writer.grab_frame()
             if progress:

@@ -31,6 +31,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from .files import atomic
 from .logs import LogError, config_columns, path_length, read_log
 
 METRICS = {"time_s": "time (s)", "path_cm": "path length (cm)"}
@@ -390,10 +391,11 @@ def write_report(runs: pd.DataFrame, out: str | Path, baseline: str = "geometric
     imps = improvements(runs, baseline) if baseline in set(runs["pilot"]) else improvements(runs.iloc[:0], baseline)
     files = {"runs": out / "runs.csv", "table": out / "table.csv", "improvements": out / "improvements.csv",
              "markdown": out / "table.md"}
-    runs.drop(columns=["xy"], errors="ignore").to_csv(files["runs"], index=False)
-    table.to_csv(files["table"], index=False)
-    imps.to_csv(files["improvements"], index=False)
-    files["markdown"].write_text(markdown(table, imps, notes(runs, table, imps, baseline, skipped)))
+    for key, frame in (("runs", runs.drop(columns=["xy"], errors="ignore")), ("table", table), ("improvements", imps)):
+        with atomic(files[key]) as tmp:
+            frame.to_csv(tmp, index=False)
+    with atomic(files["markdown"]) as tmp:
+        tmp.write_text(markdown(table, imps, notes(runs, table, imps, baseline, skipped)))
     if plots:
         from . import plots as figures
 

@@ -10,6 +10,7 @@ scenario, a bad option), 3 the mission ended without reaching its target (timeou
 from __future__ import annotations
 
 import contextlib
+import math
 import os
 import sys
 from enum import Enum
@@ -19,6 +20,7 @@ from typing import Annotated, Optional
 import typer
 
 from .params import PERCEPTIONS, PILOT_NAMES
+from .signals import exit_code, stopped_by
 
 app = typer.Typer(
     help="Run, record and measure missions of the bidding Pilot/Vision/Navigation robot.",
@@ -35,6 +37,20 @@ EXIT_BAD_INPUT, EXIT_FAILED_MISSION, EXIT_INTERRUPTED, EXIT_TERMINATED = 2, 3, 1
 
 def _err(msg: str) -> None:
     typer.echo(msg, err=True)
+
+
+def _finite(value: Optional[float]) -> Optional[float]:
+    """A float option's check: typer's ``min``/``max`` let ``nan`` through (every comparison with it
+    is false) and ``inf`` past an open top; here either is refused."""
+    if value is not None and not math.isfinite(value):
+        raise typer.BadParameter(f"{value} is not a finite number")
+    return value
+
+
+MAX_SEED = 2 ** 64 - 1
+"""The largest seed (numpy's SeedSequence takes any; the log stores an unsigned 64-bit one)."""
+MAX_JOBS = 256
+"""Most local worker processes (each forks the whole of navcli: some 100 MB)."""
 
 
 ParamOption = Annotated[Optional[list[str]], typer.Option(
@@ -84,6 +100,28 @@ def _check_model(navigation: str) -> None:
         raise typer.Exit(EXIT_BAD_INPUT) from None
 
 
+def _out_file(path: Path, suffixes: tuple[str, ...], what: str, option: str = "--out") -> Path:
+    """``path`` checked as an output file before any work (:func:`navcli.outputs.check_file`), or exit 2."""
+    from .outputs import OutputError, check_file
+
+    try:
+        return check_file(path, suffixes, what)
+    except OutputError as e:
+        _err(f"error: {option}: {e}")
+        raise typer.Exit(EXIT_BAD_INPUT) from None
+
+
+def _out_folder(path: Path, option: str = "--out") -> Path:
+    """``path`` checked as an output folder before any work (:func:`navcli.outputs.check_folder`), or exit 2."""
+    from .outputs import OutputError, check_folder
+
+    try:
+        return check_folder(path)
+    except OutputError as e:
+        _err(f"error: {option}: {e}")
+        raise typer.Exit(EXIT_BAD_INPUT) from None
+
+
 class _Progress:
     """A progress bar on a terminal, shown only once a run has lasted more than half a second."""
 
@@ -117,12 +155,12 @@ class _Progress:
 @app.command()
 def run(
     scenario: Annotated[Path, typer.Argument(metavar="SCENARIO", help="Scenario YAML file (see scenarios/).")],
-    seed: Annotated[Optional[int], typer.Option(min=0, help="Random seed (default: the scenario's mission.seed).")] = None,
+    seed: Annotated[Optional[int], typer.Option(min=0, max=MAX_SEED, help="Random seed (default: the scenario's mission.seed).")] = None,
     pilot: Annotated[Optional[PilotName], typer.Option(help="Pilot (default: the scenario's mission.pilot).")] = None,
     out: Annotated[Optional[Path], typer.Option(
         help="Log file (default: logs/<scenario>/<pilot>-seed<N>-<run id>.mcap, the run id a hash of the whole "
              "configuration). Missing folders are created.")] = None,
-    time_limit: Annotated[Optional[float], typer.Option(min=0.1, help="Simulated seconds before the run is declared failed.")] = None,
+    time_limit: Annotated[Optional[float], typer.Option(min=0.1, callback=_finite, help="Simulated seconds before the run is declared failed.")] = None,
     live: Annotated[bool, typer.Option(help="Also serve the run to Foxglove (ws://127.0.0.1:PORT), paced to real time.")] = False,
     port: Annotated[int, typer.Option(min=0, max=65535, help="WebSocket port for --live (0: any free port).")] = 8765,
     param: ParamOption = None,
@@ -139,7 +177,8 @@ def run(
                  perception=perception.value if perception else None, navigation=navigation)
     _check_model(spec.navigation)
     from .recorder import LogPathError, check_log_path
-    from .runner import Terminated, run_mission
+    from .runner import run_mission
+    from .signals import Terminated
 
     try:
         out = check_log_path(out if out is not None else spec.default_log_path(), (str(scenario),))
@@ -149,22 +188,23 @@ def run(
 
     import signal
 
-    from .runner import raising
+    from .signals import raising
 
     # a kill from a scheduler ends the run like Ctrl-C: the log closed, marked interrupted; neither is
     # raised inside a pymunk callback, where it would be lost
     signal.signal(signal.SIGTERM, raising(Terminated))
     signal.signal(signal.SIGINT, raising(KeyboardInterrupt))
     progress = _Progress(spec.time_limit, spec.scenario.name)
-    partial = out.with_name(out.name + ".partial")
-    if partial.is_file():
-        _err(f"note: {partial} is the unfinished log of an earlier run; it is kept, renamed {partial.name}-<n> "
-             f"(`navcli recover` makes a readable log of it)")
-    if live:
-        where = f"ws://127.0.0.1:{port}" if port else "a free port of 127.0.0.1"
-        _err(f"serving the run live on {where} (open it in Foxglove: Open connection)")
+
+    def opened(recorder) -> None:  # said once the log is this run's (not before: another run may hold it)
+        if recorder.kept_aside:
+            _err(f"note: {recorder.partial} was the unfinished log of an earlier run; it is kept as "
+                 f"{recorder.kept_aside} (`navcli recover` makes a readable log of it)")
+        if recorder.port is not None:
+            _err(f"serving the run live on ws://127.0.0.1:{recorder.port} (open it in Foxglove: Open connection)")
+
     try:
-        res = run_mission(spec, out=out, live=live, port=port, on_tick=progress)
+        res = run_mission(spec, out=out, live=live, port=port, on_tick=progress, on_open=opened)
     except LogPathError as e:  # another run holds the log, or the --live port is taken
         _err(f"error: {e}")
         raise typer.Exit(EXIT_BAD_INPUT) from None
@@ -214,9 +254,9 @@ def validate(files: Annotated[list[Path], typer.Argument(metavar="FILES", help="
 @app.command()
 def bench(
     scenario: Annotated[Path, typer.Argument(metavar="SCENARIO", help="Scenario to time.")] = Path("scenarios/paper-8x8.yaml"),
-    repeat: Annotated[int, typer.Option(min=1, help="Runs per configuration; the median is reported.")] = 5,
+    repeat: Annotated[int, typer.Option(min=1, max=1000, help="Runs per configuration; the median is reported.")] = 5,
     pilot: Annotated[Optional[PilotName], typer.Option(help="Pilot (default: the scenario's).")] = None,
-    seed: Annotated[Optional[int], typer.Option(min=0)] = None,
+    seed: Annotated[Optional[int], typer.Option(min=0, max=MAX_SEED)] = None,
     occlusion: Annotated[bool, typer.Option(help="Instead: time the pilot's occlusion test, loop vs numpy.")] = False,
     param: ParamOption = None,
     perception: Annotated[Optional[PerceptionName], typer.Option(help="vision or oracle (default: the scenario's).")] = None,
@@ -255,15 +295,21 @@ WallsOption = Annotated[bool, typer.Option(
 def _plot(kind: str, scenario: Path, out: Optional[Path], step: Optional[float], param: list[str],
           walls: bool = False) -> None:
     spec = _spec(scenario, param)
+    out = _out_file(out or Path("logs") / spec.scenario.name / f"{kind}.png", (".png",), "PNG image")
     from . import figures
 
-    out = out or Path("logs") / spec.scenario.name / f"{kind}.png"
     fn = figures.plot_field if kind == "field" else figures.plot_bids
-    try:
-        path = fn(spec, out, step, walls) if step else fn(spec, out, walls=walls)
-    except OSError as e:
-        _err(f"error: cannot write {out}: {e.strerror or e}")
-        raise typer.Exit(1) from None
+    with _bar() as bar:
+        task = bar.add_task(f"{kind}: rows of the grid", total=None)
+        try:
+            path = fn(spec, out, step or (0.2 if kind == "field" else 0.05), walls,
+                      progress=lambda i, n: bar.update(task, completed=i, total=n))
+        except figures.GridError as e:
+            _err(f"error: --step: {e}")
+            raise typer.Exit(EXIT_BAD_INPUT) from None
+        except OSError as e:
+            _err(f"error: cannot write {out}: {e.strerror or e}")
+            raise typer.Exit(1) from None
     typer.echo(f"wrote {path}")
 
 
@@ -271,7 +317,7 @@ def _plot(kind: str, scenario: Path, out: Optional[Path], step: Optional[float],
 def plot_field(
     scenario: Annotated[Path, typer.Argument(metavar="SCENARIO", help="Scenario YAML file.")],
     out: Annotated[Optional[Path], typer.Option(help="PNG file (default: logs/<scenario>/field.png).")] = None,
-    step: Annotated[Optional[float], typer.Option(min=0.02, help="Grid spacing in metres (default 0.2).")] = None,
+    step: Annotated[Optional[float], typer.Option(min=0.02, callback=_finite, help="Grid spacing in metres (default 0.2).")] = None,
     param: ParamOption = None,
     walls: WallsOption = False,
 ) -> None:
@@ -283,7 +329,7 @@ def plot_field(
 def plot_bids(
     scenario: Annotated[Path, typer.Argument(metavar="SCENARIO", help="Scenario YAML file.")],
     out: Annotated[Optional[Path], typer.Option(help="PNG file (default: logs/<scenario>/bids.png).")] = None,
-    step: Annotated[Optional[float], typer.Option(min=0.02, help="Grid spacing in metres (default 0.05).")] = None,
+    step: Annotated[Optional[float], typer.Option(min=0.02, callback=_finite, help="Grid spacing in metres (default 0.05).")] = None,
     param: ParamOption = None,
     walls: WallsOption = False,
 ) -> None:
@@ -300,7 +346,7 @@ def plot_map(
     from analysis import LogError
     from analysis.mapplot import plot_map as draw
 
-    out = out or log.with_name(log.stem + "-map.png")
+    out = _out_file(out or log.with_name(log.stem + "-map.png"), (".png",), "PNG image")
     try:
         typer.echo(f"wrote {draw(log, out)}")
     except LogError as e:
@@ -315,12 +361,12 @@ app.add_typer(compare_app, name="compare")
 @compare_app.command("pilots")
 def compare_pilots(
     scenarios: Annotated[list[Path], typer.Argument(metavar="SCENARIOS", help="Scenario YAML files.")],
-    reruns: Annotated[int, typer.Option(min=1, help="Reruns per scenario and pilot (the paper: 45).")] = 45,
+    reruns: Annotated[int, typer.Option(min=1, max=10_000, help="Reruns per scenario and pilot (the paper: 45).")] = 45,
     pilots: Annotated[str, typer.Option(help="Comma-separated pilots; the last is the baseline.")] =
         "potential-field,geometric",
-    jobs: Annotated[Optional[int], typer.Option(min=1, help="Worker processes (default: the machine's cores).")] = None,
+    jobs: Annotated[Optional[int], typer.Option(min=1, max=MAX_JOBS, help="Worker processes (default: the machine's cores).")] = None,
     out: Annotated[Path, typer.Option(help="Folder for the logs, the table and the plots.")] = Path("logs/compare"),
-    time_limit: Annotated[Optional[float], typer.Option(min=0.1, help="Override the scenarios' time limit (s).")] = None,
+    time_limit: Annotated[Optional[float], typer.Option(min=0.1, callback=_finite, help="Override the scenarios' time limit (s).")] = None,
     param: ParamOption = None,
     perception: Annotated[Optional[PerceptionName], typer.Option(
         help="vision or oracle for every run (default: each scenario's mission.perception).")] = None,
@@ -338,6 +384,7 @@ def compare_pilots(
         raise typer.Exit(EXIT_BAD_INPUT)
     specs = [_spec(p, param, time_limit=time_limit, perception=perception.value if perception else None)
              for p in scenarios]
+    _out_folder(out)
     from .experiments.compare import plan, run_on
 
     work = plan(specs, names, reruns, out)
@@ -358,9 +405,7 @@ def compare_pilots(
         try:
             run_on(work, ex, done)
         except KeyboardInterrupt as e:  # Ctrl-C (130) or SIGTERM (143): every worker is stopped
-            from .experiments.executor import exit_code
-
-            _err("interrupted: completed logs are kept; run the same command again to resume")
+            _err(f"{stopped_by(e)}: completed logs are kept; run the same command again to resume")
             raise typer.Exit(exit_code(e)) from None
     wall = time.perf_counter() - t0
     typer.echo(f"{len(work)} runs ({ran} run now, {len(work) - ran} already complete) in {wall:.1f} s "
@@ -389,7 +434,10 @@ def report(
         _err(f"error: {logdir}: no such file or folder" if not logdir.exists() else
              f"error: {logdir}: expected a folder of logs or a sweep's results table (.parquet or .csv)")
         raise typer.Exit(EXIT_BAD_INPUT)
-    _report(logdir, baseline, out or (logdir.parent if table else logdir), table=table)
+    if baseline not in PILOT_NAMES:
+        _err(f"error: --baseline: {baseline!r} is not a pilot (expected one of: {', '.join(PILOT_NAMES)})")
+        raise typer.Exit(EXIT_BAD_INPUT)
+    _report(logdir, baseline, _out_folder(out or (logdir.parent if table else logdir)), table=table)
 
 
 def _report(logdir: Path, baseline: str, out: Path, logs: list[str] | None = None, table: bool = False) -> None:
@@ -436,13 +484,17 @@ def recover(
     from .recorder import LogPathError, RecoverError, recover as recover_log
 
     if not partial.is_file():
-        _err(f"error: {partial}: no such file")
+        _err(f"error: {partial}: " + ("is a folder; give the .partial file a killed run left" if partial.is_dir()
+                                      else "no such file" if not partial.exists() else "not a regular file"))
         raise typer.Exit(EXIT_BAD_INPUT)
     try:
         path, s = recover_log(partial, out)
     except (RecoverError, LogPathError) as e:
         _err(f"error: {e}")
         raise typer.Exit(EXIT_BAD_INPUT) from None
+    if s["damaged_bytes"]:
+        _err(f"warning: {partial} is damaged before its end (a record fails its check): the {s['damaged_bytes']} "
+             f"bytes after the damage are not recovered; the log ends at the last good record")
     typer.echo(f"recovered {s['ticks']} ticks, {s['time_s']:.1f} simulated s, into {path} (outcome interrupted); "
                f"{partial} is left as it was")
 
@@ -489,8 +541,9 @@ def layout(
     if out is None:
         typer.echo(text)
         return
-    out.parent.mkdir(parents=True, exist_ok=True)
-    out.write_text(text + "\n")
+    from .outputs import write_text
+
+    write_text(_out_file(out, (".json",), "layout file"), text + "\n")
     typer.echo(f"wrote {out}")
 
 
@@ -498,10 +551,10 @@ def layout(
 def render(
     log: Annotated[Path, typer.Argument(metavar="LOG", help="A navcli log (.mcap).")],
     out: Annotated[Optional[Path], typer.Option(help="run.gif or run.mp4 (MP4 needs ffmpeg); default: the log's name with .gif.")] = None,
-    speed: Annotated[float, typer.Option(min=0.01, help="Simulated seconds per second of video.")] = 10.0,
-    start: Annotated[Optional[float], typer.Option("--from", min=0.0, help="First simulated second shown.")] = None,
-    end: Annotated[Optional[float], typer.Option("--to", min=0.0, help="Last simulated second shown.")] = None,
-    fps: Annotated[float, typer.Option(min=1.0, max=60.0, help="Frames per second of video.")] = 10.0,
+    speed: Annotated[float, typer.Option(min=0.01, max=10_000.0, callback=_finite, help="Simulated seconds per second of video.")] = 10.0,
+    start: Annotated[Optional[float], typer.Option("--from", min=0.0, callback=_finite, help="First simulated second shown.")] = None,
+    end: Annotated[Optional[float], typer.Option("--to", min=0.0, callback=_finite, help="Last simulated second shown.")] = None,
+    fps: Annotated[float, typer.Option(min=1.0, max=60.0, callback=_finite, help="Frames per second of video.")] = 10.0,
     dpi: Annotated[int, typer.Option(min=20, max=300, help="Pixels per inch of the 5 x 6.4 inch frame.")] = 80,
 ) -> None:
     """A video of a run from its log alone: the true arena and path, the robot's beliefs (the
@@ -509,7 +562,7 @@ def render(
     from analysis import LogError
     from analysis.render import RenderError, render as render_video
 
-    target = out or log.with_suffix(".gif")
+    target = _out_file(out or log.with_suffix(".gif"), (".gif", ".mp4"), "video")
     bar = _bar() if sys.stderr.isatty() else None
     task = None
 
@@ -536,7 +589,7 @@ def render(
 SchedulerOption = Annotated[Optional[str], typer.Option(
     metavar="ADDRESS", help="Send the runs to the Dask cluster whose scheduler is at tcp://HOST:PORT instead of "
                             "local worker processes (needs navcli[cluster]).")]
-JobsOption = Annotated[Optional[int], typer.Option(min=1, help="Local worker processes (default: the machine's cores).")]
+JobsOption = Annotated[Optional[int], typer.Option(min=1, max=MAX_JOBS, help="Local worker processes (default: the machine's cores).")]
 
 
 def _bar(*columns):
@@ -589,7 +642,7 @@ def sweep(
     import time
 
     _extra("pyarrow", "navcli sweep (Parquet tables)")
-    from .experiments.executor import exit_code
+
     from .experiments.sweep import PlanError, load_plan, plan_runs, run_sweep
 
     try:
@@ -597,7 +650,7 @@ def sweep(
     except PlanError as e:
         _err(f"error: plan refused\n{e}")
         raise typer.Exit(EXIT_BAD_INPUT) from None
-    out = out or Path("logs") / "sweep" / plan.stem
+    out = _out_folder(out or Path("logs") / "sweep" / plan.stem)
     runs = plan_runs(p, None if no_logs else out)
     table = out / "results.parquet"
     from rich.progress import TextColumn, TimeRemainingColumn
@@ -613,7 +666,7 @@ def sweep(
             try:
                 stats = run_sweep(runs, table, ex, csv=csv, on_row=row)
             except KeyboardInterrupt as e:
-                _err(f"interrupted: the finished runs are in {table}; run the same command again to resume")
+                _err(f"{stopped_by(e)}: the finished runs are in {table}; run the same command again to resume")
                 raise typer.Exit(exit_code(e)) from None
     wall = time.perf_counter() - t0
     typer.echo(f"{stats.total} runs: {stats.done} run now in {wall:.1f} s, {stats.skipped} already in the table; "
@@ -632,8 +685,8 @@ def tune(
              "Repeatable; names as `navcli params` lists them.")],
     algorithm: Annotated[str, typer.Option(help="tpe (Optuna), cmaes (Optuna) or ga (DEAP's eaSimple, the "
                                                 "thesis' generational GA).")] = "tpe",
-    trials: Annotated[int, typer.Option(min=1, help="Finished trials the study should hold (tpe, cmaes).")] = 100,
-    seeds: Annotated[int, typer.Option(min=1, help="Runs per scenario per trial (the same seeds for every trial).")] = 3,
+    trials: Annotated[int, typer.Option(min=1, max=100_000, help="Finished trials the study should hold (tpe, cmaes).")] = 100,
+    seeds: Annotated[int, typer.Option(min=1, max=10_000, help="Runs per scenario per trial (the same seeds for every trial).")] = 3,
     objective: Annotated[str, typer.Option(
         help="fitness (success rate, mean steps and their spread; see navcli/experiments/tune.py), success "
              "(rate) or time (minus the mean time, failures at the limit). Maximised.")] = "fitness",
@@ -644,17 +697,17 @@ def tune(
         Path("logs/tune"),
     jobs: JobsOption = None,
     scheduler: SchedulerOption = None,
-    time_limit: Annotated[Optional[float], typer.Option(min=0.1, help="Override the scenarios' time limit (s).")] = None,
+    time_limit: Annotated[Optional[float], typer.Option(min=0.1, callback=_finite, help="Override the scenarios' time limit (s).")] = None,
     perception: Annotated[Optional[PerceptionName], typer.Option(help="vision or oracle for every run.")] = None,
-    seed: Annotated[int, typer.Option(min=0, help="Seed of the optimiser (not of the runs).")] = 1,
-    population: Annotated[int, typer.Option(min=2, help="GA: individuals per generation.")] = 20,
-    generations: Annotated[int, typer.Option(min=1, help="GA: generations.")] = 100,
-    crossover: Annotated[float, typer.Option(min=0.0, max=1.0, help="GA: crossover probability.")] = 0.8,
-    mutation: Annotated[float, typer.Option(min=0.0, max=1.0, help="GA: mutation probability.")] = 0.1,
+    seed: Annotated[int, typer.Option(min=0, max=MAX_SEED, help="Seed of the optimiser (not of the runs).")] = 1,
+    population: Annotated[int, typer.Option(min=2, max=10_000, help="GA: individuals per generation.")] = 20,
+    generations: Annotated[int, typer.Option(min=1, max=100_000, help="GA: generations.")] = 100,
+    crossover: Annotated[float, typer.Option(min=0.0, max=1.0, callback=_finite, help="GA: crossover probability.")] = 0.8,
+    mutation: Annotated[float, typer.Option(min=0.0, max=1.0, callback=_finite, help="GA: mutation probability.")] = 0.1,
 ) -> None:
     """Find parameter values that maximise an objective over scenarios and seeds; prints and writes the
     best values, the history, a plot of the objective against trials and a scenario pilot: block."""
-    from .experiments.executor import exit_code
+
     from .experiments.tune import ALGORITHMS, OBJECTIVES, GASettings, TuneProblem, parse_range
     from .params import ParamError
 
@@ -677,7 +730,9 @@ def tune(
     problem = TuneProblem(bases, tuple(p[0] for p in tuned), tuple(p[1] for p in tuned),
                           tuple(p[2] for p in tuned), seeds, objective)
     _extra("deap" if algorithm == "ga" else "optuna", "navcli tune")
-    storage = storage or out / ("ga.json" if algorithm == "ga" else "study.journal")
+    _out_folder(out)
+    storage = _out_file(storage or out / ("ga.json" if algorithm == "ga" else "study.journal"),
+                        (".json",) if algorithm == "ga" else (".journal", ".log"), "study file", "--storage")
     count = 0
 
     def trial(r: dict) -> None:
@@ -697,8 +752,11 @@ def tune(
                 batch = getattr(ex, "workers", None) or jobs or os.cpu_count() or 1
                 history = t.tune_optuna(problem, ex, algorithm=algorithm, trials=trials, storage=storage,
                                         batch=batch, seed=seed, on_trial=trial)
+        except t.CheckpointError as e:
+            _err(f"error: --storage: {e}")
+            raise typer.Exit(EXIT_BAD_INPUT) from None
         except KeyboardInterrupt as e:
-            _err(f"interrupted: the finished trials are in {storage}; run the same command again to resume")
+            _err(f"{stopped_by(e)}: the finished trials are in {storage}; run the same command again to resume")
             raise typer.Exit(exit_code(e)) from None
     files = t.write_results(history, problem, out)
     import json
@@ -713,17 +771,17 @@ def tune(
 @app.command()
 def train(
     scenario: Annotated[Path, typer.Argument(metavar="SCENARIO", help="Scenario YAML file (the paper's setting: scenarios/landmarks-12.yaml).")],
-    trials: Annotated[int, typer.Option(min=1, help="Training trials (the paper: 2000).")] = 2000,
-    eval_every: Annotated[int, typer.Option(min=1, help="Evaluate the greedy policy every this many trials.")] = 100,
-    eval_starts: Annotated[int, typer.Option(min=1, help="Fixed test starts of each evaluation (the paper: 99).")] = 99,
-    seed: Annotated[int, typer.Option(min=0, help="Seed of the training starts and of the learner.")] = 1,
+    trials: Annotated[int, typer.Option(min=1, max=1_000_000, help="Training trials (the paper: 2000).")] = 2000,
+    eval_every: Annotated[int, typer.Option(min=1, max=1_000_000, help="Evaluate the greedy policy every this many trials.")] = 100,
+    eval_starts: Annotated[int, typer.Option(min=1, max=10_000, help="Fixed test starts of each evaluation (the paper: 99).")] = 99,
+    seed: Annotated[int, typer.Option(min=0, max=MAX_SEED, help="Seed of the training starts and of the learner.")] = 1,
     out: Annotated[Optional[Path], typer.Option(
         help="Model file (.npz, with FILE.json, FILE-curve.csv and FILE-curve.png beside it; default: "
              "logs/<scenario>/<algorithm>-seed<N>.npz).")] = None,
     resume: Annotated[Optional[Path], typer.Option(help="Continue the training saved in this model file.")] = None,
     algorithm: Annotated[str, typer.Option(help="prioritized-sweeping (the paper's) or q-learning (model-free baseline).")]
         = "prioritized-sweeping",
-    jobs: Annotated[int, typer.Option(min=1, help="Worker processes for the evaluations.")] = 2,
+    jobs: Annotated[int, typer.Option(min=1, max=MAX_JOBS, help="Worker processes for the evaluations.")] = 2,
     log: Annotated[str, typer.Option(help="What is recorded of each training trial: summary (a row of "
                                           "FILE-trials.csv) or full (also every tick, one MCAP log per trial "
                                           "in FILE-trials/, 10-25 kB a simulated second).")] = "summary",
@@ -756,6 +814,22 @@ def train(
         _err(f"error: --param: {e}")
         raise typer.Exit(EXIT_BAD_INPUT) from None
     out = out or resume or Path("logs") / spec.scenario.name / f"{algorithm}-seed{seed}.npz"
+    from .learning.model_file import check_out, load
+    from .outputs import OutputError, check_folder
+
+    if resume is not None:
+        try:
+            load(resume)  # the input refused before the output is looked at
+        except ModelError as e:
+            _err(f"error: --resume: {e}")
+            raise typer.Exit(EXIT_BAD_INPUT) from None
+    try:
+        check_out(out)
+        if log == "full":
+            check_folder(trials_paths(out)[1])
+    except OutputError as e:
+        _err(f"error: --out: {e}")
+        raise typer.Exit(EXIT_BAD_INPUT) from None
     t0 = time.perf_counter()
     with _bar() as bar:
         task = bar.add_task("training", total=trials)
@@ -771,9 +845,12 @@ def train(
         except ModelError as e:
             _err(f"error: --resume: {e}")
             raise typer.Exit(EXIT_BAD_INPUT) from None
-        except KeyboardInterrupt:
-            _err(f"interrupted: the model saved at the last evaluation is in {out}; --resume {out} continues")
-            raise typer.Exit(EXIT_INTERRUPTED) from None
+        except KeyboardInterrupt as e:
+            _err(f"{stopped_by(e)}: " + (f"the model saved at {e.training.saved} trials is in {e.training.saved_in}; "
+                                          f"--resume {e.training.saved_in} --trials {e.training.end - e.training.saved} "
+                                          f"completes the {e.training.end}" if getattr(e, "training", None) and
+                                          e.training.saved is not None else "no model was saved yet"))
+            raise typer.Exit(exit_code(e)) from None
     typer.echo(f"{res.trials} trials ({trials} now) in {time.perf_counter() - t0:.0f} s: training {res.train_s:.0f} s, "
                f"evaluations {res.eval_s:.0f} s " + ("in this process" if jobs == 1 else f"of worker time on {jobs} workers"))
     typer.echo(f"training outcomes: {res.outcomes}")
@@ -795,8 +872,8 @@ def compare_policies(
                          "or Q-learning), hand-coded, agents, or a baseline of one action in every state (all-MB, all-MLL, all-MOT, "
                          "all-MVL, all-MVT); repeatable (default: learned, hand-coded, agents). Every policy runs the "
                          "learning paper's task (learning.paper_task=0: navcli's first one).")] = None,
-    runs: Annotated[int, typer.Option(min=1, help="Runs (seeds of the missions' noise) per policy.")] = 5,
-    starts: Annotated[int, typer.Option(min=1, help="Fixed random starts per run, those `navcli train` evaluates on "
+    runs: Annotated[int, typer.Option(min=1, max=1000, help="Runs (seeds of the missions' noise) per policy.")] = 5,
+    starts: Annotated[int, typer.Option(min=1, max=10_000, help="Fixed random starts per run, those `navcli train` evaluates on "
                                                     "(the paper: 99).")] = 99,
     out: Annotated[Path, typer.Option(help="Folder for the per-run trials (runs/*.json), policies.csv, policies.md "
                                            "and trials.csv.")] = Path("logs/compare-policies"),
@@ -823,11 +900,8 @@ def compare_policies(
     except ValueError as e:  # PolicyError, ModelError, bad bounds
         _err(f"error: {'--param' if not isinstance(e, (PolicyError, ModelError)) else '--policy'}: {e}")
         raise typer.Exit(EXIT_BAD_INPUT) from None
-    try:
-        (out / "runs").mkdir(parents=True, exist_ok=True)
-    except OSError as e:
-        _err(f"error: --out: cannot create {out / 'runs'}: {e.strerror or e}")
-        raise typer.Exit(EXIT_BAD_INPUT) from None
+    _out_folder(out / "runs")
+    (out / "runs").mkdir(parents=True, exist_ok=True)
     work = plan(spec, chosen, runs, starts, out)
     t0 = time.perf_counter()
     with _bar() as bar:
@@ -836,9 +910,7 @@ def compare_policies(
             try:
                 results = run_all(work, ex, lambda r: bar.advance(task))
             except KeyboardInterrupt as e:
-                from .experiments.executor import exit_code
-
-                _err(f"interrupted: the finished runs are kept in {out / 'runs'}; run the same command again to resume")
+                _err(f"{stopped_by(e)}: the finished runs are kept in {out / 'runs'}; run the same command again to resume")
                 raise typer.Exit(exit_code(e)) from None
             workers = getattr(ex, "workers", 1)
     ran = sum(r.ran for r in results)
@@ -855,8 +927,54 @@ def compare_policies(
         raise typer.Exit(1)
 
 
+def _guarded(fn):
+    """``fn`` (a command) ending in an exit code and one line, never a traceback: Ctrl-C exits 130
+    and SIGTERM 143 wherever they land (a command's own handling says more, where it has any);
+    an exception no command expected is a bug in navcli, said so in one line (``NAVCLI_DEBUG=1``
+    shows its traceback), exit 1. typer's and click's own exits pass through."""
+    import functools
+
+    @functools.wraps(fn)
+    def guarded(*args, **kwargs):
+        try:
+            return fn(*args, **kwargs)
+        except KeyboardInterrupt as e:
+            _err(stopped_by(e))
+            raise typer.Exit(exit_code(e)) from None
+        except BrokenPipeError:  # `navcli params | head`: the reader has what it wanted
+            with contextlib.suppress(OSError):
+                os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())  # nothing more to flush at exit
+            raise typer.Exit(128 + 13) from None  # as if killed by SIGPIPE, the shell's convention
+        except Exception as e:
+            if hasattr(e, "exit_code") or os.environ.get("NAVCLI_DEBUG"):  # typer.Exit, click's usage errors
+                raise
+            if isinstance(e, OSError):
+                _err(f"error: {e.strerror or e}" + (f": {e.filename}" if e.filename else ""))
+            else:
+                _err(f"navcli: internal error: {type(e).__name__}: {e}\n(a bug in navcli: please report it with "
+                     f"the command that raised it; NAVCLI_DEBUG=1 shows the traceback)")
+            raise typer.Exit(1) from None
+
+    return guarded
+
+
+def _guard_all(t: typer.Typer) -> None:
+    for c in t.registered_commands:
+        c.callback = _guarded(c.callback)
+    for g in t.registered_groups:
+        _guard_all(g.typer_instance)
+
+
+_guard_all(app)
+
+
 def main() -> None:
     # One BLAS thread (our design): navcli's arrays hold a few dozen numbers, and the threads OpenBLAS
     # starts with scipy only spin (some 60 ms of a one-shot run, and more beside compare's workers)
     os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+    import signal
+
+    from .signals import Terminated, raising
+
+    signal.signal(signal.SIGTERM, raising(Terminated))  # a kill ends any command like Ctrl-C: cleanly
     app()

@@ -53,8 +53,8 @@ class RunSpec:
         if not (isinstance(self.seed, int) and 0 <= self.seed < 2 ** 64):
             raise ConfigError(f"the seed must be a whole number from 0 to 2**64 - 1, got {self.seed!r}")
         limit = RANGES["mission.time_limit"]
-        if not (0.0 < self.time_limit <= limit.hi):
-            raise ConfigError(f"the time limit must be more than 0 and at most {limit.hi:g} simulated seconds, "
+        if not (limit.lo <= self.time_limit <= limit.hi):
+            raise ConfigError(f"the time limit must be from {limit.lo:g} to {limit.hi:g} simulated seconds, "
                               f"got {self.time_limit!r}")
         if not self.params.vision.told_target and self.scenario.target.kind == "line":
             raise ConfigError("vision.told_target=0 needs a point or landmark target: a line is not seen, only told")

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
+from typing import Callable
 
 import numpy as np
 
@@ -23,19 +24,44 @@ from .scenario import Circle, Scenario
 from .vision.perception import OraclePerception
 
 
-def field_grid(spec: RunSpec, step: float, walls: bool = False) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+MAX_GRID_POINTS = 1_000_000
+"""Most grid points of a figure (our design: 1,000 x 1,000 is finer than any screen; a 100 m room
+at 2 cm would be 25 million, hours of work for a picture no one can see)."""
+
+
+class GridError(ValueError):
+    """A grid too fine for a figure; the message says the finest step that is drawn."""
+
+
+def grid_points(sc: Scenario, step: float) -> int:
+    """How many points a grid of ``step`` metres has over the arena of ``sc``."""
+    return math.ceil(sc.arena.width / step - 0.5) * math.ceil(sc.arena.height / step - 0.5)
+
+
+def field_grid(spec: RunSpec, step: float, walls: bool = False,
+               progress: Callable[[int, int], None] | None = None) -> tuple[np.ndarray, ...]:
     """X, Y (m), the unit net-force direction (U, V) and the bid on a grid of ``step`` metres.
 
     Like the paper's Figures 9 and 10, the room's walls exert no force unless ``walls`` is set
-    (the paper's example has none). Blank points (inside bodies) are NaN."""
+    (the paper's example has none). Blank points (inside bodies) are NaN. ``progress(rows done,
+    rows)`` is called after each row of the grid (a room of a thousand obstacles takes minutes).
+    A grid of more than :data:`MAX_GRID_POINTS` points raises :class:`GridError` before any work."""
     sc, pilot = spec.scenario, spec.params.pilot
+    if grid_points(sc, step) > MAX_GRID_POINTS:
+        finest = math.sqrt(sc.arena.width * sc.arena.height / MAX_GRID_POINTS)
+        raise GridError(f"a step of {step:g} m makes {grid_points(sc, step):,} points over the "
+                        f"{sc.arena.width:g} m x {sc.arena.height:g} m arena (at most {MAX_GRID_POINTS:,}); "
+                        f"use a step of at least {math.ceil(finest * 1000) / 1000:g} m")
     bodies = [o for o in sc.objects if o.kind in ("circle", "segment", "landmark")]
     xs = np.arange(step / 2, sc.arena.width, step)
     ys = np.arange(step / 2, sc.arena.height, step)
     X, Y = np.meshgrid(xs, ys)
     U, V, B = (np.full(X.shape, np.nan) for _ in range(3))
     perception = OraclePerception(sc, np.random.default_rng(0))  # the figure shows the field of the true layout
+    rows = X.shape[0]
     for idx in np.ndindex(X.shape):
+        if progress and idx[1] == 0 and idx[0]:
+            progress(idx[0], rows)
         x, y = float(X[idx]), float(Y[idx])
         if any(o.clearance((x, y)) <= 0.0 for o in bodies):
             continue
@@ -45,6 +71,8 @@ def field_grid(spec: RunSpec, step: float, walls: bool = False) -> tuple[np.ndar
         f = field(b.target, b.target_line, obstacles, pilot)
         U[idx], V[idx] = math.cos(f.turn), math.sin(f.turn)
         B[idx] = f.bid
+    if progress:
+        progress(rows, rows)
     return X, Y, U, V, B
 
 
@@ -73,7 +101,8 @@ def _arena(ax, sc: Scenario, R_min: float) -> None:
     ax.set_ylabel("y (m)")
 
 
-def plot_field(spec: RunSpec, out: Path, step: float = 0.2, walls: bool = False) -> Path:
+def plot_field(spec: RunSpec, out: Path, step: float = 0.2, walls: bool = False,
+               progress: Callable[[int, int], None] | None = None) -> Path:
     """Figure 9: arrows along the net force (eq. 6-7), over the arena."""
     sc, p = spec.scenario, spec.params.pilot
     import matplotlib
@@ -81,7 +110,7 @@ def plot_field(spec: RunSpec, out: Path, step: float = 0.2, walls: bool = False)
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    X, Y, U, V, _ = field_grid(spec, step, walls)
+    X, Y, U, V, _ = field_grid(spec, step, walls, progress)
     fig, ax = plt.subplots(figsize=(7, 7 * sc.arena.height / sc.arena.width + 0.5))
     ax.quiver(X, Y, U, V, angles="xy", scale_units="xy", scale=1 / (0.8 * step), width=0.003, color="0.25")
     _arena(ax, sc, p.R_min)
@@ -89,7 +118,8 @@ def plot_field(spec: RunSpec, out: Path, step: float = 0.2, walls: bool = False)
     return save_figure(fig, out, dpi=110)
 
 
-def plot_bids(spec: RunSpec, out: Path, step: float = 0.05, walls: bool = False) -> Path:
+def plot_bids(spec: RunSpec, out: Path, step: float = 0.05, walls: bool = False,
+              progress: Callable[[int, int], None] | None = None) -> Path:
     """Figure 10: the pilot's motion bid (eq. 9) over the arena."""
     sc, p = spec.scenario, spec.params.pilot
     import matplotlib
@@ -97,7 +127,7 @@ def plot_bids(spec: RunSpec, out: Path, step: float = 0.05, walls: bool = False)
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    X, Y, _, _, B = field_grid(spec, step, walls)
+    X, Y, _, _, B = field_grid(spec, step, walls, progress)
     fig, ax = plt.subplots(figsize=(7.8, 7 * sc.arena.height / sc.arena.width + 0.5))
     im = ax.pcolormesh(X, Y, B, shading="nearest", cmap="viridis", vmin=0.0, vmax=p.bid_cap)
     fig.colorbar(im, ax=ax, label="pilot bid (eq. 9)")

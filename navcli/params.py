@@ -57,6 +57,12 @@ def _p(default: Any, *, at_least: float | None = 0.0, above: float | None = None
     return field(default=default, metadata={"at_least": at_least, "above": above, "at_most": at_most, "below": below})
 
 
+def _intervals(default: tuple[float, ...]) -> Any:
+    """Interval bounds of a feature (the Learning Agent's states): an override keeps their count,
+    which the table of states is built on, and their increasing order."""
+    return field(default=default, metadata={"intervals": True})
+
+
 @dataclass(frozen=True)
 class RobotParams:
     """Body and drive limits of the differential-drive robot (a Pioneer-sized disc); a scenario's
@@ -274,10 +280,10 @@ class LearningParams:
       textbook values.
     """
 
-    distance_bounds: tuple[float, ...] = (0.9, 1.5, 3.0, 5.0)  # m: 5 intervals
-    imprecision_bounds: tuple[float, ...] = (0.02, 0.04, 0.07, 0.1, 0.15, 0.25)  # I(t): 7 intervals
-    count_bounds: tuple[float, ...] = (0.34, 0.67, 1.0)  # C-bar: 4 intervals
-    landmark_bounds: tuple[float, ...] = (0.2, 0.35, 0.5, 0.65, 0.8, 0.95)  # I-bar: 7 intervals
+    distance_bounds: tuple[float, ...] = _intervals((0.9, 1.5, 3.0, 5.0))  # m: 5 intervals
+    imprecision_bounds: tuple[float, ...] = _intervals((0.02, 0.04, 0.07, 0.1, 0.15, 0.25))  # I(t): 7 intervals
+    count_bounds: tuple[float, ...] = _intervals((0.34, 0.67, 1.0))  # C-bar: 4 intervals
+    landmark_bounds: tuple[float, ...] = _intervals((0.2, 0.35, 0.5, 0.65, 0.8, 0.95))  # I-bar: 7 intervals
     action_s: float = _p(1.0, above=0.0)  # s one action lasts
     max_actions: int = _p(500, at_least=1)  # actions before a trial ends (the paper's 500)
     bid: float = _p(0.5, above=0.0, at_most=1.0)  # its bids for the wheels and the camera
@@ -377,12 +383,22 @@ class Params:
         return dataclasses.replace(self, **{g: dataclasses.replace(getattr(self, g), **kw) for g, kw in groups.items()})
 
 
+MAX_LIST = 64
+"""The most numbers a list-valued parameter takes (its longest default has 6)."""
+
+
 def _checked(name: str, f: dataclasses.Field, value: Any) -> Any:
     """``value`` converted to the field's type and checked against its declared range."""
     if isinstance(f.default, tuple):
-        if not isinstance(value, (list, tuple)) or not all(_is_number(v) and math.isfinite(v) for v in value):
-            raise ParamError(f"{name} expects a list of numbers, got {value!r}")
-        return tuple(float(v) for v in value)
+        if (not isinstance(value, (list, tuple)) or len(value) > MAX_LIST
+                or not all(_is_number(v) and math.isfinite(v) for v in value)):
+            raise ParamError(f"{name} expects a list of at most {MAX_LIST} finite numbers, got {value!r}"[:300])
+        value = tuple(float(v) for v in value)
+        n = len(f.default)
+        if f.metadata.get("intervals") and (len(value) != n or any(b <= a for a, b in zip(value, value[1:]))):
+            raise ParamError(f"{name} must be {n} increasing numbers (the bounds of {n + 1} intervals), "
+                             f"got {list(value)}")
+        return value
     if not _is_number(value) or not math.isfinite(value):
         raise ParamError(f"{name} expects a finite number, got {value!r}")
     if isinstance(f.default, int):
@@ -412,17 +428,37 @@ def _suggest(name: str, known: Mapping[str, Any]) -> str:
     return f" (did you mean {close[0]}?)" if close else " (see `navcli params` for the names)"
 
 
-def parse_override(item: str) -> tuple[str, float]:
-    """``"pilot.K=30"`` -> ``("pilot.K", 30.0)``; the value is checked by :meth:`Params.override`.
+def parse_override(item: str) -> tuple[str, float | list[float]]:
+    """``"pilot.K=30"`` -> ``("pilot.K", 30.0)``; a list-valued parameter takes its numbers in
+    brackets, comma-separated (``[]`` for none). The value is checked by :meth:`Params.override`.
 
     >>> parse_override("navigation.kappa1=0.5")
     ('navigation.kappa1', 0.5)
+    >>> parse_override("pilot.reflex_look_pans_deg=[-60, 0, 60]")
+    ('pilot.reflex_look_pans_deg', [-60.0, 0.0, 60.0])
     """
     name, sep, value = item.partition("=")
-    name = name.strip()
+    name, value = name.strip(), value.strip()
     if not sep or not name:
         raise ParamError(f"{item!r}: expected NAME=VALUE, e.g. pilot.K=30")
+    if len(value) > 1000:
+        raise ParamError(f"{name}: a value of {len(value)} characters is not a parameter's")
+    listed = value.startswith("[") and value.endswith("]")
+    parts = [v.strip() for v in value[1:-1].split(",")] if listed else [value]
+    if listed and parts == [""]:
+        return name, []
     try:
-        return name, float(value)
+        numbers = [float(v) for v in parts]
     except ValueError:
-        raise ParamError(f"{item!r}: {value.strip()!r} is not a number") from None
+        bad = next(v for v in parts if not _parses(v))
+        raise ParamError(f"{item!r}: {bad!r} is not a number" + ("" if listed else
+                         " (a list parameter takes [a, b, ...])" if "," in value else "")) from None
+    return name, numbers if listed else numbers[0]
+
+
+def _parses(v: str) -> bool:
+    try:
+        float(v)
+    except ValueError:
+        return False
+    return True

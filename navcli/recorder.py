@@ -25,6 +25,7 @@ advertises the time capability and broadcasts simulation time every tick.
 
 from __future__ import annotations
 
+import contextlib
 import fcntl
 import functools
 import json
@@ -240,6 +241,7 @@ class Recorder:
         except BaseException:
             self.lock.release()
             raise
+        self.port = self.server.port if self.server is not None else None  # the one taken (--port 0: any free)
         self.tf = FrameTransformsChannel("/tf", context=ctx)
         self.pose = PoseInFrameChannel("/robot/pose", context=ctx)
         self.odom = PoseInFrameChannel("/robot/odometry", context=ctx)
@@ -604,12 +606,10 @@ def recover(partial: str | Path, out: str | Path | None = None) -> tuple[Path, d
     with the path length of the poses kept, the bumper contacts of ``/events``, the images of
     ``/vision`` and the ticks of ``/pilot``, so it agrees with the poses by construction.
     ``out`` defaults to the name without ``.partial`` (or ``-<n>``); an existing file is never
-    overwritten."""
-    from mcap.records import Attachment, Channel, Message, Metadata, Schema
-    from mcap.stream_reader import StreamReader
-    from mcap.writer import Writer
-    from mcap_protobuf.decoder import DecoderFactory
-
+    overwritten. The summary's ``damaged_bytes`` (not written to the log) counts the bytes after a
+    damaged record that were not the last, unfinished chunk: more than 0 says the file was damaged
+    before its end, not only cut short by a kill. A ``.partial`` whose run still holds its lock is
+    refused; a lock its SIGKILLed run left is removed."""
     src = Path(partial)
     if out is None:
         stem = src.name.rpartition(".partial")[0] if ".partial" in src.name else src.stem + "-recovered"
@@ -617,9 +617,38 @@ def recover(partial: str | Path, out: str | Path | None = None) -> tuple[Path, d
     out = check_log_path(Path(out), (str(src),))
     if out.exists():
         raise RecoverError(f"{out} exists; give another --out")
+    lock = _lock_of_partial(src)
+    try:
+        return _recover(src, out)
+    finally:
+        if lock is not None:
+            lock.release()  # and a stale lock a SIGKILLed run left is gone with it
+
+
+def _lock_of_partial(src: Path) -> _Lock | None:
+    """The lock of the run whose ``.partial`` ``src`` is (refused while that run still writes it)."""
+    if not src.name.endswith(".partial"):
+        return None  # a .partial-<n> kept aside: no run writes it any more
+    try:
+        return _Lock(src.with_name(src.name[: -len(".partial")] + ".lock"))
+    except LogPathError as e:
+        if "another run" in str(e):
+            raise RecoverError(f"{src}: its run is still going (it holds {src.name[:-len('.partial')]}.lock); "
+                               "stop it first") from None
+        return None  # a folder we may not write a lock into: read-only recovery from elsewhere
+
+
+def _recover(src: Path, out: Path) -> tuple[Path, dict]:
+    from mcap.records import Attachment, Channel, Message, Metadata, Schema
+    from mcap.stream_reader import StreamReader
+    from mcap.writer import Writer
+    from mcap_protobuf.decoder import DecoderFactory
+
     schemas, channels, messages, metadata, attachments = {}, {}, [], [], []
+    lost = 0  # bytes after a damaged record that are not the last, unfinished chunk
     try:
         with src.open("rb") as f:
+            size = os.fstat(f.fileno()).st_size
             try:
                 for r in StreamReader(f, validate_crcs=True).records:
                     if isinstance(r, Schema):
@@ -633,7 +662,7 @@ def recover(partial: str | Path, out: str | Path | None = None) -> tuple[Path, d
                     elif isinstance(r, Attachment):
                         attachments.append(r)
             except Exception:  # the record being written when the run died: everything before it is kept
-                pass
+                lost = size - f.tell()  # > 0: damage before the end, not only an unfinished last chunk
     except OSError as e:
         raise RecoverError(f"{src}: cannot be read ({e.strerror or e})") from None
     run = next((m.metadata for m in metadata if m.name == "run"), None)
@@ -662,8 +691,9 @@ def recover(partial: str | Path, out: str | Path | None = None) -> tuple[Path, d
         "ticks": sum(1 for m in messages if topic[m.channel_id] == "/pilot"),
         "navcli_version": run.get("navcli_version", ""), "run_id": run.get("run_id", ""),
     }
+    summary["damaged_bytes"] = lost
     tmp = out.with_name(out.name + ".recovering")  # never the source, which may be <out>.partial
-    with tmp.open("wb") as f:
+    with _removed_on_failure(tmp), tmp.open("wb") as f:
         w = Writer(f)
         w.start(profile="", library="navcli recover")
         schema_ids = {sid: w.register_schema(s.name, s.encoding, s.data) for sid, s in schemas.items()}
@@ -678,7 +708,19 @@ def recover(partial: str | Path, out: str | Path | None = None) -> tuple[Path, d
         schema = _schema(MissionSummary)  # the same bytes as a normal log's
         sid = w.register_schema(schema.name, schema.encoding, schema.data)
         cid = w.register_channel("/mission/summary", "json", sid)
-        w.add_message(cid, end_ns, encode(msgspec.convert(summary, MissionSummary)), end_ns)
+        w.add_message(cid, end_ns, encode(msgspec.convert(
+            {k: v for k, v in summary.items() if k != "damaged_bytes"}, MissionSummary)), end_ns)
         w.finish()
-    os.replace(tmp, out)
+        f.close()
+        os.replace(tmp, out)
     return out, summary
+
+
+@contextlib.contextmanager
+def _removed_on_failure(path: Path):
+    try:
+        yield
+    except BaseException:
+        with contextlib.suppress(FileNotFoundError):
+            path.unlink()
+        raise

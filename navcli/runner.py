@@ -13,41 +13,14 @@ import time
 from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Callable
+from typing import TYPE_CHECKING, Callable
 
 from .config import RunSpec
+from .signals import Terminated
 from .mission import Event, Mission, Tick
 
-
-def in_physics_callback(frame: Any) -> bool:
-    """True inside a pymunk callback (called from C through cffi, which prints and swallows any
-    exception raised there, so a signal's exception raised there would be lost)."""
-    while frame is not None:
-        if "pymunk" in frame.f_code.co_filename:
-            return True
-        frame = frame.f_back
-    return False
-
-
-def raising(exc: type[BaseException]) -> Callable[[int, Any], None]:
-    """A signal handler that raises ``exc``, but never inside a pymunk callback: there it tries
-    again 10 ms later (``SIGALRM``), so Ctrl-C and SIGTERM always end a run."""
-
-    def handler(signum: int, frame: Any) -> None:
-        if in_physics_callback(frame):
-            signal.signal(signal.SIGALRM, handler)
-            signal.setitimer(signal.ITIMER_REAL, 0.01)
-            return
-        raise exc
-
-    return handler
-
-
-class Terminated(KeyboardInterrupt):
-    """SIGTERM (a scheduler's or a shell's kill): ends a run like Ctrl-C, and is logged as such;
-    the CLI exits 143 (the shell's convention, 128 + the signal's number)."""
-
-    exit_code = 128 + signal.SIGTERM
+if TYPE_CHECKING:
+    from .recorder import Recorder
 
 
 @contextmanager
@@ -118,13 +91,15 @@ def close_log(recorder, mission: Mission, summary: dict | None = None, *, stoppe
 
 
 def run_mission(spec: RunSpec, *, out: Path | None = None, record: bool = True, live: bool = False,
-                port: int = 8765, on_tick: Callable[[Mission, Tick], None] | None = None) -> RunResult:
+                port: int = 8765, on_tick: Callable[[Mission, Tick], None] | None = None,
+                on_open: Callable[[Recorder], None] | None = None) -> RunResult:
     """Run the configuration ``spec`` to its end and return its summary.
 
     The log goes to ``out``, by default :meth:`RunSpec.default_log_path`.
     ``record=False`` runs without a log (the benchmark's baseline). ``live`` serves the run to
     Foxglove on ``ws://127.0.0.1:<port>`` and paces it to real time. ``on_tick`` is called after
-    every tick (progress display; tests use it to interrupt a run). A ``KeyboardInterrupt`` ends
+    every tick (progress display; tests use it to interrupt a run); ``on_open`` once the log is open
+    (what the CLI says of it: a killed run's ``.partial`` kept aside, the port ``--live`` took). A ``KeyboardInterrupt`` ends
     the run as ``interrupted`` (:class:`Terminated`: by SIGTERM) and is re-raised after the log is
     closed; any other exception ends it as ``error`` and is re-raised likewise. A log path that
     cannot be written raises :class:`~navcli.recorder.LogPathError` before the mission starts.
@@ -132,6 +107,8 @@ def run_mission(spec: RunSpec, *, out: Path | None = None, record: bool = True, 
     path = (out or spec.default_log_path()) if record or live else None
     mission = Mission(spec, snapshots=path is not None)
     recorder = open_log(spec, mission, path, live=live, port=port) if path is not None else None
+    if recorder and on_open:
+        on_open(recorder)
     t0 = time.perf_counter()
     try:
         while mission.outcome is None:

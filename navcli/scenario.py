@@ -79,7 +79,7 @@ RANGES: dict[str, Range] = {
     "circle.radius": Range(0.01, 50.0, "m"),
     "segment.thickness": Range(0.01, 1.0, "m"),
     "landmark.radius": Range(0.01, 5.0, "m"),
-    "mission.time_limit": Range(0.0, 86_400.0, "s", lo_open=True),  # up to a simulated day
+    "mission.time_limit": Range(0.1, 86_400.0, "s"),  # a tick at least, up to a simulated day
     "mission.seed": Range(0, 2 ** 64 - 1),
     # noise * NOISE_BOUND < 1, so a clipped error never turns a distance or a scale negative
     "noise.odometry": Range(0.0, 0.3),
@@ -455,11 +455,49 @@ def _parse_yaml(text: str, source: str) -> tuple[Any, dict[tuple, int]]:
             for i, v in enumerate(node.value):
                 lines[path + (i,)] = v.start_mark.line + 1
                 walk(v, path + (i,))
+        elif isinstance(node, yaml.ScalarNode) and not node.style and node.tag in _NUMBER_TAGS:
+            hint = _yaml11_number(node.value, data_at(path))
+            if hint:
+                problems.append(Problem(source, node.start_mark.line + 1, _dotted(path), hint))
+
+    def data_at(path: tuple) -> Any:
+        v = data
+        for k in path:
+            v = v[k]
+        return v
 
     walk(root, ())
     if problems:
         raise ScenarioError(problems)
     return data, lines
+
+
+_NUMBER_TAGS = ("tag:yaml.org,2002:int", "tag:yaml.org,2002:float")
+_PLAIN_NUMBER = re.compile(r"^[-+]?(0|[1-9][0-9]*)$|^[-+]?([0-9]+\.[0-9]*|\.[0-9]+)([eE][-+]?[0-9]+)?$"
+                           r"|^[-+]?\.(inf|Inf|INF)$|^\.(nan|NaN|NAN)$")
+"""The numbers YAML 1.1 and 1.2 read alike: decimal integers without a leading zero, decimal
+fractions, infinities and NaN (the last two refused later by the fields' ranges)."""
+
+
+def _yaml11_number(text: str, value: Any) -> str:
+    """Why a plain number written ``text`` is refused, or "": YAML 1.1 (PyYAML's) reads ``010`` as 8
+    (octal), ``1:30`` as 90 (base 60), ``0x6`` as 6 and ``6_0`` as 60, where YAML 1.2 and every
+    reader of today would read something else or refuse; a scenario must mean one thing (our
+    design), so such a number is refused with what to write instead."""
+    if _PLAIN_NUMBER.match(text):
+        return ""
+    t = text.lstrip("+-")
+    if ":" in t:
+        why = f"YAML 1.1 reads {text} as a base-60 number ({value:g})"
+    elif t[:2].lower() in ("0x", "0o", "0b"):
+        why = f"{text} is written in base {dict(x=16, o=8, b=2)[t[1].lower()]} ({value:g})"
+    elif "_" in t:
+        why = f"YAML 1.1 ignores the _ of {text} ({value:g})"
+    elif t[:1] == "0" and t[1:2].isdigit():
+        why = f"YAML 1.1 reads {text} as octal ({value:g}), YAML 1.2 as {t.lstrip('0') or '0'}"
+    else:
+        why = f"{text} is not a plain decimal number"
+    return f"{why}: write the number plainly in decimal, e.g. {value:g}, or quote it if it is text"
 
 
 def _dotted(path: tuple) -> str:
@@ -476,9 +514,13 @@ def _number_hint(v: Any) -> str:
             float(v.replace("_", ""))
         except ValueError:
             return ""
-        if v.strip().lower() not in ("nan", "inf", "-inf", "+inf", "infinity", "-infinity"):
+        if v.strip().lower() in ("nan", "inf", "-inf", "+inf", "infinity", "-infinity"):
+            return ""
+        if "e" in v.lower():
             return ("; YAML 1.1 reads a number written like 1e-3 as text: write it with a point and a signed "
                     "exponent, 1.0e-3 or 1.0e+3 (or plainly, 0.001)")
+        if v.strip().lstrip("+-")[:1] == "0":
+            return f"; write it in decimal without a leading zero ({float(v.replace('_', '')):g}), unquoted"
     return ""
 
 
@@ -789,25 +831,35 @@ class _Reader:
 
     # -- where things are
     def reachable(self, sc: Scenario) -> None:
-        """A point target the robot's centre can come within ``tolerance`` of: one obstacle (or
-        wall) alone must not keep the robot's body from it. The robot's centre keeps ``r`` from a
-        surface, so a target whose clearance ``c`` to a convex thing is below ``r - tolerance``
-        can never be reached (the whole room is not searched: that is the mission's job)."""
+        """A point or landmark target the robot's centre can come within reach of: one obstacle
+        (or wall) alone must not keep the robot's body from it. The robot's centre keeps ``r``
+        from a surface, so a target whose clearance ``c`` to a convex thing is below ``r - reach``
+        can never be reached (the whole room is not searched: that is the mission's job). The
+        reach is the tolerance; for a landmark, also its radius and the robot's (the mission's
+        rule). A landmark target whose centre lies inside an obstacle is refused as well (our
+        design: a landmark is seen on a free surface; one buried in a wall is a typing slip)."""
         t = sc.target
-        if t.kind != "point":
+        if t.kind == "line":
             return
-        r, tol, p = sc.params.robot.radius, t.tolerance, t.point
+        r, p = sc.params.robot.radius, t.point
         W, H = sc.arena.width, sc.arena.height
-        P = ("target", "at")
-        if min(p[0], p[1], W - p[0], H - p[1]) < r - tol:
-            self.fail(P, f"the target [{p[0]:g}, {p[1]:g}] is too close to a wall: the robot (radius {r:g} m) "
-                         f"cannot come within its tolerance ({tol:g} m)")
+        reach = t.tolerance
+        if t.kind == "landmark":
+            reach += next(lm.radius for lm in sc.landmarks if lm.id == t.landmark) + r
+        P = ("target", "at") if t.kind == "point" else ("target", "landmark")
+        name = f"[{p[0]:g}, {p[1]:g}]" if t.kind == "point" else f"landmark {t.landmark!r}"
+        if min(p[0], p[1], W - p[0], H - p[1]) < r - reach:
+            self.fail(P, f"the target {name} is too close to a wall: the robot (radius {r:g} m) "
+                         f"cannot come within its reach ({reach:g} m)")
         for o in sc.objects:
-            if o.kind in ("circle", "segment", "landmark") and o.clearance(p) < r - tol:
+            if o.kind not in ("circle", "segment", "landmark") or (o.kind == "landmark" and o.key == t.landmark):
+                continue
+            c = o.clearance(p)
+            if c < r - reach or (t.kind == "landmark" and c < 0):
                 what = f"obstacles[{o.key[1:]}]" if o.kind != "landmark" else f"landmark {o.key!r}"
-                inside = "lies inside" if o.clearance(p) < 0 else "is too close to"
-                self.fail(P, f"the target [{p[0]:g}, {p[1]:g}] {inside} {what}: the robot (radius {r:g} m) cannot "
-                             f"come within its tolerance ({tol:g} m)")
+                inside = "lies inside" if c < 0 else "is too close to"
+                self.fail(P, f"the target {name} {inside} {what}: the robot (radius {r:g} m) cannot "
+                             f"come within its reach ({reach:g} m)")
 
     def placement(self, sc: Scenario) -> None:
         """Every point inside the arena; the robot's start clear of walls, obstacles, landmarks."""

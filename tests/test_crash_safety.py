@@ -144,3 +144,76 @@ def test_a_run_stopped_inside_a_tick_logs_its_pose_at_the_summarys_time(tmp_path
     log = read_log(tmp_path / "run.mcap")
     assert log.summary["time_s"] == pytest.approx(2.5) == log["/robot/pose"]["time_s"].iloc[-1]
     assert list(load_runs(tmp_path)["outcome"]) == ["interrupted"]
+
+
+@pytest.fixture(scope="module")
+def killed_partial(tmp_path_factory):
+    """A copy of a run's ``.partial`` taken at 6 simulated seconds, as a SIGKILL would leave it
+    (its finished chunks and part of the one being written)."""
+    d = tmp_path_factory.mktemp("killed")
+    out, copy = d / "run.mcap", d / "copy.mcap.partial"
+
+    def snapshot(mission, tick) -> None:
+        if tick.index == 60:
+            copy.write_bytes((d / "run.mcap.partial").read_bytes())
+
+    run_mission(RunSpec.build(load_scenario(SCENARIOS / "blocked-wall.yaml")), out=out, on_tick=snapshot)
+    return copy.read_bytes()
+
+
+def _recover(path, *extra):
+    return CliRunner().invoke(app, ["recover", str(path), *extra])
+
+
+def test_recover_says_when_a_partial_is_damaged_before_its_end(tmp_path, killed_partial):
+    whole = tmp_path / "whole.mcap.partial"
+    whole.write_bytes(killed_partial)
+    r = _recover(whole)
+    assert r.exit_code == 0 and "warning" not in r.output, r.output
+    ticks = read_log(tmp_path / "whole.mcap").summary["ticks"]
+    assert ticks >= 50
+    damaged = tmp_path / "damaged.mcap.partial"
+    b = bytearray(killed_partial)
+    b[len(b) // 3] ^= 0xFF  # inside an early chunk: its CRC fails, the chunks after it are lost
+    damaged.write_bytes(bytes(b))
+    r = _recover(damaged)
+    assert r.exit_code == 0 and "damaged before its end" in r.output and "Traceback" not in r.output, r.output
+    assert read_log(tmp_path / "damaged.mcap").summary["ticks"] < ticks
+
+
+def test_recover_refuses_a_folder_and_a_partial_whose_run_still_writes_it(tmp_path, killed_partial):
+    from navcli.recorder import _Lock
+
+    r = _recover(tmp_path)
+    assert r.exit_code == 2 and "is a folder" in r.output
+    partial = tmp_path / "run.mcap.partial"
+    partial.write_bytes(killed_partial)
+    held = _Lock(tmp_path / "run.mcap.lock")  # a run still going
+    try:
+        r = _recover(partial)
+        assert r.exit_code == 2 and "still going" in r.output and not (tmp_path / "run.mcap").exists()
+    finally:
+        held.release()
+    (tmp_path / "run.mcap.lock").write_text("")  # the lock file a SIGKILLed run leaves (no flock held)
+    r = _recover(partial)
+    assert r.exit_code == 0, r.output
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["run.mcap", "run.mcap.partial"]
+
+
+def test_a_note_of_a_partial_kept_aside_only_when_this_run_took_the_log(tmp_path):
+    """The note that a killed run's .partial is kept aside comes once the log is this run's: a run
+    refused because another holds the log says only that."""
+    from navcli.recorder import _Lock
+
+    sc = SCENARIOS / "open-arena.yaml"
+    out = tmp_path / "run.mcap"
+    (tmp_path / "run.mcap.partial").write_bytes(b"remains")
+    held = _Lock(tmp_path / "run.mcap.lock")
+    try:
+        r = CliRunner().invoke(app, ["run", str(sc), "--out", str(out), "--time-limit", "0.5"])
+        assert r.exit_code == 2 and "another run" in r.output and "note:" not in r.output, r.output
+    finally:
+        held.release()
+    r = CliRunner().invoke(app, ["run", str(sc), "--out", str(out), "--time-limit", "0.5"])
+    assert r.exit_code == 3 and f"kept as {tmp_path / 'run.mcap.partial-1'}" in r.output, r.output
+    assert (tmp_path / "run.mcap.partial-1").read_bytes() == b"remains"

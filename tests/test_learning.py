@@ -278,7 +278,7 @@ def test_the_model_file_round_trips_and_refuses_garbage(tmp_path):
     arrays, meta = model_file.load(path)
     again = PrioritizedSweeping(980, 5)
     again.load_arrays(arrays)
-    assert meta == {"seed": 3} and (again.counts == ps.counts).all() and (again.values == ps.values).all()
+    assert meta == {"seed": 3, "algorithm": "prioritized-sweeping"} and (again.counts == ps.counts).all() and (again.values == ps.values).all()
     assert again.predecessors == ps.predecessors
     (tmp_path / "bad.npz").write_text("no")
     with pytest.raises(model_file.ModelError, match="bad.npz"):

@@ -217,3 +217,53 @@ def test_report_reads_a_sweep_table_and_pairs_the_pilots_per_point(tmp_path):
     bad.write_text("a,b\n1,2\n")
     res = CliRunner().invoke(app, ["report", str(bad)])
     assert res.exit_code == 2 and "not a sweep results table" in res.output
+
+
+@pytest.mark.parametrize("body, words", [
+    ("seeds: 1\nrandom: {samples: 100000000, ranges: {pilot.K: [1, 2]}}\n", "100000000 samples: more than"),
+    ("seeds: 1\ngrid: {pilot.K: " + str(list(range(1, 1001))) + ", robot.max_speed: "
+     + str([0.1 + i / 1000 for i in range(1001)]) + "}\n", "points; split the plan"),
+    ("seeds: 1\nparams: {pilot.K: 20}\ngrid: {pilot.K: [10, 30]}\n", "pilot.K set here and in grid"),
+    ("seeds: 1\nparams: {pilot.K: 20}\nrandom: {samples: 2, ranges: {pilot.K: [1, 2]}}\n", "set here and in random"),
+    ("seeds: 1\nrandom: {samples: 2, ranges: {pilot.reflex_look_pans_deg: [[0], [1]]}}\n", "give its values in a grid"),
+    ("seeds: 1\ngrid: {pilot.reflex_look_pans_deg: [[0, 1], nope]}\n", "expects a list of at most 64 finite numbers"),
+    ("seeds: 1\ngrid: {learning.distance_bounds: [[1, 2]]}\n", "must be 4 increasing numbers"),
+])
+def test_a_plan_that_would_mislead_or_hang_is_refused_at_once(tmp_path, body, words):
+    """Counts bounded before anything is drawn; a value given twice (params and a grid) refused
+    instead of one silently winning."""
+    res = CliRunner().invoke(app, ["sweep", str(_plan(tmp_path, body)), "--out", str(tmp_path / "o")])
+    assert res.exit_code == 2 and words in res.output and "Traceback" not in res.output, res.output
+    assert not (tmp_path / "o").exists()
+
+
+def test_a_scenario_named_twice_is_refused(tmp_path):
+    copy = tmp_path / "copy.yaml"
+    copy.write_bytes(ARENA.read_bytes())
+    p = tmp_path / "plan.yaml"
+    p.write_text(f"version: 1\nseeds: 1\nscenarios: [{ARENA}, {copy}]\n")
+    with pytest.raises(sweep.PlanError) as e:
+        sweep.load_plan(p)
+    assert "is the scenario of scenarios[0] again" in str(e.value)
+
+
+def test_a_list_valued_parameter_is_a_grid_axis_and_a_column(tmp_path):
+    plan = sweep.load_plan(_plan(tmp_path, "seeds: 1\ntime_limit: 2\n"
+                                           "grid: {pilot.reflex_look_pans_deg: [[], [-30, 30]]}\n"))
+    runs = sweep.plan_runs(plan, None)
+    assert [r.spec.params.pilot.reflex_look_pans_deg for r in runs] == [(), (-30.0, 30.0)]
+    table = tmp_path / "t.parquet"
+    sweep.run_sweep(runs, table, SerialExecutor())
+    assert list(sweep.read_table(table)["pilot.reflex_look_pans_deg"]) == ["[]", "[-30.0, 30.0]"]
+
+
+def test_param_takes_a_list(tmp_path):
+    from navcli.params import ParamError, parse_override
+
+    assert parse_override("pilot.reflex_look_pans_deg=[]") == ("pilot.reflex_look_pans_deg", [])
+    assert parse_override("pilot.reflex_look_pans_deg=[ -1.5 ,2]") == ("pilot.reflex_look_pans_deg", [-1.5, 2.0])
+    for bad in ("pilot.reflex_look_pans_deg=[1,,2]", "pilot.reflex_look_pans_deg=1,2", "pilot.K=[1"):
+        with pytest.raises(ParamError):
+            parse_override(bad)
+    r = CliRunner().invoke(app, ["params", "--param", "pilot.reflex_look_pans_deg=[-45, 45]"])
+    assert r.exit_code == 0 and "-45" in r.output, r.output

@@ -122,3 +122,30 @@ def test_a_missing_library_is_named_with_what_to_install(tiny, monkeypatch):
     monkeypatch.setitem(sys.modules, "optuna", None)  # as if not installed: importing it raises ImportError
     res = CliRunner().invoke(app, ["tune", str(tiny), "--param", "pilot.K=1:2"])
     assert res.exit_code == 1 and "needs optuna: pip install 'navcli[cluster]'" in res.output
+
+
+@pytest.mark.parametrize("algorithm, name, content, words", [
+    ("ga", "ga.json", '{"key": [1], "generation": -1}', "not a usable GA checkpoint"),
+    ("ga", "ga.json", '{"key": [], "generation": 1, "population": [[1, NaN]], "fitness": [1], '
+                      '"random": [3, [], null], "history": []}', "not a usable GA checkpoint"),
+    ("ga", "ga.json", "[" * 100_000, "not a GA checkpoint"),
+    ("ga", "ga.json", "{", "not a GA checkpoint"),
+    ("tpe", "s.journal", '{"op_code": 99}\n', "not a usable Optuna journal"),
+    ("tpe", "s.journal", '{"op_code": 0, "worker_id": "x"}\n', "not a usable Optuna journal"),
+])
+def test_a_damaged_study_file_is_refused_and_kept(tiny, tmp_path, algorithm, name, content, words):
+    storage = tmp_path / name
+    storage.write_text(content)
+    res = CliRunner().invoke(app, ["tune", str(tiny), "--param", "pilot.K=1:2", "--algorithm", algorithm,
+                                   "--storage", str(storage), "--out", str(tmp_path / "o"), "--jobs", "1",
+                                   "--population", "2", "--generations", "1", "--trials", "1"])
+    assert res.exit_code == 2 and words in res.output and "Traceback" not in res.output, res.output
+    assert storage.read_text() == content and not (tmp_path / "o").exists()
+
+
+def test_a_study_file_larger_than_the_bound_is_refused_unread(tmp_path, monkeypatch):
+    storage = tmp_path / "ga.json"
+    storage.write_text("{}")
+    monkeypatch.setattr(tune, "MAX_CHECKPOINT_BYTES", 1)
+    with pytest.raises(tune.CheckpointError, match="larger than a checkpoint"):
+        tune.read_checkpoint(storage)

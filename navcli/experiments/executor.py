@@ -14,11 +14,16 @@ Dask workers do not inherit the pool's forked imports: every task carries its wh
 :class:`~navcli.config.RunSpec` (the scenario's text included), never a path a worker must
 re-read; only the log path (``--out``) must be writable by every worker.
 
-Stopping: :func:`run_each` turns SIGTERM into :class:`Terminated` (a ``KeyboardInterrupt``) while it
-runs; on Ctrl-C or SIGTERM it cancels what has not started, asks the local workers to stop (each
-closes its log marked ``interrupted``), kills any still alive after a grace period, and re-raises,
-so no process is left behind. The CLI exits 130 for Ctrl-C and 143 for SIGTERM
-(:attr:`navcli.runner.Terminated.exit_code`).
+Stopping: while an executor is open (:func:`executor`), Ctrl-C raises ``KeyboardInterrupt`` and
+SIGTERM :class:`Terminated` in the main thread, whatever the shell set (a script's background job
+starts with SIGINT ignored). On either, the runs not started are cancelled and every local worker
+is sent the same signal: a worker in a run ends it like the main process was ended (its log closed,
+marked ``interrupted``, "stopped by the user (Ctrl-C)" or "stopped by SIGTERM"); an idle one just
+exits; any still alive after a grace period is killed; then the interruption is re-raised. The same
+holds when the signal reaches the whole process group (a terminal's Ctrl-C), and a pool broken by
+its own workers' exit then is reported as the interruption it is. A worker whose main process died
+outright (SIGKILL) notices within a second and ends itself likewise, so no process is left behind.
+The CLI exits 130 for Ctrl-C and 143 for SIGTERM (``navcli.signals.exit_code``).
 """
 
 from __future__ import annotations
@@ -26,11 +31,13 @@ from __future__ import annotations
 import contextlib
 import os
 import signal
+import threading
 import time
 from concurrent.futures import Executor, Future, ProcessPoolExecutor, as_completed
+from concurrent.futures.process import BrokenProcessPool
 from typing import Any, Callable, Iterable, Iterator, Sequence
 
-from ..runner import Terminated, in_physics_callback, raising
+from ..signals import Terminated, in_physics_callback, raising
 
 CLUSTER_EXTRA = "pip install 'navcli[cluster]'"
 """What to install for ``--scheduler``, ``sweep`` and ``tune`` (Dask, Optuna, DEAP, pyarrow)."""
@@ -41,14 +48,12 @@ RETRIES = 2
 GRACE_S = 2.0
 """Seconds a local worker is given to close its log after SIGTERM before it is killed."""
 
+ORPHAN_CHECK_S = 0.5
+"""How often a local worker checks that the process that forked it is still alive."""
+
 
 class MissingExtra(RuntimeError):
     """A library of the ``cluster`` extra is not installed; the message says what to install."""
-
-
-def exit_code(e: KeyboardInterrupt) -> int:
-    """130 for Ctrl-C, 143 for SIGTERM (the shell's convention, 128 + the signal's number)."""
-    return getattr(e, "exit_code", 128 + signal.SIGINT)
 
 
 def require(module: str, what: str) -> Any:
@@ -65,20 +70,43 @@ def require(module: str, what: str) -> Any:
 _busy = False  # in a local worker: a run is under way (a signal then ends it, closing its log)
 
 
+def _ignore(signum: int, frame: Any) -> None:
+    """A handler that does nothing: unlike ``SIG_IGN`` it cannot make a signal already pending raise
+    Python's "signal ignored due to race condition" error."""
+
+
+_first: list[int] = []  # in a local worker: the first signal received, which the run's log names
+
+
 def _worker_signal(signum: int, frame: Any) -> None:
+    # The first signal decides how the run ends: a later one (the SIGALRM of a retry, the SIGTERM
+    # the pool sends its other workers when one exits on a group's Ctrl-C) only hurries it.
+    if not _first:
+        _first.append(signal.SIGTERM if signum == signal.SIGALRM else signum)
+    signum = _first[0]
     if not _busy:
         os._exit(128 + signum)  # idle: nothing to close
     if in_physics_callback(frame):  # an exception raised there is printed and swallowed: try again in 10 ms
         signal.setitimer(signal.ITIMER_REAL, 0.01)
         return
     for s in (signal.SIGTERM, signal.SIGINT, signal.SIGALRM):  # the log is closed undisturbed, even by
-        signal.signal(s, signal.SIG_IGN)                        # the pool's terminate() of a broken pool
-    raise KeyboardInterrupt  # ends the run like Ctrl-C: run_mission closes the log marked interrupted
+        signal.signal(s, _ignore)                               # the pool's stop() after a group's Ctrl-C
+    # the run ends as the main process was ended; run_mission closes the log marked interrupted
+    raise Terminated if signum == signal.SIGTERM else KeyboardInterrupt
 
 
-def _worker_init() -> None:
+def _watch_parent(parent: int) -> None:
+    """End this worker like SIGTERM would once the process that forked it is gone (killed outright:
+    nobody else will stop us)."""
+    while os.getppid() == parent:
+        time.sleep(ORPHAN_CHECK_S)
+    os.kill(os.getpid(), signal.SIGTERM)
+
+
+def _worker_init(parent: int) -> None:
     for s in (signal.SIGTERM, signal.SIGINT, signal.SIGALRM):
         signal.signal(s, _worker_signal)
+    threading.Thread(target=_watch_parent, args=(parent,), daemon=True, name="navcli-orphan-check").start()
 
 
 def _in_worker(fn: Callable, args: tuple) -> Any:
@@ -103,21 +131,22 @@ class LocalPool(ProcessPoolExecutor):
         from .. import recorder, runner  # noqa: F401  (imported once here, inherited by the forked workers)
 
         ctx = mp.get_context("fork") if "fork" in mp.get_all_start_methods() else None
-        super().__init__(max_workers=workers, mp_context=ctx, initializer=_worker_init)
+        super().__init__(max_workers=workers, mp_context=ctx, initializer=_worker_init, initargs=(os.getpid(),))
         self.workers = workers
 
     def submit(self, fn: Callable, /, *args: Any, **kwargs: Any) -> Future:
         assert not kwargs, "LocalPool passes positional arguments only"
         return super().submit(_in_worker, fn, args)
 
-    def stop(self) -> None:
-        """Cancel what has not started, SIGTERM the workers, SIGKILL those alive after GRACE_S, reap them."""
+    def stop(self, signum: int = signal.SIGTERM) -> None:
+        """Cancel what has not started, send the workers ``signum`` (the one that stopped the main
+        process, so a run's log says which), SIGKILL those alive after GRACE_S, reap them."""
         procs = list((self._processes or {}).values())
         manager = self._executor_manager_thread  # shutdown(wait=False) forgets it
         self.shutdown(wait=False, cancel_futures=True)
         for p in procs:
             with contextlib.suppress(ProcessLookupError, OSError):
-                os.kill(p.pid, signal.SIGTERM)
+                os.kill(p.pid, signum)
         deadline = time.monotonic() + GRACE_S
         for p in procs:
             p.join(max(0.0, deadline - time.monotonic()))
@@ -137,30 +166,36 @@ def executor(jobs: int, scheduler: str | None = None) -> Iterator[Executor]:
     """An executor for ``jobs`` local workers, or for the Dask cluster at ``scheduler``; its
     ``workers`` attribute says how many runs it holds at once (a batch of trials).
 
-    ``jobs <= 1`` without a scheduler runs in this process (a :class:`SerialExecutor`)."""
-    if scheduler:
-        distributed = require("distributed", "--scheduler")
+    ``jobs <= 1`` without a scheduler runs in this process (a :class:`SerialExecutor`). While it is
+    open, Ctrl-C and SIGTERM interrupt (:func:`interruptible`); on any exception the local workers
+    are stopped (:meth:`LocalPool.stop`) before it is re-raised."""
+    with interruptible():
+        if scheduler:
+            distributed = require("distributed", "--scheduler")
+            try:
+                client = distributed.Client(scheduler, timeout="10s", set_as_default=False)
+            except OSError as e:
+                raise ConnectionError(f"cannot reach the Dask scheduler at {scheduler}: {e}") from None
+            try:
+                ex = client.get_executor(pure=False, retries=RETRIES)
+                ex.workers = sum(client.nthreads().values()) or 1  # how many runs the cluster holds at once
+                yield ex
+            finally:
+                client.close()
+            return
+        if jobs <= 1:
+            yield SerialExecutor()
+            return
+        pool = LocalPool(jobs)
         try:
-            client = distributed.Client(scheduler, timeout="10s", set_as_default=False)
-        except OSError as e:
-            raise ConnectionError(f"cannot reach the Dask scheduler at {scheduler}: {e}") from None
-        try:
-            ex = client.get_executor(pure=False, retries=RETRIES)
-            ex.workers = sum(client.nthreads().values()) or 1  # how many runs the cluster holds at once
-            yield ex
-        finally:
-            client.close()
-        return
-    if jobs <= 1:
-        yield SerialExecutor()
-        return
-    pool = LocalPool(jobs)
-    try:
-        yield pool
-    except BaseException:
-        pool.stop()
-        raise
-    pool.shutdown(wait=True)
+            yield pool
+        except BaseException as e:
+            cause = _as_interruption(e)
+            pool.stop(_signal_of(cause))
+            if cause is not e:
+                raise cause from None
+            raise
+        pool.shutdown(wait=True)
 
 
 class SerialExecutor(Executor):
@@ -177,18 +212,56 @@ class SerialExecutor(Executor):
         return f
 
 
+_received: list[int] = []  # the signals that interrupted this process while interruptible()
+
+
 @contextlib.contextmanager
-def sigterm_interrupts() -> Iterator[None]:
-    """While inside, SIGTERM raises :class:`Terminated` in the main thread (like Ctrl-C)."""
+def interruptible() -> Iterator[None]:
+    """While inside, Ctrl-C raises ``KeyboardInterrupt`` and SIGTERM :class:`Terminated` in the main
+    thread, whatever the dispositions were (a shell starts a script's background job with SIGINT
+    ignored, yet a ``kill -INT`` of its group must still stop it). Outside the main thread, nothing."""
+
+    def note(exc: type[BaseException]) -> Callable[[int, Any], None]:
+        handler = raising(exc)
+
+        def noted(signum: int, frame: Any) -> None:
+            if signum not in _received:
+                _received.append(signum)
+            handler(signum, frame)
+
+        return noted
+
     try:
-        old = signal.signal(signal.SIGTERM, raising(Terminated))
+        old = {s: signal.signal(s, note(e)) for s, e in ((signal.SIGINT, KeyboardInterrupt),
+                                                         (signal.SIGTERM, Terminated))}
     except ValueError:  # not the main thread: leave signals alone
         yield
         return
     try:
         yield
     finally:
-        signal.signal(signal.SIGTERM, old)
+        for s, h in old.items():
+            signal.signal(s, h)
+
+
+def _as_interruption(e: BaseException) -> BaseException:
+    """``e``, or the Ctrl-C or SIGTERM behind it: when a signal reached the whole process group, a
+    local worker that was idle exits at once, and the pool reports itself broken; the signal that
+    broke it reaches this process as well (its handler runs within the pause below)."""
+    if not isinstance(e, BrokenProcessPool):
+        return e
+    try:
+        time.sleep(0.2)
+    except KeyboardInterrupt as k:
+        return k
+    if _received:
+        return Terminated() if _received[-1] == signal.SIGTERM else KeyboardInterrupt()
+    return e
+
+
+def _signal_of(e: BaseException) -> int:
+    """The signal to pass on to the workers: SIGINT for Ctrl-C, SIGTERM for anything else."""
+    return signal.SIGINT if isinstance(e, KeyboardInterrupt) and not isinstance(e, Terminated) else signal.SIGTERM
 
 
 def run_each(fn: Callable[[Any], Any], items: Sequence[Any], ex: Executor,
@@ -198,7 +271,7 @@ def run_each(fn: Callable[[Any], Any], items: Sequence[Any], ex: Executor,
 
     On Ctrl-C or SIGTERM the runs not yet finished are cancelled (local workers stopped, see
     :meth:`LocalPool.stop`) and the interruption is re-raised."""
-    with sigterm_interrupts():
+    with interruptible():
         futures: dict[Future, int] = {}
         try:
             if isinstance(ex, SerialExecutor):  # one at a time, each reported before the next starts
@@ -209,12 +282,15 @@ def run_each(fn: Callable[[Any], Any], items: Sequence[Any], ex: Executor,
                 futures[ex.submit(fn, item)] = i
             for f in as_completed(futures):
                 on_done(futures[f], f)
-        except BaseException:
+        except BaseException as e:
+            cause = _as_interruption(e)
             if isinstance(ex, LocalPool):
-                ex.stop()
+                ex.stop(_signal_of(cause))
             else:
                 for f in futures:
                     f.cancel()
+            if cause is not e:
+                raise cause from None
             raise
 
 
@@ -229,3 +305,5 @@ def map_ordered(fn: Callable[[Any], Any], items: Iterable[Any], ex: Executor) ->
 
     run_each(fn, items, ex, keep)
     return out
+
+

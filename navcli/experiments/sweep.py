@@ -32,6 +32,7 @@ that raised, its error. The table is written as Parquet (and CSV on request) ato
 from __future__ import annotations
 
 import itertools
+import json
 import os
 import time
 from concurrent.futures import Executor, Future
@@ -145,6 +146,11 @@ class _PlanReader(_Reader):
         scenarios = g(self.scenarios, top["scenarios"], root, default=[])
         if self.problems:
             raise PlanError(self.problems)
+        both = sorted(set(fixed) & set(points[0]))
+        if both:  # a grid's or sample's value would silently replace the plan's
+            self.fail(("params",), f"{', '.join(both)} set here and in {'grid' if 'grid' in top else 'random'}; "
+                                   "give each parameter in one place")
+            raise PlanError(self.problems)
         points = [fixed | pt for pt in points]
         bases = []
         for i, sc in enumerate(scenarios):
@@ -180,15 +186,15 @@ class _PlanReader(_Reader):
             raise self.fail(path, f"lists {', '.join(twice)} twice (each would run the same runs again)")
         return names
 
-    def param(self, name: Any, value: Any, path: tuple) -> float:
-        """``value`` checked as the parameter ``name`` (its type and range)."""
+    def param(self, name: Any, value: Any, path: tuple) -> float | list[float]:
+        """``value`` checked as the parameter ``name`` (its type and range; a list for a list-valued
+        parameter such as ``pilot.reflex_look_pans_deg``)."""
         try:
-            Params().override({name: value})
+            return Params().override({name: value}).flat()[name]
         except ParamError as e:
             raise self.fail(path, str(e)) from None
-        return float(value)
 
-    def overrides(self, v: Any, path: tuple) -> dict[str, float]:
+    def overrides(self, v: Any, path: tuple) -> dict[str, float | list[float]]:
         if not isinstance(v, dict):
             raise self.fail(path, "expected a mapping of parameter names (pilot.K ...) to values")
         return {k: self.param(k, x, path + (k,)) for k, x in v.items()}
@@ -198,9 +204,13 @@ class _PlanReader(_Reader):
         if not isinstance(v, dict) or not v:
             raise self.fail(P, "expected a mapping of parameter names to lists of values")
         axes = {}
+        size = 1
         for name, values in v.items():
             if not isinstance(values, list) or not values:
                 raise self.fail(P + (name,), "expected a non-empty list of values")
+            size *= len(values)
+            if size > MAX_RUNS:  # counted before a point is made
+                raise self.fail(P, f"more than {MAX_RUNS} points; split the plan")
             axes[name] = [self.param(name, x, P + (name, i)) for i, x in enumerate(values)]
         return [dict(zip(axes, combo)) for combo in itertools.product(*axes.values())]
 
@@ -212,6 +222,8 @@ class _PlanReader(_Reader):
         samples = self.integer(m["samples"], P + ("samples",))
         if samples == 0:
             raise self.fail(P + ("samples",), "must be at least 1")
+        if samples > MAX_RUNS:  # bounded before a sample is drawn
+            raise self.fail(P + ("samples",), f"{samples} samples: more than {MAX_RUNS}; split the plan")
         seed = self.opt(m, "seed", P, self.integer, 0)
         ranges = m["ranges"]
         if not isinstance(ranges, dict) or not ranges:
@@ -222,6 +234,8 @@ class _PlanReader(_Reader):
             if not isinstance(r, list) or len(r) != 2:
                 raise self.fail(q, "expected [low, high]")
             lo, hi = (self.param(name, x, q + (i,)) for i, x in enumerate(r))
+            if isinstance(lo, list):
+                raise self.fail(q, f"{name} is a list of numbers: give its values in a grid, not a range")
             if lo > hi:
                 raise self.fail(q, f"low {lo:g} is above high {hi:g}")
             bounds[name] = (lo, hi)
@@ -234,14 +248,21 @@ class _PlanReader(_Reader):
         P = ("scenarios",)
         if not isinstance(v, list) or not v:
             raise self.fail(P, "expected a non-empty list of scenario files (relative to the plan file)")
-        out = []
+        out, seen = [], {}
         for i, f in enumerate(v):
             name = self.text(f, P + (i,))
             try:
-                out.append(load_scenario(root / name))
+                sc = load_scenario(root / name)
             except ScenarioError as e:
                 self.fail(P + (i,), f"scenario {name} refused")
                 self.problems += e.problems
+                continue
+            if sc.sha256 in seen:  # the same runs twice, one row each
+                self.fail(P + (i,), f"{name} is the scenario of scenarios[{seen[sc.sha256]}] again "
+                                    "(each would run the same runs)")
+                continue
+            seen[sc.sha256] = i
+            out.append(sc)
         return out
 
 
@@ -265,7 +286,8 @@ def run_row(run: SweepRun) -> dict[str, Any]:
     spec = run.spec
     row: dict[str, Any] = {"scenario": spec.scenario.name, "scenario_sha256": spec.scenario.sha256,
                            "pilot": spec.pilot, "perception": spec.perception, "time_limit_s": spec.time_limit,
-                           "seed": spec.seed, "point": run.point, **run.overrides}
+                           "seed": spec.seed, "point": run.point,
+                           **{k: json.dumps(v) if isinstance(v, list) else v for k, v in run.overrides.items()}}
     try:
         res = run_mission(spec, out=Path(run.log) if run.log else None, record=run.log is not None)
     except Exception as e:

@@ -31,7 +31,6 @@ import functools
 import hashlib
 import json
 import math
-import os
 import random
 from concurrent.futures import Executor
 from dataclasses import dataclass
@@ -39,6 +38,7 @@ from pathlib import Path
 from typing import Any, Callable, Sequence
 
 from ..config import RunSpec
+from ..outputs import atomic, write_text
 from ..params import CONTROL_DT, Params, ParamError
 from ..scenario import PILOT_BLOCK
 from .compare import reruns
@@ -170,6 +170,14 @@ def evaluate(problem: TuneProblem, values: Sequence[float]) -> dict[str, Any]:
 
 
 # --- Optuna: TPE and CMA-ES ------------------------------------------------------------------
+MAX_CHECKPOINT_BYTES = 256 * 2**20
+"""The largest GA checkpoint read (a history of about a million trials)."""
+
+
+class CheckpointError(ValueError):
+    """A ``--storage`` file that is not a usable checkpoint (the message names it and why)."""
+
+
 def tune_optuna(problem: TuneProblem, ex: Executor, *, algorithm: str, trials: int, storage: Path,
                 batch: int, seed: int = 1, on_trial: Callable[[dict], None] | None = None) -> list[dict]:
     """Run the study until it holds ``trials`` finished trials; ``batch`` trials are asked and
@@ -185,9 +193,13 @@ def tune_optuna(problem: TuneProblem, ex: Executor, *, algorithm: str, trials: i
     sampler = (optuna.samplers.CmaEsSampler(seed=seed) if algorithm == "cmaes"
                else optuna.samplers.TPESampler(seed=seed, constant_liar=batch > 1))
     storage.parent.mkdir(parents=True, exist_ok=True)
-    study = optuna.create_study(study_name=f"navcli-{problem.key()}", direction="maximize", sampler=sampler,
-                                load_if_exists=True,
-                                storage=JournalStorage(JournalFileBackend(str(storage))))
+    _check_journal(storage)
+    try:  # the journal is replayed here: a damaged one fails inside Optuna, in its own ways
+        study = optuna.create_study(study_name=f"navcli-{problem.key()}", direction="maximize", sampler=sampler,
+                                    load_if_exists=True,
+                                    storage=JournalStorage(JournalFileBackend(str(storage))))
+    except Exception as e:
+        raise CheckpointError(f"{storage}: not a usable Optuna journal ({type(e).__name__}: {e})"[:300]) from None
     for t in study.get_trials(deepcopy=False, states=(TrialState.RUNNING,)):  # left by an interrupted run
         study.enqueue_trial(t.params)
         study.tell(t.number, state=TrialState.FAIL)
@@ -256,6 +268,59 @@ def ga_toolbox(problem: TuneProblem, ex: Executor, history: list[dict],
     return tb
 
 
+def _check_journal(storage: Path) -> None:
+    """Refuse a study journal that Optuna could not replay, before Optuna opens it (it appends to
+    the file as it opens it): every line a JSON record with an ``op_code``, except an unfinished
+    last one (a killed run's, which Optuna skips)."""
+    if not storage.exists():
+        return
+    size = storage.stat().st_size
+    if size > MAX_CHECKPOINT_BYTES:
+        raise CheckpointError(f"{storage}: {size} bytes, larger than a study's journal ({MAX_CHECKPOINT_BYTES} bytes)")
+    with storage.open("rb") as f:
+        for n, line in enumerate(f, 1):
+            if not line.endswith(b"\n"):
+                break  # unfinished: written when the run was killed
+            try:
+                op = json.loads(line)
+            except (ValueError, RecursionError):
+                op = None
+            if not isinstance(op, dict) or not isinstance(op.get("op_code"), int):
+                raise CheckpointError(f"{storage}:{n}: not a usable Optuna journal (a line that is not one of its "
+                                      "records)")
+
+
+def read_checkpoint(storage: Path) -> dict | None:
+    """The GA checkpoint at ``storage`` (None if there is none), bounded and checked whole before
+    any of it is used: its key, generation, genomes with their fitness, Python's
+    random state and the history of trials. One of another problem or other settings is
+    valid too (it is then started afresh, and replaced)."""
+    if not storage.exists():
+        return None
+    size = storage.stat().st_size
+    if size > MAX_CHECKPOINT_BYTES:
+        raise CheckpointError(f"{storage}: {size} bytes, larger than a checkpoint ({MAX_CHECKPOINT_BYTES} bytes)")
+    try:
+        state = json.loads(storage.read_bytes())
+    except (ValueError, RecursionError) as e:
+        raise CheckpointError(f"{storage}: not a GA checkpoint (not JSON: {e})"[:300]) from None
+    try:
+        if not isinstance(state, dict) or not isinstance(state["key"], list):
+            raise TypeError("not a mapping with a key")
+        gen = state["generation"]
+        assert isinstance(gen, int) and gen >= 0, "generation"
+        assert all(isinstance(g, list) and all(isinstance(x, (int, float)) and math.isfinite(x) for x in g)
+                   for g in state["population"]), "population"
+        assert len(state["fitness"]) == len(state["population"]), "fitness"
+        assert all(isinstance(f, (int, float)) for f in state["fitness"]), "fitness"
+        v, internal, gauss = state["random"]
+        assert isinstance(v, int) and isinstance(internal, list) and len(internal) == 625, "random"
+        assert all(isinstance(i, dict) for i in state["history"]), "history"
+    except (TypeError, KeyError, ValueError, AssertionError) as e:
+        raise CheckpointError(f"{storage}: not a usable GA checkpoint ({e or type(e).__name__})") from None
+    return state
+
+
 def tune_ga(problem: TuneProblem, ex: Executor, *, settings: GASettings, storage: Path, seed: int = 1,
             on_trial: Callable[[dict], None] | None = None) -> list[dict]:
     """Run the GA for ``settings.generations`` generations, checkpointing to ``storage`` (JSON)
@@ -266,7 +331,7 @@ def tune_ga(problem: TuneProblem, ex: Executor, *, settings: GASettings, storage
     key = [problem.key(), settings.population, settings.crossover, settings.mutation, seed]
     history: list[dict] = []
     tb = ga_toolbox(problem, ex, history, on_trial)
-    state = json.loads(storage.read_text()) if storage.exists() else None
+    state = read_checkpoint(storage)
     if state and state["key"] == key:
         history += state["history"]
         gen = state["generation"]
@@ -276,7 +341,10 @@ def tune_ga(problem: TuneProblem, ex: Executor, *, settings: GASettings, storage
             ind.fitness.values = (fit,)
             pop.append(ind)
         v, internal, gauss = state["random"]
-        random.setstate((v, tuple(internal), gauss))
+        try:
+            random.setstate((v, tuple(internal), gauss))
+        except (TypeError, ValueError, OverflowError) as e:
+            raise CheckpointError(f"{storage}: not a usable GA checkpoint (its random state: {e})") from None
     else:
         random.seed(seed)
         pop, gen = tb.population(n=settings.population), 0
@@ -287,11 +355,9 @@ def tune_ga(problem: TuneProblem, ex: Executor, *, settings: GASettings, storage
         pop, _ = algorithms.eaSimple(pop, tb, cxpb=settings.crossover, mutpb=settings.mutation, ngen=1,
                                      verbose=False)
         gen += 1
-        tmp = storage.with_name(storage.name + ".tmp")
-        tmp.write_text(json.dumps({"key": key, "generation": gen, "population": [list(i) for i in pop],
-                                   "fitness": [i.fitness.values[0] for i in pop], "random": random.getstate(),
-                                   "history": history}))
-        os.replace(tmp, storage)
+        write_text(storage, json.dumps({"key": key, "generation": gen, "population": [list(i) for i in pop],
+                                        "fitness": [i.fitness.values[0] for i in pop], "random": random.getstate(),
+                                        "history": history}))
     return history
 
 
@@ -309,12 +375,13 @@ def write_results(history: list[dict], problem: TuneProblem, out: Path) -> dict[
     df = pd.DataFrame(history)
     files = {"history": out / "history.csv", "best": out / "best.json", "block": out / "best.yaml",
              "plot": out / "objective.png"}
-    df.to_csv(files["history"], index=False)
+    with atomic(files["history"]) as tmp:
+        df.to_csv(tmp, index=False)
     best = df.loc[df["objective"].idxmax()]
     values = {n: float(best[n]) for n in problem.names}
-    files["best"].write_text(json.dumps({"objective": problem.objective, "value": float(best["objective"]),
-                                         "trial": int(best["trial"]), "params": values}, indent=2) + "\n")
-    files["block"].write_text(scenario_block(values, problem.objective, float(best["objective"])))
+    write_text(files["best"], json.dumps({"objective": problem.objective, "value": float(best["objective"]),
+                                          "trial": int(best["trial"]), "params": values}, indent=2) + "\n")
+    write_text(files["block"], scenario_block(values, problem.objective, float(best["objective"])))
     fig, ax = plt.subplots(figsize=(7, 4))
     ax.plot(df["trial"], df["objective"], ".", alpha=0.6, label="trial")
     ax.plot(df["trial"], df["objective"].cummax(), "-", label="best so far")
@@ -322,7 +389,8 @@ def write_results(history: list[dict], problem: TuneProblem, out: Path) -> dict[
     ax.set_ylabel(problem.objective)
     ax.legend()
     fig.tight_layout()
-    fig.savefig(files["plot"], dpi=100)
+    with atomic(files["plot"]) as tmp:
+        fig.savefig(tmp, dpi=100, format="png")
     plt.close(fig)
     return files
 

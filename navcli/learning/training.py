@@ -9,6 +9,14 @@ every action. Every ``eval_every`` trials its greedy policy runs the same fixed 
 level. The model is saved after every evaluation, with the learning curve so far, so an
 interrupted training resumes from its file (``--resume``).
 
+Resuming gives what the uninterrupted training would have, bit for bit (arrays, curve, trials CSV):
+the file holds, beside the learner's arrays, the state of its random generator (``learner_rng``)
+and the policies of the evaluations still running at the save (``pending_evaluations``), run again
+on resume; trial ``i``'s start depends on the seed and ``i`` alone, and the trials after the save
+are run again (their rows of the trials CSV dropped first). A training to ``N`` trials interrupted
+with its model saved at ``n`` is completed by ``--resume FILE --trials N-n``. Ctrl-C and SIGTERM
+stop it alike (the workers stopped, the trials CSV closed), never in the middle of a save.
+
 What each training trial did is a row of ``<model>-trials.csv`` (where it started, its outcome,
 actions, reward and the count of each action), written as it ends; with ``log="full"`` every
 tick of every training trial is also recorded, one MCAP log per trial in ``<model>-trials/``
@@ -18,22 +26,27 @@ Evaluation trials run without logs.
 
 from __future__ import annotations
 
+import contextlib
 import csv
 import itertools
 import math
+import signal
+import threading
 import time
 from concurrent.futures import Future
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
-from typing import Callable
+from typing import Callable, Iterator
 
 import numpy as np
 
 from ..config import RunSpec
+from ..outputs import atomic
 from .actions import ACTIONS, reward_of
 from .features import N_STATES, check_bounds
 from .hand_coded import hand_coded_action
 from .learning_agent import table_policy
+from .model_file import curve_paths, trials_paths
 from .task import NavigationTask, Start, random_starts
 
 ALGORITHMS = ("prioritized-sweeping", "q-learning")
@@ -124,6 +137,9 @@ class Training:
     eval_s: float = 0.0  # summed wall time of the evaluations (worker processes beside training; this one if workers=1)
     wall_s: float = 0.0
     outcomes: dict[str, int] = field(default_factory=dict)
+    end: int = 0  # the trials this training goes to (those of the file resumed and the new ones)
+    saved: int | None = None  # the trials of the model file last saved (or resumed), None before any
+    saved_in: Path | None = None  # that file
 
 
 def _eval_job(spec: RunSpec, policy: np.ndarray, starts: list[Start]) -> tuple[list[TrialResult], float]:
@@ -136,32 +152,56 @@ LOGS = ("summary", "full")
 TRIAL_COLUMNS = ("trial", "x", "y", "heading_deg", "seed", "outcome", "actions", "reward", *ACTIONS)
 
 
-def trials_paths(out: Path) -> tuple[Path, Path]:
-    """Where training writes its trials beside the model ``out``: the CSV and the folder of logs."""
-    stem = out.with_suffix("")
-    return Path(f"{stem}-trials.csv"), Path(f"{stem}-trials")
-
-
-def curve_paths(out: Path) -> tuple[Path, Path]:
-    """Where training writes its learning curve beside the model ``out``: the CSV and the PNG."""
-    stem = out.with_suffix("")
-    return Path(f"{stem}-curve.csv"), Path(f"{stem}-curve.png")
-
-
-def _trials_csv(path: Path, keep: int):
-    """The trials CSV opened for writing, with the rows of trials before ``keep`` kept (a resumed
-    training runs the later ones again: they came after the model's last save)."""
+def _trials_csv(path: Path, keep: int, source: Path | None = None):
+    """The trials CSV opened for writing, with the rows of trials before ``keep`` kept from ``source``
+    (by default ``path`` itself; a resumed training runs the later ones again: they came after the
+    model's last save). The kept rows are written to a new file that then replaces ``path``, so an
+    interruption meanwhile loses none of them."""
+    source = source or path
     rows = []
-    if keep and path.exists():
-        with path.open(newline="") as f:  # at most the header and ``keep`` rows are read
+    if keep and source.exists():
+        with source.open(newline="") as f:  # at most the header and ``keep`` rows are read
             rows = list(itertools.islice(csv.reader(f), keep + 1))[1:]
         rows = [r for r in rows if r and r[0].isdigit() and int(r[0]) < keep]
-    f = path.open("w", newline="")
-    w = csv.writer(f)
-    w.writerow(TRIAL_COLUMNS)
-    w.writerows(rows)
-    f.flush()
-    return f, w
+    with atomic(path) as tmp, tmp.open("w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(TRIAL_COLUMNS)
+        w.writerows(rows)
+    f = path.open("a", newline="")
+    return f, csv.writer(f)
+
+
+@contextlib.contextmanager
+def _signals_deferred() -> Iterator[None]:
+    """Ctrl-C and SIGTERM wait while inside (a save: the file and what the caller is told of it must
+    agree) and are delivered, to the handlers they had, right after. Handlers, not the signal mask:
+    with a pool's threads beside the main one, a blocked signal would go to one of them."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    got: list[int] = []
+    old = {s: signal.signal(s, lambda signum, frame: got.append(signum)) for s in (signal.SIGINT, signal.SIGTERM)}
+    try:
+        yield
+    finally:
+        for s, h in old.items():
+            signal.signal(s, h)
+        for s in dict.fromkeys(got):
+            signal.raise_signal(s)
+
+
+def _resumed_policy(resume: Path, p) -> tuple[int, np.ndarray]:
+    """A pending evaluation of a model file (``{"trials": n, "policy": [action per state]}``)."""
+    from .model_file import ModelError
+
+    try:
+        n, policy = int(p["trials"]), np.array(p["policy"], dtype=np.int64)
+    except (TypeError, KeyError, ValueError, OverflowError):
+        policy = None
+    if policy is None or policy.shape != (N_STATES,) or policy.min() < 0 or policy.max() >= len(ACTIONS):
+        raise ModelError(f"{resume}: a pending evaluation of its metadata is not a policy of {len(ACTIONS)} "
+                         f"actions for each of {N_STATES} states")
+    return n, policy.astype(np.int8)
 
 
 def train(spec: RunSpec, *, trials: int = 2000, eval_every: int = 100, eval_starts: int = 99, seed: int = 1,
@@ -176,15 +216,26 @@ def train(spec: RunSpec, *, trials: int = 2000, eval_every: int = 100, eval_star
     check_bounds(spec.params.learning)
     learner = make_learner(algorithm, spec, seed)
     result = Training(algorithm, seed, 0)
+    resumed: list[tuple[int, np.ndarray]] = []  # the evaluations the file resumed had not finished
     if resume is not None:
         arrays, meta = model_file.load(resume)
+        if "seed" not in meta or "trials" not in meta:
+            raise model_file.ModelError(f"{resume}: not saved by a training (no seed or trials); cannot resume it")
         if meta.get("algorithm") != algorithm or meta.get("scenario_sha256") != spec.scenario.sha256:
             raise model_file.ModelError(f"{resume}: made by {meta.get('algorithm')} on another scenario or "
                                         f"with another algorithm; cannot resume it here")
         learner.load_arrays(arrays)
         seed = result.seed = int(meta["seed"])
-        learner.rng = np.random.default_rng([seed, 1, int(meta["trials"])])
-        result.trials = int(meta["trials"])
+        result.trials = result.saved = int(meta["trials"])
+        result.saved_in = resume
+        if "learner_rng" in meta:  # the generator goes on where it was at the save
+            try:
+                learner.rng.bit_generator.state = meta["learner_rng"]
+            except (TypeError, KeyError, ValueError) as e:
+                raise model_file.ModelError(f"{resume}: its learner's random state is not usable ({e})") from None
+        else:  # a file of an older navcli: resumed, but not as its training would have gone on
+            learner.rng = np.random.default_rng([seed, 1, result.trials])
+        resumed = [_resumed_policy(resume, p) for p in meta.get("pending_evaluations", [])]
         result.curve = [Point(**p) for p in meta.get("curve", [])]
         result.hand_coded = meta.get("hand_coded")
         result.hand_coded_reward = meta.get("hand_coded_reward")
@@ -193,10 +244,10 @@ def train(spec: RunSpec, *, trials: int = 2000, eval_every: int = 100, eval_star
     task = NavigationTask(spec.replace(navigation="learned"))  # what a trial log's summary says drove it
     t_start = time.perf_counter()
 
-    from ..experiments.executor import executor
+    from ..experiments.executor import executor, interruptible
 
     chunks = max(1, workers)
-    pending: list[tuple[int, list[Future]]] = []
+    pending: list[tuple[int, np.ndarray, list[Future]]] = []  # evaluations running: trials, policy, chunks
     hand: list[Future] = []
 
     def submit(pool, policy: np.ndarray) -> list[Future]:
@@ -211,8 +262,8 @@ def train(spec: RunSpec, *, trials: int = 2000, eval_every: int = 100, eval_star
         return res
 
     def harvest(block: bool) -> None:
-        while pending and (block or all(f.done() for f in pending[0][1])):
-            n, fs = pending.pop(0)
+        while pending and (block or all(f.done() for f in pending[0][2])):
+            n, _, fs = pending.pop(0)
             rs = collect(fs)
             result.curve.append(Point(n, sum(r.success for r in rs), float(np.mean([r.reward for r in rs])),
                                       float(np.mean([r.actions for r in rs]))))
@@ -222,60 +273,76 @@ def train(spec: RunSpec, *, trials: int = 2000, eval_every: int = 100, eval_star
             result.hand_coded_reward = float(np.mean([r.reward for r in hs]))
             hand.clear()
 
+    def evaluate_later(pool, n: int, policy: np.ndarray) -> None:
+        pending.append((n, policy, submit(pool, policy)))
+
     def save() -> None:
+        """The model as it is between trials, with what a resume needs to go on as if never stopped."""
         meta = {"algorithm": algorithm, "scenario": spec.scenario.name, "scenario_sha256": spec.scenario.sha256,
                 "seed": seed, "trials": result.trials, "eval_every": eval_every, "eval_starts": eval_starts,
                 "eval_seed": EVAL_SEED, "params": spec.params.to_json(), "curve": [asdict(p) for p in result.curve],
                 "hand_coded": result.hand_coded, "hand_coded_reward": result.hand_coded_reward,
-                "outcomes": result.outcomes}
-        model_file.save(out, learner, meta)
+                "outcomes": result.outcomes, "learner_rng": learner.rng.bit_generator.state,
+                "pending_evaluations": [{"trials": n, "policy": p.tolist()} for n, p, _ in pending]}
+        with _signals_deferred():
+            model_file.save(out, learner, meta)
+            result.saved, result.saved_in = result.trials, out
 
-    with executor(workers) as pool:  # stopped cleanly on Ctrl-C or SIGTERM, like compare's
-        if result.hand_coded is None:
-            hand = submit(pool, hand_coded_table())
-        if result.trials == 0:  # the untrained policy: the curve's first point
-            pending.append((0, submit(pool, learner.greedy_policy())))
-        end = result.trials + trials
-        csv_path, log_dir = trials_paths(out)
-        out.parent.mkdir(parents=True, exist_ok=True)
-        if log == "full":
-            log_dir.mkdir(parents=True, exist_ok=True)
-        rows, writer = _trials_csv(csv_path, result.trials)
-        with rows:
-            while result.trials < end:
-                i = result.trials
-                start = random_starts(spec.scenario, 1, np.random.SeedSequence([seed, i]).generate_state(1)[0],
-                                      spec.params.robot.radius)[0]
-                t0 = time.perf_counter()
-                try:
-                    r = run_trial(task, start, learner.act, learner.observe,
-                                  log=log_dir / f"trial-{i:05d}.mcap" if log == "full" else None)
-                finally:
-                    task.close("interrupted", "training stopped")  # a trial's log is never left half-written
-                result.train_s += time.perf_counter() - t0
-                result.trials += 1
-                result.outcomes[r.outcome] = result.outcomes.get(r.outcome, 0) + 1
-                writer.writerow([i, f"{start.x:.3f}", f"{start.y:.3f}", f"{math.degrees(start.heading):.1f}", start.seed,
-                                 r.outcome, r.actions, f"{r.reward:g}", *r.counts])
-                rows.flush()
-                if result.trials % eval_every == 0 or result.trials == end:
-                    pending.append((result.trials, submit(pool, learner.greedy_policy())))
-                    harvest(False)
-                    save()
-                if on_trial:
-                    on_trial(i, r, result)
-        harvest(True)
-    result.curve.sort(key=lambda p: p.trials)
-    result.wall_s = time.perf_counter() - t_start
-    save()
-    write_curve(result, out)
+    try:
+        with interruptible():  # Ctrl-C and SIGTERM alike, from the first trial to the last file written
+            with executor(workers) as pool:  # stopped cleanly on Ctrl-C or SIGTERM, like compare's
+                if result.hand_coded is None:
+                    hand = submit(pool, hand_coded_table())
+                if result.trials == 0:  # the untrained policy: the curve's first point
+                    evaluate_later(pool, 0, learner.greedy_policy())
+                for n, policy in resumed:  # before anything new: the curve in the order of an uninterrupted run
+                    evaluate_later(pool, n, policy)
+                end = result.end = result.trials + trials
+                csv_path, log_dir = trials_paths(out)
+                out.parent.mkdir(parents=True, exist_ok=True)
+                if log == "full":
+                    log_dir.mkdir(parents=True, exist_ok=True)
+                kept = trials_paths(resume)[0] if resume is not None else None  # the rows before its save
+                rows, writer = _trials_csv(csv_path, result.trials, kept)
+                with rows:
+                    while result.trials < end:
+                        i = result.trials
+                        start = random_starts(spec.scenario, 1, np.random.SeedSequence([seed, i]).generate_state(1)[0],
+                                              spec.params.robot.radius)[0]
+                        t0 = time.perf_counter()
+                        try:
+                            r = run_trial(task, start, learner.act, learner.observe,
+                                          log=log_dir / f"trial-{i:05d}.mcap" if log == "full" else None)
+                        finally:
+                            task.close("interrupted", "training stopped")  # a trial's log is never left half-written
+                        result.train_s += time.perf_counter() - t0
+                        result.trials += 1
+                        result.outcomes[r.outcome] = result.outcomes.get(r.outcome, 0) + 1
+                        writer.writerow([i, f"{start.x:.3f}", f"{start.y:.3f}", f"{math.degrees(start.heading):.1f}",
+                                         start.seed, r.outcome, r.actions, f"{r.reward:g}", *r.counts])
+                        rows.flush()
+                        if result.trials % eval_every == 0 or result.trials == end:
+                            evaluate_later(pool, result.trials, learner.greedy_policy())
+                            harvest(False)
+                            if result.trials < end:  # the last save waits for the last evaluations (below)
+                                save()
+                        if on_trial:
+                            on_trial(i, r, result)
+                harvest(True)
+            result.curve.sort(key=lambda p: p.trials)
+            result.wall_s = time.perf_counter() - t_start
+            save()
+            write_curve(result, out)
+    except KeyboardInterrupt as e:  # Ctrl-C, or SIGTERM (Terminated): the caller can say how far it got
+        e.training = result
+        raise
     return result
 
 
 def write_curve(result: Training, out: Path) -> None:
     """The learning curve (the paper's Figure 3) as CSV and PNG beside ``out`` (:func:`curve_paths`)."""
     csv_path, png_path = curve_paths(out)
-    with csv_path.open("w", newline="") as f:
+    with atomic(csv_path) as tmp, tmp.open("w", newline="") as f:
         w = csv.writer(f)
         w.writerow(["trials", "successes", "reward_per_trial", "actions_per_trial", "hand_coded_successes",
                     "hand_coded_reward_per_trial"])
@@ -307,5 +374,6 @@ def write_curve(result: Training, out: Path) -> None:
     ax2.set_title("Reward per trial of the test starts")
     ax2.legend(loc="best")
     fig.tight_layout()
-    fig.savefig(png_path, dpi=100)
+    with atomic(png_path) as tmp:
+        fig.savefig(tmp, dpi=100, format="png")
     plt.close(fig)

@@ -1,0 +1,26 @@
+"""Files written whole or not at all: every figure, video and table of the analysis package goes
+through :func:`atomic` (the same rule as navcli's writers, kept here because this package never
+imports navcli)."""
+
+from __future__ import annotations
+
+import contextlib
+import os
+from pathlib import Path
+from typing import Iterator
+
+
+@contextlib.contextmanager
+def atomic(path: str | Path) -> Iterator[Path]:
+    """A temporary path beside ``path`` (same suffix, so writers that choose the format by the
+    name still do) that is renamed over ``path`` once the block ends normally, and removed if it
+    raises or is interrupted: a reader never finds half a file. The folder is made if need be."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_name(f".{path.stem}.{os.getpid()}.tmp{path.suffix}")
+    try:
+        yield tmp
+        os.replace(tmp, path)
+    finally:
+        with contextlib.suppress(FileNotFoundError):
+            tmp.unlink()
