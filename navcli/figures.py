@@ -29,6 +29,11 @@ MAX_GRID_POINTS = 1_000_000
 at 2 cm would be 25 million, hours of work for a picture no one can see)."""
 
 
+MAX_GRID_WORK = 2_000_000
+"""Most point x body force evaluations of a figure (our design: 20,000 points of a room of 1,000
+obstacles took over 5 minutes here, so this bound keeps a figure to about half a minute)."""
+
+
 class GridError(ValueError):
     """A grid too fine for a figure; the message says the finest step that is drawn."""
 
@@ -47,12 +52,14 @@ def field_grid(spec: RunSpec, step: float, walls: bool = False,
     rows)`` is called after each row of the grid (a room of a thousand obstacles takes minutes).
     A grid of more than :data:`MAX_GRID_POINTS` points raises :class:`GridError` before any work."""
     sc, pilot = spec.scenario, spec.params.pilot
-    if grid_points(sc, step) > MAX_GRID_POINTS:
-        finest = math.sqrt(sc.arena.width * sc.arena.height / MAX_GRID_POINTS)
-        raise GridError(f"a step of {step:g} m makes {grid_points(sc, step):,} points over the "
-                        f"{sc.arena.width:g} m x {sc.arena.height:g} m arena (at most {MAX_GRID_POINTS:,}); "
-                        f"use a step of at least {math.ceil(finest * 1000) / 1000:g} m")
     bodies = [o for o in sc.objects if o.kind in ("circle", "segment", "landmark")]
+    points = grid_points(sc, step)
+    budget = min(MAX_GRID_POINTS, MAX_GRID_WORK // (len(bodies) + 1))  # each point costs a force per body
+    if points > budget:
+        finest = math.sqrt(sc.arena.width * sc.arena.height / budget)
+        raise GridError(f"a step of {step:g} m makes {points:,} points over the {sc.arena.width:g} m x "
+                        f"{sc.arena.height:g} m arena with {len(bodies)} bodies (at most {budget:,}); "
+                        f"use a step of at least {math.ceil(finest * 1000) / 1000:g} m")
     xs = np.arange(step / 2, sc.arena.width, step)
     ys = np.arange(step / 2, sc.arena.height, step)
     X, Y = np.meshgrid(xs, ys)

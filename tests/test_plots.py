@@ -59,3 +59,20 @@ def test_plot_map_draws_the_final_map_of_a_log(tmp_path):
         run_mission(RunSpec.build(sc), out=tmp_path / "s.mcap", on_tick=stop)
     r = CliRunner().invoke(app, ["plot", "map", str(tmp_path / "s.mcap")])
     assert r.exit_code == 2 and "no /map/scene" in r.output
+
+
+def test_a_field_too_costly_to_draw_is_refused_before_any_work():
+    """Points x bodies bounded (figures.MAX_GRID_WORK): 400 circles in a 40 m room at 0.2 m is
+    40,000 points x 401 > 2,000,000, refused at once with the step that fits."""
+    from navcli import RunSpec
+    from navcli.figures import MAX_GRID_WORK, GridError, field_grid
+    from navcli.scenario import parse_scenario
+
+    circles = "".join(f"  - circle: {{center: [{2 + (i % 20) * 1.8:.1f}, {4 + (i // 20) * 1.6:.1f}], radius: 0.1}}\n"
+                      for i in range(400))
+    sc = parse_scenario("version: 1\nname: many\narena: {width: 40, height: 40}\nrobot: {start: [1, 1]}\n"
+                        "target: {at: [39, 39]}\nobstacles:\n" + circles, "many.yaml")
+    with pytest.raises(GridError, match="use a step of at least") as e:
+        field_grid(RunSpec.build(sc), 0.2)
+    finest = float(str(e.value).rsplit("at least ", 1)[1].split(" m")[0])
+    assert (40 / finest) ** 2 <= MAX_GRID_WORK // 401 < (40 / 0.2) ** 2

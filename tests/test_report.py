@@ -85,9 +85,11 @@ def test_unknown_baseline_unreadable_log_and_one_pilot_are_said(three_pairs, tmp
     shutil.copytree(three_pairs, tmp_path / "runs", ignore=shutil.ignore_patterns("geometric-*"))
     (tmp_path / "runs" / "broken.mcap").write_bytes(b"not an mcap")
     r = report(tmp_path / "runs", "--out", tmp_path / "rep", "--baseline", "geometrc")
+    assert r.exit_code == 2 and "'geometrc' is not a pilot" in r.output and not (tmp_path / "rep").exists()
+    r = report(tmp_path / "runs", "--out", tmp_path / "rep", "--baseline", "geometric")
     assert r.exit_code == 0, r.output
     assert f"skipped {tmp_path / 'runs' / 'broken.mcap'}: not a readable MCAP log" in r.output
-    assert "baseline 'geometrc' is not among the pilots of these runs (potential-field)" in r.output
+    assert "baseline 'geometric' is not among the pilots of these runs (potential-field)" in r.output
 
 
 def test_an_empty_folder_says_what_is_missing(tmp_path):
