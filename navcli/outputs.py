@@ -21,11 +21,11 @@ complete, so an interrupted or failed write leaves the old file (or none), never
 
 from __future__ import annotations
 
-import contextlib
 import os
 import stat
 from pathlib import Path
-from typing import Iterator
+
+from analysis.files import atomic  # the one definition (analysis may not import navcli)
 
 MAGIC: dict[str, tuple[bytes, ...]] = {
     ".png": (b"\x89PNG\r\n\x1a\n",),
@@ -113,21 +113,6 @@ def check_folder(path: Path) -> Path:
         raise OutputError(f"{path}: is a file; give a folder")
     _writable_folder(path, path)
     return path
-
-
-@contextlib.contextmanager
-def atomic(path: Path) -> Iterator[Path]:
-    """A temporary path beside ``path`` to write; renamed over ``path`` when the block ends
-    normally, removed when it raises (or is interrupted). The folder is made if need be."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(f".{path.stem}.{os.getpid()}.tmp{path.suffix}")
-    try:
-        yield tmp
-        os.replace(tmp, path)
-    finally:
-        with contextlib.suppress(FileNotFoundError):
-            tmp.unlink()
 
 
 def write_text(path: Path, text: str) -> Path:

@@ -25,7 +25,6 @@ advertises the time capability and broadcasts simulation time every tick.
 
 from __future__ import annotations
 
-import contextlib
 import fcntl
 import functools
 import json
@@ -64,6 +63,7 @@ from foxglove.messages import (
 )
 
 from .bidding import RESOURCES
+from .outputs import atomic
 from .messages import Bids, MissionSummary, Navigation, Pilot, Vision, encode, json_schema, pilot_message
 from .params import DRAW_PERIOD, SCENE_REFRESH
 from .scenario import Scenario
@@ -692,8 +692,7 @@ def _recover(src: Path, out: Path) -> tuple[Path, dict]:
         "navcli_version": run.get("navcli_version", ""), "run_id": run.get("run_id", ""),
     }
     summary["damaged_bytes"] = lost
-    tmp = out.with_name(out.name + ".recovering")  # never the source, which may be <out>.partial
-    with _removed_on_failure(tmp), tmp.open("wb") as f:
+    with atomic(out) as tmp, tmp.open("wb") as f:  # a temporary name: never the source, <out>.partial
         w = Writer(f)
         w.start(profile="", library="navcli recover")
         schema_ids = {sid: w.register_schema(s.name, s.encoding, s.data) for sid, s in schemas.items()}
@@ -711,16 +710,4 @@ def _recover(src: Path, out: Path) -> tuple[Path, dict]:
         w.add_message(cid, end_ns, encode(msgspec.convert(
             {k: v for k, v in summary.items() if k != "damaged_bytes"}, MissionSummary)), end_ns)
         w.finish()
-        f.close()
-        os.replace(tmp, out)
     return out, summary
-
-
-@contextlib.contextmanager
-def _removed_on_failure(path: Path):
-    try:
-        yield
-    except BaseException:
-        with contextlib.suppress(FileNotFoundError):
-            path.unlink()
-        raise

@@ -33,7 +33,6 @@ from __future__ import annotations
 
 import itertools
 import json
-import os
 import time
 from concurrent.futures import Executor, Future
 from dataclasses import dataclass, field
@@ -41,6 +40,7 @@ from pathlib import Path
 from typing import Any, Callable, Mapping
 
 from ..config import ConfigError, RunSpec
+from ..outputs import atomic
 from ..params import PERCEPTIONS, PILOT_NAMES, Params, ParamError
 from ..scenario import Problem, ScenarioError, _Invalid, _parse_yaml, _Reader, load_scenario
 from .compare import reruns
@@ -310,14 +310,11 @@ def write_table(rows: list[dict], path: Path, csv: bool = False) -> None:
     import pandas as pd
 
     df = pd.DataFrame(rows)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(path.name + ".tmp")
-    df.to_parquet(tmp, index=False)
-    os.replace(tmp, path)
+    with atomic(path) as tmp:
+        df.to_parquet(tmp, index=False)
     if csv:
-        c = path.with_suffix(".csv")
-        df.to_csv(c.with_name(c.name + ".tmp"), index=False)
-        os.replace(c.with_name(c.name + ".tmp"), c)
+        with atomic(path.with_suffix(".csv")) as tmp:
+            df.to_csv(tmp, index=False)
 
 
 @dataclass
