@@ -7,34 +7,17 @@ exception) the recorder is finished with a summary that says so, and the file ge
 
 from __future__ import annotations
 
-import signal
-import threading
 import time
-from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Callable
 
 from .config import RunSpec
-from .signals import Terminated
+from .signals import Terminated, deferred
 from .mission import Event, Mission, Tick
 
 if TYPE_CHECKING:
     from .recorder import Recorder
-
-
-@contextmanager
-def _signals_held():
-    """Ctrl-C and SIGTERM wait while a log is being closed (a second Ctrl-C a millisecond after
-    the first must not leave the file half-renamed); they are delivered right after."""
-    if threading.current_thread() is not threading.main_thread():
-        yield
-        return
-    old = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT, signal.SIGTERM})
-    try:
-        yield
-    finally:
-        signal.pthread_sigmask(signal.SIG_SETMASK, old)
 
 
 @dataclass(frozen=True)
@@ -83,7 +66,7 @@ def close_log(recorder, mission: Mission, summary: dict | None = None, *, stoppe
     """Write ``mission``'s summary (by default its own) and close its log, with Ctrl-C and SIGTERM
     held meanwhile; the last poses are written first if a stop inside a tick left them out.
     ``stopped``: the mission was ended by :func:`_stop`; the log's last event says why."""
-    with _signals_held():
+    with deferred():
         w = mission.world
         if stopped:
             recorder.event(Event(mission.time, "mission", "error", mission.reason), w.time_ns)

@@ -7,8 +7,10 @@ heavy.
 
 from __future__ import annotations
 
+import contextlib
 import signal
-from typing import Any, Callable
+import threading
+from typing import Any, Callable, Iterator
 
 
 def in_physics_callback(frame: Any) -> bool:
@@ -50,3 +52,23 @@ def exit_code(e: KeyboardInterrupt) -> int:
 def stopped_by(e: KeyboardInterrupt) -> str:
     """What stopped a command, in the words its last line says."""
     return "stopped by SIGTERM" if isinstance(e, Terminated) else "interrupted (Ctrl-C)"
+
+
+@contextlib.contextmanager
+def deferred() -> Iterator[None]:
+    """Ctrl-C and SIGTERM wait while inside (closing a log, saving a model: the file and what the
+    caller is told of it must agree) and are delivered, to the handlers they had, right after.
+    Handlers, not the signal mask: with a pool's threads beside the main one, a blocked signal
+    would go to one of them. Outside the main thread (where no handler can be set) a no-op."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    got: list[int] = []
+    old = {s: signal.signal(s, lambda signum, frame: got.append(signum)) for s in (signal.SIGINT, signal.SIGTERM)}
+    try:
+        yield
+    finally:
+        for s, h in old.items():
+            signal.signal(s, h)
+        for s in dict.fromkeys(got):
+            signal.raise_signal(s)

@@ -26,22 +26,20 @@ Evaluation trials run without logs.
 
 from __future__ import annotations
 
-import contextlib
 import csv
 import itertools
 import math
-import signal
-import threading
 import time
 from concurrent.futures import Future
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
-from typing import Callable, Iterator
+from typing import Callable
 
 import numpy as np
 
 from ..config import RunSpec
 from ..outputs import atomic
+from ..signals import deferred
 from .actions import ACTIONS, reward_of
 from .features import N_STATES, check_bounds
 from .hand_coded import hand_coded_action
@@ -171,25 +169,6 @@ def _trials_csv(path: Path, keep: int, source: Path | None = None):
     return f, csv.writer(f)
 
 
-@contextlib.contextmanager
-def _signals_deferred() -> Iterator[None]:
-    """Ctrl-C and SIGTERM wait while inside (a save: the file and what the caller is told of it must
-    agree) and are delivered, to the handlers they had, right after. Handlers, not the signal mask:
-    with a pool's threads beside the main one, a blocked signal would go to one of them."""
-    if threading.current_thread() is not threading.main_thread():
-        yield
-        return
-    got: list[int] = []
-    old = {s: signal.signal(s, lambda signum, frame: got.append(signum)) for s in (signal.SIGINT, signal.SIGTERM)}
-    try:
-        yield
-    finally:
-        for s, h in old.items():
-            signal.signal(s, h)
-        for s in dict.fromkeys(got):
-            signal.raise_signal(s)
-
-
 def _resumed_policy(resume: Path, p) -> tuple[int, np.ndarray]:
     """A pending evaluation of a model file (``{"trials": n, "policy": [action per state]}``)."""
     from .model_file import ModelError
@@ -284,7 +263,7 @@ def train(spec: RunSpec, *, trials: int = 2000, eval_every: int = 100, eval_star
                 "hand_coded": result.hand_coded, "hand_coded_reward": result.hand_coded_reward,
                 "outcomes": result.outcomes, "learner_rng": learner.rng.bit_generator.state,
                 "pending_evaluations": [{"trials": n, "policy": p.tolist()} for n, p, _ in pending]}
-        with _signals_deferred():
+        with deferred():
             model_file.save(out, learner, meta)
             result.saved, result.saved_in = result.trials, out
 
