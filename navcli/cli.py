@@ -176,7 +176,7 @@ def run(
     spec = _spec(scenario, param, seed=seed, pilot=pilot.value if pilot else None, time_limit=time_limit,
                  perception=perception.value if perception else None, navigation=navigation)
     _check_model(spec.navigation)
-    from .recorder import LogPathError, check_log_path
+    from .log.writer import LogPathError, check_log_path
     from .runner import run_mission
     from .signals import Terminated
 
@@ -343,8 +343,8 @@ def plot_map(
     out: Annotated[Optional[Path], typer.Option(help="PNG file (default: next to the log, <log>-map.png).")] = None,
 ) -> None:
     """The Map Manager's final map (mapped landmarks, regions, blocked edges) over the true arena."""
-    from analysis import LogError
-    from analysis.mapplot import plot_map as draw
+    from .analysis import LogError
+    from .analysis.mapplot import plot_map as draw
 
     out = _out_file(out or log.with_name(log.stem + "-map.png"), (".png",), "PNG image")
     try:
@@ -444,8 +444,8 @@ def _report(logdir: Path, baseline: str, out: Path, logs: list[str] | None = Non
     """The table of the logs under ``logdir`` (or of ``logs``; with ``table``, of the sweep
     results table ``logdir``); an unreadable log is skipped with a line naming it; the same run
     twice, or no readable log at all, exits 2."""
-    from analysis import LogError
-    from analysis.tables import load_runs, load_sweep, write_report
+    from .analysis import LogError
+    from .analysis.tables import load_runs, load_sweep, write_report
 
     skipped: list[tuple[str, str]] = []
     try:
@@ -481,7 +481,8 @@ def recover(
 ) -> None:
     """Make a readable log of a run killed outright: its complete chunks (all but at most the last
     simulated second), marked interrupted, "recovered after an abrupt end"."""
-    from .recorder import LogPathError, RecoverError, recover as recover_log
+    from .log.recover import RecoverError, recover as recover_log
+    from .log.writer import LogPathError
 
     if not partial.is_file():
         _err(f"error: {partial}: " + ("is a folder; give the .partial file a killed run left" if partial.is_dir()
@@ -535,7 +536,7 @@ def layout(
     world), bids per resource, the pilot's forces, the events and the summary."""
     import json
 
-    from .layout import app_json, sdk_json
+    from .log.layout import app_json, sdk_json
 
     text = json.dumps(app_json() if format is LayoutFormat.app else sdk_json(), indent=1)
     if out is None:
@@ -559,8 +560,8 @@ def render(
 ) -> None:
     """A video of a run from its log alone: the true arena and path, the robot's beliefs (the
     visual memory), the pilot's force arrows, and the bids per resource under it."""
-    from analysis import LogError
-    from analysis.render import RenderError, render as render_video
+    from .analysis import LogError
+    from .analysis.render import RenderError, render as render_video
 
     target = _out_file(out or log.with_suffix(".gif"), (".gif", ".mp4"), "video")
     bar = _bar() if sys.stderr.isatty() else None

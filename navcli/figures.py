@@ -15,7 +15,7 @@ from typing import Callable
 
 import numpy as np
 
-from analysis.plots import save_figure
+from .analysis.plots import save_figure
 
 from .config import RunSpec
 from .geometry import Pose

@@ -25,7 +25,7 @@ import os
 import stat
 from pathlib import Path
 
-from analysis.files import atomic  # the one definition (analysis may not import navcli)
+from .analysis.files import atomic  # the one definition (analysis may not import navcli)
 
 MAGIC: dict[str, tuple[bytes, ...]] = {
     ".png": (b"\x89PNG\r\n\x1a\n",),

@@ -17,7 +17,7 @@ from .signals import Terminated, deferred
 from .mission import Event, Mission, Tick
 
 if TYPE_CHECKING:
-    from .recorder import Recorder
+    from .log.writer import Recorder
 
 
 @dataclass(frozen=True)
@@ -36,7 +36,7 @@ def open_log(spec: RunSpec, mission: Mission, path: Path, *, live: bool = False,
     """The log of ``mission`` at ``path``, begun: the configuration, the first pose and the events of
     the start. The scenario's own file is protected from being overwritten by it. (foxglove is
     imported here, only when a log is written.)"""
-    from .recorder import Recorder
+    from .log.writer import Recorder
 
     recorder = Recorder(path, live=live, port=port, protect=(spec.scenario.source,))
     try:
@@ -85,7 +85,7 @@ def run_mission(spec: RunSpec, *, out: Path | None = None, record: bool = True, 
     (what the CLI says of it: a killed run's ``.partial`` kept aside, the port ``--live`` took). A ``KeyboardInterrupt`` ends
     the run as ``interrupted`` (:class:`Terminated`: by SIGTERM) and is re-raised after the log is
     closed; any other exception ends it as ``error`` and is re-raised likewise. A log path that
-    cannot be written raises :class:`~navcli.recorder.LogPathError` before the mission starts.
+    cannot be written raises :class:`~navcli.log.writer.LogPathError` before the mission starts.
     """
     path = (out or spec.default_log_path()) if record or live else None
     mission = Mission(spec, snapshots=path is not None)

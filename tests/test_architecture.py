@@ -48,7 +48,7 @@ def _modules(*folders: str) -> dict[str, set[str]]:
     return {_module_name(p): _imports(p) for f in folders for p in sorted((ROOT / f).rglob("*.py"))}
 
 
-MODULES = _modules("navcli", "analysis")
+MODULES = _modules("navcli")
 KNOWN = set(MODULES)
 
 
@@ -58,7 +58,7 @@ def _who_imports(prefix: str) -> set[str]:
 
 def test_the_import_scan_sees_the_package():
     assert {"navcli.world", "navcli.pilot.potential_field", "navcli.navigation.target_tracker",
-            "analysis.logs"} <= KNOWN
+            "navcli.analysis.logs", "navcli.log.format"} <= KNOWN
     assert "navcli.beliefs" in MODULES["navcli.pilot.base"]  # relative imports are resolved
 
 
@@ -66,16 +66,57 @@ def test_only_the_world_imports_pymunk():
     assert _who_imports("pymunk") == {"navcli.world"}
 
 
-def test_only_the_recorder_writes_logs():
+def test_only_the_log_package_writes_logs():
     writers = {m for m, deps in MODULES.items()
                if any((d == "foxglove" or d.startswith("foxglove.")) and d != "foxglove.layouts" for d in deps)}
-    assert writers == {"navcli.recorder"}
-    assert _who_imports("foxglove.layouts") == {"navcli.layout"}  # builds a viewer layout, writes no log
-    assert _who_imports("mcap.writer") == {"navcli.recorder"}  # recover() rewrites a killed run's chunks
+    assert writers == {"navcli.log.writer", "navcli.log.scenes"}  # the recorder, and the scenes it writes
+    assert _who_imports("foxglove.layouts") == {"navcli.log.layout"}  # builds a viewer layout, writes no log
+    assert _who_imports("mcap.writer") == {"navcli.log.recover"}  # rewrites a killed run's chunks
 
 
-def test_analysis_never_imports_the_simulator():
-    assert {m for m in _who_imports("navcli") if m.startswith("analysis")} == set()
+FORMAT = "navcli.log.format"
+"""The log's format: what the analysis package may import of navcli (besides the package root,
+for the root error class)."""
+
+
+def test_analysis_imports_only_the_format():
+    for mod, deps in MODULES.items():
+        if not mod.startswith("navcli.analysis"):
+            continue
+        for dep in deps:
+            if dep.split(".")[0] != "navcli" or dep.startswith("navcli.analysis"):
+                continue
+            assert dep in ("navcli", "navcli.NavcliError", "navcli.log") or dep == FORMAT \
+                or dep.startswith(FORMAT + "."), f"{mod} imports {dep}"
+
+
+def test_the_format_imports_only_msgspec():
+    for dep in MODULES[FORMAT]:
+        assert dep.split(".")[0] in STDLIB | {"msgspec", "__future__"}, dep
+
+
+def test_no_private_name_is_imported_across_modules():
+    for path in sorted((ROOT / "navcli").rglob("*.py")):
+        for node in ast.walk(ast.parse(path.read_text(), str(path))):
+            if isinstance(node, ast.ImportFrom) and node.module != "__future__":
+                private = [a.name for a in node.names if a.name.startswith("_") and not a.name.startswith("__")]
+                assert not private, f"{path.relative_to(ROOT)} imports {private} from {node.module}"
+
+
+def test_each_topic_name_is_written_once():
+    """A topic's name is a literal only in the format; everything else uses its constant."""
+    from navcli.log import format as fmt
+
+    names = {v for k, v in vars(fmt).items() if k.endswith("_TOPIC")}
+    assert len(names) == 15
+    where: dict[str, list[str]] = {n: [] for n in names}
+    for path in sorted((ROOT / "navcli").rglob("*.py")):
+        for node in ast.walk(ast.parse(path.read_text(), str(path))):
+            if isinstance(node, ast.Constant) and isinstance(node.value, str):
+                for n in names:  # the name itself, or a path inside its messages ("/bids.motion.pilot")
+                    if node.value == n or node.value.startswith(n + "."):
+                        where[n].append(str(path.relative_to(ROOT)))
+    assert {n: w for n, w in where.items() if w != ["navcli/log/format.py"]} == {}
 
 
 @pytest.mark.parametrize("agent", sorted(m for m in KNOWN if m.startswith(("navcli.pilot", "navcli.navigation"))))
@@ -104,7 +145,9 @@ def test_importing_the_agents_or_analysis_pulls_in_no_simulator():
     code = ("import sys, navcli.pilot, navcli.navigation; "
             "bad = [m for m in ('pymunk', 'yaml', 'foxglove', 'navcli.scenario', 'navcli.vision', 'navcli.world') "
             "if m in sys.modules]; [sys.modules.pop(m) for m in list(sys.modules) if m.startswith('navcli')]; "
-            "import analysis; bad += [m for m in sys.modules if m.split('.')[0] in ('navcli', 'pymunk', 'foxglove')]; "
+            "import navcli.analysis.tables, navcli.analysis.render, navcli.analysis.mapplot; "
+            "bad += [m for m in sys.modules if m.split('.')[0] in ('pymunk', 'foxglove') or m.startswith('navcli') "
+            "and m not in ('navcli', 'navcli.log', 'navcli.log.format') and not m.startswith('navcli.analysis')]; "
             "print(bad); sys.exit(1 if bad else 0)")
     r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT)
     assert r.returncode == 0, r.stdout + r.stderr

@@ -12,7 +12,7 @@ from pathlib import Path
 import pytest
 from typer.testing import CliRunner
 
-from analysis import read_log
+from navcli.analysis import read_log
 from conftest import ROOT, SCENARIOS, scenario_dict
 from navcli.cli import app
 from navcli.params import Params

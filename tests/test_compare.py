@@ -8,14 +8,14 @@ import numpy as np
 import pytest
 from typer.testing import CliRunner
 
-from analysis import LogError, path_length, read_log
-from analysis.tables import load_runs, paired_improvement, pilot_table
+from navcli.analysis import LogError, path_length, read_log
+from navcli.analysis.tables import load_runs, paired_improvement, pilot_table
 from conftest import SCENARIOS
 from navcli.config import RunSpec
 from navcli.experiments import compare
 from navcli.cli import app
 from navcli.mission import Mission
-from navcli.recorder import Recorder
+from navcli.log.writer import Recorder
 from navcli.scenario import load_scenario
 
 PILOTS = ["potential-field", "geometric"]

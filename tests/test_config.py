@@ -6,7 +6,7 @@ import pickle
 
 import pytest
 
-from analysis import read_log
+from navcli.analysis import read_log
 from conftest import SCENARIOS
 from navcli.config import ConfigError, RunSpec
 from navcli.params import Params, ParamError

@@ -12,14 +12,15 @@ import time
 
 import pytest
 
-from analysis import read_log
-from analysis.tables import load_runs
+from navcli.analysis import read_log
+from navcli.analysis.tables import load_runs
 from conftest import ROOT, SCENARIOS, scenario_dict
 from typer.testing import CliRunner
 
 from navcli.cli import app
 from navcli.config import RunSpec
-from navcli.recorder import FLUSH_EVERY_NS, RECOVERED_REASON, LogPathError, Recorder
+from navcli.log.writer import FLUSH_EVERY_NS, LogPathError, Recorder
+from navcli.log.recover import RECOVERED_REASON
 from navcli.runner import run_mission
 from navcli.scenario import load_scenario
 
@@ -182,13 +183,13 @@ def test_recover_says_when_a_partial_is_damaged_before_its_end(tmp_path, killed_
 
 
 def test_recover_refuses_a_folder_and_a_partial_whose_run_still_writes_it(tmp_path, killed_partial):
-    from navcli.recorder import _Lock
+    from navcli.log.writer import Lock
 
     r = _recover(tmp_path)
     assert r.exit_code == 2 and "is a folder" in r.output
     partial = tmp_path / "run.mcap.partial"
     partial.write_bytes(killed_partial)
-    held = _Lock(tmp_path / "run.mcap.lock")  # a run still going
+    held = Lock(tmp_path / "run.mcap.lock")  # a run still going
     try:
         r = _recover(partial)
         assert r.exit_code == 2 and "still going" in r.output and not (tmp_path / "run.mcap").exists()
@@ -203,12 +204,12 @@ def test_recover_refuses_a_folder_and_a_partial_whose_run_still_writes_it(tmp_pa
 def test_a_note_of_a_partial_kept_aside_only_when_this_run_took_the_log(tmp_path):
     """The note that a killed run's .partial is kept aside comes once the log is this run's: a run
     refused because another holds the log says only that."""
-    from navcli.recorder import _Lock
+    from navcli.log.writer import Lock
 
     sc = SCENARIOS / "open-arena.yaml"
     out = tmp_path / "run.mcap"
     (tmp_path / "run.mcap.partial").write_bytes(b"remains")
-    held = _Lock(tmp_path / "run.mcap.lock")
+    held = Lock(tmp_path / "run.mcap.lock")
     try:
         r = CliRunner().invoke(app, ["run", str(sc), "--out", str(out), "--time-limit", "0.5"])
         assert r.exit_code == 2 and "another run" in r.output and "note:" not in r.output, r.output

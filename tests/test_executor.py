@@ -74,7 +74,7 @@ def test_a_signal_stops_compare_and_all_its_workers(tmp_path, sig, code, words, 
     time.sleep(0.2)
     assert not [k for k in kids if _alive(k)], "workers left behind"
     # the runs under way were ended like the main process: their logs closed, renamed and marked
-    from analysis import read_log
+    from navcli.analysis import read_log
 
     assert not list(tmp_path.rglob("*.partial"))
     summaries = [read_log(p, topics=[]).summary for p in tmp_path.rglob("*.mcap")]
@@ -123,6 +123,6 @@ def test_sigterm_in_a_serial_run_is_logged_as_sigterm(tmp_path):
     with pytest.raises(KeyboardInterrupt) as e, interruptible():
         run_mission(spec, out=tmp_path / "t.mcap", on_tick=kill_at_tick_20)
     assert exit_code(e.value) == 128 + signal.SIGTERM
-    from analysis import read_log
+    from navcli.analysis import read_log
 
     assert read_log(tmp_path / "t.mcap", topics=[]).summary["reason"] == "stopped by SIGTERM"

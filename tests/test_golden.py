@@ -12,7 +12,7 @@ from collections import Counter
 
 import pytest
 
-from analysis import path_length, read_log
+from navcli.analysis import path_length, read_log
 from conftest import ROOT, SCENARIOS
 from navcli.config import RunSpec
 from navcli.runner import run_mission

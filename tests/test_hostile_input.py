@@ -201,7 +201,7 @@ class _RefusingLoader(yaml.SafeLoader):
     ("a: [1, 2\n", "refused by this parser's own limit"),  # none of ours: the parser's own refusal stands
 ], ids=["our bound", "its own refusal"])
 def test_where_the_parser_refuses_on_its_own_our_bounds_still_speak_first(monkeypatch, text, words):
-    import navcli.scenario as scenario
+    import navcli.scenario.yaml_reader as scenario
 
     monkeypatch.setattr(scenario, "_Loader", _RefusingLoader)
     assert words in str(refused(text))

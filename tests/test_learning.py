@@ -317,7 +317,7 @@ def test_the_gymnasium_environment_passes_the_checker():
 def test_training_records_each_trial_and_resumes_where_the_model_was_saved(tmp_path):
     import csv
 
-    from analysis import read_log
+    from navcli.analysis import read_log
     from navcli import RunSpec, load_scenario
     from navcli.learning.actions import ACTIONS, reward_of
     from navcli.learning.task import random_starts

@@ -7,7 +7,7 @@ import math
 
 import pytest
 
-from analysis import path_length, read_log
+from navcli.analysis import path_length, read_log
 from conftest import SCENARIOS
 from navcli.config import RunSpec
 from navcli.params import CONTROL_DT
@@ -137,7 +137,7 @@ def test_error_in_a_run_leaves_a_log_marked_error(tmp_path):
 def test_a_run_stopped_while_its_log_begins_says_why(tmp_path, monkeypatch, stop, outcome, reason):
     """The log's start (the configuration, the first pose) is written before the first tick: a stop
     there leaves a log labelled as a stop inside the run is, not an empty reason."""
-    from navcli.recorder import Recorder
+    from navcli.log.writer import Recorder
 
     start = Recorder.start
 
@@ -204,7 +204,7 @@ def test_the_log_ends_with_the_final_memory_and_map(open_run):
 def test_the_camera_frame_in_tf_turns_by_the_pan_of_every_tick(open_run):
     """Each /tf message holds world -> base_link (the true pose) and base_link -> camera, turned by
     the pan /vision reports at that time; the field of view is drawn once in that frame."""
-    from analysis.logs import scene_messages
+    from navcli.analysis.logs import scene_messages
 
     _, res, log = open_run
     tf = {ns: m for ns, m in scene_messages(log.path, "/tf")}
@@ -237,12 +237,14 @@ def test_oracle_perception_is_recorded_and_still_reaches(tmp_path):
 
 def test_the_pose_messages_built_inline_are_those_of_the_plain_helpers(tmp_path):
     """Recorder._pose_msgs builds its messages inline (a measured hot path); every byte written
-    must be what _ts, _yaw and _pose give, turned or not, at a whole second or between."""
+    must be what stamp, yaw and place give, turned or not, at a whole second or between."""
     from mcap.reader import make_reader
 
     from navcli.geometry import Pose
-    from navcli.recorder import (_CAMERA_AT, FrameTransform, FrameTransforms, FxPose, PoseInFrame, Recorder, Vector3,
-                                 _ts, _yaw)
+    from foxglove.messages import FrameTransform, FrameTransforms, PoseInFrame, Pose as FxPose, Vector3
+
+    from navcli.log.scenes import CAMERA_AT, stamp, yaw
+    from navcli.log.writer import Recorder
 
     cases = [(Pose(1.5, 2.25, 0.7), Pose(1.4, 2.5, -2.9), 2_000_000_000, 0.3),
              (Pose(0.0, 3.0, 0.0), Pose(-0.5, 0.0, 0.0), 2_100_000_000, 0.0),
@@ -255,15 +257,15 @@ def test_the_pose_messages_built_inline_are_those_of_the_plain_helpers(tmp_path)
         got = [(c.topic, m.log_time, m.data) for _, c, m in make_reader(f).iter_messages(log_time_order=False)]
     want = []
     for truth, odom, ns, pan in cases:
-        ts, q = _ts(ns), _yaw(truth.theta)
+        ts, q = stamp(ns), yaw(truth.theta)
         at = Vector3(x=truth.x, y=truth.y, z=0.0)
         want += [("/tf", ns, FrameTransforms(transforms=[
                      FrameTransform(timestamp=ts, parent_frame_id="world", child_frame_id="base_link", translation=at,
                                     rotation=q),
                      FrameTransform(timestamp=ts, parent_frame_id="base_link", child_frame_id="camera",
-                                    translation=_CAMERA_AT, rotation=_yaw(pan))]).encode()),
+                                    translation=CAMERA_AT, rotation=yaw(pan))]).encode()),
                  ("/robot/odometry", ns, PoseInFrame(timestamp=ts, frame_id="world", pose=FxPose(
-                     position=Vector3(x=odom.x, y=odom.y, z=0.0), orientation=_yaw(odom.theta))).encode()),
+                     position=Vector3(x=odom.x, y=odom.y, z=0.0), orientation=yaw(odom.theta))).encode()),
                  ("/robot/pose", ns, PoseInFrame(timestamp=ts, frame_id="world",
                                                  pose=FxPose(position=at, orientation=q)).encode())]
     assert got == want
@@ -278,7 +280,7 @@ def test_the_log_format_document_names_every_topic_metadata_field_and_summary_fi
 
     from conftest import ROOT
 
-    from navcli.messages import MissionSummary
+    from navcli.log.format import MissionSummary
 
     _, _, log = open_run
     doc = (ROOT / "docs" / "log-format.md").read_text()

@@ -12,7 +12,7 @@ from mcap.reader import make_reader
 
 from conftest import SCENARIOS, scenario_dict
 from navcli.config import RunSpec
-from navcli.messages import MESSAGES, json_schema
+from navcli.log.format import MESSAGES, json_schema
 from navcli.runner import run_mission
 from navcli.scenario import load_scenario
 

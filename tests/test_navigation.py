@@ -9,7 +9,7 @@ import re
 import numpy as np
 import pytest
 
-from analysis import read_log
+from navcli.analysis import read_log
 from conftest import SCENARIOS
 from navcli.beliefs import Beliefs, Bump
 from navcli.bidding import Bid, Look, Move
@@ -274,9 +274,9 @@ def test_blocked_wall_is_passed_round_a_fence_end_and_every_diverting_target_is_
     set_ = events[events["message"].str.startswith("diverting target set")]
     assert len(set_) == s["diverting_targets"] == len(crossings) and set(set_["name"]) <= {"rescuer"}
     # the log's last map names every diverting line the Rescuer ended, by how it ended
-    from analysis.mapplot import _last_map
+    from navcli.analysis.mapplot import last_map
 
-    _, scene = _last_map(res.log)
+    _, scene = last_map(res.log)
     labels = [t.text for e in scene.entities for t in e.texts]
     crossed = events["message"].str.contains("diverting target crossed").sum()
     assert crossed >= 1 and labels.count("crossed") + labels.count("crossed, led nowhere") == crossed

@@ -9,7 +9,7 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from analysis import read_log
+from navcli.analysis import read_log
 from navcli.config import RunSpec
 from navcli.bidding import Bid, Move
 from navcli.pilot.geometric import GeometricPilot, blocked_interval

@@ -11,11 +11,11 @@ import pytest
 from PIL import Image
 from typer.testing import CliRunner
 
-from analysis.render import RenderError, memory_in_world, render
+from navcli.analysis.render import RenderError, memory_in_world, render
 from conftest import SCENARIOS
 from navcli.cli import app
 from navcli.config import RunSpec
-from navcli.messages import MESSAGES, json_schema
+from navcli.log.format import MESSAGES, json_schema
 from navcli.runner import run_mission
 from navcli.scenario import load_scenario
 
@@ -74,7 +74,7 @@ def _declares(topic: str, field: str) -> bool:
 
 @pytest.mark.parametrize("fmt", ["app", "sdk"])
 def test_layout_is_json_naming_only_topics_and_fields_the_logs_have(short_log, tmp_path, fmt):
-    from analysis import read_log
+    from navcli.analysis import read_log
 
     out = tmp_path / "layout.json"
     r = CliRunner().invoke(app, ["layout", "--out", str(out), "--format", fmt])

@@ -10,7 +10,7 @@ import pytest
 import yaml
 from typer.testing import CliRunner
 
-from analysis.tables import MIN_PAIRS, load_runs, pilot_table
+from navcli.analysis.tables import MIN_PAIRS, load_runs, pilot_table
 from conftest import scenario_dict
 from navcli.cli import app
 from navcli.config import RunSpec
@@ -112,7 +112,7 @@ def test_compare_reports_only_the_runs_it_planned(near, tmp_path):
 def test_the_table_breaks_outcomes_and_diverting_targets_down_per_pilot():
     import pandas as pd
 
-    from analysis.tables import markdown
+    from navcli.analysis.tables import markdown
 
     rows = []
     for seed, (outcome, diverting) in enumerate([("reached", 0), ("reached", 1), ("reached", 2), ("blocked", 3),

@@ -98,7 +98,7 @@ def test_a_missing_scenario_and_a_huge_file_are_refused(tmp_path):
     assert f"{tmp_path / 'nope.yaml'}: no such file" in res.output
     plan.write_text("#" * (sweep.MAX_PLAN_BYTES + 1))
     res = CliRunner().invoke(app, ["sweep", str(plan)])
-    assert res.exit_code == 2 and "larger than 1048576 bytes" in res.output
+    assert res.exit_code == 2 and f"larger than {sweep.MAX_PLAN_BYTES:,} bytes" in res.output
 
 
 def test_the_table_holds_one_row_per_run_and_resumes_after_an_interruption(tmp_path):
@@ -137,7 +137,7 @@ def test_local_pool_and_dask_cluster_give_the_same_table(tmp_path, cluster):
 
 
 def test_compare_pilots_on_the_dask_cluster_logs_the_runs_the_local_pool_does(tmp_path, cluster):
-    from analysis import read_log
+    from navcli.analysis import read_log
 
     c, _ = cluster
     args = ["compare", "pilots", str(SCENARIOS / "open-arena.yaml"), "--reruns", "2", "--time-limit", "3",

@@ -66,7 +66,7 @@ def complete(log: str, run_id: str) -> str | None:
     p = Path(log)
     if not p.exists():
         return None
-    from analysis import LogError, read_log
+    from ..analysis import LogError, read_log
 
     try:
         done = read_log(p, topics=[])

@@ -128,7 +128,8 @@ class LocalPool(ProcessPoolExecutor):
     def __init__(self, workers: int):
         import multiprocessing as mp
 
-        from .. import recorder, runner  # noqa: F401  (imported once here, inherited by the forked workers)
+        from ..log import writer  # noqa: F401
+        from .. import runner  # noqa: F401  (imported once here, inherited by the forked workers)
 
         ctx = mp.get_context("fork") if "fork" in mp.get_all_start_methods() else None
         super().__init__(max_workers=workers, mp_context=ctx, initializer=_worker_init, initargs=(os.getpid(),))

@@ -42,7 +42,8 @@ from typing import Any, Callable, Mapping
 from ..config import ConfigError, RunSpec
 from ..outputs import atomic
 from ..params import PERCEPTIONS, PILOT_NAMES, Params, ParamError
-from ..scenario import Problem, ScenarioError, _Invalid, _parse_yaml, _Reader, load_scenario
+from ..scenario import ScenarioError, load_scenario
+from ..scenario.yaml_reader import Invalid, Reader, parse_yaml, read_bounded
 from .compare import reruns
 
 MAX_PLAN_BYTES = 1 << 20
@@ -89,24 +90,15 @@ class SweepRun:
 def load_plan(path: str | Path) -> Plan:
     """Read and validate a plan file; raise :class:`PlanError` naming file, line and field."""
     p = Path(path)
+    text = read_bounded(p, MAX_PLAN_BYTES, "a plan file", PlanError)
     try:
-        size = p.stat().st_size
-        if size > MAX_PLAN_BYTES:
-            raise PlanError([Problem(str(p), None, "", f"{size} bytes: larger than {MAX_PLAN_BYTES} bytes, "
-                                                          "not a plan file")])
-        text = p.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise PlanError([Problem(str(p), None, "", "no such file")]) from None
-    except (OSError, UnicodeDecodeError) as e:
-        raise PlanError([Problem(str(p), None, "", f"cannot be read ({e})")]) from None
-    try:
-        data, lines = _parse_yaml(text, str(p))
+        data, lines = parse_yaml(text, str(p))
     except ScenarioError as e:
         raise PlanError(e.problems) from None
-    return _PlanReader(str(p), lines).plan(data, p.parent)
+    return PlanReader(str(p), lines).plan(data, p.parent)
 
 
-class _PlanReader(_Reader):
+class PlanReader(Reader):
     """The scenario loader's typed reader, for plan files."""
 
     def integer(self, v: Any, path: tuple, rng: str = "mission.seed") -> int:
@@ -125,7 +117,7 @@ class _PlanReader(_Reader):
                                ("pilots", "perception", "time_limit", "params", "grid", "random"))
             if "grid" in top and "random" in top:
                 raise self.fail(("random",), "a plan has a grid or a random sample, not both")
-        except _Invalid:
+        except Invalid:
             raise PlanError(self.problems) from None
         g = self.guard
         if g(self.integer, top["version"], ("version",)) not in (None, 1):

@@ -13,16 +13,17 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
+from ..log.format import MAP_SCENE_TOPIC, POSE_TOPIC
 from .logs import LogError, read_log, scene_messages
-from .plots import _arena, save_figure
+from .plots import draw_arena, save_figure
 
 LOOP, LIST = 1, 2  # foxglove.LinePrimitive's types (0 is a strip)
 
 
-def _last_map(path: Path):
+def last_map(path: Path):
     """(log time ns, decoded SceneUpdate) of the last ``/map/scene`` message (only it decoded), or None."""
     last = None
-    for last in scene_messages(path, "/map/scene", decode=False):
+    for last in scene_messages(path, MAP_SCENE_TOPIC, decode=False):
         pass
     if last is None:
         return None
@@ -39,12 +40,12 @@ def plot_map(log_path: str | Path, out: str | Path) -> Path:
     import matplotlib.pyplot as plt
 
     path = Path(log_path)
-    log = read_log(path, topics=["/robot/pose"])  # with the attached scenario
-    found = _last_map(path)
+    log = read_log(path, topics=[POSE_TOPIC])  # with the attached scenario
+    found = last_map(path)
     if found is None:
         raise LogError(f"{path}: no /map/scene in this log (written by navcli runs with the Navigation system)")
     ns, scene = found
-    poses = log["/robot/pose"]
+    poses = log[POSE_TOPIC]
     at = poses[poses["log_time_ns"] <= ns].iloc[-1]
     c, s = math.cos(at["theta"]), math.sin(at["theta"])
 
@@ -73,7 +74,7 @@ def plot_map(log_path: str | Path, out: str | Path) -> Path:
             ax.annotate(t.text, (x, y), xytext=(4, -10), textcoords="offset points", color="tab:purple", zorder=6)
     sc = log.scenario
     if sc:
-        _arena(ax, sc)
+        draw_arena(ax, sc)
     summary = log.summary
     ax.set_title(f"{summary.get('scenario', path.stem)}: the map at {ns / 1e9:.0f} s "
                  f"({summary.get('outcome', '?')}, diverting targets: {summary.get('diverting_targets', 0)})\n"

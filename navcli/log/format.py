@@ -26,6 +26,23 @@ from typing import Annotated, Any, Literal
 import msgspec
 from msgspec import UNSET, Meta, Struct, UnsetType
 
+# The topics of the log: each name is written here once, and every writer and reader uses these.
+TF_TOPIC = "/tf"  # foxglove.FrameTransforms: world -> base_link (the true pose), base_link -> camera (the pan)
+POSE_TOPIC = "/robot/pose"  # foxglove.PoseInFrame: the true pose
+ODOMETRY_TOPIC = "/robot/odometry"  # foxglove.PoseInFrame: what the robot believes
+WORLD_SCENE_TOPIC = "/world/scene"  # foxglove.SceneUpdate: the arena
+ROBOT_SCENE_TOPIC = "/robot/scene"  # foxglove.SceneUpdate: the Pilot's forces and grown obstacles
+ROBOT_BODY_TOPIC = "/robot/body"  # foxglove.SceneUpdate: the robot's body
+CAMERA_SCENE_TOPIC = "/robot/camera"  # foxglove.SceneUpdate: the camera's field of view
+MEMORY_SCENE_TOPIC = "/memory/scene"  # foxglove.SceneUpdate: the visual memory
+MAP_SCENE_TOPIC = "/map/scene"  # foxglove.SceneUpdate: the Map Manager's map
+EVENTS_TOPIC = "/events"  # foxglove.Log
+PILOT_TOPIC = "/pilot"  # navcli.Pilot
+BIDS_TOPIC = "/bids"  # navcli.Bids
+VISION_TOPIC = "/vision"  # navcli.Vision
+NAVIGATION_TOPIC = "/navigation"  # navcli.Navigation
+SUMMARY_TOPIC = "/mission/summary"  # navcli.MissionSummary
+
 DEG = Annotated[float, Meta(description="degrees; 0 = straight ahead, positive to the left (egocentric)")]
 BID = Annotated[float, Meta(ge=0.0, le=1.0, description="bid in [0, 1]")]
 FORCE = Annotated[float, Meta(description="force units (eq. 2-6 of the pilot paper), egocentric: x ahead, y left")]
@@ -243,8 +260,8 @@ class Navigation(_Msg):
     line_b: Annotated[XY, Meta(description="a line target's right end, egocentric")] | UnsetType = UNSET
 
 
-MESSAGES: dict[str, type[Struct]] = {"/pilot": Pilot, "/bids": Bids, "/vision": Vision,
-                                     "/mission/summary": MissionSummary, "/navigation": Navigation}
+MESSAGES: dict[str, type[Struct]] = {PILOT_TOPIC: Pilot, BIDS_TOPIC: Bids, VISION_TOPIC: Vision,
+                                     SUMMARY_TOPIC: MissionSummary, NAVIGATION_TOPIC: Navigation}
 """The JSON topics of the log and their message types."""
 
 encode = msgspec.json.Encoder().encode

@@ -31,6 +31,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from ..log.format import POSE_TOPIC
 from .files import atomic
 from .logs import LogError, config_columns, path_length, read_log
 
@@ -115,14 +116,14 @@ def load_sweep(path: str | Path) -> pd.DataFrame:
 
 def _run_row(path: Path) -> dict:
     """One run's row of :func:`load_runs`; :class:`LogError` for a log it cannot count."""
-    log = read_log(path, topics=["/robot/pose"])
+    log = read_log(path, topics=[POSE_TOPIC])
     s = log.summary
     if not s:
         raise LogError(f"{path}: no /mission/summary (the run was killed before it could close its log; "
                        "`navcli recover` makes a readable log of a .partial)")
-    if "/robot/pose" not in log.topics:
+    if POSE_TOPIC not in log.topics:
         raise LogError(f"{path}: no /robot/pose")
-    poses = log["/robot/pose"]
+    poses = log[POSE_TOPIC]
     walked = path_length(poses)
     last = float(poses["time_s"].iloc[-1])
     if abs(walked - s["path_length_m"]) > PATH_TOLERANCE * max(walked, 0.01):

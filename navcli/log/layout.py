@@ -16,9 +16,12 @@ from __future__ import annotations
 import json
 from typing import Any
 
-SCENE_TOPICS = ("/world/scene", "/robot/body", "/robot/camera", "/robot/scene", "/memory/scene")
-BID_PATHS = ("/bids.motion.pilot", "/bids.motion.navigation", "/bids.camera.pilot", "/bids.camera.navigation")
-FORCE_PATHS = ("/pilot.net.x", "/pilot.net.y", "/pilot.repulsive.x", "/pilot.target.x", "/pilot.turn_deg")
+from .format import (BIDS_TOPIC, CAMERA_SCENE_TOPIC, EVENTS_TOPIC, MEMORY_SCENE_TOPIC, PILOT_TOPIC, ROBOT_BODY_TOPIC,
+                     ROBOT_SCENE_TOPIC, SUMMARY_TOPIC, WORLD_SCENE_TOPIC)
+
+SCENE_TOPICS = (WORLD_SCENE_TOPIC, ROBOT_BODY_TOPIC, CAMERA_SCENE_TOPIC, ROBOT_SCENE_TOPIC, MEMORY_SCENE_TOPIC)
+BID_PATHS = tuple(f"{BIDS_TOPIC}.{r}.{s}" for r in ("motion", "camera") for s in ("pilot", "navigation"))
+FORCE_PATHS = tuple(f"{PILOT_TOPIC}.{f}" for f in ("net.x", "net.y", "repulsive.x", "target.x", "turn_deg"))
 _APP_PANEL = {"ThreeDee": "3D", "Log": "RosOut"}  # SDK panel type -> the app's
 
 
@@ -44,10 +47,10 @@ def build(arena: tuple[float, float] = (8.0, 8.0)):
             fl.SplitItem(content=plot("Bids per resource", BID_PATHS)),
             fl.SplitItem(content=plot("Pilot forces (force units) and turn (deg)", FORCE_PATHS)),
             fl.SplitItem(content=fl.SplitContainer(direction="row", items=[
-                fl.SplitItem(content=fl.LogPanel(title="Events", config=fl.LogConfig(topic_to_render="/events",
+                fl.SplitItem(content=fl.LogPanel(title="Events", config=fl.LogConfig(topic_to_render=EVENTS_TOPIC,
                                                                                      min_log_level=1))),
                 fl.SplitItem(content=fl.RawMessagesPanel(title="Summary", config=fl.RawMessagesConfig(
-                    topic_path="/mission/summary", expansion="all"))),
+                    topic_path=SUMMARY_TOPIC, expansion="all"))),
             ])),
         ])),
     ]))

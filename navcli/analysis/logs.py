@@ -23,6 +23,8 @@ import yaml
 from mcap.reader import make_reader
 from mcap_protobuf.decoder import DecoderFactory
 
+from ..log.format import SUMMARY_TOPIC
+
 POSE_SCHEMAS = ("foxglove.PoseInFrame", "foxglove.FrameTransforms")
 INT64 = (-(2**63), 2**63 - 1)
 LOG_LEVELS = {0: "unknown", 1: "debug", 2: "info", 3: "warning", 4: "error", 5: "fatal"}
@@ -125,7 +127,7 @@ def read_log(path: str | Path, topics: Iterable[str] | None = None) -> RunLog:
     rows: dict[str, list[dict]] = {}
     metadata: dict[str, dict[str, str]] = {}
     attachments: dict[str, bytes] = {}
-    want = None if topics is None else list(topics) + ["/mission/summary"]
+    want = None if topics is None else list(topics) + [SUMMARY_TOPIC]
     try:
         with path.open("rb") as f:
             reader = make_reader(f, decoder_factories=[DecoderFactory()])
@@ -146,7 +148,7 @@ def read_log(path: str | Path, topics: Iterable[str] | None = None) -> RunLog:
         df = pd.DataFrame(rs).sort_values("log_time_ns", kind="stable").reset_index(drop=True)
         df["time_s"] = df["log_time_ns"] / 1e9
         frames[topic] = df
-    summary_rows = rows.get("/mission/summary", [])
+    summary_rows = rows.get(SUMMARY_TOPIC, [])
     summary = {k: v for k, v in summary_rows[-1].items() if k != "log_time_ns"} if summary_rows else {}
     return RunLog(path, frames, summary, metadata, attachments)
 

@@ -10,11 +10,12 @@ from pathlib import Path
 
 import pandas as pd
 
+from ..log.format import POSE_TOPIC
 from .files import atomic
 from .logs import read_log
 
 
-def _arena(ax, sc: dict) -> None:
+def draw_arena(ax, sc: dict) -> None:
     import matplotlib.patches as mp
 
     W, H = sc["arena"]["width"], sc["arena"]["height"]
@@ -78,12 +79,12 @@ def comparison_plots(runs: pd.DataFrame, out: Path) -> dict[str, Path]:
         for pilot, gp in g.groupby("pilot", sort=True):
             fig, ax = plt.subplots(figsize=(6.5, 6.5))
             for r in gp.itertuples():
-                xy = r.xy if "xy" in gp else read_log(r.log, topics=["/robot/pose"])["/robot/pose"][["x", "y"]].to_numpy()
+                xy = r.xy if "xy" in gp else read_log(r.log, topics=[POSE_TOPIC])[POSE_TOPIC][["x", "y"]].to_numpy()
                 ax.plot(xy[:, 0], xy[:, 1], lw=0.8, alpha=0.6, color="tab:purple" if r.reached else "tab:orange")
                 if not r.reached:
                     ax.plot(*xy[-1], marker="x", ms=9, mew=2, color="tab:orange", zorder=5)
             if sc:
-                _arena(ax, sc)
+                draw_arena(ax, sc)
             failed = int((~gp["reached"]).sum())
             ax.set_title(f"{scenario} ({perception}): {pilot}, {int(gp['reached'].sum())}/{len(gp)} reached"
                          + (f"\n{failed} failed: orange, x where they stopped" if failed else ""))

@@ -23,9 +23,10 @@ from typing import Callable
 import numpy as np
 import pandas as pd
 
+from ..log.format import BIDS_TOPIC, MEMORY_SCENE_TOPIC, PILOT_TOPIC, POSE_TOPIC
 from .files import atomic
 from .logs import LogError, read_log, scene_messages
-from .plots import _arena
+from .plots import draw_arena
 
 FORCE_SCALE = 100.0  # force units per metre of arrow, as in the log's /robot/scene
 BID_SERIES = ("motion.pilot", "motion.navigation", "camera.pilot", "camera.navigation")
@@ -57,7 +58,7 @@ def _memory(path: Path) -> list[tuple[float, list[tuple[str, float, float, float
     """``/memory/scene`` as (time s, [(kind, x, y, r70, r0)]) in ``base_link``: the disc of a
     70 % cut is a cylinder, the support a ring around the same centre."""
     out = []
-    for log_time, m in scene_messages(path, "/memory/scene"):
+    for log_time, m in scene_messages(path, MEMORY_SCENE_TOPIC):
         spots = []
         for e in m.entities:
             rings = [ln for ln in e.lines if len(ln.points) > 2]
@@ -124,11 +125,11 @@ def render(log_path: str | Path, out: str | Path, *, speed: float = 10.0, start:
         raise RenderError(f"{out}: the video must end in .gif or .mp4")
     if speed <= 0 or fps <= 0:
         raise RenderError("--speed and the frame rate must be positive")
-    log = read_log(log_path, topics=["/robot/pose", "/pilot", "/bids"])
-    if "/robot/pose" not in log.topics or not log.attachments:
+    log = read_log(log_path, topics=[POSE_TOPIC, PILOT_TOPIC, BIDS_TOPIC])
+    if POSE_TOPIC not in log.topics or not log.attachments:
         raise LogError(f"{log_path}: no poses or no attached scenario: not a navcli run log")
     sc = log.scenario
-    poses, pilot, bids = log["/robot/pose"], log["/pilot"], log["/bids"]
+    poses, pilot, bids = log[POSE_TOPIC], log[PILOT_TOPIC], log[BIDS_TOPIC]
     t_end = float(poses["time_s"].iloc[-1])
     start = 0.0 if start is None else start
     end = t_end if end is None else min(end, t_end)
@@ -142,7 +143,7 @@ def render(log_path: str | Path, out: str | Path, *, speed: float = 10.0, start:
     fig = plt.figure(figsize=(5.0, 6.4), dpi=dpi)
     grid = fig.add_gridspec(2, 1, height_ratios=(4.2, 1.0), hspace=0.3)
     ax, strip = fig.add_subplot(grid[0]), fig.add_subplot(grid[1])
-    _arena(ax, sc)
+    draw_arena(ax, sc)
     ax.set_title(f"{sc.get('name', '')}  {log.summary.get('pilot', '')}", fontsize=9)
     for series in BID_SERIES:
         if series in bids:
