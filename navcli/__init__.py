@@ -19,6 +19,21 @@ from typing import Any
 
 __version__ = "0.1.0"
 
+
+class NavcliError(ValueError):
+    """The root of every refusal navcli makes (a scenario, a plan, a model file, a log, an option, an
+    output path): the message says what is wrong and what is expected, in one sentence or a list of
+    them. The command line prints it and exits with :attr:`exit_code` (2: bad input); anything else
+    raised is a bug. A ``ValueError``, so code that catches bad values catches these too.
+
+    ``option`` (set by the command line, see ``navcli.cli.errors.about``) names the option or
+    argument the refusal is about; ``headline``, when a class has one, is printed above the
+    message (a file's list of problems)."""
+
+    exit_code = 2
+    headline: str | None = None
+    option: str | None = None
+
 _API = {
     "Agent": "bidding", "Bid": "bidding", "Look": "bidding", "Move": "bidding", "arbitrate": "bidding",
     "Beliefs": "beliefs", "Bump": "beliefs", "KnownObstacle": "beliefs",
@@ -28,7 +43,7 @@ _API = {
     "RunResult": "runner", "run_mission": "runner",
     "Scenario": "scenario", "ScenarioError": "scenario", "load_scenario": "scenario", "parse_scenario": "scenario",
 }
-__all__ = sorted(_API) + ["__version__"]
+__all__ = sorted(_API) + ["NavcliError", "__version__"]
 
 
 def __getattr__(name: str) -> Any:

@@ -35,9 +35,7 @@ class KnownObstacle(NamedTuple):
     ``radius`` is its physical half-width, ``key`` names it stably across ticks for logs;
     ``wall`` marks (a known stretch of) one of the room's walls.
 
-    A NamedTuple, not a frozen dataclass (our design, for speed): the perception makes one per
-    remembered object every tick, and a NamedTuple is built ~3x faster (a frozen dataclass sets
-    each field through ``object.__setattr__``); immutable, with the same fields and repr.
+    One is made per remembered object every tick (a NamedTuple: docs/design.md, "Values made every tick").
     """
 
     key: str

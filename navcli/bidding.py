@@ -29,11 +29,8 @@ class Move(_MoveFields):
     """A motion action: head for ``heading`` (rad, egocentric: 0 = straight ahead, + = left) at
     ``speed`` (m/s, negative = backwards). ``Move(0, 0)`` is a stop.
 
-    A NamedTuple, not a frozen dataclass, like :class:`Look` and :class:`Bid`: a dozen actions and
-    bids are made every tick, and a frozen dataclass's ``__init__`` (one ``object.__setattr__`` per
-    field) cost twice as much (measured). The same immutable value and repr; as tuples, they compare
-    equal to a plain tuple of the same values (``Move(0, 0.3) == (0, 0.3)``), which nothing here
-    does. Build them with the constructor, which checks them: ``_replace`` and ``_make`` would not."""
+    A dozen actions and bids are made every tick (a NamedTuple: docs/design.md, "Values made every tick"), like :class:`Look` and :class:`Bid`.
+    Build them with the constructor, which checks them: ``_replace`` and ``_make`` would not."""
 
     __slots__ = ()
 

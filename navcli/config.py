@@ -18,6 +18,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Mapping
 
+from . import NavcliError
 from . import __version__
 from .params import CONTROL_DT, NAVIGATIONS, PERCEPTIONS, PHYSICS_DT, PILOT_NAMES, Params
 from .scenario import RANGES, Scenario, parse_scenario
@@ -25,7 +26,7 @@ from .scenario import RANGES, Scenario, parse_scenario
 LOG_ROOT = Path("logs")
 
 
-class ConfigError(ValueError):
+class ConfigError(NavcliError):
     """A run configuration that cannot be run (an unknown pilot, a bad time limit ...)."""
 
 

@@ -264,9 +264,7 @@ class FuzzyPoint(NamedTuple):
     recalled landmark; read as the papers read positions, it gives a fuzzy distance and a fuzzy
     heading, and their 70 % cuts give the imprecision I(l).
 
-    A NamedTuple, not a frozen dataclass (our design, for speed): the perception makes one per
-    remembered landmark every tick, and a NamedTuple is built ~3x faster (a frozen dataclass
-    sets each field through ``object.__setattr__``); immutable, with the same fields and repr.
+    One is made per remembered landmark every tick (a NamedTuple: docs/design.md, "Values made every tick").
 
     >>> p = FuzzyPoint(3.0, 4.0, (1.0, 0.7, 0.3, 0.0))
     >>> p.distance().support, p.distance().core  # 5 m away, +- 1 m

@@ -25,6 +25,7 @@ import os
 import stat
 from pathlib import Path
 
+from . import NavcliError
 from .analysis.files import atomic  # the one definition (analysis may not import navcli)
 
 MAGIC: dict[str, tuple[bytes, ...]] = {
@@ -43,7 +44,7 @@ MAGIC: dict[str, tuple[bytes, ...]] = {
 recognised by its name alone inside a folder the command owns)."""
 
 
-class OutputError(ValueError):
+class OutputError(NavcliError):
     """An output path a command must not write; the message says why, naming the path."""
 
 

@@ -4,11 +4,9 @@ The papers' values live here (K = 18, A_t = 50, R_min = 0.40 m, bid cap 0.9 ...)
 blocks and the command line override them; nothing else in the code base repeats a default.
 Units: metres, seconds, radians, unless a name says otherwise.
 
-The five parameter sets a run is made with (robot, pilot, navigation, vision, learning) travel together as
-one :class:`Params`, addressed by dotted names (``pilot.K``, ``navigation.kappa1``) from the
-command line (``--param``), plan files and the log's metadata. Each field declares the range it
-may take (``at_least``, ``above``, ``at_most``): an override outside it is refused by name.
-"""
+The five parameter sets of a run (robot, pilot, navigation, vision, learning) travel as one
+:class:`Params`, addressed by dotted names (``pilot.K``) from ``--param``, plans and the log's
+metadata; each field declares its range, and an override outside it is refused by name."""
 
 from __future__ import annotations
 
@@ -16,6 +14,8 @@ import dataclasses
 import math
 from dataclasses import dataclass, field
 from typing import Any, Mapping
+
+from . import NavcliError
 
 NOISE_BOUND = 3.0
 """Sensor errors (odometry, camera) are drawn from normals clipped at this many standard deviations:
@@ -40,15 +40,8 @@ SCENE_REFRESH = 1.0
 """Seconds between two publications of the log's state topics (the arena, the robot's body, the
 camera's field of view): a viewer that seeks, or joins a live run late, shows them within this time."""
 DRAW_PERIOD = 1.0
-"""Seconds between two drawings of the Pilot's decorations in the log's ``/robot/scene`` (the force
-arrows and the grown obstacles). Our design, by measurement: drawn every tick they cost about a
-tenth of a tick of the whole stack (some ten protobuf primitives a tick), for a picture nobody reads
-at 10 Hz. The forces themselves stay in ``/pilot`` every tick (plots and ``navcli render`` read
-them there); a viewer shows the arrows and grown obstacles at this rate (1 Hz). The visual
-memory and the map have rates of their own, ``vision.draw_every`` (3 s) and
-``navigation.map_draw_every`` (10 s), and are drawn at the last tick too: each of their drawings is
-egocentric but not frame-locked, so a viewer keeps it where it was in the world when it was drawn
-until the next one."""
+"""Seconds between two drawings of the Pilot's decorations in ``/robot/scene`` (force arrows, grown
+obstacles); the forces themselves are in ``/pilot`` every tick (docs/design.md, "Drawing rates")."""
 
 
 def _p(default: Any, *, at_least: float | None = 0.0, above: float | None = None,
@@ -330,7 +323,7 @@ LEARNING = LearningParams()
 DEFAULTS = Defaults()
 
 
-class ParamError(ValueError):
+class ParamError(NavcliError):
     """An override names no parameter, or gives it a value outside its range."""
 
 
@@ -447,18 +440,11 @@ def parse_override(item: str) -> tuple[str, float | list[float]]:
     parts = [v.strip() for v in value[1:-1].split(",")] if listed else [value]
     if listed and parts == [""]:
         return name, []
-    try:
-        numbers = [float(v) for v in parts]
-    except ValueError:
-        bad = next(v for v in parts if not _parses(v))
-        raise ParamError(f"{item!r}: {bad!r} is not a number" + ("" if listed else
-                         " (a list parameter takes [a, b, ...])" if "," in value else "")) from None
+    numbers = []
+    for v in parts:
+        try:
+            numbers.append(float(v))
+        except ValueError:
+            raise ParamError(f"{item!r}: {v!r} is not a number" + ("" if listed else
+                             " (a list parameter takes [a, b, ...])" if "," in value else "")) from None
     return name, numbers if listed else numbers[0]
-
-
-def _parses(v: str) -> bool:
-    try:
-        float(v)
-    except ValueError:
-        return False
-    return True

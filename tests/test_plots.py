@@ -11,7 +11,7 @@ from typer.testing import CliRunner
 from conftest import SCENARIOS
 from navcli.cli import app
 from navcli.config import RunSpec
-from navcli.figures import field_grid
+from navcli.experiments.figures import field_grid
 
 PNG = b"\x89PNG\r\n\x1a\n"
 
@@ -65,7 +65,7 @@ def test_a_field_too_costly_to_draw_is_refused_before_any_work():
     """Points x bodies bounded (figures.MAX_GRID_WORK): 400 circles in a 40 m room at 0.2 m is
     40,000 points x 401 > 2,000,000, refused at once with the step that fits."""
     from navcli import RunSpec
-    from navcli.figures import MAX_GRID_WORK, GridError, field_grid
+    from navcli.experiments.figures import MAX_GRID_WORK, GridError, field_grid
     from navcli.scenario import parse_scenario
 
     circles = "".join(f"  - circle: {{center: [{2 + (i % 20) * 1.8:.1f}, {4 + (i // 20) * 1.6:.1f}], radius: 0.1}}\n"

@@ -23,6 +23,7 @@ import yaml
 from mcap.reader import make_reader
 from mcap_protobuf.decoder import DecoderFactory
 
+from .. import NavcliError
 from ..log.format import SUMMARY_TOPIC
 
 POSE_SCHEMAS = ("foxglove.PoseInFrame", "foxglove.FrameTransforms")
@@ -30,7 +31,7 @@ INT64 = (-(2**63), 2**63 - 1)
 LOG_LEVELS = {0: "unknown", 1: "debug", 2: "info", 3: "warning", 4: "error", 5: "fatal"}
 
 
-class LogError(ValueError):
+class LogError(NavcliError):
     """A file that is not a readable navcli log."""
 
 

@@ -23,6 +23,7 @@ from typing import Callable
 import numpy as np
 import pandas as pd
 
+from .. import NavcliError
 from ..log.format import BIDS_TOPIC, MEMORY_SCENE_TOPIC, PILOT_TOPIC, POSE_TOPIC
 from .files import atomic
 from .logs import LogError, read_log, scene_messages
@@ -33,7 +34,7 @@ BID_SERIES = ("motion.pilot", "motion.navigation", "camera.pilot", "camera.navig
 _MEMORY_COLOURS = {"landmark": "tab:blue", "obstacle": "tab:red", "bump": "red", "target": "tab:green"}
 
 
-class RenderError(ValueError):
+class RenderError(NavcliError):
     """A render that cannot be made as asked (bad time range, a format without its encoder)."""
 
 

@@ -37,6 +37,7 @@ from concurrent.futures import Executor, Future, ProcessPoolExecutor, as_complet
 from concurrent.futures.process import BrokenProcessPool
 from typing import Any, Callable, Iterable, Iterator, Sequence
 
+from .. import NavcliError
 from ..signals import Terminated, in_physics_callback, raising
 
 CLUSTER_EXTRA = "pip install 'navcli[cluster]'"
@@ -52,8 +53,11 @@ ORPHAN_CHECK_S = 0.5
 """How often a local worker checks that the process that forked it is still alive."""
 
 
-class MissingExtra(RuntimeError):
-    """A library of the ``cluster`` extra is not installed; the message says what to install."""
+class MissingExtra(NavcliError):
+    """A library of the ``cluster`` extra is not installed; the message says what to install. Not
+    bad input: the command was right, the installation lacks a part (exit 1)."""
+
+    exit_code = 1
 
 
 def require(module: str, what: str) -> Any:

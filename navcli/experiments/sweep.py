@@ -61,6 +61,8 @@ DONE = ("reached", "timeout", "blocked")
 class PlanError(ScenarioError):
     """A plan file was refused; ``problems`` lists every reason found (file, line, field)."""
 
+    headline = "plan refused"
+
 
 @dataclass(frozen=True)
 class Plan:

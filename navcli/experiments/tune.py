@@ -37,6 +37,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Callable, Sequence
 
+from .. import NavcliError
 from ..config import RunSpec
 from ..outputs import atomic, write_text
 from ..params import CONTROL_DT, Params, ParamError
@@ -174,7 +175,7 @@ MAX_CHECKPOINT_BYTES = 256 * 2**20
 """The largest GA checkpoint read (a history of about a million trials)."""
 
 
-class CheckpointError(ValueError):
+class CheckpointError(NavcliError):
     """A ``--storage`` file that is not a usable checkpoint (the message names it and why)."""
 
 

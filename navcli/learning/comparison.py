@@ -43,6 +43,7 @@ from typing import Any, Callable
 
 import numpy as np
 
+from .. import NavcliError
 from ..config import RunSpec
 from .actions import ACTIONS
 from .task import Start, random_starts, spec_at, task_spec
@@ -54,7 +55,7 @@ METRICS = ("successes", "reward", "actions") + ACTIONS + ("time_s",)
 """The table's columns: successes out of the starts, then means per trial."""
 
 
-class PolicyError(ValueError):
+class PolicyError(NavcliError):
     """A ``--policy`` that is not one of ``learned[:FILE]``, ``hand-coded``, ``agents``."""
 
 

@@ -27,7 +27,7 @@ from dataclasses import dataclass
 from ..fuzzy import FuzzyPoint
 from ..navigation.risk_manager import SECTORS, sector_of
 from ..navigation.situation import Situation
-from ..params import LEARNING, LearningParams
+from ..params import LEARNING, LearningParams, ParamError
 
 SHAPE = (5, 7, 4, 7)
 """Intervals of D(t), I(t), C-bar and I-bar (section 5.2)."""
@@ -121,8 +121,8 @@ def state_of(index: int) -> tuple[int, int, int, int]:
 
 
 def check_bounds(params: LearningParams) -> None:
-    """Refuse bounds that would not give the paper's interval counts (a ``ValueError`` naming them)."""
+    """Refuse bounds that would not give the paper's interval counts (a ``ParamError`` naming them)."""
     for name, n in zip(("distance_bounds", "imprecision_bounds", "count_bounds", "landmark_bounds"), SHAPE):
         b = getattr(params, name)
         if len(b) != n - 1 or list(b) != sorted(b):
-            raise ValueError(f"learning.{name} must be {n - 1} increasing numbers ({n} intervals), got {list(b)}")
+            raise ParamError(f"learning.{name} must be {n - 1} increasing numbers ({n} intervals), got {list(b)}")

@@ -19,6 +19,7 @@ from typing import Any
 
 import numpy as np
 
+from .. import NavcliError
 from ..outputs import atomic, check_file
 from .actions import ACTIONS
 from .features import N_STATES
@@ -55,7 +56,7 @@ _ARRAYS: dict[str, dict[str, tuple[tuple[int, ...], str, float | None, float | N
 """What each algorithm's file holds (the arrays of its learner's ``to_arrays``)."""
 
 
-class ModelError(ValueError):
+class ModelError(NavcliError):
     """A file that is not a usable model (missing, unreadable, damaged, of the wrong shape)."""
 
 

@@ -9,6 +9,7 @@ from pathlib import Path
 
 import msgspec
 
+from .. import NavcliError
 from ..outputs import atomic
 from . import format as fmt
 from .format import MissionSummary, encode
@@ -17,7 +18,7 @@ from .writer import Lock, LogPathError, check_log_path, schema_of
 RECOVERED_REASON = "recovered after an abrupt end"
 
 
-class RecoverError(ValueError):
+class RecoverError(NavcliError):
     """A file :func:`recover` cannot make a log of (not an MCAP, no navcli run in it)."""
 
 

@@ -57,6 +57,7 @@ from foxglove.messages import (
     Vector3,
 )
 
+from .. import NavcliError
 from ..bidding import RESOURCES
 from ..params import DRAW_PERIOD, SCENE_REFRESH
 from . import format as fmt
@@ -104,7 +105,7 @@ def schema_of(cls: type) -> foxglove.Schema:
     return foxglove.Schema(name=schema["title"], encoding="jsonschema", data=json.dumps(schema).encode())
 
 
-class LogPathError(ValueError):
+class LogPathError(NavcliError):
     """A log path that cannot be written (a folder, not ``.mcap``, being written by another run)."""
 
 

@@ -21,8 +21,7 @@ class Situation(NamedTuple):
     ``landmarks`` the known landmarks (egocentric fuzzy points); ``quality_ahead`` and
     ``quality_around`` the Map Manager's ``q_S`` of those ahead and of all.
 
-    A NamedTuple, not a frozen dataclass: it is built every tick (twice while diverting), and a
-    frozen dataclass's nine ``object.__setattr__`` calls were most of that cost (measured).
+    Built every tick, twice while diverting (a NamedTuple: docs/design.md, "Values made every tick").
     """
 
     beliefs: Beliefs

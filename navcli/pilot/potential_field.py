@@ -282,8 +282,8 @@ def pilot_bid(g_max: float, p: PilotParams) -> float:
 
 
 class ObstacleForce(NamedTuple):
-    """One obstacle's force (eq. 4 / section 3.2) and whether it counts (section 5). A named
-    tuple, not a frozen dataclass: one is made per obstacle per tick, and it builds 3x faster."""
+    """One obstacle's force (eq. 4 / section 3.2) and whether it counts (section 5); one per
+    obstacle per tick (a NamedTuple: docs/design.md, "Values made every tick")."""
 
     key: str
     fx: float
@@ -294,9 +294,8 @@ class ObstacleForce(NamedTuple):
 
 
 class Field(NamedTuple):
-    """The net-force computation at one spot (section 3.4 with the section 5 fixes). A named
-    tuple, not a frozen dataclass: one is made per tick, and the dataclass's ten guarded
-    attribute stores cost more than the whole force sum of a few obstacles."""
+    """The net-force computation at one spot (section 3.4 with the section 5 fixes); one per tick
+    (a NamedTuple: docs/design.md, "Values made every tick")."""
 
     forces: tuple[ObstacleForce, ...]
     target: tuple[float, float]

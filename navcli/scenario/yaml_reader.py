@@ -17,6 +17,7 @@ from typing import Any
 
 import yaml
 
+from .. import NavcliError
 from ..geometry import Point
 from .model import RANGES
 
@@ -33,8 +34,10 @@ class Problem:
         return f"{where}: {self.field}: {self.message}" if self.field else f"{where}: {self.message}"
 
 
-class ScenarioError(ValueError):
+class ScenarioError(NavcliError):
     """A scenario file was refused; ``problems`` lists every reason found."""
+
+    headline = "scenario refused"
 
     def __init__(self, problems: list[Problem]):
         self.problems = problems

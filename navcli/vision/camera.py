@@ -43,8 +43,8 @@ def segment_steps(a: Point, b: Point) -> int:
     return max(1, min(SEGMENT_SAMPLES, math.ceil(math.hypot(b[0] - a[0], b[1] - a[1]) / SEGMENT_STEP)))
 
 class Sighting(NamedTuple):
-    """One measured point: fuzzy egocentric heading (rad) and distance (m). A NamedTuple (our
-    design, for speed: built ~3x faster than a frozen dataclass, one per point in an image)."""
+    """One measured point: fuzzy egocentric heading (rad) and distance (m); one per point in an
+    image (a NamedTuple: docs/design.md, "Values made every tick")."""
 
     heading: FuzzyAngle
     distance: Fuzzy

@@ -15,13 +15,14 @@ from typing import Callable
 
 import numpy as np
 
-from .analysis.plots import save_figure
+from .. import NavcliError
+from ..analysis.plots import save_figure
 
-from .config import RunSpec
-from .geometry import Pose
-from .pilot.potential_field import field
-from .scenario import Circle, Scenario
-from .vision.perception import OraclePerception
+from ..config import RunSpec
+from ..geometry import Pose
+from ..pilot.potential_field import field
+from ..scenario import Circle, Scenario
+from ..vision.perception import OraclePerception
 
 
 MAX_GRID_POINTS = 1_000_000
@@ -34,7 +35,7 @@ MAX_GRID_WORK = 2_000_000
 obstacles took over 5 minutes here, so this bound keeps a figure to about half a minute)."""
 
 
-class GridError(ValueError):
+class GridError(NavcliError):
     """A grid too fine for a figure; the message says the finest step that is drawn."""
 
 

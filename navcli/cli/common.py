@@ -1,0 +1,181 @@
+"""What the commands share: the typer apps, the options that recur, and the checks every command
+makes of its inputs and outputs before the work (each refusal a :class:`~navcli.NavcliError`, which
+:mod:`navcli.cli.errors` turns into one line and exit 2).
+
+Heavy modules (numpy, pymunk, foxglove, pandas, matplotlib) are imported inside the functions, so
+that ``navcli --help`` answers at once.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import math
+import os
+import sys
+from enum import Enum
+from pathlib import Path
+from typing import TYPE_CHECKING, Annotated, Any, Iterator, Optional
+
+import typer
+
+from .. import NavcliError
+from ..params import PERCEPTIONS, PILOT_NAMES
+from .errors import about
+
+if TYPE_CHECKING:
+    from ..config import RunSpec
+    from ..scenario import Scenario
+
+app = typer.Typer(
+    help="Run, record and measure missions of the bidding Pilot/Vision/Navigation robot.",
+    no_args_is_help=True,
+    add_completion=False,
+    pretty_exceptions_enable=False,
+    rich_markup_mode=None,  # plain help: rich's help renderer alone takes ~0.15 s to import
+)
+plot_app = typer.Typer(help="Figures of the pilot paper for a scenario, as PNG files.", no_args_is_help=True)
+compare_app = typer.Typer(help="Rerun missions with many seeds and compare, from the logs.", no_args_is_help=True)
+
+PilotName = Enum("PilotName", {n.replace("-", "_"): n for n in PILOT_NAMES}, type=str)  # type: ignore[misc]
+PerceptionName = Enum("PerceptionName", {n: n for n in PERCEPTIONS}, type=str)  # type: ignore[misc]
+
+MAX_SEED = 2 ** 64 - 1
+"""The largest seed (numpy's SeedSequence takes any; the log stores an unsigned 64-bit one)."""
+MAX_JOBS = 256
+"""Most local worker processes (each forks the whole of navcli: some 100 MB)."""
+
+
+def finite(value: Optional[float]) -> Optional[float]:
+    """A float option's check: typer's ``min``/``max`` let ``nan`` through (every comparison with it
+    is false) and ``inf`` past an open top; here either is refused."""
+    if value is not None and not math.isfinite(value):
+        raise typer.BadParameter(f"{value} is not a finite number")
+    return value
+
+
+ParamOption = Annotated[Optional[list[str]], typer.Option(
+    "--param", metavar="NAME=VALUE",
+    help="Override any parameter by its dotted name (pilot.K, pilot.R_min, navigation.kappa1, robot.max_speed, "
+         "vision.forget_above ...; `navcli params` lists them); repeatable, e.g. --param pilot.K=20.")]
+SchedulerOption = Annotated[Optional[str], typer.Option(
+    metavar="ADDRESS", help="Send the runs to the Dask cluster whose scheduler is at tcp://HOST:PORT instead of "
+                            "local worker processes (needs navcli[cluster]).")]
+JobsOption = Annotated[Optional[int], typer.Option(min=1, max=MAX_JOBS, help="Local worker processes (default: the machine's cores).")]
+
+
+def choice(value: Optional[Enum]) -> Optional[str]:
+    """An enum option's value, or None when not given."""
+    return value.value if value is not None else None
+
+
+def load(path: Path) -> Scenario:
+    """The scenario file ``path``, checked (a refusal lists every problem of the file)."""
+    from ..scenario import load_scenario
+
+    return load_scenario(path)
+
+
+def build_spec(path: Path, params: list[str] | None = None, **choices: Any) -> RunSpec:
+    """The run configuration of a scenario file with the command line's choices (``seed``,
+    ``pilot``, ``perception``, ``time_limit``; None keeps the scenario's) and ``--param`` overrides."""
+    from ..config import RunSpec
+    from ..params import ParamError, parse_override
+
+    sc = load(path)
+    with about("--param", ParamError):
+        overrides = dict(parse_override(item) for item in params or [])
+        return RunSpec.build(sc, overrides=overrides, **choices)
+
+
+def check_model(navigation: str) -> None:
+    """Refuse a ``learned:FILE`` that is not a usable model."""
+    mode, _, file = navigation.partition(":")
+    if mode != "learned":
+        return
+    from ..learning.model_file import load_policy
+
+    with about("--navigation"):
+        load_policy(Path(file) if file else None)
+
+
+def out_file(path: Path, suffixes: tuple[str, ...], what: str, option: str = "--out") -> Path:
+    """``path`` checked as an output file before any work (:func:`navcli.outputs.check_file`)."""
+    from ..outputs import check_file
+
+    with about(option):
+        return check_file(path, suffixes, what)
+
+
+def out_folder(path: Path, option: str = "--out") -> Path:
+    """``path`` checked as an output folder before any work (:func:`navcli.outputs.check_folder`)."""
+    from ..outputs import check_folder
+
+    with about(option):
+        return check_folder(path)
+
+
+def progress_bar(*columns: Any) -> Any:
+    """A progress bar on stderr: the task's description, the bar, done/total, then ``columns``
+    (default: the time elapsed). Hidden when stderr is not a terminal (logs of batch jobs)."""
+    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
+
+    return Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(),
+                    *(columns or (TimeElapsedColumn(),)), transient=True, disable=not sys.stderr.isatty())
+
+
+def require_extra(module: str, what: str) -> Any:
+    """Import a library of the cluster extra, or refuse saying what to install (exit 1)."""
+    from ..experiments.executor import require
+
+    return require(module, what)
+
+
+class SchedulerUnreachable(NavcliError):
+    """The Dask scheduler of ``--scheduler`` did not answer."""
+
+
+@contextlib.contextmanager
+def executor_for(jobs: Optional[int], scheduler: Optional[str]) -> Iterator[Any]:
+    """The execution layer's executor: ``jobs`` local workers, or the Dask cluster at ``scheduler``."""
+    from ..experiments.executor import executor
+
+    try:
+        with executor(jobs or os.cpu_count() or 1, scheduler) as ex:
+            yield ex
+    except ConnectionError as e:
+        raise SchedulerUnreachable(str(e)) from None
+
+
+class MissionProgress:
+    """A progress bar of one mission on a terminal (simulated seconds against the time limit),
+    shown only once the run has lasted more than half a second; called after every tick."""
+
+    def __init__(self, limit: float, label: str):
+        import time
+
+        self.limit, self.label, self.bar, self.task = limit, label, None, None
+        self._now = time.perf_counter
+        self.t0 = self._now()
+        self.enabled = sys.stderr.isatty()
+
+    def __call__(self, mission: Any, tick: Any) -> None:
+        if not self.enabled or tick.index % 10:
+            return
+        if self.bar is None:
+            if self._now() - self.t0 < 0.5:
+                return
+            from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+
+            self.bar = Progress(TextColumn("{task.description}"), BarColumn(),
+                                TextColumn("{task.completed:.0f}/{task.total:.0f} sim s"), TimeElapsedColumn(),
+                                transient=True)
+            self.bar.start()
+            self.task = self.bar.add_task(self.label, total=self.limit)
+        self.bar.update(self.task, completed=mission.time)
+
+    def close(self) -> None:
+        """Remove the bar (idempotent)."""
+        if self.bar is not None:
+            self.bar.stop()
+            self.bar = None
+            self.enabled = False

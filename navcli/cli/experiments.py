@@ -1,0 +1,245 @@
+"""Many runs, on the local pool or a Dask cluster: ``compare pilots``, ``compare policies``,
+``sweep``, ``tune``. Each resumes: what is finished is kept, and the same command goes on."""
+
+from __future__ import annotations
+
+import os
+import time
+from pathlib import Path
+from typing import Annotated, Optional
+
+import typer
+
+from ..params import PILOT_NAMES
+from .common import (MAX_JOBS, MAX_SEED, JobsOption, ParamOption, PerceptionName, SchedulerOption, app, build_spec,
+                     choice, compare_app, executor_for, finite, out_file, out_folder, progress_bar, require_extra)
+from .errors import EXIT_INTERNAL, about, on_stop, refuse, say
+from .views import write_tables
+
+app.add_typer(compare_app, name="compare")
+
+
+@compare_app.command("pilots")
+def compare_pilots(
+    scenarios: Annotated[list[Path], typer.Argument(metavar="SCENARIOS", help="Scenario YAML files.")],
+    reruns: Annotated[int, typer.Option(min=1, max=10_000, help="Reruns per scenario and pilot (the paper: 45).")] = 45,
+    pilots: Annotated[str, typer.Option(help="Comma-separated pilots; the last is the baseline.")] =
+        "potential-field,geometric",
+    jobs: Annotated[Optional[int], typer.Option(min=1, max=MAX_JOBS, help="Worker processes (default: the machine's cores).")] = None,
+    out: Annotated[Path, typer.Option(help="Folder for the logs, the table and the plots.")] = Path("logs/compare"),
+    time_limit: Annotated[Optional[float], typer.Option(min=0.1, callback=finite, help="Override the scenarios' time limit (s).")] = None,
+    param: ParamOption = None,
+    perception: Annotated[Optional[PerceptionName], typer.Option(
+        help="vision or oracle for every run (default: each scenario's mission.perception).")] = None,
+    scheduler: SchedulerOption = None,
+) -> None:
+    """The pilot paper's Table 1: every pilot on every scenario with the same seeds, in parallel;
+    logs that are already complete are kept (an interrupted comparison resumes)."""
+    names = [p.strip() for p in pilots.split(",") if p.strip()]
+    bad = [p for p in names if p not in PILOT_NAMES]
+    if bad or not names:
+        raise refuse(f"--pilots: unknown pilot(s) {', '.join(bad) or '(none given)'} "
+                     f"(expected some of: {', '.join(PILOT_NAMES)})")
+    specs = [build_spec(p, param, time_limit=time_limit, perception=choice(perception)) for p in scenarios]
+    out_folder(out)
+    from ..experiments.compare import plan, run_on
+
+    work = plan(specs, names, reruns, out)
+    t0 = time.perf_counter()
+    failed: list = []
+    ran = 0
+    with progress_bar() as bar, executor_for(jobs, scheduler) as ex:
+        workers = getattr(ex, "workers", 1)
+        task = bar.add_task(f"{len(work)} runs on {workers} workers", total=len(work))
+
+        def done(r) -> None:
+            nonlocal ran
+            ran += r.ran
+            if r.outcome != "reached":
+                failed.append(r)
+            bar.advance(task)
+
+        with on_stop("completed logs are kept; run the same command again to resume"):
+            run_on(work, ex, done)
+    wall = time.perf_counter() - t0
+    typer.echo(f"{len(work)} runs ({ran} run now, {len(work) - ran} already complete) in {wall:.1f} s "
+               f"on {workers} workers")
+    for r in failed:
+        j = r.job.spec
+        why = r.message if r.message.startswith(r.outcome) else f"{r.outcome}: {r.message}".rstrip(": ")
+        typer.echo(f"  failed: {j.scenario.name} {j.pilot} seed {j.seed}: {why} ({r.job.log})")
+    write_tables(out, names[-1], out, [j.log for j in work])  # the runs planned, not every log under --out
+
+
+@compare_app.command("policies")
+def compare_policies(
+    scenario: Annotated[Path, typer.Argument(metavar="SCENARIO", help="Scenario YAML file (the paper's setting: scenarios/landmarks-12.yaml).")],
+    policy: Annotated[Optional[list[str]], typer.Option(
+        "--policy", metavar="POLICY", help="learned (the bundled model), learned:FILE (a model of `navcli train`, Prioritized Sweeping "
+                         "or Q-learning), hand-coded, agents, or a baseline of one action in every state (all-MB, all-MLL, all-MOT, "
+                         "all-MVL, all-MVT); repeatable (default: learned, hand-coded, agents). Every policy runs the "
+                         "learning paper's task (learning.paper_task=0: navcli's first one).")] = None,
+    runs: Annotated[int, typer.Option(min=1, max=1000, help="Runs (seeds of the missions' noise) per policy.")] = 5,
+    starts: Annotated[int, typer.Option(min=1, max=10_000, help="Fixed random starts per run, those `navcli train` evaluates on "
+                                                    "(the paper: 99).")] = 99,
+    out: Annotated[Path, typer.Option(help="Folder for the per-run trials (runs/*.json), policies.csv, policies.md "
+                                           "and trials.csv.")] = Path("logs/compare-policies"),
+    jobs: JobsOption = None,
+    scheduler: SchedulerOption = None,
+    param: ParamOption = None,
+) -> None:
+    """The learning paper's Table 1: every policy from the same starts, per run; successes, reward,
+    actions and the count of each action per trial, averaged over the runs with 95 % t-intervals.
+    Runs already done are kept (an interrupted comparison resumes)."""
+    spec = build_spec(scenario, param)
+    from ..learning.comparison import DEFAULT_POLICIES, PolicyError, parse_policy, plan, run_all, write_table
+    from ..learning.features import check_bounds
+
+    names = list(policy or DEFAULT_POLICIES)
+    with about("--param"):
+        check_bounds(spec.params.learning)
+    with about("--policy"):
+        if len(set(names)) < len(names):
+            raise PolicyError(f"a policy is named twice: {', '.join(names)}")
+        chosen = [parse_policy(n) for n in names]
+    out_folder(out / "runs")
+    (out / "runs").mkdir(parents=True, exist_ok=True)
+    work = plan(spec, chosen, runs, starts, out)
+    t0 = time.perf_counter()
+    with progress_bar() as bar:
+        task = bar.add_task(f"{len(work)} runs of {starts} trials", total=len(work))
+        with executor_for(jobs, scheduler) as ex:
+            with on_stop(f"the finished runs are kept in {out / 'runs'}; run the same command again to resume"):
+                results = run_all(work, ex, lambda r: bar.advance(task))
+            workers = getattr(ex, "workers", 1)
+    ran = sum(r.ran for r in results)
+    typer.echo(f"{len(work)} (policy, run) pairs of {starts} trials ({ran} run now, {len(work) - ran} kept) in "
+               f"{time.perf_counter() - t0:.1f} s on {workers} workers")
+    errors = [r for r in results if r.trials is None]
+    for r in errors:
+        say(f"  failed: {r.job.policy.label} run {r.job.run}: {r.error}")
+    files = write_table([r for r in results if r.trials is not None], out, spec.scenario.name)
+    typer.echo("")
+    typer.echo(files["markdown"].read_text())
+    typer.echo(f"wrote {', '.join(str(p) for p in files.values())}")
+    if errors:
+        raise typer.Exit(EXIT_INTERNAL)
+
+
+@app.command()
+def sweep(
+    plan: Annotated[Path, typer.Argument(metavar="PLAN", help="Plan file (YAML): scenarios, seeds, a grid or a random sample of "
+                                              "--param values; see the README.")],
+    out: Annotated[Optional[Path], typer.Option(
+        help="Folder for the results table (results.parquet) and the logs (default: logs/sweep/<plan name>); "
+             "on a cluster, a path every worker can write.")] = None,
+    jobs: JobsOption = None,
+    scheduler: SchedulerOption = None,
+    no_logs: Annotated[bool, typer.Option("--no-logs", help="Run without logs; keep only the results table.")] = False,
+    csv: Annotated[bool, typer.Option("--csv", help="Also write the table as results.csv.")] = False,
+) -> None:
+    """Run every scenario x parameter point x seed of a plan; one row per run in a Parquet table.
+    Runs already in the table are not run again (an interrupted sweep resumes)."""
+    require_extra("pyarrow", "navcli sweep (Parquet tables)")
+    from ..experiments.sweep import load_plan, plan_runs, run_sweep
+
+    p = load_plan(plan)
+    out = out_folder(out or Path("logs") / "sweep" / plan.stem)
+    runs = plan_runs(p, None if no_logs else out)
+    table = out / "results.parquet"
+    from rich.progress import TextColumn, TimeRemainingColumn
+
+    t0 = time.perf_counter()
+    with progress_bar(TextColumn("{task.fields[failed]} failed"), TextColumn("ETA"), TimeRemainingColumn()) as bar:
+        task = bar.add_task(f"{len(runs)} runs", total=len(runs), failed=0)
+
+        def row(r: dict, stats) -> None:
+            bar.update(task, completed=stats.skipped + stats.done, failed=stats.failed)
+
+        with executor_for(jobs, scheduler) as ex:
+            with on_stop(f"the finished runs are in {table}; run the same command again to resume"):
+                stats = run_sweep(runs, table, ex, csv=csv, on_row=row)
+    wall = time.perf_counter() - t0
+    typer.echo(f"{stats.total} runs: {stats.done} run now in {wall:.1f} s, {stats.skipped} already in the table; "
+               f"{stats.failed} did not reach the target, {stats.errors} raised an error")
+    typer.echo(f"wrote {table}" + (f" and {table.with_suffix('.csv')}" if csv else ""))
+    if stats.errors:
+        raise typer.Exit(EXIT_INTERNAL)
+
+
+@app.command()
+def tune(
+    scenarios: Annotated[list[Path], typer.Argument(metavar="SCENARIOS", help="Scenario YAML files; every trial runs each of them.")],
+    param: Annotated[list[str], typer.Option(
+        "--param", metavar="NAME=LOW:HIGH",
+        help="A parameter to tune in [LOW, HIGH] (NAME alone: [0, 5]); NAME=VALUE fixes it for every trial. "
+             "Repeatable; names as `navcli params` lists them.")],
+    algorithm: Annotated[str, typer.Option(help="tpe (Optuna), cmaes (Optuna) or ga (DEAP's eaSimple, the "
+                                                "thesis' generational GA).")] = "tpe",
+    trials: Annotated[int, typer.Option(min=1, max=100_000, help="Finished trials the study should hold (tpe, cmaes).")] = 100,
+    seeds: Annotated[int, typer.Option(min=1, max=10_000, help="Runs per scenario per trial (the same seeds for every trial).")] = 3,
+    objective: Annotated[str, typer.Option(
+        help="fitness (success rate, mean steps and their spread; see navcli/experiments/tune.py), success "
+             "(rate) or time (minus the mean time, failures at the limit). Maximised.")] = "fitness",
+    storage: Annotated[Optional[Path], typer.Option(
+        help="The study's journal file (tpe, cmaes) or the GA's checkpoint; an existing one of the same problem "
+             "is resumed. Default: OUT/study.journal or OUT/ga.json.")] = None,
+    out: Annotated[Path, typer.Option(help="Folder for history.csv, best.json, best.yaml, objective.png.")] =
+        Path("logs/tune"),
+    jobs: JobsOption = None,
+    scheduler: SchedulerOption = None,
+    time_limit: Annotated[Optional[float], typer.Option(min=0.1, callback=finite, help="Override the scenarios' time limit (s).")] = None,
+    perception: Annotated[Optional[PerceptionName], typer.Option(help="vision or oracle for every run.")] = None,
+    seed: Annotated[int, typer.Option(min=0, max=MAX_SEED, help="Seed of the optimiser (not of the runs).")] = 1,
+    population: Annotated[int, typer.Option(min=2, max=10_000, help="GA: individuals per generation.")] = 20,
+    generations: Annotated[int, typer.Option(min=1, max=100_000, help="GA: generations.")] = 100,
+    crossover: Annotated[float, typer.Option(min=0.0, max=1.0, callback=finite, help="GA: crossover probability.")] = 0.8,
+    mutation: Annotated[float, typer.Option(min=0.0, max=1.0, callback=finite, help="GA: mutation probability.")] = 0.1,
+) -> None:
+    """Find parameter values that maximise an objective over scenarios and seeds; prints and writes the
+    best values, the history, a plot of the objective against trials and a scenario pilot: block."""
+    from ..experiments.tune import ALGORITHMS, OBJECTIVES, GASettings, TuneProblem, parse_range
+
+    for name, value, allowed in (("--algorithm", algorithm, ALGORITHMS), ("--objective", objective, OBJECTIVES)):
+        if value not in allowed:
+            raise refuse(f"{name}: {value!r} is not one of {', '.join(allowed)}")
+    with about("--param"):
+        parsed = [parse_range(p) for p in param]
+    tuned = [p for p in parsed if len(p) == 3]
+    if not tuned:
+        raise refuse("--param: name at least one parameter to tune, as NAME=LOW:HIGH or NAME")
+    fixed = [f"{p[0]}={p[1]}" for p in parsed if len(p) == 2]
+    bases = tuple(build_spec(s, fixed, time_limit=time_limit, perception=choice(perception)) for s in scenarios)
+    problem = TuneProblem(bases, tuple(p[0] for p in tuned), tuple(p[1] for p in tuned),
+                          tuple(p[2] for p in tuned), seeds, objective)
+    require_extra("deap" if algorithm == "ga" else "optuna", "navcli tune")
+    out_folder(out)
+    storage = out_file(storage or out / ("ga.json" if algorithm == "ga" else "study.journal"),
+                       (".json",) if algorithm == "ga" else (".journal", ".log"), "study file", "--storage")
+    count = 0
+
+    def trial(r: dict) -> None:
+        nonlocal count
+        count += 1
+        if count % 10 == 0:
+            say(f"  {count} trials evaluated; last {objective} {r['objective']:.4g}")
+
+    from ..experiments import tune as t
+
+    with executor_for(jobs, scheduler) as ex, about("--storage", t.CheckpointError), \
+            on_stop(f"the finished trials are in {storage}; run the same command again to resume"):
+        if algorithm == "ga":
+            history = t.tune_ga(problem, ex, storage=storage, seed=seed,
+                                settings=GASettings(population, generations, crossover, mutation), on_trial=trial)
+        else:
+            batch = getattr(ex, "workers", None) or jobs or os.cpu_count() or 1
+            history = t.tune_optuna(problem, ex, algorithm=algorithm, trials=trials, storage=storage,
+                                    batch=batch, seed=seed, on_trial=trial)
+    files = t.write_results(history, problem, out)
+    import json
+
+    best = json.loads(files["best"].read_text())
+    typer.echo(f"{len(history)} trials; best {objective} {best['value']:.4g} (trial {best['trial']}):")
+    for k, v in best["params"].items():
+        typer.echo(f"  {k} = {v:.6g}")
+    typer.echo(f"wrote {', '.join(str(p) for p in files.values())}; study in {storage}")

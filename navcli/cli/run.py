@@ -1,0 +1,177 @@
+"""One mission and its files: ``run``, ``validate``, ``bench``, ``recover``, ``params``, ``schema``."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Annotated, Optional
+
+import typer
+
+from .common import MAX_SEED, ParamOption, PerceptionName, PilotName, app, build_spec, check_model, choice, finite
+from .errors import EXIT_BAD_INPUT, EXIT_FAILED_MISSION, about, refuse, say
+
+
+@app.command()
+def run(
+    scenario: Annotated[Path, typer.Argument(metavar="SCENARIO", help="Scenario YAML file (see scenarios/).")],
+    seed: Annotated[Optional[int], typer.Option(min=0, max=MAX_SEED, help="Random seed (default: the scenario's mission.seed).")] = None,
+    pilot: Annotated[Optional[PilotName], typer.Option(help="Pilot (default: the scenario's mission.pilot).")] = None,
+    out: Annotated[Optional[Path], typer.Option(
+        help="Log file (default: logs/<scenario>/<pilot>-seed<N>-<run id>.mcap, the run id a hash of the whole "
+             "configuration). Missing folders are created.")] = None,
+    time_limit: Annotated[Optional[float], typer.Option(min=0.1, callback=finite, help="Simulated seconds before the run is declared failed.")] = None,
+    live: Annotated[bool, typer.Option(help="Also serve the run to Foxglove (ws://127.0.0.1:PORT), paced to real time.")] = False,
+    port: Annotated[int, typer.Option(min=0, max=65535, help="WebSocket port for --live (0: any free port).")] = 8765,
+    param: ParamOption = None,
+    perception: Annotated[Optional[PerceptionName], typer.Option(
+        help="What the agents know: vision (camera and visual memory) or oracle (ground truth, to isolate the "
+             "pilot). Default: the scenario's mission.perception, else vision.")] = None,
+    navigation: Annotated[str, typer.Option(
+        help="Who chooses the Navigation system's moves and looks: agents (its bidding agents), hand-coded "
+             "(the learning paper's hand-coded policy) or learned[:FILE] (the Learning Agent; without FILE "
+             "the model bundled with navcli).")] = "agents",
+) -> None:
+    """Run one mission, record it to an MCAP log and print how it ended."""
+    spec = build_spec(scenario, param, seed=seed, pilot=choice(pilot), time_limit=time_limit,
+                      perception=choice(perception), navigation=navigation)
+    check_model(spec.navigation)
+    import signal
+
+    from ..log.writer import check_log_path
+    from ..runner import run_mission
+    from ..signals import Terminated, exit_code, raising
+    from .common import MissionProgress
+
+    with about("--out"):
+        out = check_log_path(out if out is not None else spec.default_log_path(), (str(scenario),))
+    # a kill from a scheduler ends the run like Ctrl-C: the log closed, marked interrupted; neither is
+    # raised inside a pymunk callback, where it would be lost
+    signal.signal(signal.SIGTERM, raising(Terminated))
+    signal.signal(signal.SIGINT, raising(KeyboardInterrupt))
+
+    def opened(recorder) -> None:  # said once the log is this run's (not before: another run may hold it)
+        if recorder.kept_aside:
+            say(f"note: {recorder.partial} was the unfinished log of an earlier run; it is kept as "
+                f"{recorder.kept_aside} (`navcli recover` makes a readable log of it)")
+        if recorder.port is not None:
+            say(f"serving the run live on ws://127.0.0.1:{recorder.port} (open it in Foxglove: Open connection)")
+
+    progress = MissionProgress(spec.time_limit, spec.scenario.name)
+    try:
+        res = run_mission(spec, out=out, live=live, port=port, on_tick=progress, on_open=opened)
+    except KeyboardInterrupt as e:  # Ctrl-C or SIGTERM: the log was closed by run_mission
+        progress.close()
+        say(("terminated (SIGTERM)" if isinstance(e, Terminated) else "interrupted")
+            + ": the log is closed and marked 'interrupted'")
+        raise typer.Exit(exit_code(e)) from None
+    finally:
+        progress.close()
+    s = res.summary
+    typer.echo(f"outcome      {s['outcome']} ({s['reason']})")
+    typer.echo(f"sim time     {s['time_s']:.1f} s  ({res.realtime_factor:.0f}x real time)")
+    typer.echo(f"path length  {s['path_length_m']:.2f} m")
+    typer.echo(f"collisions   {s['collisions']}")
+    typer.echo(f"log          {res.log}")
+    if s["outcome"] != "reached":
+        raise typer.Exit(EXIT_FAILED_MISSION)
+
+
+@app.command()
+def validate(files: Annotated[list[Path], typer.Argument(metavar="FILES", help="Scenario files to check.")]) -> None:
+    """Check scenario files without running them."""
+    from ..scenario import ScenarioError, load_scenario
+
+    bad = 0
+    for f in files:
+        try:
+            sc = load_scenario(f)
+        except ScenarioError as e:
+            bad += 1
+            say(str(e))
+            continue
+        typer.echo(f"{f}: ok ({sc.name}: {sc.arena.width:g} m x {sc.arena.height:g} m, "
+                   f"{len(sc.obstacles)} obstacles, {len(sc.landmarks)} landmarks)")
+    if bad:
+        say(f"{bad} of {len(files)} files refused")
+        raise typer.Exit(EXIT_BAD_INPUT)
+
+
+@app.command()
+def bench(
+    scenario: Annotated[Path, typer.Argument(metavar="SCENARIO", help="Scenario to time.")] = Path("scenarios/paper-8x8.yaml"),
+    repeat: Annotated[int, typer.Option(min=1, max=1000, help="Runs per configuration; the median is reported.")] = 5,
+    pilot: Annotated[Optional[PilotName], typer.Option(help="Pilot (default: the scenario's).")] = None,
+    seed: Annotated[Optional[int], typer.Option(min=0, max=MAX_SEED)] = None,
+    occlusion: Annotated[bool, typer.Option(help="Instead: time the pilot's occlusion test, loop vs numpy.")] = False,
+    param: ParamOption = None,
+    perception: Annotated[Optional[PerceptionName], typer.Option(help="vision or oracle (default: the scenario's).")] = None,
+    objects: Annotated[bool, typer.Option(help="Instead: cost per tick with 12, 50 and 200 objects in the room.")] = False,
+    long: Annotated[bool, typer.Option(
+        "--long", help="Instead: cost per tick in the last minute of a 20-minute run against the first "
+                       "(the map must not slow a long run down; try scenarios/trap-box.yaml).")] = False,
+) -> None:
+    """Real-time factor (simulated s per wall s) of a full mission, with logging on and off."""
+    if occlusion:
+        from ..experiments.bench import occlusion_benchmark
+
+        occlusion_benchmark(echo=typer.echo)
+        return
+    spec = build_spec(scenario, param, seed=seed, pilot=choice(pilot), perception=choice(perception))
+    from ..experiments.bench import benchmark, long_run_benchmark, objects_benchmark
+
+    if long:
+        long_run_benchmark(spec, echo=typer.echo)
+    elif objects:
+        objects_benchmark(spec, echo=typer.echo)
+    else:
+        benchmark(spec, repeat=repeat, echo=typer.echo)
+
+
+@app.command()
+def recover(
+    partial: Annotated[Path, typer.Argument(metavar="PARTIAL", help="The .partial file a killed run left (or a .partial-<n> kept aside).")],
+    out: Annotated[Optional[Path], typer.Option(help="The log to write (default: the name without .partial).")] = None,
+) -> None:
+    """Make a readable log of a run killed outright: its complete chunks (all but at most the last
+    simulated second), marked interrupted, "recovered after an abrupt end"."""
+    from ..log.recover import recover as recover_log
+
+    if not partial.is_file():
+        raise refuse(f"{partial}: " + ("is a folder; give the .partial file a killed run left" if partial.is_dir()
+                                       else "no such file" if not partial.exists() else "not a regular file"))
+    path, s = recover_log(partial, out)
+    if s["damaged_bytes"]:
+        say(f"warning: {partial} is damaged before its end (a record fails its check): the {s['damaged_bytes']} "
+            f"bytes after the damage are not recovered; the log ends at the last good record")
+    typer.echo(f"recovered {s['ticks']} ticks, {s['time_s']:.1f} simulated s, into {path} (outcome interrupted); "
+               f"{partial} is left as it was")
+
+
+@app.command()
+def params(
+    scenario: Annotated[Optional[Path], typer.Argument(metavar="SCENARIO", help="Show the values this scenario resolves to.")] = None,
+    param: ParamOption = None,
+) -> None:
+    """List every parameter by its --param name, with its value.
+
+    Without a scenario, the defaults; with one, its values after its blocks and any --param."""
+    from ..params import Params, parse_override
+
+    if scenario is not None:
+        values = build_spec(scenario, param).params
+    else:
+        with about("--param"):
+            values = Params().override(dict(parse_override(i) for i in param or []))
+    for name, value in values.flat().items():
+        typer.echo(f"{name:34s} {value}")
+
+
+@app.command()
+def schema() -> None:
+    """Print the scenario format as a JSON Schema, for editors (the YAML language server:
+    `# yaml-language-server: $schema=scenario.schema.json` at the top of a scenario)."""
+    import json
+
+    from ..scenario import json_schema
+
+    typer.echo(json.dumps(json_schema(), indent=2))
