@@ -179,7 +179,6 @@ class Mission:
                                 f"bumper contact with {b.what} at bearing {math.degrees(b.bearing):.0f} deg"))
         if self.outcome is not None:
             events.append(Event(world.time, "mission", "info" if self.outcome == "reached" else "warning", self.reason))
-        cam = self.perception.camera
         p = self.spec.params
         last = self.outcome is not None  # the log ends with the final memory and map, whatever their rates
         memory = (self.perception.snapshot()
@@ -187,7 +186,7 @@ class Mission:
         map_ = (self.navigation.snapshot(beliefs)
                 if self.snapshots and (last or self.ticks % p.navigation.map_draw_every == 0) else None)
         return Tick(self.ticks, world.time_ns, world.pose, world.odometry.pose, command, bids, nav.agent_bids,
-                    winners, pilot_out, tuple(events), (cam.pan, cam.state),
+                    winners, pilot_out, tuple(events), self.perception.camera_state,
                     tuple(detections) if detections is not None else None, memory, nav, map_)
 
     def _check_end(self, before: Pose, after: Pose, give_up: str | None = None,
@@ -248,7 +247,7 @@ class Mission:
             "collisions": w.bumps,
             "camera_looks": self.camera_looks,
             "ticks": self.ticks,
-            "diverting_targets": self.navigation.rescuer.diverting_targets,
+            "diverting_targets": self.navigation.diverting_targets,
             "navcli_version": __version__,
             "run_id": self.spec.run_id,
         } | learning

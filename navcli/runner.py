@@ -73,37 +73,68 @@ def close_log(recorder, mission: Mission, summary: dict | None = None, *, stoppe
         recorder.finish(mission.summary() if summary is None else summary, w.time_ns, (w.pose, w.odometry.pose))
 
 
+Observer = Callable[[Mission, Tick], None]
+"""Told of every tick of a mission, after it: the recorder (:func:`recording`), the progress bar,
+live pacing (:class:`Pacer`), a trainer or a comparison. Observers read; they never step the
+mission or change what it decides."""
+
+
+def advance(mission: Mission, observers: tuple[Observer, ...] | list[Observer] = (),
+            until: Callable[[Mission], bool] | None = None) -> None:
+    """The run loop: step ``mission`` until it ends, or until ``until(mission)`` holds (checked
+    before each step), telling every observer of each tick in turn. ``navcli run``, the
+    benchmark, training trials, the policy comparison and the Gymnasium environment all run
+    missions through here."""
+    while mission.outcome is None and not (until is not None and until(mission)):
+        tick = mission.step()
+        for observe in observers:
+            observe(mission, tick)
+
+
+def recording(recorder: Recorder) -> Observer:
+    """The observer that writes each tick to ``recorder`` (which holds no reference to the mission)."""
+    return lambda mission, tick: recorder.tick(tick)
+
+
+class Pacer:
+    """The observer of a live run: it holds each tick back until its simulated time has come in
+    real time, from the moment it is made."""
+
+    def __init__(self) -> None:
+        self.t0 = time.perf_counter()
+
+    def __call__(self, mission: Mission, tick: Tick) -> None:
+        lag = mission.time - (time.perf_counter() - self.t0)
+        if lag > 0:
+            time.sleep(lag)
+
+
 def run_mission(spec: RunSpec, *, out: Path | None = None, record: bool = True, live: bool = False,
-                port: int = 8765, on_tick: Callable[[Mission, Tick], None] | None = None,
+                port: int = 8765, on_tick: Observer | None = None,
                 on_open: Callable[[Recorder], None] | None = None) -> RunResult:
     """Run the configuration ``spec`` to its end and return its summary.
 
     The log goes to ``out``, by default :meth:`RunSpec.default_log_path`.
     ``record=False`` runs without a log (the benchmark's baseline). ``live`` serves the run to
-    Foxglove on ``ws://127.0.0.1:<port>`` and paces it to real time. ``on_tick`` is called after
-    every tick (progress display; tests use it to interrupt a run); ``on_open`` once the log is open
-    (what the CLI says of it: a killed run's ``.partial`` kept aside, the port ``--live`` took). A ``KeyboardInterrupt`` ends
-    the run as ``interrupted`` (:class:`Terminated`: by SIGTERM) and is re-raised after the log is
-    closed; any other exception ends it as ``error`` and is re-raised likewise. A log path that
-    cannot be written raises :class:`~navcli.log.writer.LogPathError` before the mission starts.
+    Foxglove on ``ws://127.0.0.1:<port>`` and paces it to real time. ``on_tick`` observes every
+    tick (progress display; tests use it to interrupt a run); ``on_open`` is called once the log
+    is open (what the CLI says of it: a killed run's ``.partial`` kept aside, the port ``--live``
+    took). A ``KeyboardInterrupt`` ends the run as ``interrupted`` (:class:`Terminated`: by
+    SIGTERM) and is re-raised after the log is closed; any other exception ends it as ``error``
+    and is re-raised likewise. A log path that cannot be written raises
+    :class:`~navcli.log.writer.LogPathError` before the mission starts.
     """
     path = (out or spec.default_log_path()) if record or live else None
     mission = Mission(spec, snapshots=path is not None)
     recorder = open_log(spec, mission, path, live=live, port=port) if path is not None else None
     if recorder and on_open:
         on_open(recorder)
+    observers: list[Observer] = [recording(recorder)] if recorder else []
+    observers += [on_tick] if on_tick else []
     t0 = time.perf_counter()
+    observers += [Pacer()] if live else []
     try:
-        while mission.outcome is None:
-            tick = mission.step()
-            if recorder:
-                recorder.tick(tick)
-            if on_tick:
-                on_tick(mission, tick)
-            if live:
-                lag = mission.time - (time.perf_counter() - t0)
-                if lag > 0:
-                    time.sleep(lag)
+        advance(mission, observers)
     except BaseException as e:
         _stop(mission, e)
         if recorder:

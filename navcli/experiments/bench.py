@@ -157,5 +157,5 @@ def long_run_benchmark(spec: RunSpec, *, minutes: float = 20.0, window_s: float 
     e, lt = statistics.median(early) * 1e6, statistics.median(late) * 1e6
     echo(f"{spec.scenario.name}: {m.outcome} after {end:.0f} s, {len(costs)} ticks; "
          f"median {e:.0f} us/tick in the first minute, {lt:.0f} us/tick in the last: {lt / e:.2f}x "
-         f"({len(m.navigation.map.network)} beta-units, {m.navigation.rescuer.diverting_targets} diverting targets)")
+         f"({len(m.navigation.map.network)} beta-units, {m.navigation.diverting_targets} diverting targets)")
     return lt / e

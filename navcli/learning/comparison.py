@@ -173,16 +173,14 @@ def run_trials(job: Job) -> list[dict]:
     out = []
     if job.policy.kind == "agents":
         from ..mission import Mission
+        from ..runner import advance
 
         base = task_spec(spec).replace(navigation="agents")  # the same task as the policies' (task.py)
         for i, st in enumerate(job.starts):
             m = Mission(spec_at(base, st), snapshots=False)
-            m.step()
-            while m.outcome is None and m.navigation.rescuer.state == "sweep":  # as NavigationTask.reset
-                m.step()
+            advance(m, until=lambda m: m.ticks > 0 and not m.navigation.sweeping)  # as NavigationTask.reset
             end = m.time + p.max_actions * p.action_s  # the learned policies' time after their sweep, at most
-            while m.outcome is None and m.time < end - 1e-9:
-                m.step()
+            advance(m, until=lambda m: m.time >= end - 1e-9)
             out.append(_record(i, st, m.outcome or "timeout", m.time))
         return out
     from .task import NavigationTask

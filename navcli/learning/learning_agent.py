@@ -54,6 +54,16 @@ class LearningAgent:
         self._left = 0  # ticks left of the current action
         self._side = 1.0
 
+    def take(self, action: int) -> None:
+        """The trainer's choice (an agent without a policy): ``action`` begins at the next tick,
+        ending the current one if any."""
+        self.next_action, self._left = action, 0
+
+    @property
+    def between_actions(self) -> bool:
+        """The last action has run its length (the trainer may read the state and choose)."""
+        return self._left == 0
+
     @property
     def actions_taken(self) -> int:
         return sum(self.counts)
@@ -74,6 +84,7 @@ class LearningAgent:
             a = self.policy(self.state) if self.policy is not None else self.next_action
             if a is None:
                 return []
+            self.next_action = None  # the trainer's choice is taken once
             self.action, self._left = a, self.ticks_per_action
             self._side = orthogonal_side(s)
             self.counts[a] += 1

@@ -46,7 +46,7 @@ from ..config import RunSpec
 from ..geometry import Point, distance_to_segment
 from ..mission import Mission
 from ..params import Params
-from ..runner import close_log, open_log
+from ..runner import Observer, advance, close_log, open_log, recording
 from ..scenario import Scenario
 from .actions import REWARDS
 
@@ -133,18 +133,14 @@ class NavigationTask:
         agent = LearningAgent(None, p.learning, max_speed=p.robot.max_speed, pan_limit=spec.scenario.camera.pan_limit,
                               target_key=spec.scenario.target.landmark)
         m = Mission(spec, policy_agent=agent, snapshots=log is not None)
-        nav = m.navigation
         self.mission, self.agent, self.actions, self.outcome = m, agent, 0, None
         if log is not None:
             self.recorder = open_log(spec, m, log)
-        while m.outcome is None and (agent.state is None or nav.rescuer.state == "sweep"):
-            self._tick()
+        advance(m, self._observers(), until=lambda m: agent.state is not None and not m.navigation.sweeping)
         return agent.state if agent.state is not None else 0
 
-    def _tick(self) -> None:
-        tick = self.mission.step()
-        if self.recorder is not None:
-            self.recorder.tick(tick)
+    def _observers(self) -> tuple[Observer, ...]:
+        return (recording(self.recorder),) if self.recorder is not None else ()
 
     def close(self, outcome: str = "interrupted", reason: str = "stopped") -> None:
         """Close the trial's log, if one is open, ending its mission as ``outcome`` if it runs on."""
@@ -161,12 +157,9 @@ class NavigationTask:
         if m is None or self.outcome is not None:
             raise RuntimeError("the trial has ended: reset it")
         if m.outcome is None:
-            agent.next_action, agent._left = action, 0
+            agent.take(action)
             taken = agent.actions_taken
-            self._tick()
-            while m.outcome is None and not (agent.actions_taken > taken and agent._left == 0):
-                self._tick()
-            agent.next_action = None
+            advance(m, self._observers(), until=lambda m: agent.actions_taken > taken and agent.between_actions)
         self.actions += 1
         reward = REWARDS[action]  # the action is paid for; reaching the target adds AT_TARGET (0)
         reached = m.outcome == "reached"

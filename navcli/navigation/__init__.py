@@ -89,6 +89,16 @@ class NavigationSystem:
         self.communicator = Communicator(self.name, params.communicator_window_s)
         self._ahead_lim = math.radians(params.ahead_deg)  # rad
 
+    @property
+    def sweeping(self) -> bool:
+        """The Rescuer is making its sweep (the initial one: a policy agent waits it out)."""
+        return self.rescuer.state == "sweep"
+
+    @property
+    def diverting_targets(self) -> int:
+        """Diverting targets set so far (the mission summary's)."""
+        return self.rescuer.diverting_targets
+
     def situation(self, beliefs: Beliefs, line: tuple[Point, Point] | None = None,
                   landmarks_of: Situation | None = None) -> Situation:
         """What the agents see: the current target (``line``, a diverting target, replaces the
@@ -125,7 +135,7 @@ class NavigationSystem:
         rescue = self.rescuer.decide(original, lambda failed: self._ask(beliefs, original, failed))
         # while diverting, the agents weigh the diverting line, not the original target
         s = original if rescue.diverting is None else self.situation(beliefs, rescue.diverting, original)
-        agents = () if self.policy_agent is not None and self.rescuer.state == "sweep" else self.agents
+        agents = () if self.policy_agent is not None and self.sweeping else self.agents
         offered = list(rescue.bids)  # the Rescuer first: it wins ties
         for agent in agents:
             offered += agent.bid(s)

@@ -51,6 +51,11 @@ class _Senses:
         return Beliefs(time, odometry, target, line, tuple(obstacles), spread, self._looked, self._bumps,
                        self._touching, landmarks, target_at, target_seen)
 
+    @property
+    def camera_state(self) -> tuple[float, str]:
+        """The camera's pan (rad, from the heading) and state: idle, panning or processing."""
+        return self.camera.pan, self.camera.state
+
     def look(self, time: float, truth: Pose, request: Look | None) -> list[Detection] | None:
         """Carry out the winning look; the detections if an image was taken."""
         dets = self.camera.step(time, truth, request, CONTROL_DT)
