@@ -119,18 +119,28 @@ def test_each_topic_name_is_written_once():
     assert {n: w for n, w in where.items() if w != ["navcli/log/format.py"]} == {}
 
 
-@pytest.mark.parametrize("agent", sorted(m for m in KNOWN if m.startswith(("navcli.pilot", "navcli.navigation"))))
+AGENTS = ("navcli.pilot", "navcli.navigation", "navcli.learning")
+"""The packages of agents: the Pilot, the Navigation system's agents, the Learning Agent."""
+NOT_AGENTS = {"navcli.learning", "navcli.learning.model_file"}
+"""In those packages but no agent: model files on disk, and the package's factory that opens them."""
+
+
+@pytest.mark.parametrize("agent", sorted(m for m in KNOWN if m.startswith(AGENTS) and m not in NOT_AGENTS))
 def test_agents_import_only_values_and_maths(agent):
-    """An agent sees beliefs and returns bids: it imports values, maths (numpy, scipy) and its own package."""
-    own = agent.split(".")[:2]
+    """An agent sees beliefs and returns bids: it imports values, maths (numpy, scipy) and agents."""
     for dep in MODULES[agent]:
         top = dep.split(".")[0]
         if top == "navcli":
-            allowed = dep.split(".")[:2] == own or any(dep == v or dep.startswith(v + ".") for v in VALUES) \
-                or dep in ("navcli", "navcli.NavcliError")
+            allowed = any(dep == v or dep.startswith(v + ".") for v in VALUES) or dep in ("navcli", "navcli.NavcliError") \
+                or (dep.startswith(AGENTS) and dep not in NOT_AGENTS and not dep.startswith("navcli.learning.model_file."))
             assert allowed, f"{agent} imports {dep}"
         else:
             assert top in STDLIB or top in ("numpy", "scipy", "__future__"), f"{agent} imports {dep}"
+
+
+def test_the_agents_include_the_learning_agent():
+    assert {"navcli.learning.learning_agent", "navcli.learning.features", "navcli.pilot.potential_field",
+            "navcli.navigation.rescuer"} <= {m for m in KNOWN if m.startswith(AGENTS)} - NOT_AGENTS
 
 
 def test_value_modules_import_only_each_other():

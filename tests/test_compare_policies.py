@@ -14,11 +14,12 @@ from typer.testing import CliRunner
 from conftest import SCENARIOS
 from navcli.cli import app
 from navcli.config import RunSpec
-from navcli.learning import comparison, model_file
+from navcli.learning import model_file
+from navcli.training import comparison
 from navcli.learning.actions import ACTIONS, MB, MLL, MVT, REWARDS
 from navcli.learning.q_learning import QLearning
-from navcli.learning.task import NavigationTask, random_starts
-from navcli.learning.training import EVAL_SEED, evaluate
+from navcli.training.task import NavigationTask, random_starts
+from navcli.training.trainer import EVAL_SEED, evaluate
 from navcli.scenario import load_scenario
 
 ROOM = SCENARIOS / "landmarks-12.yaml"

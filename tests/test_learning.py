@@ -320,8 +320,8 @@ def test_training_records_each_trial_and_resumes_where_the_model_was_saved(tmp_p
     from navcli.analysis import read_log
     from navcli import RunSpec, load_scenario
     from navcli.learning.actions import ACTIONS, reward_of
-    from navcli.learning.task import random_starts
-    from navcli.learning.training import train, trials_paths
+    from navcli.training.task import random_starts
+    from navcli.training.trainer import train, trials_paths
 
     sc = load_scenario(SCENARIOS / "landmarks-12.yaml")
     spec = RunSpec.build(sc, overrides={"learning.max_actions": 4})  # short trials: most end at 4 actions

@@ -14,9 +14,9 @@ from navcli.beliefs import Beliefs, Bump
 from navcli.config import ConfigError, RunSpec
 from navcli.fuzzy import ALPHAS, FuzzyPoint
 from navcli.geometry import Pose
-from navcli.learning.comparison import PolicyError, parse_policy
+from navcli.training.comparison import PolicyError, parse_policy
 from navcli.learning.features import N_STATES
-from navcli.learning.task import PAPER_TASK, NavigationTask, Start, task_spec
+from navcli.training.task import PAPER_TASK, NavigationTask, Start, task_spec
 from navcli.mission import Mission
 from navcli.navigation.rescuer import Rescuer
 from navcli.navigation.situation import Situation

@@ -177,7 +177,7 @@ def test_train_refuses_a_side_file_of_another_kind(tmp_path):
 
 def test_a_save_leaves_no_temporary_file_and_replaces_its_own_model(tmp_path):
     from navcli import RunSpec, load_scenario
-    from navcli.learning.training import make_learner
+    from navcli.training.trainer import make_learner
 
     spec = RunSpec.build(load_scenario(ROOM))
     out = tmp_path / "m.npz"

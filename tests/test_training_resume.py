@@ -32,7 +32,7 @@ def spec():
 
 
 def _train(spec, out: Path, **kw):
-    from navcli.learning.training import train
+    from navcli.training.trainer import train
 
     kw = {"trials": TOTAL, "eval_every": EVERY, "eval_starts": STARTS, "seed": SEED, "workers": 1, **kw}
     return train(spec, out=out, **kw)
@@ -59,7 +59,7 @@ def _model(out: Path) -> tuple[dict[str, np.ndarray], dict]:
 
 
 def _trials_csv(out: Path) -> str:
-    from navcli.learning.training import trials_paths
+    from navcli.training.trainer import trials_paths
 
     return trials_paths(out)[0].read_text()
 
@@ -232,7 +232,7 @@ def test_the_command_stops_cleanly_on_sigterm_and_ctrl_c_and_resumes(tmp_path, h
     assert r.returncode == 0, r.stderr
     ref = tmp_path / "ref.npz"  # the same training uninterrupted, in this process
     from navcli import RunSpec, load_scenario
-    from navcli.learning.training import train
+    from navcli.training.trainer import train
 
     train(RunSpec.build(load_scenario(SCENARIOS / "landmarks-12.yaml"), overrides={"learning.max_actions": 40}),
           trials=CLI_TRIALS,

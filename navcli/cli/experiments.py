@@ -92,7 +92,7 @@ def compare_policies(
     actions and the count of each action per trial, averaged over the runs with 95 % t-intervals.
     Runs already done are kept (an interrupted comparison resumes)."""
     spec = build_spec(scenario, param)
-    from ..learning.comparison import DEFAULT_POLICIES, PolicyError, parse_policy, plan, run_all, write_table
+    from ..training.comparison import DEFAULT_POLICIES, PolicyError, parse_policy, plan, run_all, write_table
     from ..learning.features import check_bounds
 
     names = list(policy or DEFAULT_POLICIES)

@@ -38,7 +38,7 @@ def train(
     Trials run the paper's task: the robot is not told where the target is, the camera is the
     Learning Agent's alone, a trial succeeds only when the robot is also confident it is at the
     target, and ends when it is blocked (--param learning.paper_task=0: navcli's first task)."""
-    from ..learning.training import ALGORITHMS, LOGS
+    from ..training.trainer import ALGORITHMS, LOGS
 
     if algorithm not in ALGORITHMS:
         raise refuse(f"--algorithm: unknown {algorithm!r} (expected one of: {', '.join(ALGORITHMS)})")
@@ -47,7 +47,7 @@ def train(
     spec = build_spec(scenario, param)
     from ..learning.features import check_bounds
     from ..learning.model_file import check_out, curve_paths, load, trials_paths
-    from ..learning.training import train as run_training
+    from ..training.trainer import train as run_training
     from ..outputs import check_folder
 
     with about("--param"):

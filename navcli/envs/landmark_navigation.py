@@ -1,10 +1,10 @@
 """The Learning Agent's task as a Gymnasium environment: observation ``Discrete(980)`` (the belief
 state of :mod:`navcli.learning.features`), action ``Discrete(5)`` (MB, MLL, MOT, MVL, MVT),
-rewards of section 5.3, under the paper's task (:mod:`navcli.learning.task`; ``learning.paper_task``
+rewards of section 5.3, under the paper's task (:mod:`navcli.training.task`; ``learning.paper_task``
 0 for navcli's first task); ``terminated`` when the trial ends in an end state (the target reached,
 or the robot blocked in the paper's task), ``truncated`` after ``max_actions`` actions (or blocked,
 in the first task). ``reset(seed=...)`` draws the start from the environment's seeded generator
-(:func:`navcli.learning.task.random_starts`'s rules)."""
+(:func:`navcli.training.task.random_starts`'s rules)."""
 
 from __future__ import annotations
 
@@ -15,7 +15,7 @@ import gymnasium as gym
 from ..config import RunSpec
 from ..learning.actions import ACTIONS
 from ..learning.features import N_STATES
-from ..learning.task import NavigationTask, random_starts
+from ..training.task import NavigationTask, random_starts
 
 DEFAULT_SCENARIO = Path(__file__).resolve().parent.parent.parent / "scenarios" / "landmarks-12.yaml"
 

@@ -5,9 +5,8 @@ belief states.
 One module per concept: :mod:`.features` (the belief state), :mod:`.actions` (MB, MLL, MOT, MVL,
 MVT and their rewards), :mod:`.learning_agent` (the agent that bids them), :mod:`.hand_coded`
 (section 6's hand-coded policy), :mod:`.prioritized_sweeping` (the learner), :mod:`.q_learning`
-(the model-free baseline), :mod:`.model_file` (models on disk), :mod:`.task` (trials from random
-starts, action by action) and :mod:`.training` (``navcli train``: trials, evaluations, the
-learning curve).
+(the model-free baseline) and :mod:`.model_file` (models on disk). The training harness (trials,
+``navcli train``, ``navcli compare policies``) is :mod:`navcli.training`.
 """
 
 from __future__ import annotations

@@ -45,7 +45,7 @@ import numpy as np
 
 from .. import NavcliError
 from ..config import RunSpec
-from .actions import ACTIONS
+from ..learning.actions import ACTIONS
 from .task import Start, random_starts, spec_at, task_spec
 
 CONSTANT = tuple(f"all-{a}" for a in ACTIONS)  # one action in every state: the baselines all-MB, all-MLL ...
@@ -81,17 +81,17 @@ def parse_policy(text: str) -> Policy:
         raise PolicyError(f"unknown policy {text!r} (expected learned, learned:FILE, hand-coded, agents, "
                           f"or one action everywhere: {', '.join(CONSTANT)})")
     if kind in CONSTANT:
-        from .features import N_STATES
+        from ..learning.features import N_STATES
 
         action = ACTIONS.index(kind[4:])
         return Policy(text, kind, np.full(N_STATES, action, dtype=np.int8).tobytes(), f"{kind[4:]} in every state")
     if kind == "agents":
         return Policy(text, kind, None, "the Navigation system's bidding agents")
     if kind == "hand-coded":
-        from .training import hand_coded_table
+        from .trainer import hand_coded_table
 
         return Policy(text, kind, hand_coded_table().astype(np.int8).tobytes(), "section 6's hand-coded policy")
-    from . import model_file
+    from ..learning import model_file
 
     arrays, meta = model_file.load(Path(file) if file else model_file.BUNDLED)
     about = (f"{'the bundled model: ' if not file else ''}{meta.get('algorithm', 'unknown algorithm')}, "
@@ -136,7 +136,7 @@ def _slug(label: str) -> str:
 def plan(spec: RunSpec, policies: list[Policy], runs: int, starts: int, out: Path) -> list[Job]:
     """Every (policy, run) of a comparison, run by run (so that an interrupted comparison has
     whole runs of every policy)."""
-    from .training import EVAL_SEED
+    from .trainer import EVAL_SEED
 
     base = random_starts(spec.scenario, starts, EVAL_SEED, spec.params.robot.radius)
     jobs = []
@@ -184,8 +184,8 @@ def run_trials(job: Job) -> list[dict]:
             out.append(_record(i, st, m.outcome or "timeout", m.time))
         return out
     from .task import NavigationTask
-    from .learning_agent import table_policy
-    from .training import run_trial
+    from ..learning.learning_agent import table_policy
+    from .trainer import run_trial
 
     task, choose = NavigationTask(spec), table_policy(job.policy.actions())
     for i, st in enumerate(job.starts):

@@ -40,11 +40,11 @@ import numpy as np
 from ..config import RunSpec
 from ..outputs import atomic
 from ..signals import deferred
-from .actions import ACTIONS, reward_of
-from .features import N_STATES, check_bounds
-from .hand_coded import hand_coded_action
-from .learning_agent import table_policy
-from .model_file import curve_paths, trials_paths
+from ..learning.actions import ACTIONS, reward_of
+from ..learning.features import N_STATES, check_bounds
+from ..learning.hand_coded import hand_coded_action
+from ..learning.learning_agent import table_policy
+from ..learning.model_file import curve_paths, trials_paths
 from .task import NavigationTask, Start, random_starts
 
 ALGORITHMS = ("prioritized-sweeping", "q-learning")
@@ -94,8 +94,8 @@ def evaluate(spec: RunSpec, policy: np.ndarray, starts: list[Start]) -> list[Tri
 
 
 def make_learner(algorithm: str, spec: RunSpec, seed: int):
-    from .prioritized_sweeping import PrioritizedSweeping
-    from .q_learning import QLearning
+    from ..learning.prioritized_sweeping import PrioritizedSweeping
+    from ..learning.q_learning import QLearning
 
     p = spec.params.learning
     rng = np.random.default_rng([seed, 1])
@@ -171,7 +171,7 @@ def _trials_csv(path: Path, keep: int, source: Path | None = None):
 
 def _resumed_policy(resume: Path, p) -> tuple[int, np.ndarray]:
     """A pending evaluation of a model file (``{"trials": n, "policy": [action per state]}``)."""
-    from .model_file import ModelError
+    from ..learning.model_file import ModelError
 
     try:
         n, policy = int(p["trials"]), np.array(p["policy"], dtype=np.int64)
@@ -188,7 +188,7 @@ def train(spec: RunSpec, *, trials: int = 2000, eval_every: int = 100, eval_star
           log: str = "summary", on_trial: Callable[[int, TrialResult, Training], None] | None = None) -> Training:
     """Train (see the module docstring); writes ``out`` (.npz + .json), ``out``-curve.csv and -curve.png,
     ``out``-trials.csv, and with ``log="full"`` the folder ``out``-trials/ of trial logs."""
-    from . import model_file
+    from ..learning import model_file
 
     if log not in LOGS:
         raise ValueError(f"unknown log {log!r} (expected one of: {', '.join(LOGS)})")

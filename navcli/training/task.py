@@ -48,7 +48,7 @@ from ..mission import Mission
 from ..params import Params
 from ..runner import Observer, advance, close_log, open_log, recording
 from ..scenario import Scenario
-from .actions import REWARDS
+from ..learning.actions import REWARDS
 
 PAPER_TASK = {"vision.told_target": 0, "pilot.looks": 0, "navigation.rescuer_looks": 0,
               "navigation.blocked_ends": 1, "navigation.reach_confident": 1}
@@ -125,7 +125,7 @@ class NavigationTask:
         """Start a trial at ``start``; runs the initial sweep; returns the first belief state.
         With ``log``, every tick of the trial is recorded there (an MCAP log like ``navcli run``'s),
         closed when the trial ends or :meth:`close` is called."""
-        from . import LearningAgent
+        from ..learning import LearningAgent
 
         self.close("interrupted", "a new trial began")
         spec = spec_at(self.base, start)
