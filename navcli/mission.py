@@ -3,8 +3,8 @@
 Shaped like Gymnasium's ``Env``: build it from a :class:`~navcli.config.RunSpec`, call
 :meth:`Mission.step` until :attr:`Mission.outcome` is set; every step returns a :class:`Tick`, the
 complete record of that control period (poses, every bid, the winners, the pilot's explanation,
-the camera, what the memory holds, events), which the recorder writes and tests inspect. One
-seeded ``numpy`` generator is made here and handed down.
+the camera, what the memory holds, events), which the recorder writes and tests inspect. The
+run's seed is spawned here into one generator per component that draws (:data:`COMPONENTS`).
 
 A step runs the phases of the papers' market in order, each a method: perceive (beliefs from the
 camera and memory, or the oracle), bid (the Navigation system, then the Pilot with the
@@ -34,6 +34,26 @@ from .vision.visual_memory import Remembered
 from .world import World
 
 OUTCOMES = ("reached", "timeout", "blocked", "interrupted", "error")
+COMPONENTS = ("odometry", "camera", "rescuer")
+"""The components that draw random numbers: the world's odometry errors, the camera's measurement
+errors, the Rescuer's random turns. Each draws from a generator of its own, spawned from the run's
+seed (docs/design.md, "Random numbers"); a new component is added at the end, so the others keep
+their streams."""
+
+
+def component_generators(seed: int) -> dict[str, np.random.Generator]:
+    """One generator per :data:`COMPONENTS`, from ``numpy.random.SeedSequence(seed).spawn``: a
+    change in how one component draws leaves every other's draws alone.
+
+    >>> g = component_generators(1)
+    >>> a = g["camera"].standard_normal()
+    >>> g2 = component_generators(1)
+    >>> _ = g2["odometry"].standard_normal(1000)  # the odometry draws more: the camera's stream is unmoved
+    >>> g2["camera"].standard_normal() == a
+    True
+    """
+    children = np.random.SeedSequence(seed).spawn(len(COMPONENTS))
+    return {name: np.random.default_rng(child) for name, child in zip(COMPONENTS, children)}
 
 
 @dataclass(frozen=True)
@@ -78,9 +98,9 @@ class Mission:
         self.snapshots = snapshots
         self.scenario = spec.scenario
         p = spec.params
-        self.rng = np.random.default_rng(spec.seed)
-        self.world = World(spec.scenario, self.rng, p.robot)
-        self.perception = make_perception(spec.perception, spec.scenario, self.rng, p)
+        rngs = component_generators(spec.seed)
+        self.world = World(spec.scenario, rngs["odometry"], p.robot)
+        self.perception = make_perception(spec.perception, spec.scenario, rngs["camera"], p)
         self.pilot = make_pilot(spec.pilot, p.pilot, p.robot)
         t = spec.scenario.target
         self.policy_agent = policy_agent
@@ -90,7 +110,7 @@ class Mission:
             self.policy_agent = policy_agent(spec.navigation, p.learning, max_speed=p.robot.max_speed,
                                              pan_limit=spec.scenario.camera.pan_limit, target_key=t.landmark)
         self.navigation = NavigationSystem(p.navigation, p.robot, p.pilot, target_key=t.landmark or "target",
-                                           line_target=t.kind == "line", rng=self.rng,
+                                           line_target=t.kind == "line", rng=rngs["rescuer"],
                                            pan_limit=spec.scenario.camera.pan_limit, policy_agent=self.policy_agent)
         self._reach = t.tolerance  # how near the target's point counts as there (m)
         if t.kind == "landmark":

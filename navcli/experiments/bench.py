@@ -25,11 +25,10 @@ def floor(spec: RunSpec, ticks: int) -> float:
     import math
     import time
 
-    import numpy as np
-
+    from ..mission import component_generators
     from ..world import World
 
-    world = World(spec.scenario, np.random.default_rng(spec.seed), spec.params.robot)
+    world = World(spec.scenario, component_generators(spec.seed)["odometry"], spec.params.robot)
     v = spec.params.robot.max_speed
     t0 = time.perf_counter()
     for k in range(ticks):
