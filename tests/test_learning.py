@@ -4,6 +4,7 @@ the belief-state features, the actions, the hand-coded policy, the run option an
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -312,6 +313,38 @@ def test_the_gymnasium_environment_passes_the_checker():
     assert r == -10.0 and not term
     _, r, term, trunc, _ = env.step(MB)
     assert r == -1.0 and trunc  # max_actions = 2
+
+
+@pytest.mark.parametrize("outcome,reached,ended,want", [
+    ("reached", True, False, (True, False)),  # an end state
+    ("blocked", False, True, (True, False)),  # the Rescuer gave up: an end state too, in either task
+    ("timeout", False, True, (False, True)),  # max_actions or the time limit: cut from outside
+    (None, False, False, (False, False)),  # the trial goes on
+])
+@pytest.mark.parametrize("paper_task", [0, 1])
+def test_the_environment_follows_gymnasiums_terminated_truncated_contract(outcome, reached, ended, want, paper_task):
+    from navcli.envs import LandmarkNavigationEnv
+
+    env = LandmarkNavigationEnv(overrides={"learning.paper_task": paper_task})
+
+    class Ending:  # the task's answer to one step, as NavigationTask gives it
+        terminal = reached  # the learner's view (the first task does not count blocked as terminal)
+
+        def step(self, action):
+            self.outcome = outcome
+            return 7, -1.0, reached, ended
+
+    env.task = Ending()
+    _, _, terminated, truncated, info = env.step(MB)
+    assert (terminated, truncated) == want and info["outcome"] == outcome
+
+
+def test_the_environment_finds_its_room_inside_the_package():
+    from navcli.envs.landmark_navigation import DEFAULT_SCENARIO
+
+    import navcli
+
+    assert DEFAULT_SCENARIO.is_file() and Path(navcli.__file__).parent in DEFAULT_SCENARIO.parents
 
 
 def test_training_records_each_trial_and_resumes_where_the_model_was_saved(tmp_path):

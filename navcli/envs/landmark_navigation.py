@@ -2,8 +2,8 @@
 state of :mod:`navcli.learning.features`), action ``Discrete(5)`` (MB, MLL, MOT, MVL, MVT),
 rewards of section 5.3, under the paper's task (:mod:`navcli.training.task`; ``learning.paper_task``
 0 for navcli's first task); ``terminated`` when the trial ends in an end state (the target reached,
-or the robot blocked in the paper's task), ``truncated`` after ``max_actions`` actions (or blocked,
-in the first task). ``reset(seed=...)`` draws the start from the environment's seeded generator
+or the robot blocked), ``truncated`` when it is cut after ``max_actions`` actions or at the
+scenario's time limit. ``reset(seed=...)`` draws the start from the environment's seeded generator
 (:func:`navcli.training.task.random_starts`'s rules)."""
 
 from __future__ import annotations
@@ -17,7 +17,8 @@ from ..learning.actions import ACTIONS
 from ..learning.features import N_STATES
 from ..training.task import NavigationTask, random_starts
 
-DEFAULT_SCENARIO = Path(__file__).resolve().parent.parent.parent / "scenarios" / "landmarks-12.yaml"
+DEFAULT_SCENARIO = Path(__file__).resolve().parent.parent / "data" / "scenarios" / "landmarks-12.yaml"
+"""The paper's room, shipped inside the package (``scenarios/`` of the repository links there)."""
 
 
 class LandmarkNavigationEnv(gym.Env):
@@ -49,6 +50,8 @@ class LandmarkNavigationEnv(gym.Env):
         if not self.action_space.contains(int(action)):
             raise ValueError(f"action {action!r} is not one of {len(ACTIONS)}")
         state, reward, reached, ended = self.task.step(int(action))
-        terminated = self.task.terminal
-        return (int(state), float(reward), terminated, bool((reached or ended) and not terminated),
-                {"outcome": self.task.outcome})
+        # Gymnasium's contract: terminated when the episode reached an end state of the task (the
+        # target, or blocked: the Rescuer gave up, nothing can follow), truncated when cut from
+        # outside (max_actions, the scenario's time limit), where the value of the state remains
+        terminated = reached or self.task.outcome == "blocked"
+        return (int(state), float(reward), terminated, bool(ended and not terminated), {"outcome": self.task.outcome})
