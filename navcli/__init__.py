@@ -35,7 +35,7 @@ class NavcliError(ValueError):
     option: str | None = None
 
 _API = {
-    "Agent": "bidding", "Bid": "bidding", "Look": "bidding", "Move": "bidding", "arbitrate": "bidding",
+    "Agent": "navigation.situation", "Bid": "bidding", "Look": "bidding", "Move": "bidding", "arbitrate": "bidding",
     "Beliefs": "beliefs", "Bump": "beliefs", "KnownObstacle": "beliefs",
     "ConfigError": "config", "RunSpec": "config",
     "Mission": "mission", "Tick": "mission", "Event": "mission",

@@ -9,12 +9,9 @@ Communicator (the Navigation agents' internal auction) and the robot-level arbit
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING, Iterable, Literal, NamedTuple, Protocol
+from typing import Iterable, Literal, NamedTuple
 
 from .geometry import wrap_angle
-
-if TYPE_CHECKING:
-    from .beliefs import Beliefs
 
 Resource = Literal["motion", "camera"]
 RESOURCES: tuple[Resource, ...] = ("motion", "camera")
@@ -122,14 +119,3 @@ def arbitrate(bids: Iterable[Bid]) -> dict[Resource, Bid | None]:
         if cur is None or b.value > cur.value:
             best[b.resource] = b
     return best
-
-
-class Agent(Protocol):
-    """What a bidding agent is (the Navigation system's agents, and anything that replaces them):
-    a name for the logs, and beliefs in, bids out. Agents keep their own state between ticks but
-    learn of the world only through :class:`~navcli.beliefs.Beliefs`."""
-
-    name: str
-
-    def bid(self, beliefs: Beliefs) -> list[Bid]:
-        ...

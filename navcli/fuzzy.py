@@ -335,7 +335,9 @@ def _level(alpha: float) -> tuple[int, float | None]:
 
 
 _LEVEL = {a: _level(a) for a in (*ALPHAS, CUT)}  # the levels read every tick, looked up once
-_CUT_K, _CUT_T = _LEVEL[CUT]  # FuzzyPoint.imprecision's level: between ALPHAS[1] and ALPHAS[2]
+_CUT_K, _CUT_LEVEL_T = _LEVEL[CUT]  # FuzzyPoint.imprecision's level: between ALPHAS[1] and ALPHAS[2]
+assert _CUT_LEVEL_T is not None
+_CUT_T: float = _CUT_LEVEL_T
 
 
 def _half_angle(r: float, d: float) -> float:

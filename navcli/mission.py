@@ -21,7 +21,7 @@ import numpy as np
 
 from . import __version__
 from .beliefs import Beliefs, Bump
-from .bidding import Bid, Resource, arbitrate
+from .bidding import Bid, Look, Move, Resource, arbitrate
 from .config import RunSpec
 from .fuzzy import CUT, FuzzyPoint
 from .geometry import Pose, segments_intersect
@@ -105,9 +105,9 @@ class Mission:
         t = spec.scenario.target
         self.policy_agent = policy_agent
         if policy_agent is None and spec.navigation != "agents":
-            from .learning import policy_agent  # the Learning Agent or the hand-coded policy
+            from .learning import policy_agent as make_policy_agent  # the Learning Agent or the hand-coded policy
 
-            self.policy_agent = policy_agent(spec.navigation, p.learning, max_speed=p.robot.max_speed,
+            self.policy_agent = make_policy_agent(spec.navigation, p.learning, max_speed=p.robot.max_speed,
                                              pan_limit=spec.scenario.camera.pan_limit, target_key=t.landmark)
         self.navigation = NavigationSystem(p.navigation, p.robot, p.pilot, target_key=t.landmark or "target",
                                            line_target=t.kind == "line", rng=rngs["rescuer"],
@@ -145,7 +145,7 @@ class Mission:
         when it is safe) and its current target (a diverting target replaces the original one),
         and bids."""
         nav = self.navigation.bid(beliefs)
-        request = next((b.action for b in nav.bids if b.resource == "motion"), None)
+        request = next((b.action for b in nav.bids if isinstance(b.action, Move)), None)  # the motion bid's
         same = nav.target == beliefs.target and nav.target_line == beliefs.target_line
         for_pilot = beliefs if same else replace(beliefs, target=nav.target, target_line=nav.target_line)
         out = self.pilot.decide(for_pilot, request)
@@ -156,7 +156,8 @@ class Mission:
         """The Pilot turns the winning motion bid into a wheel command; Vision carries out the
         winning look (an image may be taken)."""
         command = self.pilot.execute(winners["motion"])
-        look = winners["camera"].action if winners["camera"] is not None else None
+        camera = winners["camera"]
+        look = camera.action if camera is not None and isinstance(camera.action, Look) else None
         detections = self.perception.look(self.world.time, before, look)
         if detections is not None:
             self.camera_looks += 1
@@ -240,6 +241,7 @@ class Mission:
         p = (after.x, after.y)
         if t.kind != "line":
             return math.dist(p, t.point) <= self._reach
+        assert t.line is not None  # a line target has its line
         return segments_intersect((before.x, before.y), p, *t.line)
 
     def _end(self, outcome: str, reason: str) -> None:

@@ -63,8 +63,8 @@ def deferred() -> Iterator[None]:
     if threading.current_thread() is not threading.main_thread():
         yield
         return
-    got: list[int] = []
-    old = {s: signal.signal(s, lambda signum, frame: got.append(signum)) for s in (signal.SIGINT, signal.SIGTERM)}
+    got: list[signal.Signals] = []
+    old = {s: signal.signal(s, lambda signum, frame: got.append(signal.Signals(signum))) for s in (signal.SIGINT, signal.SIGTERM)}
     try:
         yield
     finally:

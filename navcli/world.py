@@ -103,10 +103,8 @@ class World:
         # obstacles first, then landmarks: the order pymunk meets them in
         for o in sorted((o for o in scenario.objects if o.kind in ("circle", "segment", "landmark")),
                         key=lambda o: o.kind == "landmark"):
-            if o.kind == "segment":
-                shape = pymunk.Segment(space.static_body, o.a, o.b, o.radius)
-            else:
-                shape = pymunk.Circle(space.static_body, o.radius, o.a)
+            shape: pymunk.Shape = pymunk.Segment(space.static_body, o.a, o.b, o.radius) if o.kind == "segment" \
+                else pymunk.Circle(space.static_body, o.radius, o.a)
             self._add_static(shape, o.label)
 
         r = robot.radius
@@ -114,10 +112,10 @@ class World:
         body.position = scenario.robot.start
         body.angle = scenario.robot.heading
         body.velocity_func = self._drive
-        shape = pymunk.Circle(body, r)
-        shape.friction = 0.3
-        shape.collision_type = ROBOT
-        space.add(body, shape)
+        robot_shape = pymunk.Circle(body, r)
+        robot_shape.friction = 0.3
+        robot_shape.collision_type = ROBOT
+        space.add(body, robot_shape)
         space.on_collision(ROBOT, None, begin=self._begin, separate=self._separate)
         self.body = body
         self._trail = (0.0, body.position.x, body.position.y)  # metres travelled, and where that was summed to
@@ -188,7 +186,8 @@ class World:
         dv, dw = lim.max_accel * dt, lim.max_turn_accel * dt
         start = self.pose
         body, space, contacts = self.body, self.space, self._contacts
-        self._bumps = bumps = []
+        bumps: list[Bump] = []
+        self._bumps = bumps
         touching = False
         path, x, y = self._trail
         for _ in range(PHYSICS_SUBSTEPS):

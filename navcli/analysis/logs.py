@@ -175,11 +175,13 @@ def scene_messages(path: str | Path, topic: str, decode: bool = True):
     decodes only that one."""
     with Path(path).open("rb") as f:
         reader = make_reader(f)
-        factory, decoders = DecoderFactory(), {}
+        factory = DecoderFactory()
+        decoders: dict[int, Any] = {}
         for schema, channel, message in reader.iter_messages(topics=[topic]):
             dec = decoders.get(channel.schema_id)
             if dec is None:
                 dec = decoders[channel.schema_id] = factory.decoder_for(channel.message_encoding, schema)
+            assert dec is not None, f"no decoder for {channel.message_encoding}"  # scene topics are protobuf
             yield message.log_time, (dec(message.data) if decode else (dec, message.data))
 
 

@@ -119,9 +119,9 @@ def render(log_path: str | Path, out: str | Path, *, speed: float = 10.0, start:
     if suffix == ".mp4":
         if not animation.writers.is_available("ffmpeg"):
             raise RenderError("MP4 needs ffmpeg, which is not installed here; a GIF works without it (--out run.gif)")
-        writer = animation.FFMpegWriter(fps=fps)
-    elif suffix == ".gif":
-        writer = animation.PillowWriter(fps=fps)
+        writer: animation.AbstractMovieWriter = animation.FFMpegWriter(fps=fps)  # type: ignore[arg-type]
+    elif suffix == ".gif":  # (matplotlib's stubs say int; both writers take a float rate)
+        writer = animation.PillowWriter(fps=fps)  # type: ignore[arg-type]
     else:
         raise RenderError(f"{out}: the video must end in .gif or .mp4")
     if speed <= 0 or fps <= 0:
@@ -204,6 +204,7 @@ def render(log_path: str | Path, out: str | Path, *, speed: float = 10.0, start:
             writer.grab_frame()
             if progress:
                 progress(k + 1, len(times))
-    size = tuple(int(v) for v in fig.canvas.get_width_height())
+    width, height = fig.canvas.get_width_height()
+    size = (int(width), int(height))
     plt.close(fig)
     return Rendered(out, len(times), size)

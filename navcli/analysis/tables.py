@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
+from typing import Sequence
 
 import numpy as np
 import pandas as pd
@@ -53,7 +54,7 @@ def load_runs(logdir: str | Path | None = None, *, paths: list[str | Path] | Non
     and left out. The same run (run id) found twice raises :class:`LogError` naming both files."""
     rows = []
     seen: dict[str, str] = {}
-    files = sorted(Path(logdir).rglob("*.mcap")) if paths is None else [Path(p) for p in paths]
+    files = [Path(p) for p in paths] if paths is not None else sorted(Path(logdir or ".").rglob("*.mcap"))
     for path in files:
         try:
             row = _run_row(path)
@@ -98,9 +99,9 @@ def load_sweep(path: str | Path) -> pd.DataFrame:
         raise LogError(f"{path}: the table holds no runs")
     swept = [c for c in df.columns if "." in c]  # parameter names are dotted (robot.max_speed)
     runs = df.rename(columns={c: f"params.{c}" for c in swept})
-    for column, missing in (("log", ""), ("diverting_targets", 0), ("time_limit_s", math.nan)):
+    for column, absent in (("log", ""), ("diverting_targets", 0), ("time_limit_s", math.nan)):
         if column not in runs:  # tables written before navcli kept these
-            runs[column] = missing
+            runs[column] = absent
     runs["reached"] = runs["outcome"] == "reached"
     runs["path_cm"] = 100.0 * runs["path_length_m"]
     keys = ["scenario", "scenario_sha256", "pilot", "perception", "time_limit_s", "seed"] + \
@@ -251,7 +252,7 @@ def improvements(runs: pd.DataFrame, baseline: str) -> pd.DataFrame:
 
 
 def notes(runs: pd.DataFrame, table: pd.DataFrame, imps: pd.DataFrame, baseline: str,
-          skipped: list[tuple[str, str]] = ()) -> list[str]:
+          skipped: Sequence[tuple[str, str]] = ()) -> list[str]:
     """What the table cannot say, in words: skipped logs, interrupted runs left out, an unknown
     baseline, a single pilot, too few pairs for the test, no reached run."""
     out = [f"skipped {path}: {why}" for path, why in skipped]
@@ -338,7 +339,7 @@ def overview(table: pd.DataFrame, imps: pd.DataFrame) -> list[str]:
     return lines + [""]
 
 
-def markdown(table: pd.DataFrame, imps: pd.DataFrame, remarks: list[str] = ()) -> str:
+def markdown(table: pd.DataFrame, imps: pd.DataFrame, remarks: Sequence[str] = ()) -> str:
     """The comparison as Markdown: Table 1's layout (times and paths over the reached runs), the
     success rate with its interval and the time with failures counted at the limit beside it;
     then the improvements."""
@@ -383,7 +384,7 @@ def markdown(table: pd.DataFrame, imps: pd.DataFrame, remarks: list[str] = ()) -
 
 
 def write_report(runs: pd.DataFrame, out: str | Path, baseline: str = "geometric",
-                 skipped: list[tuple[str, str]] = (), plots: bool = True) -> dict[str, Path]:
+                 skipped: Sequence[tuple[str, str]] = (), plots: bool = True) -> dict[str, Path]:
     """Table (CSV, Markdown with its notes) and, with ``plots``, trajectories and box plots into
     ``out``; returns what was written."""
     out = Path(out)

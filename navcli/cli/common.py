@@ -153,7 +153,9 @@ class MissionProgress:
     def __init__(self, limit: float, label: str):
         import time
 
-        self.limit, self.label, self.bar, self.task = limit, label, None, None
+        self.limit, self.label = limit, label
+        self.bar: Any = None  # rich's Progress, made when first shown
+        self.task: Any = None
         self._now = time.perf_counter
         self.t0 = self._now()
         self.enabled = sys.stderr.isatty()

@@ -107,6 +107,8 @@ def guarded(fn: Callable[..., Any]) -> Callable[..., Any]:
 def guard_all(t: typer.Typer) -> None:
     """Every command of ``t`` and of its groups :func:`guarded`."""
     for c in t.registered_commands:
-        c.callback = guarded(c.callback)
+        if c.callback is not None:
+            c.callback = guarded(c.callback)
     for g in t.registered_groups:
-        guard_all(g.typer_instance)
+        if g.typer_instance is not None:
+            guard_all(g.typer_instance)

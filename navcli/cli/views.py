@@ -104,7 +104,7 @@ def render(
     typer.echo(f"wrote {res.path} ({res.frames} frames, {res.size[0]}x{res.size[1]} px)")
 
 
-LayoutFormat = Enum("LayoutFormat", {"app": "app", "sdk": "sdk"}, type=str)  # type: ignore[misc]
+LayoutFormat = Enum("LayoutFormat", {"app": "app", "sdk": "sdk"}, type=str)
 
 
 @app.command()
@@ -151,7 +151,8 @@ def report(
     write_tables(logdir, baseline, out_folder(out or (logdir.parent if table else logdir)), table=table)
 
 
-def write_tables(logdir: Path, baseline: str, out: Path, logs: list[str] | None = None, table: bool = False) -> None:
+def write_tables(logdir: Path, baseline: str, out: Path, logs: list[str | Path] | None = None,
+                 table: bool = False) -> None:
     """The table of the logs under ``logdir`` (or of ``logs``; with ``table``, of the sweep
     results table ``logdir``), printed and written to ``out``; an unreadable log is skipped with a
     line naming it; the same run twice, or no readable log at all, is refused."""

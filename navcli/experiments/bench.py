@@ -9,12 +9,14 @@ hits single runs, not medians.
 
 from __future__ import annotations
 
+import functools
 import statistics
 import tempfile
 from pathlib import Path
 from typing import Callable
 
 from ..config import RunSpec
+from ..mission import Mission
 from ..runner import run_mission
 
 
@@ -90,7 +92,7 @@ def occlusion_benchmark(sizes=(12, 18, 32, 50, 100, 200), echo: Callable[[str], 
             x, y = rnd.uniform(-4, 4), rnd.uniform(-4, 4)
             b = (x + rnd.uniform(-1, 1), y + rnd.uniform(-1, 1)) if i % 4 == 3 else (x, y)
             obs.append(KnownObstacle(f"o{i}", (x, y), b, 0.02 if i % 4 == 3 else 0.15))
-        t = [min(timeit.repeat(lambda f=f, o=obs: f(o), number=200, repeat=5)) / 200 * 1e6
+        t = [min(timeit.repeat(functools.partial(f, obs), number=200, repeat=5)) / 200 * 1e6
              for f in (facing_loop, facing_numpy)]
         echo(f"{n:>9} {t[0]:>9.0f} {t[1]:>9.0f}")
 
@@ -103,16 +105,16 @@ def objects_benchmark(spec: RunSpec, *, sizes=(12, 50, 200), ticks: int = 300,
     import math
     import random
 
-    from ..scenario import Circle
+    from ..scenario import Circle, Obstacle
 
     sc = spec.scenario
     rnd = random.Random(7)
-    base = list(sc.obstacles)
+    base: list[Obstacle] = list(sc.obstacles)
     echo(f"{'objects':>8} {'us/tick':>9} {'x real time':>12}   ({spec.pilot}, {spec.perception}, logging on, {ticks} ticks)")
     with tempfile.TemporaryDirectory() as tmp:  # warm-up: imports and caches, paid once, not by the first size
         run_mission(spec.replace(time_limit=5.0), out=Path(tmp) / "w.mcap")
     for n in sizes:
-        extra = []
+        extra: list[Obstacle] = []
         while len(base) + len(sc.landmarks) + len(extra) < n:
             c = (rnd.uniform(0.3, sc.arena.width - 0.3), rnd.uniform(0.3, sc.arena.height - 0.3))
             if math.dist(c, sc.robot.start) > 1.0 and math.dist(c, sc.target.point) > 0.8:
@@ -136,7 +138,7 @@ def long_run_benchmark(spec: RunSpec, *, minutes: float = 20.0, window_s: float 
                         params=spec.params.override({"navigation.max_diverting_failures": 10 ** 6}))
     costs: list[tuple[float, float]] = []  # (simulated s, wall s of the tick: its step and its logging)
     last = time.perf_counter()
-    mission = None
+    mission: Mission | None = None
 
     def timed(m, tick) -> None:
         nonlocal last, mission
@@ -147,6 +149,7 @@ def long_run_benchmark(spec: RunSpec, *, minutes: float = 20.0, window_s: float 
     with tempfile.TemporaryDirectory() as tmp:
         run_mission(spec, out=Path(tmp) / "long.mcap", on_tick=timed)
     m = mission
+    assert m is not None, "the run made no tick"
     end = costs[-1][0]
     early = [c for t, c in costs if 10.0 <= t < 10.0 + window_s]
     late = [c for t, c in costs if t >= end - window_s]

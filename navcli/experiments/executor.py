@@ -151,7 +151,8 @@ class LocalPool(ProcessPoolExecutor):
         self.shutdown(wait=False, cancel_futures=True)
         for p in procs:
             with contextlib.suppress(ProcessLookupError, OSError):
-                os.kill(p.pid, signum)
+                if p.pid is not None:
+                    os.kill(p.pid, signum)
         deadline = time.monotonic() + GRACE_S
         for p in procs:
             p.join(max(0.0, deadline - time.monotonic()))
@@ -163,7 +164,7 @@ class LocalPool(ProcessPoolExecutor):
         # closing its wake-up pipe at the same moment, the hook prints "OSError: Bad file descriptor".
         # With every worker gone the thread ends at once: wait for it, so the exit finds it closed.
         if manager is not None:
-            manager.join(GRACE_S)
+            manager.join(GRACE_S)  # type: ignore[attr-defined]  # typeshed types this private attribute wrongly
 
 
 @contextlib.contextmanager

@@ -97,7 +97,7 @@ def _arena(ax, sc: Scenario, R_min: float) -> None:
         ax.add_patch(mp.Circle(lm.at, lm.radius, color="tab:blue", zorder=3))
         ax.annotate(lm.id, lm.at, xytext=(4, 4), textcoords="offset points", color="tab:blue")
     t = sc.target
-    if t.kind == "line":
+    if t.line is not None:
         ax.plot([t.line[0][0], t.line[1][0]], [t.line[0][1], t.line[1][1]], color="tab:green", lw=2, zorder=3)
     else:
         ax.plot(*t.point, marker="*", ms=16, color="tab:green", zorder=4)

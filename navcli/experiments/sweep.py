@@ -193,11 +193,11 @@ class PlanReader(Reader):
             raise self.fail(path, "expected a mapping of parameter names (pilot.K ...) to values")
         return {k: self.param(k, x, path + (k,)) for k, x in v.items()}
 
-    def grid(self, v: Any) -> list[dict[str, float]]:
+    def grid(self, v: Any) -> list[dict[str, float | list[float]]]:
         P = ("grid",)
         if not isinstance(v, dict) or not v:
             raise self.fail(P, "expected a mapping of parameter names to lists of values")
-        axes = {}
+        axes: dict[str, list[float | list[float]]] = {}
         size = 1
         for name, values in v.items():
             if not isinstance(values, list) or not values:
@@ -228,7 +228,7 @@ class PlanReader(Reader):
             if not isinstance(r, list) or len(r) != 2:
                 raise self.fail(q, "expected [low, high]")
             lo, hi = (self.param(name, x, q + (i,)) for i, x in enumerate(r))
-            if isinstance(lo, list):
+            if isinstance(lo, list) or isinstance(hi, list):
                 raise self.fail(q, f"{name} is a list of numbers: give its values in a grid, not a range")
             if lo > hi:
                 raise self.fail(q, f"low {lo:g} is above high {hi:g}")
@@ -242,7 +242,8 @@ class PlanReader(Reader):
         P = ("scenarios",)
         if not isinstance(v, list) or not v:
             raise self.fail(P, "expected a non-empty list of scenario files (relative to the plan file)")
-        out, seen = [], {}
+        out: list = []
+        seen: dict[str, int] = {}
         for i, f in enumerate(v):
             name = self.text(f, P + (i,))
             try:

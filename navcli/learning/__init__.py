@@ -24,12 +24,12 @@ def policy_agent(navigation: str, params: LearningParams = LEARNING, *, max_spee
                  pan_limit: float = math.radians(100.0), target_key: str | None = None) -> LearningAgent:
     """The agent of a run's ``navigation`` choice: ``hand-coded``, ``learned`` (the bundled model)
     or ``learned:FILE``. Raises :class:`~.model_file.ModelError` for a bad model file."""
-    kw = dict(params=params, max_speed=max_speed, pan_limit=pan_limit, target_key=target_key)
     mode, _, file = navigation.partition(":")
     if mode == "hand-coded":
-        return hand_coded_agent(**kw)
+        return hand_coded_agent(params=params, max_speed=max_speed, pan_limit=pan_limit, target_key=target_key)
     if mode != "learned":
         raise ValueError(f"no policy agent for navigation {navigation!r}")
     from .model_file import load_policy
 
-    return LearningAgent(table_policy(load_policy(Path(file) if file else None)), **kw)
+    return LearningAgent(table_policy(load_policy(Path(file) if file else None)), params=params, max_speed=max_speed,
+                         pan_limit=pan_limit, target_key=target_key)

@@ -117,7 +117,8 @@ def state_of(index: int) -> tuple[int, int, int, int]:
     for n in reversed(SHAPE):
         index, i = divmod(index, n)
         out.append(i)
-    return tuple(reversed(out))
+    d, t, l, o = reversed(out)
+    return d, t, l, o
 
 
 def check_bounds(params: LearningParams) -> None:

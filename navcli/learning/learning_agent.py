@@ -81,7 +81,9 @@ class LearningAgent:
         if self._left <= 1:  # the state is read only where it is used: choosing an action, and on an
             self.observe(s)  # action's last tick, where the trainer reads the state it led to
         if self._left <= 0:
-            a = self.policy(self.state) if self.policy is not None else self.next_action
+            state = self.state
+            assert state is not None  # just observed
+            a = self.policy(state) if self.policy is not None else self.next_action
             if a is None:
                 return []
             self.next_action = None  # the trainer's choice is taken once
@@ -89,6 +91,7 @@ class LearningAgent:
             self._side = orthogonal_side(s)
             self.counts[a] += 1
         self._left -= 1
+        assert self.action is not None  # chosen above, or running on
         return action_bids(self.action, s, bidder=self.name, value=self.params.bid, speed=self.max_speed,
                            pan_limit=self.pan_limit, target_key=self.target_key, side=self._side)
 

@@ -64,7 +64,7 @@ class PrioritizedSweeping:
     def observe(self, s: int, a: int, r: float, s_next: int | None, terminal: bool = False) -> None:
         """One real step: ``s`` --a, reward r--> ``s_next``; ``terminal``: the goal was reached
         (``s_next`` is then ignored). A step cut short (a time limit) is an ordinary step."""
-        col = self.n_states if terminal else int(s_next)
+        col = self.n_states if terminal or s_next is None else int(s_next)
         self.counts[s, a, col] += 1
         self.predecessors[col].add(s)
         self.tried[s, a] += 1

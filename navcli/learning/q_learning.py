@@ -30,7 +30,7 @@ class QLearning:
         return self.q.max(axis=1)
 
     def observe(self, s: int, a: int, r: float, s_next: int | None, terminal: bool = False) -> None:
-        target = r + (0.0 if terminal else self.gamma * self.q[int(s_next)].max())
+        target = r + (0.0 if terminal or s_next is None else self.gamma * self.q[int(s_next)].max())
         self.q[s, a] += self.alpha * (target - self.q[s, a])
         self.tried[s, a] += 1
         self.steps += 1

@@ -34,7 +34,7 @@ def build(arena: tuple[float, float] = (8.0, 8.0)):
         follow_tf="world", follow_mode="follow-none",
         camera_state=fl.ThreeDeeCameraState(perspective=False, distance=1.5 * max(w, h), phi=0.0, theta_offset=0.0,
                                             target_offset=(w / 2, h / 2, 0.0)),
-        topics={t: {"visible": True} for t in SCENE_TOPICS}))
+        topics={t: {"visible": True} for t in SCENE_TOPICS}))  # type: ignore[misc]  # the SDK takes the JSON form
 
     def plot(title: str, paths: tuple[str, ...]):
         return fl.PlotPanel(title=title, config=fl.PlotConfig(

@@ -71,7 +71,11 @@ def _recover(src: Path, out: Path) -> tuple[Path, dict]:
     from mcap.writer import Writer
     from mcap_protobuf.decoder import DecoderFactory
 
-    schemas, channels, messages, metadata, attachments = {}, {}, [], [], []
+    schemas: dict[int, Schema] = {}
+    channels: dict[int, Channel] = {}
+    messages: list[Message] = []
+    metadata: list[Metadata] = []
+    attachments: list[Attachment] = []
     lost = 0  # bytes after a damaged record that are not the last, unfinished chunk
     try:
         with src.open("rb") as f:
@@ -101,7 +105,8 @@ def _recover(src: Path, out: Path) -> tuple[Path, dict]:
     pose_channel = next((cid for cid, t in topic.items() if t == fmt.POSE_TOPIC), None)
     decode = DecoderFactory().decoder_for("protobuf", schemas[channels[pose_channel].schema_id]) \
         if pose_channel is not None else None
-    poses = [(m.log_time, decode(m.data).pose.position) for m in messages if m.channel_id == pose_channel]
+    poses = [(m.log_time, decode(m.data).pose.position) for m in messages if m.channel_id == pose_channel] \
+        if decode is not None else []
     if not poses:
         raise RecoverError(f"{src}: no pose was written before the run died")
     poses.sort(key=lambda tp: tp[0])
@@ -113,7 +118,7 @@ def _recover(src: Path, out: Path) -> tuple[Path, dict]:
         "scenario": run.get("scenario", ""), "seed": int(run.get("seed", 0)), "pilot": run.get("pilot", ""),
         "outcome": "interrupted", "reason": RECOVERED_REASON, "time_s": end_ns / 1e9,
         "path_length_m": sum(math.hypot(b.x - a.x, b.y - a.y) for (_, a), (_, b) in zip(poses, poses[1:])),
-        "collisions": sum(1 for m in events if log_dec(m.data).message.startswith("bumper contact")),
+        "collisions": sum(1 for m in events if log_dec is not None and log_dec(m.data).message.startswith("bumper contact")),
         "camera_looks": sum(1 for m in messages if topic[m.channel_id] == fmt.VISION_TOPIC and msgspec.json.decode(m.data).get("image")),
         "ticks": sum(1 for m in messages if topic[m.channel_id] == fmt.PILOT_TOPIC),
         "navcli_version": run.get("navcli_version", ""), "run_id": run.get("run_id", ""),
@@ -125,8 +130,8 @@ def _recover(src: Path, out: Path) -> tuple[Path, dict]:
         schema_ids = {sid: w.register_schema(s.name, s.encoding, s.data) for sid, s in schemas.items()}
         channel_ids = {cid: w.register_channel(c.topic, c.message_encoding, schema_ids.get(c.schema_id, 0), c.metadata)
                        for cid, c in channels.items()}
-        for m in metadata:
-            w.add_metadata(m.name, m.metadata)
+        for md in metadata:
+            w.add_metadata(md.name, md.metadata)
         for a in attachments:
             w.add_attachment(a.create_time, a.log_time, a.name, a.media_type, a.data)
         for m in messages:

@@ -122,10 +122,10 @@ def map_entities(m: MapSnapshot, diverting, ns: int) -> list[SceneEntity]:
         if u in at and v in at:
             lines.append(LinePrimitive(type=LinePrimitiveLineType.LineStrip, thickness=0.04, color=_BLOCKED,
                                        points=[P(at[u]), P(at[v])]))
-    for a, b, ending in m.tried:  # the diverting lines ended, thin, named by how they ended
+    for pa, pb, ending in m.tried:  # the diverting lines ended, thin, named by how they ended
         lines.append(LinePrimitive(type=LinePrimitiveLineType.LineStrip, thickness=0.02, color=_DIVERTING_ENDED,
-                                   points=[P(a), P(b)]))
-        mid = ((a[0] + b[0]) / 2, (a[1] + b[1]) / 2)
+                                   points=[P(pa), P(pb)]))
+        mid = ((pa[0] + pb[0]) / 2, (pa[1] + pb[1]) / 2)
         texts.append(TextPrimitive(pose=place(*mid, z=0.5), billboard=True, font_size=11.0, scale_invariant=True,
                                    color=_DIVERTING_ENDED, text=ending))
     if diverting is not None:
@@ -177,13 +177,13 @@ def grown(obstacles, pose: Pose, R: float, ns: int) -> SceneEntity:
     return SceneEntity(timestamp=stamp(ns), frame_id="world", id="grown-obstacles", cylinders=cyl, cubes=cubes)
 
 
-def arena_shapes(sc: Scenario) -> list[tuple[str, dict]]:
+def arena_shapes(sc: Scenario) -> list[tuple[str, dict[str, list]]]:
     """The arena's entities (id, primitives), built once per run and stamped at each refresh."""
     W, H, t = sc.arena.width, sc.arena.height, 0.1
     walls = [CubePrimitive(pose=place(x, y, z=HEIGHT / 2), size=Vector3(x=sx, y=sy, z=HEIGHT), color=_GREY)
              for x, y, sx, sy in ((W / 2, -t / 2, W + 2 * t, t), (W / 2, H + t / 2, W + 2 * t, t),
                                   (-t / 2, H / 2, t, H), (W + t / 2, H / 2, t, H))]
-    ents = [("walls", {"cubes": walls})]
+    ents: list[tuple[str, dict[str, list]]] = [("walls", {"cubes": walls})]
     for o in sc.objects:
         if o.kind == "circle":
             ents.append((f"obstacle-{o.key[1:]}", {"cylinders": [cylinder(*o.a, o.radius, 0.0, HEIGHT, _RED)]}))
@@ -198,7 +198,8 @@ def arena_shapes(sc: Scenario) -> list[tuple[str, dict]]:
                 "texts": [TextPrimitive(pose=place(*o.a, z=HEIGHT + 0.15), billboard=True, font_size=14.0,
                                         scale_invariant=True, color=_BLUE, text=o.key)]}))
     tg = sc.target
-    if tg.kind == "line":
+    target: dict[str, list]
+    if tg.line is not None:
         (ax, ay), (bx, by) = tg.line
         target = {"lines": [LinePrimitive(type=LinePrimitiveLineType.LineStrip, thickness=0.05, color=_GREEN,
                                           points=[Point3(x=ax, y=ay, z=0.01), Point3(x=bx, y=by, z=0.01)])]}

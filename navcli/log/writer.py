@@ -71,6 +71,7 @@ if TYPE_CHECKING:
     from ..config import RunSpec
     from ..geometry import Pose
     from ..mission import Event, Tick
+    from ..navigation.map_manager import MapSnapshot
 
 FLUSH_EVERY_NS = 1_000_000_000
 """A chunk is finished every simulated second: what a hard kill can lose (the README promises it).
@@ -155,7 +156,7 @@ class Lock:
             except FileNotFoundError:
                 same = False
             if same:
-                self.fd = fd
+                self.fd: int | None = fd
                 return
             os.close(fd)  # the file was removed by the run that held it: take the new one
 
@@ -228,7 +229,7 @@ class Recorder:
         self._arena: list[tuple[str, dict]] = []  # the arena's and the body's primitives, built at start
         self._body: dict = {}
         self._state_ns = 0  # when the state topics were last published
-        self._map = None  # the Map Manager's last snapshot
+        self._map: MapSnapshot | None = None  # the Map Manager's last snapshot
         self._diverting_drawn = False
 
     # -- the run
@@ -262,7 +263,8 @@ class Recorder:
         body = SceneEntity(timestamp=ts, frame_id="base_link", id="robot", frame_locked=True, **self._body)
         self.robot_body.log(SceneUpdate(entities=[body]), log_time=ns)
         self.camera_scene.log(SceneUpdate(entities=[SceneEntity(timestamp=ts, frame_id="camera", id="camera",
-                                                                frame_locked=True, lines=[self._fov])]), log_time=ns)
+                                                                frame_locked=True, lines=[self._fov] if self._fov else [])]),
+                               log_time=ns)
         self._state_ns = ns
 
     def _pose_msgs(self, truth: Pose, odom: Pose, ns: int, pan: float) -> None:
@@ -391,6 +393,7 @@ def navigation_record(t: Tick) -> dict:
     """The ``/navigation`` message (a :class:`~navcli.messages.Navigation` as plain values): every
     agent's bids, what was forwarded, and why."""
     nav = t.navigation
+    assert nav is not None  # called for ticks with a Navigation system's output only
     agents: dict[str, dict[str, float]] = {}
     for b in nav.agent_bids:
         a = agents.get(b.bidder)

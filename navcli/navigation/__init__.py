@@ -27,7 +27,7 @@ from typing import Mapping, NamedTuple
 import numpy as np
 
 from ..beliefs import Beliefs
-from ..bidding import Agent, Bid
+from ..bidding import Bid, Resource
 from ..fuzzy import FuzzyPoint
 from ..geometry import Point, midpoint
 from ..params import NAVIGATION, PILOT, ROBOT, NavigationParams, PilotParams, RobotParams
@@ -36,7 +36,7 @@ from .distance_estimator import DistanceEstimator
 from .map_manager import TARGET, MapManager, MapSnapshot
 from .rescuer import Rescuer
 from .risk_manager import RiskManager
-from .situation import Situation
+from .situation import Agent, Situation
 from .target_tracker import TargetTracker
 
 __all__ = ["Communicator", "DistanceEstimator", "MapManager", "NavigationOutput", "NavigationSystem", "Rescuer",
@@ -56,7 +56,7 @@ class NavigationOutput(NamedTuple):
     events: tuple[tuple[str, str, str], ...] = ()  # (agent, level, message)
     give_up: str | None = None
     info: Mapping[str, object] = MappingProxyType({})  # read-only: one default serves all
-    forwarded_by: Mapping[str, str] = MappingProxyType({})  # resource -> the agent whose bid was forwarded
+    forwarded_by: Mapping[Resource, str] = MappingProxyType({})  # resource -> the agent whose bid was forwarded
     believed: FuzzyPoint | None = None  # the original target as the system believes it (egocentric), if at all
 
 
@@ -110,7 +110,9 @@ class NavigationSystem:
             # target is as imprecise as the memory's worse end
             spread = 0.0 if line is not None else beliefs.target_spread
             line = line or beliefs.target_line
-            target, source = FuzzyPoint(*midpoint(*line), (0.0,) * 4), "line"
+            assert line is not None  # a line target's line is in the beliefs
+            target: FuzzyPoint | None = FuzzyPoint(*midpoint(*line), (0.0,) * 4)
+            source = "line"
         else:
             found = self.map.locate(self.target_key, beliefs)
             target, source = found if found is not None else (None, "none")

@@ -193,7 +193,8 @@ class BetaNetwork:
             others = [k for k in ranked if k != target][: self.basis_candidates]
             best = min(itertools.combinations(others, 3),
                        key=lambda t: collinearity(*((viewframe[k].x, viewframe[k].y) for k in t)))
-            basis = tuple(sorted(best))
+            a, b, c = sorted(best)
+            basis = (a, b, c)
             unit = encode(basis, target, viewframe, self.max_collinearity)
             if unit is None:
                 continue

@@ -243,6 +243,7 @@ class MapManager:
         blocked = tuple(sorted(tuple(sorted(e)) for e in set(self.blocked) | set(known)))
         if r is None:
             return MapSnapshot(marks, units, (), blocked)
-        tris = tuple(tuple(tuple(map(float, r.points[v])) for v in t) for t in r.triangles)
+        corner = lambda v: (float(r.points[v][0]), float(r.points[v][1]))  # noqa: E731
+        tris = tuple((corner(a), corner(b), corner(c)) for a, b, c in r.triangles)
         vertices = {k: (float(x), float(y)) for k, (x, y) in zip(r.ids, r.points)}
         return MapSnapshot(marks, units, tris, blocked, vertices)

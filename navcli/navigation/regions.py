@@ -32,6 +32,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Mapping, Sequence
 
 import numpy as np
 
@@ -134,8 +135,8 @@ def obstacle_points(obstacles: list[tuple[str, Point, Point]]) -> dict[str, Poin
     return out
 
 
-def blocked_edges(regions: Regions, lines: list[tuple[str, Point, Point]], passable: float = 0.0,
-                  walls: list[tuple[str, Point, Point]] = ()) -> dict[Edge, str]:
+def blocked_edges(regions: Regions, lines: Sequence[tuple[str, Point, Point]], passable: float = 0.0,
+                  walls: Sequence[tuple[str, Point, Point]] = ()) -> dict[Edge, str]:
     """The edges the known ``lines`` (key, end, end: the long obstacles) block, with what blocks
     each: the edges along an obstacle (both ends its points, or both within ``CROSS_MARGIN`` of
     it, as where two obstacles meet at a corner), the edges a line crosses farther than
@@ -217,7 +218,7 @@ def crossed_pairs(points: dict[str, Point], lines: list[tuple[str, Point, Point]
     return out
 
 
-def way_out(regions: Regions, robot: Point, blocked: dict[Edge, float], target: Point | None = None) -> bool:
+def way_out(regions: Regions, robot: Point, blocked: Mapping[Edge, object], target: Point | None = None) -> bool:
     """Does the map show a way out of where the robot is: through edges not blocked, to the
     target's region or to an outer region (one with a virtual landmark: space the landmarks do
     not enclose)? False when the robot's regions are closed in by blocked edges."""
@@ -242,7 +243,7 @@ def way_out(regions: Regions, robot: Point, blocked: dict[Edge, float], target: 
 
 
 def triangulate(landmarks: dict[str, Point], virtual_distance: float = 10.0,
-                obstacles: list[tuple[str, Point, Point]] = ()) -> Regions | None:
+                obstacles: Sequence[tuple[str, Point, Point]] = ()) -> Regions | None:
     """Regions of ``landmarks`` (id -> position) and of the known linear ``obstacles`` (key, end,
     end), which enter as points (:func:`obstacle_points`); ``None`` with fewer than 3 landmarks
     in general position."""
@@ -319,7 +320,8 @@ def first_crossing(regions: Regions, robot: Point, target: Point, blocked: dict[
     edges = [shared_of[frozenset(pair)] for pair in zip(path, path[1:])]
     shared = _farthest_in_sight(regions, robot, edges, lines) if lines is not None else edges[0]
     u, v = sorted(shared)
-    pu, pv = (tuple(map(float, regions.points[regions.ids.index(k)])) for k in (u, v))
+    (pu0, pu1), (pv0, pv1) = (regions.points[regions.ids.index(k)] for k in (u, v))
+    pu, pv = (float(pu0), float(pu1)), (float(pv0), float(pv1))
     # left/right as seen from the robot looking across the edge
     if (pu[0] - robot[0]) * (pv[1] - robot[1]) - (pu[1] - robot[1]) * (pv[0] - robot[0]) > 0:
         right, left, right_at, left_at = u, v, pu, pv

@@ -138,6 +138,7 @@ class Rescuer:
                 return Rescue(self._scan_bids(), events=tuple(events))
 
         if self.state == "turn":
+            assert self._turn_to is not None  # set by the turn's start
             err = wrap_angle(self._turn_to - b.odometry.theta)
             if abs(err) > math.radians(10.0):
                 return Rescue((Bid(self.name, "motion", Move(err, 0.0), self.params.rescuer_bid),),
@@ -157,6 +158,7 @@ class Rescuer:
 
         if self.state == "drive":
             o, start = b.odometry, self._drive_from
+            assert start is not None  # set by the drive's start
             driven = math.hypot(o.x - start.x, o.y - start.y)
             if (driven < self.params.explore_m and not b.bumps
                     and len(s.landmarks) <= self._drive_known and b.pilot_blocked is None
@@ -165,7 +167,7 @@ class Rescuer:
                 if looked_at(b.looked, math.radians(pans[self._scan % len(pans)])):
                     self._scan += 1
                 v = self.params.rescuer_bid
-                bids = (Bid(self.name, "motion", Move(wrap_angle(start.theta - o.theta), self.speed), v),)
+                bids: tuple[Bid, ...] = (Bid(self.name, "motion", Move(wrap_angle(start.theta - o.theta), self.speed), v),)
                 if self.params.rescuer_looks:
                     bids += (Bid(self.name, "camera", Look(math.radians(pans[self._scan % len(pans)])), v),)
                 return Rescue(bids, events=tuple(events))
@@ -192,9 +194,9 @@ class Rescuer:
                     events.append(("warning", f"target not found in {LOST_SCANS} scans ({self.failures} failed)"))
                     if self.failures >= self.params.max_diverting_failures:
                         lost, diverting = self._lost_failures, self.failures - self._lost_failures
-                        tried = f", {diverting} diverting target{'s' if diverting > 1 else ''}" if diverting else ""
+                        also = f", {diverting} diverting target{'s' if diverting > 1 else ''}" if diverting else ""
                         return self._give_up(f"the target is lost ({self.failures} failures: {lost} times "
-                                             f"{LOST_SCANS} scans without it{tried})", events)
+                                             f"{LOST_SCANS} scans without it{also})", events)
                 self._start_turn(b.odometry, events, "target still lost after a scan")
                 return Rescue(events=tuple(events))
             else:
@@ -208,6 +210,7 @@ class Rescuer:
         line = self._diverting_line(s)
         if line is not None and self._crossed(line):
             crossed = self._crossing
+            assert crossed is not None  # a diverting line is that of a crossing
             self._clear_crossing(s, "crossed")
             line = None
             # the next step of the way, from the region the robot is in now; none once the target is in
@@ -236,8 +239,8 @@ class Rescuer:
             # failed counts, by bumps, no progress or time; a way seen to be closed was not tried)
             again = ask(None)
             if isinstance(again, Crossing) and again.edge != tried:
-                u, v = sorted(tried)
-                events.append(("info", f"blocked ({why}) on the way across {u}-{v}: the map now leads another way"))
+                end_u, end_v = sorted(tried)
+                events.append(("info", f"blocked ({why}) on the way across {end_u}-{end_v}: the map now leads another way"))
                 self._clear_crossing(s, "replaced: the way seen closed")
                 self._last_crossed = None
                 return self._divert(again, s, events)
@@ -344,6 +347,7 @@ class Rescuer:
         if self._crossing is None:
             return None
         c, odo = self._crossing, s.beliefs.odometry
+        assert self._crossing_world is not None  # set with the crossing
         ends = []
         for key, world in zip((c.left, c.right), self._crossing_world):
             p = s.landmarks.get(key)

@@ -4,9 +4,10 @@ from __future__ import annotations
 
 import math
 from types import MappingProxyType
-from typing import Mapping, NamedTuple
+from typing import Mapping, NamedTuple, Protocol
 
 from ..beliefs import Beliefs
+from ..bidding import Bid
 from ..fuzzy import FuzzyPoint
 from ..geometry import Point
 
@@ -47,3 +48,17 @@ class Situation(NamedTuple):
     def bearing(self) -> float | None:
         a = self.aim
         return None if a is None else math.atan2(a[1], a[0])
+
+
+class Agent(Protocol):
+    """What a Navigation agent is (the Target Tracker, the Risk Manager, the Distance Estimator, or
+    the Learning Agent that replaces them): a name for the logs, and the situation in, bids out.
+    Agents keep their own state between ticks but learn of the world only through the
+    :class:`Situation` (and its :class:`~navcli.beliefs.Beliefs`)."""
+
+    @property
+    def name(self) -> str:  # read-only: a frozen dataclass's field, or a class attribute
+        ...
+
+    def bid(self, s: Situation) -> list[Bid]:
+        ...

@@ -136,7 +136,7 @@ class Pilot:
         bids = [Bid(self.name, "camera", LOOK_AHEAD, look)] if look > 0 else []
         offers = a.move is not None and a.bid > 0.0  # a bid of 0 is not offered: it would drive a silent robot
         info = {"mode": "avoid" if offers else "idle", "bid": a.bid, "look_bid": look} | a.info
-        if offers:
+        if offers and a.move is not None:
             bids.insert(0, Bid(self.name, "motion", a.move, a.bid))
         return PilotOutput(bids, info, a.arrows, events, obstacles,
                            self._report(a.info.get("blocked_by"), beliefs.odometry, obstacles))
@@ -159,6 +159,7 @@ class Pilot:
         ticks += 1
         if ticks * CONTROL_DT >= self._report_s - 1e-9:
             self._blocking = (None, 0, None)  # a new report takes another window
+            assert since is not None  # set when the obstacle was first found blocking
             x, y, ux, uy = since
             held = abs((odom.x - x) * ux + (odom.y - y) * uy) < self.params.blocked_report_m / 3
             return blocked if held else None

@@ -43,7 +43,7 @@ loop costs less than numpy's call overhead (see the issue note for the measureme
 from __future__ import annotations
 
 import math
-from typing import NamedTuple
+from typing import NamedTuple, cast
 
 from ..beliefs import Beliefs, KnownObstacle
 from ..bidding import Move
@@ -220,7 +220,7 @@ def facing_numpy(obstacles: tuple[KnownObstacle, ...] | list[KnownObstacle]) -> 
         blocked[:, ~is_pt] = (np.sign(d3) * np.sign(d4) < 0.0) & (np.sign(d1) * np.sign(d2) < 0.0)
     np.fill_diagonal(blocked, False)
     blocked[L2[:, 0] == 0.0] = False
-    return (~blocked.any(axis=1)).tolist()
+    return cast(list[bool], (~blocked.any(axis=1)).tolist())  # numpy's tolist() gives Python bools
 
 
 def facing_loop(obstacles: tuple[KnownObstacle, ...] | list[KnownObstacle]) -> list[bool]:

@@ -292,7 +292,7 @@ class ScenarioReader(Reader):
         if sc.target.kind == "point":
             inside(sc.target.point, ("target", "at"))
         elif sc.target.kind == "line":
-            for i, p in enumerate(sc.target.line):
+            for i, p in enumerate(sc.target.line or ()):
                 inside(p, ("target", "line", i))
         for i, o in enumerate(sc.obstacles):
             if isinstance(o, Circle):
@@ -323,7 +323,7 @@ class ScenarioReader(Reader):
         if min(s[0], s[1], W - s[0], H - s[1]) < r and not self.problems:
             self.fail(P, f"the robot (radius {r:g} m) at [{s[0]:g}, {s[1]:g}] overlaps a wall "
                          f"(expected at least {r:g} m from every wall)")
-        for o in sc.objects:
-            if o.kind in ("circle", "segment", "landmark") and o.clearance(s) < r:
-                what = f"obstacles[{o.key[1:]}]" if o.kind != "landmark" else f"landmark {o.key!r}"
+        for thing in sc.objects:
+            if thing.kind in ("circle", "segment", "landmark") and thing.clearance(s) < r:
+                what = f"obstacles[{thing.key[1:]}]" if thing.kind != "landmark" else f"landmark {thing.key!r}"
                 self.fail(P, f"the robot (radius {r:g} m) at [{s[0]:g}, {s[1]:g}] overlaps {what}")

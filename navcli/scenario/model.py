@@ -233,7 +233,7 @@ class Scenario:
         if t.kind == "point":
             objs.append(ArenaObject("target", "target", t.point, t.point, 0.0, "target"))
         elif t.kind == "line":
-            objs += [ArenaObject(f"target-{s}", "target", p, p, 0.0, "target") for s, p in zip("ab", t.line)]
+            objs += [ArenaObject(f"target-{s}", "target", p, p, 0.0, "target") for s, p in zip("ab", t.line or ())]
         objs += [ArenaObject(key, "wall", a, b, 0.0, "wall") for key, a, b in self.walls]
         return tuple(objs)
 

@@ -231,7 +231,7 @@ def parse_yaml(text: str, source: str) -> tuple[Any, dict[tuple, int]]:
                 problems.append(Problem(source, node.start_mark.line + 1, _dotted(path), hint))
 
     def data_at(path: tuple) -> Any:
-        v = data
+        v: Any = data
         for k in path:
             v = v[k]
         return v

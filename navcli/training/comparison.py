@@ -70,6 +70,9 @@ class Policy:
     about: str
 
     def actions(self) -> np.ndarray:
+        """The action per belief state (not for ``agents``, which has none)."""
+        if self.table is None:
+            raise ValueError(f"the policy {self.label} has no table of actions")
         return np.frombuffer(self.table, dtype=np.int8).astype(np.int64)
 
 
@@ -190,6 +193,7 @@ def run_trials(job: Job) -> list[dict]:
     task, choose = NavigationTask(spec), table_policy(job.policy.actions())
     for i, st in enumerate(job.starts):
         r = run_trial(task, st, choose)
+        assert task.mission is not None  # the trial's
         out.append(_record(i, st, r.outcome, task.mission.time, r.actions, r.reward, r.counts))
     return out
 

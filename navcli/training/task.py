@@ -168,4 +168,4 @@ class NavigationTask:
         if reached or ended:
             self.outcome = m.outcome or "timeout"
             self.close("timeout", f"{self.actions} actions without reaching the target")
-        return agent.state, reward, reached, ended
+        return (agent.state if agent.state is not None else 0), reward, reached, ended  # 0 as reset's

@@ -76,15 +76,17 @@ def run_trial(task: NavigationTask, start: Start, choose: Callable[[int], int],
     hears every step (terminal: the target reached, or blocked in the paper's task); with ``log``
     every tick is recorded there (MCAP)."""
     s = task.reset(start, log)
+    m = task.mission
+    assert m is not None  # reset made it
     counts = [0] * len(ACTIONS)
-    while task.outcome is None and task.mission.outcome is None:
+    while task.outcome is None and m.outcome is None:
         a = choose(s)
         s2, r, _, _ = task.step(a)
         counts[a] += 1
         if learn is not None:
             learn(s, a, r, s2, task.terminal)
         s = s2
-    return TrialResult(task.outcome or task.mission.outcome, task.actions, tuple(counts))
+    return TrialResult(task.outcome or m.outcome or "interrupted", task.actions, tuple(counts))
 
 
 def evaluate(spec: RunSpec, policy: np.ndarray, starts: list[Start]) -> list[TrialResult]:
@@ -313,7 +315,7 @@ def train(spec: RunSpec, *, trials: int = 2000, eval_every: int = 100, eval_star
             save()
             write_curve(result, out)
     except KeyboardInterrupt as e:  # Ctrl-C, or SIGTERM (Terminated): the caller can say how far it got
-        e.training = result
+        e.training = result  # type: ignore[attr-defined]  # what the CLI says of how far it got
         raise
     return result
 

@@ -112,7 +112,7 @@ class VisionPerception(_Senses):
         told = params.distance_floor  # what the robot is told is precise to a couple of cm
         t = scenario.target
         if params.told_target:  # (untold, the learning paper's robot "knows nothing": the camera finds the target)
-            if t.kind == "line":
+            if t.line is not None:
                 self.memory.add("target-a", "target", [start.to_local(t.line[0])], 0.0, told, prior=True)
                 self.memory.add("target-b", "target", [start.to_local(t.line[1])], 0.0, told, prior=True)
             else:
@@ -144,16 +144,16 @@ class VisionPerception(_Senses):
                 obstacles.append(KnownObstacle(m.key, a, b, m.radius, kind == "wall"))
         line, target_at, seen = None, None, 0.0
         if self.scenario.target.kind == "line":
-            a, b = items["target-a"].spots[0], items["target-b"].spots[0]
-            line = ((a.x, a.y), (b.x, b.y))
+            end_a, end_b = items["target-a"].spots[0], items["target-b"].spots[0]
+            line = ((end_a.x, end_a.y), (end_b.x, end_b.y))
             target = midpoint(line[0], line[1])
-            spread = max(a.heading().width(), b.heading().width())
+            spread = max(end_a.heading().width(), end_b.heading().width())
         else:
-            m = items.get(self._target_key) or items.get("target")
-            if m is None:  # not told, not seen yet (or forgotten): no belief of it at all
+            told_of = items.get(self._target_key or "target") or items.get("target")
+            if told_of is None:  # not told, not seen yet (or forgotten): no belief of it at all
                 target, spread = None, 2 * math.pi
             else:
-                target_at, seen = m.spots[0].point(), m.seen
+                target_at, seen = told_of.spots[0].point(), told_of.seen
                 target, spread = (target_at.x, target_at.y), target_at.heading_width()
         return self._beliefs(time, odometry, target, line, obstacles, spread, tuple(landmarks), target_at, seen)
 
