@@ -286,7 +286,7 @@ class LearningParams:
     explore: int = _p(2, at_least=0)  # tries of each action in a state before it is judged on its values
     q_alpha: float = _p(0.1, above=0.0, at_most=1.0)  # Q-learning's step size
     q_epsilon: float = _p(0.1, at_most=1.0)  # Q-learning's exploration rate
-    paper_task: int = _p(1, at_most=1)  # 1: train, compare policies and the env run the paper's task (learning/task.py)
+    paper_task: int = _p(1, at_most=1)  # 1: train, compare policies and the env run the paper's task (training/task.py)
 
 
 @dataclass(frozen=True)

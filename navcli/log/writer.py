@@ -101,7 +101,7 @@ def _json_channel(topic: str, cls: type, ctx: foxglove.Context) -> BaseChannel:
 @functools.cache
 def schema_of(cls: type) -> foxglove.Schema:
     """The JSON Schema of a message class as the log stores it, derived once per process (about
-    1 ms a class: a run in a process that runs many, ``compare`` or a benchmark, no longer pays it)."""
+    1 ms a class, which a process that runs many, ``compare`` or a benchmark, pays once)."""
     schema = json_schema(cls)
     return foxglove.Schema(name=schema["title"], encoding="jsonschema", data=json.dumps(schema).encode())
 
@@ -272,9 +272,8 @@ class Recorder:
         /robot/odometry and, last, /robot/pose at ``ns``. The pan is a frame (our design): the
         field of view drawn once in it turns with the camera, where redrawing it at each change
         of the pan cost some 10 µs a tick. ``pose_ns`` is set once the pose is written, so a run
-        stopped by a signal in between has them written again by :meth:`finish` (before,
-        ``pose_ns`` was set first: 2 runs in 12 of the SIGTERM test ended with the summary a tick
-        after its last pose). Every tick: the poses' parts are built inline, not by :func:`stamp`,
+        stopped by a signal in between has them written again by :meth:`finish` and its summary's
+        time is always its last pose's. Every tick: the poses' parts are built inline, not by :func:`stamp`,
         :func:`yaw` and :func:`place` (the same values; the camera's turn, often none, by :func:`yaw`)."""
         ts = Timestamp(ns // 1_000_000_000, ns % 1_000_000_000)
         half = truth.theta / 2
