@@ -62,7 +62,8 @@ def _stop(mission: Mission, e: BaseException) -> None:
         mission.abort("error", f"{type(e).__name__}: {e}")
 
 
-def close_log(recorder, mission: Mission, summary: dict | None = None, *, stopped: bool = False) -> None:
+def close_log(recorder, mission: Mission, summary: dict | None = None, *, stopped: bool = False,
+              keep_serving: bool = False) -> None:
     """Write ``mission``'s summary (by default its own) and close its log, with Ctrl-C and SIGTERM
     held meanwhile; the last poses are written first if a stop inside a tick left them out.
     ``stopped``: the mission was ended by :func:`_stop`; the log's last event says why."""
@@ -70,7 +71,8 @@ def close_log(recorder, mission: Mission, summary: dict | None = None, *, stoppe
         w = mission.world
         if stopped:
             recorder.event(Event(mission.time, "mission", "error", mission.reason), w.time_ns)
-        recorder.finish(mission.summary() if summary is None else summary, w.time_ns, (w.pose, w.odometry.pose))
+        recorder.finish(mission.summary() if summary is None else summary, w.time_ns, (w.pose, w.odometry.pose),
+                        keep_serving=keep_serving)
 
 
 Observer = Callable[[Mission, Tick], None]
@@ -111,7 +113,7 @@ class Pacer:
 
 def run_mission(spec: RunSpec, *, out: Path | None = None, record: bool = True, live: bool = False,
                 port: int = 8765, on_tick: Observer | None = None,
-                on_open: Callable[[Recorder], None] | None = None) -> RunResult:
+                on_open: Callable[[Recorder], None] | None = None, keep_serving: bool = False) -> RunResult:
     """Run the configuration ``spec`` to its end and return its summary.
 
     The log goes to ``out``, by default :meth:`RunSpec.default_log_path`.
@@ -119,7 +121,8 @@ def run_mission(spec: RunSpec, *, out: Path | None = None, record: bool = True, 
     Foxglove on ``ws://127.0.0.1:<port>`` and paces it to real time. ``on_tick`` observes every
     tick (progress display; tests use it to interrupt a run); ``on_open`` is called once the log
     is open (what the CLI says of it: a killed run's ``.partial`` kept aside, the port ``--live``
-    took). A ``KeyboardInterrupt`` ends the run as ``interrupted`` (:class:`Terminated`: by
+    took). ``keep_serving`` (with ``live``): a mission that ends by itself leaves the server up
+    for its viewers, until the caller's ``recorder.stop_serving()``. A ``KeyboardInterrupt`` ends the run as ``interrupted`` (:class:`Terminated`: by
     SIGTERM) and is re-raised after the log is closed; any other exception ends it as ``error``
     and is re-raised likewise. A log path that cannot be written raises
     :class:`~navcli.log.writer.LogPathError` before the mission starts.
@@ -143,5 +146,5 @@ def run_mission(spec: RunSpec, *, out: Path | None = None, record: bool = True, 
     wall = time.perf_counter() - t0
     summary = mission.summary()
     if recorder:
-        close_log(recorder, mission, summary)
+        close_log(recorder, mission, summary, keep_serving=keep_serving)
     return RunResult(summary, path, wall)

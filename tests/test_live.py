@@ -84,3 +84,32 @@ def test_a_late_viewer_gets_the_arena_the_robot_and_simulation_time(tmp_path):
     # simulation time, in ns from the start: more than the 1.5 s joined late, far less than a wall clock
     assert got["times"] and 1.0e9 < got["times"][0] < 30e9
     assert code == 143 and (tmp_path / "live.mcap").exists()  # SIGTERM: 128 + 15
+
+
+def test_after_the_mission_the_final_state_is_still_served_then_the_run_exits_with_its_outcome(tmp_path):
+    """--linger: the mission ends (3 s, a timeout), its log is complete, and a viewer that joins
+    afterwards still gets the arena, the robot's body and the time of the end; then navcli stops
+    serving by itself and exits with the mission's code (3: not reached)."""
+    from navcli.analysis import read_log
+
+    port = _free_port()
+    env = dict(os.environ, PYTHONPATH=str(ROOT))
+    log = tmp_path / "live.mcap"
+    proc = subprocess.Popen([sys.executable, "-m", "navcli", "run", str(SCENARIOS / "paper-8x8.yaml"), "--live",
+                             "--port", str(port), "--time-limit", "3", "--linger", "6", "--out", str(log)],
+                            env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    try:
+        t0 = time.monotonic()
+        while not log.exists() and time.monotonic() - t0 < 30:  # the log gets its final name at the end
+            time.sleep(0.1)
+        assert log.exists() and proc.poll() is None  # ended, and still serving
+        assert read_log(log).summary["outcome"] == "timeout"
+        got = asyncio.run(_late_client(port, time.monotonic() + 4))
+        code = proc.wait(timeout=20)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+    assert {"/world/scene", "/robot/body"} <= got["topics"]
+    assert got["times"] and abs(got["times"][-1] - 3.0e9) < 0.2e9  # the clock stays at the end
+    err = proc.stderr.read()
+    assert code == 3 and "still serving its final state" in err and "for 6 s" in err

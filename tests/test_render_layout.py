@@ -108,3 +108,23 @@ def test_layout_is_json_naming_only_topics_and_fields_the_logs_have(short_log, t
     if fmt == "app":
         three_d = next(v for k, v in data["configById"].items() if k.startswith("3D!"))
         assert three_d["followTf"] == "world" and three_d["cameraState"]["perspective"] is False
+        assert three_d["scene"]["transforms"]["enablePreloading"] is True  # no alert, beliefs in place after a seek
+        # every panel titled for both apps: Foxglove reads one key, Lichtblick the other
+        sdk = json.loads(CliRunner().invoke(app, ["layout", "--format", "sdk"]).output)
+        titles: list[str] = []
+
+        def titled(node):
+            if isinstance(node, dict):
+                if node.get("type") == "panel" and node.get("title"):
+                    titles.append(node["title"])
+                for v in node.values():
+                    titled(v)
+            elif isinstance(node, list):
+                for v in node:
+                    titled(v)
+
+        titled(sdk)
+        configs = list(data["configById"].values())
+        assert len(configs) == len(titles) == 5
+        assert sorted(c["foxglovePanelTitle"] for c in configs) == sorted(titles)
+        assert all(c["lichtblickPanelTitle"] == c["foxglovePanelTitle"] for c in configs)

@@ -22,6 +22,10 @@ def run(
     time_limit: Annotated[Optional[float], typer.Option(min=0.1, callback=finite, help="Simulated seconds before the run is declared failed.")] = None,
     live: Annotated[bool, typer.Option(help="Also serve the run to Foxglove (ws://127.0.0.1:PORT), paced to real time.")] = False,
     port: Annotated[int, typer.Option(min=0, max=65535, help="WebSocket port for --live (0: any free port).")] = 8765,
+    linger: Annotated[Optional[float], typer.Option(
+        min=0.0, max=86_400.0, callback=finite, metavar="S",
+        help="With --live: once the mission ends, keep serving its final state this many seconds "
+             "(default: until Ctrl-C), so the viewer keeps it on screen.")] = None,
     param: ParamOption = None,
     perception: Annotated[Optional[PerceptionName], typer.Option(
         help="What the agents know: vision (camera and visual memory) or oracle (ground truth, to isolate the "
@@ -49,7 +53,10 @@ def run(
     signal.signal(signal.SIGTERM, raising(Terminated))
     signal.signal(signal.SIGINT, raising(KeyboardInterrupt))
 
+    served = []
+
     def opened(recorder) -> None:  # said once the log is this run's (not before: another run may hold it)
+        served.append(recorder)
         if recorder.kept_aside:
             say(f"note: {recorder.partial} was the unfinished log of an earlier run; it is kept as "
                 f"{recorder.kept_aside} (`navcli recover` makes a readable log of it)")
@@ -58,7 +65,7 @@ def run(
 
     progress = MissionProgress(spec.time_limit, spec.scenario.name)
     try:
-        res = run_mission(spec, out=out, live=live, port=port, on_tick=progress, on_open=opened)
+        res = run_mission(spec, out=out, live=live, port=port, on_tick=progress, on_open=opened, keep_serving=live)
     except KeyboardInterrupt as e:  # Ctrl-C or SIGTERM: the log was closed by run_mission
         progress.close()
         say(("terminated (SIGTERM)" if isinstance(e, Terminated) else "interrupted")
@@ -67,6 +74,8 @@ def run(
     finally:
         progress.close()
     s = res.summary
+    if live and served:
+        _linger(served[0], s, linger)
     typer.echo(f"outcome      {s['outcome']} ({s['reason']})")
     typer.echo(f"sim time     {s['time_s']:.1f} s  ({res.realtime_factor:.0f}x real time)")
     typer.echo(f"path length  {s['path_length_m']:.2f} m")
@@ -74,6 +83,26 @@ def run(
     typer.echo(f"log          {res.log}")
     if s["outcome"] != "reached":
         raise typer.Exit(EXIT_FAILED_MISSION)
+
+
+def _linger(recorder, summary: dict, seconds: float | None) -> None:
+    """Keep a live run's server up after the mission ended (its log is complete), so the viewer
+    keeps the final state on screen, ``seconds`` or until Ctrl-C / SIGTERM, which here end the
+    serving, not the run: the exit code is the mission's."""
+    import math
+    import time
+
+    say(f"the mission ended ({summary['outcome']}) and its log is complete; still serving its final state on "
+        f"ws://127.0.0.1:{recorder.port} " + (f"for {seconds:g} s" if seconds is not None else "until Ctrl-C"))
+    end = time.monotonic() + (seconds if seconds is not None else math.inf)
+    try:
+        while (left := end - time.monotonic()) > 0:
+            recorder.serve_final_state()  # every second, for a viewer that joins late
+            time.sleep(min(1.0, left))
+    except KeyboardInterrupt:
+        pass
+    finally:
+        recorder.stop_serving()
 
 
 @app.command()

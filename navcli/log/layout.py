@@ -9,6 +9,10 @@ pilot's forces and turn, the events Log and the raw summary. Two forms are writt
 - ``app`` (default): the layout file format that Foxglove's *Import from file…* reads (the format
   the app exports: ``configById`` and a tree of splits), which Lichtblick and Foxglove Studio 1.x
   import too. It is converted from the same SDK objects (our design: the SDK has no such export).
+  Each panel carries its title under both apps' keys (``foxglovePanelTitle``,
+  ``lichtblickPanelTitle``), and the 3D panel preloads the transforms, which Lichtblick otherwise
+  recommends in an alert and without which, after a seek, it draws the beliefs (frame
+  ``base_link``) displaced from the truth.
 """
 
 from __future__ import annotations
@@ -69,7 +73,12 @@ def app_json(arena: tuple[float, float] = (8.0, 8.0)) -> dict[str, Any]:
         if n["type"] == "panel":
             kind = _APP_PANEL.get(n["panelType"], n["panelType"])
             key = f"{kind}!{len(config_by_id) + 1}"
-            config_by_id[key] = n.get("config", {}) | ({"foxglovePanelTitle": n["title"]} if n.get("title") else {})
+            config = n.get("config", {})
+            if kind == "3D":  # seeking: the transforms preloaded, so beliefs in base_link are drawn where they were
+                config = config | {"scene": config.get("scene", {}) | {"transforms": {"enablePreloading": True}}}
+            # Foxglove reads foxglovePanelTitle, Lichtblick lichtblickPanelTitle: both, so each shows the title
+            titles = {"foxglovePanelTitle": n["title"], "lichtblickPanelTitle": n["title"]} if n.get("title") else {}
+            config_by_id[key] = config | titles
             return key
         items = n["items"]
         first, rest = items[0], items[1:]

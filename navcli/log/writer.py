@@ -231,6 +231,7 @@ class Recorder:
         self._state_ns = 0  # when the state topics were last published
         self._map: MapSnapshot | None = None  # the Map Manager's last snapshot
         self._diverting_drawn = False
+        self._poses: tuple[Pose, Pose] | None = None  # the last poses written (truth, odometry)
 
     # -- the run
     def start(self, spec: RunSpec, pose: Pose, odometry: Pose) -> None:
@@ -291,6 +292,7 @@ class Recorder:
             log_time=ns)
         self.pose.log(PoseInFrame(timestamp=ts, frame_id="world", pose=FxPose(position=at, orientation=q)), log_time=ns)
         self.pose_ns = ns
+        self._poses = (truth, odom)
 
     def tick(self, t: Tick) -> None:
         ns = t.time_ns
@@ -341,11 +343,14 @@ class Recorder:
         self.events.log(Log(timestamp=stamp(ns), level=_LEVEL[e.level], message=e.message, name=e.source),
                         log_time=ns)
 
-    def finish(self, summary: dict, ns: int, poses: tuple[Pose, Pose] | None = None) -> Path:
+    def finish(self, summary: dict, ns: int, poses: tuple[Pose, Pose] | None = None, *,
+               keep_serving: bool = False) -> Path:
         """Write the summary, close the file and give it its final name. Idempotent.
 
         ``poses`` (truth, odometry) at ``ns`` are written first if no pose was written at that
-        time (a run stopped inside a tick), so the summary's time is always the last pose's."""
+        time (a run stopped inside a tick), so the summary's time is always the last pose's.
+        ``keep_serving``: a live run's server stays up, its viewers keeping the final state on
+        screen, until :meth:`stop_serving` (the log is complete either way)."""
         if self._closed:
             return self.path
         self._closed = True
@@ -355,11 +360,28 @@ class Recorder:
             self.summary.log(encode(msgspec.convert(summary, MissionSummary)), ns)
         finally:
             self.writer.close()
-            if self.server is not None:
-                self.server.stop()
+            if not keep_serving:
+                self.stop_serving()
             os.replace(self.partial, self.path)
             self.lock.release()
         return self.path
+
+    def serve_final_state(self) -> None:
+        """For a live run's viewers after the end (the log is closed, so these reach the server
+        only): the state topics and the last poses again at the last log time, and that time, so
+        a viewer that joins or seeks then still finds the arena, the robot and where it ended."""
+        if self.server is None or self._poses is None:
+            return
+        ns = self.pose_ns
+        self._state(ns)
+        self._pose_msgs(*self._poses, ns, self._pan)
+        self.server.broadcast_time(ns)
+
+    def stop_serving(self) -> None:
+        """Close a live run's server (idempotent; nothing without ``live``)."""
+        if self.server is not None:
+            server, self.server = self.server, None
+            server.stop()
 
 
 _NO_BIDS = dict.fromkeys(SYSTEMS, 0.0)
