@@ -8,9 +8,10 @@ sentence, an output that
 * exists and is not a regular file (``/dev/null``, ``/dev/full``, a FIFO): a device is never
   replaced;
 * has a name the command does not write (``plot field --out x.txt``: a PNG is written);
-* exists and is not of the kind the command writes (a scenario given as a PNG's ``--out``): a
-  file is replaced only by a newer one of its own kind (its first bytes say which), never one the
-  command could not have written;
+* exists and is not a file navcli wrote (a user's notes as ``table.md``, a photo as the PNG's
+  ``--out``): a file is replaced only by a newer one of its own kind, recognised by its content
+  (:func:`navcli_wrote`), never one the command could not have written; the same holds for every
+  file a command writes into a folder (:func:`check_folder`);
 * lies in a folder that cannot be made or written (its nearest existing ancestor must be a
   folder this process may write into).
 
@@ -26,40 +27,75 @@ import stat
 from pathlib import Path
 
 from . import NavcliError
-from .analysis.files import atomic  # the one definition (analysis may not import navcli)
+from .analysis.files import MARK, atomic  # the one definition (analysis may not import navcli)
 
-MAGIC: dict[str, tuple[bytes, ...]] = {
-    ".png": (b"\x89PNG\r\n\x1a\n",),
-    ".gif": (b"GIF87a", b"GIF89a"),
-    ".mp4": (b"ftyp",),  # at byte 4, after the box size
-    ".npz": (b"PK\x03\x04",),
-    ".json": (b"{", b"["),
-    ".csv": (),
-    ".md": (),
-    ".parquet": (b"PAR1",),
-    ".journal": (b"{",),  # Optuna's journal: JSON lines
-    ".log": (b"{",),
-}
-"""The first bytes of every kind of file navcli writes (an empty tuple: text with no signature,
-recognised by its name alone inside a folder the command owns)."""
+HEAD_BYTES = 4096
+"""What is read of an existing file to tell whether navcli wrote it (and, at its end, of a zip or
+Parquet file, whose directory is there)."""
+CSV_COLUMNS = ({"run_id", "pilot", "outcome"}, {"condition", "pilot", "success_rate"},
+               {"condition", "baseline", "improvement_pct"}, {"policy", "successes"}, {"policy", "run", "start"},
+               {"trials", "successes", "reward_per_trial"}, {"trial", "outcome", "actions"}, {"trial", "objective"},
+               {"scenario_sha256", "point", "outcome"})
+"""Columns that mark a CSV file navcli writes (its header holds one of these sets): runs, the
+table, improvements; policies and their trials; a learning curve; a training's trials; tune's
+history; a sweep's results."""
+JSON_KEYS = ({"configById"}, {"content", "version"}, {"algorithm", "scenario"}, {"objective", "params", "value"},
+             {"key", "generation", "population"}, {"key", "policy", "trials"})
+"""The keys that mark a JSON file navcli writes: a layout (app, SDK), a model's metadata, tune's
+best values, the GA's checkpoint, a policy comparison's run."""
+
+
+def navcli_wrote(path: Path) -> bool:
+    """Does the existing regular file ``path`` look like one navcli writes under its name?
+
+    Our design: a command replaces only a file of its own kind, recognised by content, so that a
+    user's file of the same name survives: a PNG made by Matplotlib, a zip holding a model's
+    ``meta.npy``, an MCAP written by foxglove-sdk or ``navcli recover``, a Parquet table with a
+    ``run_id`` column, JSON with one of :data:`JSON_KEYS`, a CSV with one of :data:`CSV_COLUMNS`,
+    Markdown with :data:`MARK`, tune's YAML block, Optuna's journal. GIF and MP4 carry no mark of
+    their writer: for them the format's own signature is all that is checked."""
+    suffix = path.suffix.lower()
+    with path.open("rb") as f:
+        head = f.read(HEAD_BYTES)
+        size = os.fstat(f.fileno()).st_size
+        f.seek(max(0, size - 65536))
+        tail = f.read(65536)
+    first = head.split(b"\n", 1)[0].strip()
+    if suffix == ".png":
+        return head.startswith(b"\x89PNG\r\n\x1a\n") and b"Matplotlib" in head
+    if suffix == ".gif":
+        return head[:6] in (b"GIF87a", b"GIF89a")
+    if suffix == ".mp4":
+        return head[4:8] == b"ftyp"
+    if suffix == ".npz":
+        return head.startswith(b"PK\x03\x04") and b"meta.npy" in tail
+    if suffix == ".mcap":
+        return head.startswith(b"\x89MCAP") and (b"foxglove-sdk" in head[:256] or b"navcli" in head[:256])
+    if suffix == ".parquet":
+        return head.startswith(b"PAR1") and b"run_id" in tail
+    if suffix == ".csv":
+        columns = set(first.decode("utf-8", "replace").split(","))
+        return any(c <= columns for c in CSV_COLUMNS)
+    if suffix == ".md":
+        return first.decode("utf-8", "replace") == MARK
+    if suffix == ".yaml":
+        return first.startswith(b"# navcli ")
+    if suffix in (".journal", ".log"):
+        return first.startswith(b'{"op_code"')
+    if suffix == ".json":
+        import json
+
+        try:
+            with path.open("rb") as f:
+                d = json.loads(f.read(1 << 22))  # 4 MiB: more than any JSON navcli writes
+        except (ValueError, UnicodeDecodeError, RecursionError):  # (deep nesting: json's own recursion limit)
+            return False
+        return isinstance(d, dict) and any(keys <= d.keys() for keys in JSON_KEYS)
+    return False
 
 
 class OutputError(NavcliError):
     """An output path a command must not write; the message says why, naming the path."""
-
-
-def _kind_of(path: Path, suffix: str) -> bool:
-    """True when the existing file ``path`` starts like a ``suffix`` file navcli writes."""
-    marks = MAGIC.get(suffix, ())
-    if not marks:
-        return True
-    with path.open("rb") as f:
-        head = f.read(16)
-    if suffix == ".mp4":
-        return head[4:8] in marks
-    if suffix == ".json":
-        return head.lstrip()[:1] in marks
-    return any(head.startswith(m) for m in marks)
 
 
 def _writable_folder(folder: Path, shown: Path) -> None:
@@ -94,7 +130,7 @@ def check_file(path: Path, suffixes: tuple[str, ...], what: str = "file") -> Pat
         if not stat.S_ISREG(mode):
             raise OutputError(f"{path}: is not a regular file (a device, a pipe ...); it is never replaced")
         try:
-            ours = _kind_of(path, path.suffix.lower())
+            ours = navcli_wrote(path)
         except OSError as e:
             raise OutputError(f"{path}: cannot be read ({e.strerror or e})") from None
         if not ours:
@@ -106,13 +142,20 @@ def check_file(path: Path, suffixes: tuple[str, ...], what: str = "file") -> Pat
     return path
 
 
-def check_folder(path: Path) -> Path:
+def check_folder(path: Path, files: tuple[str, ...] = ()) -> Path:
     """``path`` if a command may write its files into this folder (existing or to be made), else
-    :class:`OutputError`. Nothing is created."""
+    :class:`OutputError`. ``files``: the names (glob patterns) the command writes there; each that
+    exists must be a file navcli wrote (:func:`check_file`). Nothing is created."""
     path = Path(path)
+    if str(path) == "":
+        raise OutputError("'' is not a folder name")
     if path.exists() and not path.is_dir():
         raise OutputError(f"{path}: is a file; give a folder")
     _writable_folder(path, path)
+    if path.is_dir():
+        for pattern in files:
+            for f in sorted(path.glob(pattern)):
+                check_file(f, (f.suffix.lower(),), f"{f.suffix.lower()[1:]} file")
     return path
 
 

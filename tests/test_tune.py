@@ -125,11 +125,11 @@ def test_a_missing_library_is_named_with_what_to_install(tiny, monkeypatch):
 
 
 @pytest.mark.parametrize("algorithm, name, content, words", [
-    ("ga", "ga.json", '{"key": [1], "generation": -1}', "not a usable GA checkpoint"),
+    ("ga", "ga.json", '{"key": [1], "generation": -1}', "not a .json file navcli writes"),  # no population
     ("ga", "ga.json", '{"key": [], "generation": 1, "population": [[1, NaN]], "fitness": [1], '
                       '"random": [3, [], null], "history": []}', "not a usable GA checkpoint"),
-    ("ga", "ga.json", "[" * 100_000, "not a GA checkpoint"),
-    ("ga", "ga.json", "{", "not a GA checkpoint"),
+    ("ga", "ga.json", "[" * 100_000, "not a .json file navcli writes"),
+    ("ga", "ga.json", "{", "not a .json file navcli writes"),
     ("tpe", "s.journal", '{"op_code": 99}\n', "not a usable Optuna journal"),
     ("tpe", "s.journal", '{"op_code": 0, "worker_id": "x"}\n', "not a usable Optuna journal"),
 ])

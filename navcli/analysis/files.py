@@ -24,3 +24,20 @@ def atomic(path: str | Path) -> Iterator[Path]:
     finally:
         with contextlib.suppress(FileNotFoundError):
             tmp.unlink()
+
+
+MARK = "<!-- written by navcli -->"
+"""The first line of every Markdown file navcli writes (invisible when rendered): how a command
+knows a table of its own from a user's file of the same name, which it never replaces."""
+
+
+def write_markdown(path: Path, text: str) -> Path:
+    """``text`` as a Markdown file of navcli's (:data:`MARK` first), written atomically."""
+    with atomic(path) as tmp:
+        tmp.write_text(f"{MARK}\n{text}")
+    return path
+
+
+def without_mark(text: str) -> str:
+    """A Markdown file's text as a reader wants it: without navcli's mark."""
+    return text.removeprefix(MARK + "\n")

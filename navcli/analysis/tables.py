@@ -33,13 +33,18 @@ import numpy as np
 import pandas as pd
 
 from ..log.format import POSE_TOPIC
-from .files import atomic
+from .files import atomic, write_markdown
 from .logs import LogError, config_columns, path_length, read_log
 
 METRICS = {"time_s": "time (s)", "path_cm": "path length (cm)"}
 RESAMPLES = 10_000
 EXACT_UP_TO = 12  # pairs: up to 2^12 sign assignments the permutation test is enumerated, exact
 PATH_TOLERANCE = 0.01  # the summary's path length must match the poses' within 1 %
+
+
+REPORT_FILES = ("runs.csv", "table.csv", "improvements.csv", "table.md", "trajectories-*.png", "boxplots-*.png")
+"""What ``compare pilots`` and ``report`` write into their folder (checked before the work: a
+user's file of one of these names is never replaced)."""
 
 
 def load_runs(logdir: str | Path | None = None, *, paths: list[str | Path] | None = None,
@@ -391,13 +396,12 @@ def write_report(runs: pd.DataFrame, out: str | Path, baseline: str = "geometric
     out.mkdir(parents=True, exist_ok=True)
     table = pilot_table(runs)
     imps = improvements(runs, baseline) if baseline in set(runs["pilot"]) else improvements(runs.iloc[:0], baseline)
-    files = {"runs": out / "runs.csv", "table": out / "table.csv", "improvements": out / "improvements.csv",
-             "markdown": out / "table.md"}
+    files = {"runs": out / REPORT_FILES[0], "table": out / REPORT_FILES[1], "improvements": out / REPORT_FILES[2],
+             "markdown": out / REPORT_FILES[3]}
     for key, frame in (("runs", runs.drop(columns=["xy"], errors="ignore")), ("table", table), ("improvements", imps)):
         with atomic(files[key]) as tmp:
             frame.to_csv(tmp, index=False)
-    with atomic(files["markdown"]) as tmp:
-        tmp.write_text(markdown(table, imps, notes(runs, table, imps, baseline, skipped)))
+    write_markdown(files["markdown"], markdown(table, imps, notes(runs, table, imps, baseline, skipped)))
     if plots:
         from . import plots as figures
 

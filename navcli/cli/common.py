@@ -106,12 +106,13 @@ def out_file(path: Path, suffixes: tuple[str, ...], what: str, option: str = "--
         return check_file(path, suffixes, what)
 
 
-def out_folder(path: Path, option: str = "--out") -> Path:
-    """``path`` checked as an output folder before any work (:func:`navcli.outputs.check_folder`)."""
+def out_folder(path: Path, files: tuple[str, ...] = (), option: str = "--out") -> Path:
+    """``path`` checked as an output folder before any work, with the ``files`` (names, glob
+    patterns) the command writes there (:func:`navcli.outputs.check_folder`)."""
     from ..outputs import check_folder
 
     with about(option):
-        return check_folder(path)
+        return check_folder(path, files)
 
 
 def progress_bar(*columns: Any) -> Any:

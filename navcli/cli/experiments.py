@@ -10,6 +10,7 @@ from typing import Annotated, Optional
 
 import typer
 
+from ..analysis.files import without_mark
 from ..params import PILOT_NAMES
 from .common import (MAX_JOBS, MAX_SEED, JobsOption, ParamOption, PerceptionName, SchedulerOption, app, build_spec,
                      choice, compare_app, executor_for, finite, out_file, out_folder, progress_bar, require_extra)
@@ -40,11 +41,23 @@ def compare_pilots(
     if bad or not names:
         raise refuse(f"--pilots: unknown pilot(s) {', '.join(bad) or '(none given)'} "
                      f"(expected some of: {', '.join(PILOT_NAMES)})")
+    if len(set(names)) < len(names):
+        raise refuse(f"--pilots: a pilot is named twice ({pilots}): each would be the same runs")
     specs = [build_spec(p, param, time_limit=time_limit, perception=choice(perception)) for p in scenarios]
-    out_folder(out)
+    same = [(a, b) for i, a in enumerate(scenarios) for b in scenarios[i + 1:]
+            if specs[scenarios.index(a)].run_id == specs[scenarios.index(b)].run_id]
+    if same:
+        raise refuse(f"SCENARIOS: {same[0][0]} and {same[0][1]} are the same scenario: each run would be made twice")
+    from ..analysis.tables import REPORT_FILES
     from ..experiments.compare import plan, run_on
+    from ..outputs import check_file
 
+    out_folder(out, REPORT_FILES)
     work = plan(specs, names, reruns, out)
+    with about("--out"):
+        for j in work:  # a file at a log's path is a log of navcli's (resumed or rerun), never a user's
+            if Path(j.log).exists() or Path(j.log).is_symlink():
+                check_file(Path(j.log), (".mcap",), "log")
     t0 = time.perf_counter()
     failed: list = []
     ran = 0
@@ -102,6 +115,9 @@ def compare_policies(
         if len(set(names)) < len(names):
             raise PolicyError(f"a policy is named twice: {', '.join(names)}")
         chosen = [parse_policy(n) for n in names]
+    from ..training.comparison import TABLE_FILES
+
+    out_folder(out, TABLE_FILES)
     out_folder(out / "runs")
     (out / "runs").mkdir(parents=True, exist_ok=True)
     work = plan(spec, chosen, runs, starts, out)
@@ -120,7 +136,7 @@ def compare_policies(
         say(f"  failed: {r.job.policy.label} run {r.job.run}: {r.error}")
     files = write_table([r for r in results if r.trials is not None], out, spec.scenario.name)
     typer.echo("")
-    typer.echo(files["markdown"].read_text())
+    typer.echo(without_mark(files["markdown"].read_text()))
     typer.echo(f"wrote {', '.join(str(p) for p in files.values())}")
     if errors:
         raise typer.Exit(EXIT_INTERNAL)
@@ -144,7 +160,7 @@ def sweep(
     from ..experiments.sweep import load_plan, plan_runs, run_sweep
 
     p = load_plan(plan)
-    out = out_folder(out or Path("logs") / "sweep" / plan.stem)
+    out = out_folder(out or Path("logs") / "sweep" / plan.stem, ("results.parquet",) + (("results.csv",) if csv else ()))
     runs = plan_runs(p, None if no_logs else out)
     table = out / "results.parquet"
     from rich.progress import TextColumn, TimeRemainingColumn
@@ -213,7 +229,9 @@ def tune(
     problem = TuneProblem(bases, tuple(p[0] for p in tuned), tuple(p[1] for p in tuned),
                           tuple(p[2] for p in tuned), seeds, objective)
     require_extra("deap" if algorithm == "ga" else "optuna", "navcli tune")
-    out_folder(out)
+    from ..experiments.tune import RESULT_FILES
+
+    out_folder(out, RESULT_FILES)
     storage = out_file(storage or out / ("ga.json" if algorithm == "ga" else "study.journal"),
                        (".json",) if algorithm == "ga" else (".journal", ".log"), "study file", "--storage")
     count = 0

@@ -134,7 +134,7 @@ def bench(
     occlusion: Annotated[bool, typer.Option(help="Instead: time the pilot's occlusion test, loop vs numpy.")] = False,
     param: ParamOption = None,
     perception: Annotated[Optional[PerceptionName], typer.Option(help="vision or oracle (default: the scenario's).")] = None,
-    objects: Annotated[bool, typer.Option(help="Instead: cost per tick with 12, 50 and 200 objects in the room.")] = False,
+    objects: Annotated[bool, typer.Option(help="Instead: cost per tick with the scenario's own objects, then 50 and 200.")] = False,
     long: Annotated[bool, typer.Option(
         "--long", help="Instead: cost per tick in the last minute of a 20-minute run against the first "
                        "(the map must not slow a long run down; try scenarios/trap-box.yaml).")] = False,

@@ -10,6 +10,7 @@ from typing import Annotated, Optional
 
 import typer
 
+from ..analysis.files import without_mark
 from ..params import PILOT_NAMES
 from .common import ParamOption, app, build_spec, finite, out_file, out_folder, plot_app, progress_bar
 from .errors import about, refuse, say
@@ -148,7 +149,12 @@ def report(
                      f"{logdir}: expected a folder of logs or a sweep's results table (.parquet or .csv)")
     if baseline not in PILOT_NAMES:
         raise refuse(f"--baseline: {baseline!r} is not a pilot (expected one of: {', '.join(PILOT_NAMES)})")
-    write_tables(logdir, baseline, out_folder(out or (logdir.parent if table else logdir)), table=table)
+    from ..analysis.tables import REPORT_FILES
+
+    folder = out_folder(out or (logdir.parent if table else logdir), REPORT_FILES)
+    if out is None:
+        say(f"the table and plots go to {folder} (--out to choose another folder)")
+    write_tables(logdir, baseline, folder, table=table)
 
 
 def write_tables(logdir: Path, baseline: str, out: Path, logs: list[str | Path] | None = None,
@@ -166,5 +172,5 @@ def write_tables(logdir: Path, baseline: str, out: Path, logs: list[str | Path] 
             say(f"skipped {path}: {why}")
     files = write_report(runs, out, baseline, skipped, plots=not table)
     typer.echo("")
-    typer.echo(files["markdown"].read_text())
+    typer.echo(without_mark(files["markdown"].read_text()))
     typer.echo(f"wrote {', '.join(str(p) for p in files.values())}")

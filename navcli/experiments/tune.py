@@ -174,6 +174,9 @@ def evaluate(problem: TuneProblem, values: Sequence[float]) -> dict[str, Any]:
 MAX_CHECKPOINT_BYTES = 256 * 2**20
 """The largest GA checkpoint read (a history of about a million trials)."""
 
+RESULT_FILES = ("history.csv", "best.json", "best.yaml", "objective.png")
+"""What ``navcli tune`` writes into its folder (besides the study file)."""
+
 
 class CheckpointError(NavcliError):
     """A ``--storage`` file that is not a usable checkpoint (the message names it and why)."""
@@ -374,8 +377,7 @@ def write_results(history: list[dict], problem: TuneProblem, out: Path) -> dict[
 
     out.mkdir(parents=True, exist_ok=True)
     df = pd.DataFrame(history)
-    files = {"history": out / "history.csv", "best": out / "best.json", "block": out / "best.yaml",
-             "plot": out / "objective.png"}
+    files = dict(zip(("history", "best", "block", "plot"), (out / f for f in RESULT_FILES)))
     with atomic(files["history"]) as tmp:
         df.to_csv(tmp, index=False)
     best = df.loc[df["objective"].idxmax()]

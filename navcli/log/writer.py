@@ -112,8 +112,9 @@ class LogPathError(NavcliError):
 
 def check_log_path(path: Path, protect: tuple[str, ...] = ()) -> Path:
     """``path`` as a log file name, or :class:`LogPathError` saying why not: it must end in
-    ``.mcap``, not be a folder, not be one of ``protect`` (the scenario file), and its folder
-    must be creatable and writable. Checked before a mission starts, so a bad ``--out`` costs
+    ``.mcap``, not be a folder, not be one of ``protect`` (the scenario file), not be an existing
+    file other than a log navcli wrote (a device, a pipe, a user's file: never replaced), and its
+    folder must be creatable and writable. Checked before a mission starts, so a bad ``--out`` costs
     nothing."""
     if str(path) in ("", ".") or path.name in ("", ".", ".."):
         raise LogPathError(f"{str(path)!r} is not a file name")
@@ -124,6 +125,13 @@ def check_log_path(path: Path, protect: tuple[str, ...] = ()) -> Path:
     for other in protect:
         if other and path.exists() and Path(other).exists() and path.samefile(other):
             raise LogPathError(f"{path} is the scenario file itself")
+    if path.exists() or path.is_symlink():  # replaced only if it is a log of navcli's (a regular file)
+        from ..outputs import OutputError, check_file
+
+        try:
+            check_file(path, (".mcap",), "log")
+        except OutputError as e:
+            raise LogPathError(str(e)) from None
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
     except OSError as e:

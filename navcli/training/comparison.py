@@ -44,7 +44,9 @@ from typing import Any, Callable
 import numpy as np
 
 from .. import NavcliError
+from ..analysis.files import write_markdown
 from ..config import RunSpec
+from ..outputs import atomic
 from ..learning.actions import ACTIONS
 from .task import Start, random_starts, spec_at, task_spec
 
@@ -53,6 +55,9 @@ POLICY_KINDS = ("learned", "hand-coded", "agents") + CONSTANT
 DEFAULT_POLICIES = ("learned", "hand-coded", "agents")
 METRICS = ("successes", "reward", "actions") + ACTIONS + ("time_s",)
 """The table's columns: successes out of the starts, then means per trial."""
+
+TABLE_FILES = ("policies.csv", "policies.md", "trials.csv")
+"""What ``compare policies`` writes into its folder, besides ``runs/``."""
 
 
 class PolicyError(NavcliError):
@@ -344,8 +349,9 @@ def write_table(results: list[Result], out: Path, scenario: str = "") -> dict[st
     trials = trials_frame(results)
     about = {r.job.policy.label: r.job.policy.about for r in results}
     table = policy_table(trials, about)
-    files = {"table": out / "policies.csv", "markdown": out / "policies.md", "trials": out / "trials.csv"}
-    table.to_csv(files["table"], index=False)
-    trials.to_csv(files["trials"], index=False)
-    files["markdown"].write_text(markdown(table, scenario))
+    files = dict(zip(("table", "markdown", "trials"), (out / f for f in TABLE_FILES)))
+    for key, frame in (("table", table), ("trials", trials)):
+        with atomic(files[key]) as tmp:
+            frame.to_csv(tmp, index=False)
+    write_markdown(files["markdown"], markdown(table, scenario))
     return files
