@@ -44,6 +44,13 @@ SCENARIO_CASES = {
     "a landmark target inside an obstacle": GOOD.replace("target:\n  at: [5.4, 3.0]", "target: {landmark: L1}")
     + "landmarks: [{id: L1, at: [4.0, 2.0]}]\nobstacles: [{circle: {center: [4.0, 2.0], radius: 0.5}}]\n",
     "over 256 kB": GOOD + "# " + "x" * 300_000 + "\n",
+    "a FIFO": "|",  # opening it would wait for a writer for ever
+    "a link to /dev/zero": "->/dev/zero",  # reading it would never end
+    "a link to itself": "->self",
+    "a number as a key": GOOD + "1: 2\n",
+    "~ as a key": GOOD.replace("arena: {width: 6.0, height: 4.0}", "arena: {width: 6.0, height: 4.0, ~: 3}"),
+    "an ordered map as the arena": GOOD.replace("arena: {width: 6.0, height: 4.0}",
+                                                "arena: !!omap [width: 6.0, height: 4.0]"),
 }
 
 # the commands that take a scenario, with what they need beside it ({s}: the scenario's path)
@@ -71,14 +78,17 @@ OPTION_CASES = {
                              ["--param", "pilot.K"], ["--param", "pilot.K=-1"],
                              ["--param", "pilot.reflex_look_pans_deg=[1,,2]"],
                              ["--param", "pilot.reflex_look_pans_deg=[" + ",".join(["1"] * 65) + "]"],
-                             ["--param", "learning.distance_bounds=[1, 2]"]]),
+                             ["--param", "learning.distance_bounds=[1, 2]"],
+                             ["--param", "pilot.K=1", "--param", "pilot.K=2"], ["--navigation", "learned:"]]),
     "bench": (["bench", "{s}"], [["--repeat", "0"], ["--repeat", "1001"], ["--seed", "-1"]]),
     "plot field": (["plot", "field", "{s}"], [["--step", "nan"], ["--step", "inf"], ["--step", "0"], ["--step", "-1"],
                                               ["--step", "1e-9"]]),
     "plot bids": (["plot", "bids", "{s}"], [["--step", "nan"], ["--step", "-inf"], ["--step", "0"]]),
     "compare pilots": (["compare", "pilots", "{s}"], [["--reruns", "0"], ["--reruns", "10001"], ["--jobs", "0"],
                                                       ["--jobs", "257"], ["--time-limit", "inf"],
-                                                      ["--pilots", "sonar"], ["--perception", "x"]]),
+                                                      ["--pilots", "sonar"], ["--perception", "x"],
+                                                      ["--pilots", "geometric,geometric"], ["./{s}"],
+                                                      ["--scheduler", "junk"]]),
     "compare policies": (["compare", "policies", "{s}"], [["--runs", "0"], ["--runs", "1001"], ["--starts", "0"],
                                                           ["--starts", "100000000"], ["--policy", "bogus"],
                                                           ["--policy", "learned:"], ["--jobs", "0"]]),
@@ -88,7 +98,8 @@ OPTION_CASES = {
                                                          ["--trials", "0"], ["--seeds", "0"], ["--seeds", "100000000"],
                                                          ["--algorithm", "sa"], ["--objective", "speed"],
                                                          ["--time-limit", "nan"], ["--param", "pilot.K=2:1"],
-                                                         ["--param", "pilot.K=nan:1"]]),
+                                                         ["--param", "pilot.K=nan:1"],
+                                                         ["--param", "pilot.K=3"], ["--scheduler", "tcp://h:0"]]),
     "train": (["train", "{s}"], [["--trials", "0"], ["--trials", "100000000"], ["--eval-every", "0"],
                                  ["--eval-starts", "100000000"], ["--eval-starts", "0"], ["--seed", "-1"],
                                  ["--algorithm", "sarsa"], ["--log", "everything"], ["--jobs", "0"],
@@ -97,28 +108,33 @@ OPTION_CASES = {
                                      ["--fps", "0"], ["--fps", "1000"], ["--dpi", "1000"], ["--from", "-1"],
                                      ["--from", "nan"], ["--to", "inf"], ["--from", "5", "--to", "1"]]),
     "report": (["report", "logs"], [["--baseline", "sonar"]]),
-    "sweep": (["sweep", "plan.yaml"], [["--jobs", "0"], ["--jobs", "257"]]),
+    "sweep": (["sweep", "plan.yaml"], [["--jobs", "0"], ["--jobs", "257"], ["--scheduler", "junk"],
+                                       ["--scheduler", "tcp://127.0.0.1:99999"]]),
     "layout": (["layout"], [["--format", "xml"]]),
 }
 
 # output paths: (command, option, the bad path, what the folder holds for it)
 _FOLDER, _FILE, _DEVICE = "folder", "a-file", "/dev/null"
 OUT_CASES = {
-    "run": (["run", "{s}"], "--out", ["{folder}", "x.txt", "{s}", "{file}/x.mcap", _DEVICE]),
+    "run": (["run", "{s}"], "--out", ["{folder}", "x.txt", "{s}", "{file}/x.mcap", _DEVICE, "notes.mcap", "fifo.mcap",
+                                      "zero.mcap"]),
     "plot field": (["plot", "field", "{s}"], "--out", ["x.txt", "{folder}", "{folder}/", _DEVICE, "{file}/x.png",
                                                        "notes.png"]),
     "plot bids": (["plot", "bids", "{s}"], "--out", ["x.txt", "{folder}", _DEVICE, "{file}/x.png", "notes.png"]),
     "plot map": (["plot", "map", "{log}"], "--out", ["x.txt", "{folder}", _DEVICE, "{file}/x.png", "notes.png"]),
     "render": (["render", "{log}"], "--out", ["x.txt", "{folder}", _DEVICE, "{file}/x.gif", "notes.gif"]),
-    "layout": (["layout"], "--out", ["x.txt", "{folder}", _DEVICE, "{file}/x.json", "{s}"]),
-    "report": (["report", "logs"], "--out", ["{file}", "{file}/x", _DEVICE]),
-    "compare pilots": (["compare", "pilots", "{s}", "--reruns", "1", "--jobs", "1"], "--out", ["{file}", "{file}/x"]),
+    "layout": (["layout"], "--out", ["x.txt", "{folder}", _DEVICE, "{file}/x.json", "{s}", "notes.json",
+                                     "settings.json"]),
+    "report": (["report", "logs"], "--out", ["{file}", "{file}/x", _DEVICE, "mine"]),
+    "compare pilots": (["compare", "pilots", "{s}", "--reruns", "1", "--jobs", "1"], "--out",
+                       ["{file}", "{file}/x", "mine"]),
     "compare policies": (["compare", "policies", "{s}", "--runs", "1", "--starts", "1", "--jobs", "1"], "--out",
-                         ["{file}", "{file}/x"]),
-    "sweep": (["sweep", "plan.yaml", "--jobs", "1"], "--out", ["{file}", "{file}/x"]),
+                         ["{file}", "{file}/x", "mine"]),
+    "sweep": (["sweep", "plan.yaml", "--jobs", "1"], "--out", ["{file}", "{file}/x", "mine", "mine2"]),
+    "sweep --csv": (["sweep", "plan.yaml", "--jobs", "1", "--csv"], "--out", ["mine3"]),
     "sweep --no-logs": (["sweep", "plan.yaml", "--jobs", "1", "--no-logs"], "--out", ["{file}/x"]),
     "tune": (["tune", "{s}", "--param", "pilot.K=1:2", "--trials", "1", "--jobs", "1"], "--out", ["{file}",
-                                                                                                   "{file}/x"]),
+                                                                                                   "{file}/x", "mine"]),
     "tune --storage": (["tune", "{s}", "--param", "pilot.K=1:2", "--trials", "1", "--jobs", "1"], "--storage",
                        ["x.txt", "{folder}", _DEVICE, "{s}", "notes.journal"]),
     "tune --storage (ga)": (["tune", "{s}", "--param", "pilot.K=1:2", "--algorithm", "ga", "--generations", "1",
@@ -130,14 +146,20 @@ OUT_CASES = {
 
 # log and plan inputs: (command with {x} for the bad input, the bad inputs)
 _LOG_BAD = {"missing": None, "a folder": "/", "empty": b"", "garbage": b"\x89MCAP0\r\n" + b"\0" * 64,
-            "a scenario": GOOD.encode(), "truncated": "half"}
+            "a scenario": GOOD.encode(), "truncated": "half", "a FIFO": "|", "a link to /dev/zero": "->/dev/zero",
+            "a link to itself": "->self"}
+_MODEL_BAD = {"a FIFO": "|", "a link to /dev/zero": "->/dev/zero", "a link to itself": "->self",
+              "an array declared of 745 GiB": "huge-model"}
 INPUT_CASES = {
     "plot map": (["plot", "map", "{x}"], "x.mcap", _LOG_BAD),
     "render": (["render", "{x}"], "x.mcap", _LOG_BAD),
     "recover": (["recover", "{x}"], "x.mcap.partial",  # a truncated log is what it recovers
                 {**{k: v for k, v in _LOG_BAD.items() if k != "truncated"}, "a complete log": "whole"}),
     "report": (["report", "{x}"], "ld", {"missing": None, "a file": b"x", "an empty folder": "/",
-                                           "a folder of garbage": "/garbage"}),
+                                           "a folder of garbage": "/garbage", "a folder of a FIFO": "/fifo",
+                                           "a log whose summary says NaN": "/nan-summary"}),
+    "run --navigation learned:FILE": (["run", "s.yaml", "--navigation", "learned:{x}"], "m.npz", _MODEL_BAD),
+    "train --resume": (["train", "s.yaml", "--trials", "1", "--jobs", "1", "--resume", "{x}"], "m.npz", _MODEL_BAD),
     "sweep": (["sweep", "{x}", "--jobs", "1"], "p.yaml", {
         "missing": None, "a folder": "/", "empty": "", "binary": bytes(range(256)), "a list": "- 1\n",
         "no scenarios": "version: 1\nseeds: 1\n", "seeds 0": "version: 1\nseeds: 0\nscenarios: [s.yaml]\n",
@@ -148,7 +170,12 @@ INPUT_CASES = {
         "a scenario twice": "version: 1\nseeds: 1\nscenarios: [s.yaml, ./s.yaml]\n",
         "octal seeds": "version: 1\nseeds: 010\nscenarios: [s.yaml]\n",
         "a bad scenario": "version: 1\nseeds: 1\nscenarios: [bad.yaml]\n",
-        "over 1 MiB": "version: 1\n# " + "x" * (1 << 20) + "\n"}),
+        "over 1 MiB": "version: 1\n# " + "x" * (1 << 20) + "\n",
+        "a FIFO": "|", "a link to /dev/zero": "->/dev/zero",
+        "a whole number sampled": "version: 1\nseeds: 1\nscenarios: [s.yaml]\nrandom: {samples: 2, ranges: "
+                                  "{pilot.looks: [0, 1]}}\n",
+        "a number as a grid key": "version: 1\nseeds: 1\nscenarios: [s.yaml]\ngrid: {1: [1, 2]}\n",
+        "a FIFO scenario": "version: 1\nseeds: 1\nscenarios: [fifo.yaml]\n"}),
     "tune (study file)": (["tune", "s.yaml", "--param", "pilot.K=1:2", "--trials", "1", "--jobs", "1",
                            "--storage", "{x}"], "st.journal", {"garbage": '{"op_code": 99}\n', "not JSON": "{\n"}),
     "tune (GA checkpoint)": (["tune", "s.yaml", "--param", "pilot.K=1:2", "--algorithm", "ga", "--generations", "1",
@@ -200,10 +227,23 @@ def _tree(root: Path) -> dict[str, tuple[int, int]]:
 def _place(path: Path, content, good_log: Path) -> None:
     if content is None:
         return
+    if content == "|":
+        os.mkfifo(path)
+        return
+    if isinstance(content, str) and content.startswith("->"):
+        path.symlink_to(path if content == "->self" else content[2:])
+        return
+    if content == "huge-model":
+        _huge_model(path)
+        return
     if isinstance(content, str) and content.startswith("/"):
         path.mkdir()
         if content == "/garbage":
             (path / "a.mcap").write_bytes(b"garbage")
+        elif content == "/fifo":
+            os.mkfifo(path / "b.mcap")
+        elif content == "/nan-summary":
+            _nan_summary(good_log, path / "nan.mcap")
         return
     if content == "half":
         data = good_log.read_bytes()
@@ -212,6 +252,49 @@ def _place(path: Path, content, good_log: Path) -> None:
         shutil.copyfile(good_log, path)
     else:
         path.write_bytes(content if isinstance(content, bytes) else content.encode())
+
+
+def _huge_model(path: Path) -> None:
+    """The bundled model with its ``values`` array's header declaring 10^11 floats (64 bytes of data)."""
+    import io
+    import zipfile
+
+    import numpy as np
+
+    from navcli.learning import model_file
+
+    with zipfile.ZipFile(model_file.BUNDLED) as z:
+        members = {n: z.read(n) for n in z.namelist()}
+    head = io.BytesIO()
+    np.lib.format.write_array_header_1_0(head, {"descr": "<f8", "fortran_order": False, "shape": (10**11,)})
+    members["values.npy"] = head.getvalue() + bytes(64)
+    with zipfile.ZipFile(path, "w") as z:
+        for n, data in members.items():
+            z.writestr(n, data)
+
+
+def _nan_summary(good_log: Path, out: Path) -> None:
+    """``good_log`` rewritten with its summary's time as the text "NaN" (every other record as it was)."""
+    import json
+
+    from mcap.reader import make_reader
+    from mcap.writer import Writer
+
+    with good_log.open("rb") as f, out.open("wb") as g:
+        reader, w = make_reader(f), Writer(g)
+        w.start()
+        summary = reader.get_summary()
+        schemas = {sid: w.register_schema(s.name, s.encoding, s.data) for sid, s in summary.schemas.items()}
+        channels = {cid: w.register_channel(c.topic, c.message_encoding, schemas.get(c.schema_id, 0), c.metadata)
+                    for cid, c in summary.channels.items()}
+        for _, channel, m in reader.iter_messages(log_time_order=False):
+            data = m.data
+            if channel.topic == "/mission/summary":
+                data = json.dumps(json.loads(data) | {"time_s": "NaN"}).encode()
+            w.add_message(channels[channel.id], m.log_time, data, m.publish_time)
+        for md in reader.iter_metadata():
+            w.add_metadata(md.name, md.metadata)
+        w.finish()
 
 
 def _workspace(d: Path, good_log: Path) -> None:
@@ -225,8 +308,19 @@ def _workspace(d: Path, good_log: Path) -> None:
     (d / "plan.yaml").write_text("version: 1\nseeds: 1\ntime_limit: 1\nscenarios: [s.yaml]\n")
     (d / _FOLDER).mkdir()
     (d / _FILE).write_text("a file, not a folder\n")
-    for notes in ("notes.png", "notes.gif", "notes.json", "notes.journal", "notes.npz", "m-notes-curve.png"):
+    for notes in ("notes.png", "notes.gif", "notes.json", "notes.journal", "notes.npz", "m-notes-curve.png",
+                  "notes.mcap"):
         (d / notes).write_text("my notes, not navcli's\n")
+    (d / "settings.json").write_text('{"my": "settings"}\n')  # JSON, but not navcli's
+    os.mkfifo(d / "fifo.mcap")
+    os.mkfifo(d / "fifo.yaml")
+    (d / "zero.mcap").symlink_to("/dev/zero")
+    for folder, names in (("mine", ("table.md", "history.csv", "policies.csv", "results.parquet")),
+                          ("mine2", ()), ("mine3", ("results.csv",))):
+        (d / folder).mkdir()
+        for n in names:
+            (d / folder / n).write_text("mine, not navcli's\n")
+    (d / "mine2" / "results.parquet").mkdir()  # a folder where the table goes
     (d / "m-notes-curve.png").rename(d / "m-notes-curve.png")  # a side file of --out m-notes.npz
 
 
@@ -258,6 +352,7 @@ def test_a_bad_input_is_refused_with_exit_2_one_message_and_nothing_written(case
 
 def test_the_table_is_large_enough_and_every_command_is_in_it():
     """At least 200 cases, and every command of the CLI meets at least one (``schema`` takes no input)."""
+    assert all(c != GOOD for c in SCENARIO_CASES.values())  # each edit of the good scenario took hold
     import typer.main
 
     assert len(CASES) >= 200

@@ -127,6 +127,39 @@ def test_a_model_larger_than_the_bound_is_refused_unread(tmp_path, monkeypatch):
         model_file.load(model_file.BUNDLED)
 
 
+def _declaring(path: Path, shape: tuple[int, ...]) -> Path:
+    """The bundled model with its ``values`` array's header declaring ``shape`` (64 bytes of data)."""
+    with zipfile.ZipFile(model_file.BUNDLED) as z:
+        members = {n: z.read(n) for n in z.namelist()}
+    head = io.BytesIO()
+    np.lib.format.write_array_header_1_0(head, {"descr": "<f8", "fortran_order": False, "shape": shape})
+    members["values.npy"] = head.getvalue() + bytes(64)  # (the header writer writes the magic too)
+    with zipfile.ZipFile(path, "w") as z:
+        for n, data in members.items():
+            z.writestr(n, data)
+    return path
+
+
+def test_an_array_declared_too_large_is_refused_before_it_is_allocated(tmp_path):
+    """A header may declare any shape: 10^11 floats (745 GiB) must be refused from the header alone."""
+    with pytest.raises(model_file.ModelError, match="declares"):
+        model_file.load(_declaring(tmp_path / "m.npz", (10**11,)))
+
+
+def test_what_is_not_a_regular_file_is_refused_unread(tmp_path):
+    import os
+
+    fifo = tmp_path / "f.npz"
+    os.mkfifo(fifo)  # opening it would wait for a writer for ever
+    zero = tmp_path / "z.npz"
+    zero.symlink_to("/dev/zero")  # reading it would never end
+    loop = tmp_path / "l.npz"
+    loop.symlink_to(loop)
+    for path, words in ((fifo, "not a regular file"), (zero, "not a regular file"), (loop, "cannot be read")):
+        with pytest.raises(model_file.ModelError, match=words):
+            model_file.load(path)
+
+
 @pytest.mark.parametrize("case", ["empty", "truncated", "a flipped byte", "meta a JSON list", "policy of floats",
                                   "values NaN"])
 @pytest.mark.parametrize("command", ["run", "compare policies", "train --resume"])

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import json
 import math
+import stat
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Iterable
@@ -122,9 +123,30 @@ def _row(schema: str, encoding: str, data: bytes, decoded) -> dict[str, Any]:
     return {"raw": decoded}
 
 
+def regular(path: Path) -> Path:
+    """``path`` if it is a regular file that can be opened, else :class:`LogError` saying why (a
+    device or a pipe would be read without end, or wait for a writer)."""
+    try:
+        mode = path.stat().st_mode
+    except FileNotFoundError:
+        raise LogError(f"{path}: no such file") from None
+    except OSError as e:  # a link to itself ...
+        raise LogError(f"{path}: cannot be read ({e.strerror or e})") from None
+    if stat.S_ISDIR(mode):
+        raise LogError(f"{path}: is a folder; give a log file (.mcap)")
+    if not stat.S_ISREG(mode):
+        raise LogError(f"{path}: is not a regular file (a device, a pipe ...), not a log")
+    return path
+
+
+SUMMARY_NUMBERS = ("seed", "time_s", "path_length_m", "collisions", "camera_looks", "ticks", "diverting_targets")
+"""The summary's numeric fields, checked when a log is read (a damaged or foreign summary is refused
+by name, not met later as a string in a sum)."""
+
+
 def read_log(path: str | Path, topics: Iterable[str] | None = None) -> RunLog:
     """Read ``path`` into a :class:`RunLog` (only ``topics`` if given)."""
-    path = Path(path)
+    path = regular(Path(path))
     rows: dict[str, list[dict]] = {}
     metadata: dict[str, dict[str, str]] = {}
     attachments: dict[str, bytes] = {}
@@ -151,6 +173,10 @@ def read_log(path: str | Path, topics: Iterable[str] | None = None) -> RunLog:
         frames[topic] = df
     summary_rows = rows.get(SUMMARY_TOPIC, [])
     summary = {k: v for k, v in summary_rows[-1].items() if k != "log_time_ns"} if summary_rows else {}
+    for k in SUMMARY_NUMBERS:
+        v = summary.get(k, 0)
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+            raise LogError(f"{path}: its summary's {k} is {v!r}, not a finite number (a damaged or foreign log)")
     return RunLog(path, frames, summary, metadata, attachments)
 
 
@@ -173,7 +199,7 @@ def scene_messages(path: str | Path, topic: str, decode: bool = True):
     """``(log time ns, SceneUpdate)`` of every message on a scene ``topic``, in log order; with
     ``decode=False`` the raw bytes and a decoder instead, so a caller that wants one message
     decodes only that one."""
-    with Path(path).open("rb") as f:
+    with regular(Path(path)).open("rb") as f:
         reader = make_reader(f)
         factory = DecoderFactory()
         decoders: dict[int, Any] = {}

@@ -57,8 +57,20 @@ ParamOption = Annotated[Optional[list[str]], typer.Option(
     "--param", metavar="NAME=VALUE",
     help="Override any parameter by its dotted name (pilot.K, pilot.R_min, navigation.kappa1, robot.max_speed, "
          "vision.forget_above ...; `navcli params` lists them); repeatable, e.g. --param pilot.K=20.")]
+def scheduler_address(value: Optional[str]) -> Optional[str]:
+    """A ``--scheduler`` checked before anything connects: ``tcp://HOST:PORT`` (the port 1-65535)."""
+    import re
+
+    if value is None:
+        return None
+    m = re.fullmatch(r"(?:tcp://)?([A-Za-z0-9.\-\[\]:]+):(\d{1,5})", value.strip())
+    if m is None or not 0 < int(m.group(2)) < 65536:
+        raise typer.BadParameter(f"{value[:80]!r} is not a scheduler address (expected tcp://HOST:PORT)")
+    return value.strip()
+
+
 SchedulerOption = Annotated[Optional[str], typer.Option(
-    metavar="ADDRESS", help="Send the runs to the Dask cluster whose scheduler is at tcp://HOST:PORT instead of "
+    metavar="ADDRESS", callback=scheduler_address, help="Send the runs to the Dask cluster whose scheduler is at tcp://HOST:PORT instead of "
                             "local worker processes (needs navcli[cluster]).")]
 JobsOption = Annotated[Optional[int], typer.Option(min=1, max=MAX_JOBS, help="Local worker processes (default: the machine's cores).")]
 
@@ -83,15 +95,24 @@ def build_spec(path: Path, params: list[str] | None = None, **choices: Any) -> R
 
     sc = load(path)
     with about("--param", ParamError):
-        overrides = dict(parse_override(item) for item in params or [])
+        pairs = [parse_override(item) for item in params or []]
+        names = [n for n, _ in pairs]
+        twice = sorted({n for n in names if names.count(n) > 1})
+        if twice:
+            raise ParamError(f"{', '.join(twice)} given twice: which value is meant?")
+        overrides = dict(pairs)
         return RunSpec.build(sc, overrides=overrides, **choices)
 
 
 def check_model(navigation: str) -> None:
     """Refuse a ``learned:FILE`` that is not a usable model."""
-    mode, _, file = navigation.partition(":")
+    mode, sep, file = navigation.partition(":")
     if mode != "learned":
         return
+    if sep and not file.strip():
+        from ..config import ConfigError
+
+        raise ConfigError("--navigation learned: names no model file (learned:FILE, or plain learned for the bundled one)")
     from ..learning.model_file import load_policy
 
     with about("--navigation"):

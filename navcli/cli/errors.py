@@ -58,12 +58,13 @@ def about(option: str, kind: type[NavcliError] = NavcliError) -> Iterator[None]:
 
 
 @contextlib.contextmanager
-def on_stop(what_is_kept: str) -> Iterator[None]:
-    """Ctrl-C or SIGTERM inside ends the command with what was kept and how to go on, and 130 / 143."""
+def on_stop(what_is_kept: str | Callable[[], str]) -> Iterator[None]:
+    """Ctrl-C or SIGTERM inside ends the command with what was kept and how to go on (said when
+    the stop comes, if a callable), and 130 / 143."""
     try:
         yield
     except KeyboardInterrupt as e:
-        say(f"{stopped_by(e)}: {what_is_kept}")
+        say(f"{stopped_by(e)}: {what_is_kept() if callable(what_is_kept) else what_is_kept}")
         raise typer.Exit(exit_code(e)) from None
 
 

@@ -221,6 +221,9 @@ def tune(
             raise refuse(f"{name}: {value!r} is not one of {', '.join(allowed)}")
     with about("--param"):
         parsed = [parse_range(p) for p in param]
+    names = [p[0] for p in parsed]
+    if len(set(names)) < len(names):
+        raise refuse(f"--param: {', '.join(sorted({n for n in names if names.count(n) > 1}))} given twice")
     tuned = [p for p in parsed if len(p) == 3]
     if not tuned:
         raise refuse("--param: name at least one parameter to tune, as NAME=LOW:HIGH or NAME")
@@ -245,7 +248,8 @@ def tune(
     from ..experiments import tune as t
 
     with executor_for(jobs, scheduler) as ex, about("--storage", t.CheckpointError), \
-            on_stop(f"the finished trials are in {storage}; run the same command again to resume"):
+            on_stop(lambda: f"the finished trials are in {storage}; run the same command again to resume"
+                    if storage.exists() else "no trial had finished; nothing was kept"):
         if algorithm == "ga":
             history = t.tune_ga(problem, ex, storage=storage, seed=seed,
                                 settings=GASettings(population, generations, crossover, mutation), on_trial=trial)

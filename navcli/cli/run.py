@@ -167,6 +167,7 @@ def recover(
 
     if not partial.is_file():
         raise refuse(f"{partial}: " + ("is a folder; give the .partial file a killed run left" if partial.is_dir()
+                                       else "a link that leads nowhere (or to itself)" if partial.is_symlink()
                                        else "no such file" if not partial.exists() else "not a regular file"))
     path, s = recover_log(partial, out)
     if s["damaged_bytes"]:

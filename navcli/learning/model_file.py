@@ -12,6 +12,8 @@ object), so a damaged or foreign file is refused in one sentence, never half-use
 from __future__ import annotations
 
 import json
+import math
+import stat
 import zipfile
 import zlib
 from pathlib import Path
@@ -106,9 +108,14 @@ def _read(path: Path) -> dict[str, np.ndarray]:
     if path.is_dir():
         raise ModelError(f"{path}: is a folder, not a model file")
     try:
-        size = path.stat().st_size
+        st = path.stat()
     except FileNotFoundError:
         raise ModelError(f"{path}: no such model file") from None
+    except OSError as e:  # a link to itself ...
+        raise ModelError(f"{path}: cannot be read ({e.strerror or e})") from None
+    if not stat.S_ISREG(st.st_mode):  # a device (/dev/zero) or a pipe would be read without end
+        raise ModelError(f"{path}: is not a regular file (a device, a pipe ...), not a model file")
+    size = st.st_size
     if size > MAX_BYTES:
         raise ModelError(f"{path}: {size} bytes, larger than a model can be ({MAX_BYTES} bytes)")
     if not zipfile.is_zipfile(path):
@@ -118,6 +125,14 @@ def _read(path: Path) -> dict[str, np.ndarray]:
             big = [i.filename for i in z.infolist() if i.file_size > MAX_BYTES]
             if big or len(z.infolist()) > 64:
                 raise ModelError(f"{path}: not a navcli model (its arrays would unpack beyond {MAX_BYTES} bytes)")
+            for info in z.infolist():  # what each array's header declares, before any is allocated
+                with z.open(info) as member:
+                    version = np.lib.format.read_magic(member)
+                    shape, _, dtype = (np.lib.format.read_array_header_1_0(member) if version == (1, 0)
+                                       else np.lib.format.read_array_header_2_0(member))
+                if math.prod(shape) * dtype.itemsize > MAX_BYTES:
+                    raise ModelError(f"{path}: its array {info.filename.removesuffix('.npy')!r} declares {shape}: "
+                                     f"larger than a model can be ({MAX_BYTES} bytes)")
         with np.load(path, allow_pickle=False) as z:
             return {k: z[k] for k in z.files}
     except ModelError:

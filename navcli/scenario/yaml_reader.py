@@ -213,8 +213,9 @@ def parse_yaml(text: str, source: str) -> tuple[Any, dict[tuple, int]]:
             seen: set = set()
             for k, v in node.value:
                 key = k.value
-                if not isinstance(key, str):  # a list or mapping used as a key
-                    problems.append(Problem(source, k.start_mark.line + 1, _dotted(path), "a key must be a name"))
+                if not isinstance(key, str) or k.tag != "tag:yaml.org,2002:str":  # a list, a number, ~, true ...
+                    shown = f" ({key!r} is read as {k.tag.rsplit(':', 1)[-1]})" if isinstance(key, str) else ""
+                    problems.append(Problem(source, k.start_mark.line + 1, _dotted(path), f"a key must be a name{shown}"))
                     continue
                 if key in seen:
                     problems.append(Problem(source, k.start_mark.line + 1, _dotted(path + (key,)), "appears twice in the same mapping"))
@@ -226,14 +227,20 @@ def parse_yaml(text: str, source: str) -> tuple[Any, dict[tuple, int]]:
                 lines[path + (i,)] = v.start_mark.line + 1
                 walk(v, path + (i,))
         elif isinstance(node, yaml.ScalarNode) and not node.style and node.tag in _NUMBER_TAGS:
-            hint = _yaml11_number(node.value, data_at(path))
+            value = data_at(path)
+            hint = _yaml11_number(node.value, value) if isinstance(value, (int, float)) else ""
             if hint:
                 problems.append(Problem(source, node.start_mark.line + 1, _dotted(path), hint))
 
     def data_at(path: tuple) -> Any:
+        """The loaded value at ``path``, or None where the data is not shaped as the nodes (an
+        ``!!omap``, a set ...: refused by the reader's types)."""
         v: Any = data
         for k in path:
-            v = v[k]
+            try:
+                v = v[k]
+            except (KeyError, IndexError, TypeError):
+                return None
         return v
 
     walk(root, ())

@@ -205,6 +205,10 @@ def train(spec: RunSpec, *, trials: int = 2000, eval_every: int = 100, eval_star
         if meta.get("algorithm") != algorithm or meta.get("scenario_sha256") != spec.scenario.sha256:
             raise model_file.ModelError(f"{resume}: made by {meta.get('algorithm')} on another scenario or "
                                         f"with another algorithm; cannot resume it here")
+        differ = [f"--{k.replace('_', '-')} {meta[k]}" for k, v in (("eval_every", eval_every), ("eval_starts", eval_starts))
+                  if k in meta and meta[k] != v]
+        if differ:  # its curve would mix evaluations of two kinds
+            raise model_file.ModelError(f"{resume}: was trained with {' and '.join(differ)}; resume it with the same")
         learner.load_arrays(arrays)
         seed = result.seed = int(meta["seed"])
         result.trials = result.saved = int(meta["trials"])
