@@ -175,3 +175,34 @@ def test_bench_reports_the_floor_and_the_stack_against_it():
     cost = float(re.search(r"logging costs (-?\d+) %", r.output).group(1))
     on, off = us["logging on"], us["logging off"]
     assert abs(cost - 100 * (on / off - 1)) <= 100 * slack(on, off) + 0.5
+
+
+def test_params_shows_each_range_as_the_overrides_enforce_it():
+    """Every numeric range `navcli params` prints holds the default and refuses a value just past
+    each finite end (so the listing says what `--param` accepts)."""
+    import re
+
+    from navcli.params import ParamError, Params
+
+    r = CliRunner().invoke(app, ["params"])
+    assert r.exit_code == 0, r.output
+    checked = 0
+    for line in r.output.splitlines()[1:]:
+        m = re.fullmatch(r"(\S+)\s+(\S.*?)\s+(?:whole number in )?([\[(])(\S+), (\S+)([\])])", line)
+        if m is None:
+            assert "numbers" in line, line  # the list-valued ones
+            continue
+        name, value, lo_open, lo, hi, hi_open = m.groups()
+        assert float(lo) <= float(value) <= float(hi)
+        for bound, closed, step in ((lo, lo_open == "[", -1), (hi, hi_open == "]", +1)):
+            b = float(bound)
+            if abs(b) == float("inf"):
+                continue
+            past = b + step * max(1e-6, abs(b) * 1e-6)
+            with pytest.raises(ParamError):
+                Params().override({name: past})
+            if not closed:
+                with pytest.raises(ParamError):
+                    Params().override({name: b})
+            checked += 1
+    assert checked > 50

@@ -377,7 +377,11 @@ def test_training_records_each_trial_and_resumes_where_the_model_was_saved(tmp_p
     start = random_starts(sc, 1, np.random.SeedSequence([7, 1]).generate_state(1)[0], spec.params.robot.radius)[0]
     assert (float(rows[1]["x"]), float(rows[1]["y"]), int(rows[1]["seed"])) == (round(start.x, 3), round(start.y, 3),
                                                                                start.seed)
-    again = train(spec, trials=2, eval_every=2, eval_starts=2, out=out, resume=out, workers=1)
+    again = train(spec, trials=5, eval_every=2, eval_starts=2, out=out, resume=out, workers=1)  # 5 in all
     rows2 = list(csv.DictReader(csv_path.open()))
     assert again.trials == 5 and [int(r["trial"]) for r in rows2] == [0, 1, 2, 3, 4] and rows2[:3] == rows
     assert len(list(logs.glob("*.mcap"))) == 3  # summary only, the second time
+    from navcli.learning.model_file import ModelError
+
+    with pytest.raises(ModelError, match="already holds 5 trials"):  # --trials is a total, and it has them
+        train(spec, trials=5, eval_every=2, eval_starts=2, out=out, resume=out, workers=1)

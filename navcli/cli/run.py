@@ -182,9 +182,11 @@ def params(
     scenario: Annotated[Optional[Path], typer.Argument(metavar="SCENARIO", help="Show the values this scenario resolves to.")] = None,
     param: ParamOption = None,
 ) -> None:
-    """List every parameter by its --param name, with its value.
+    """List every parameter by its --param name, with its value and the range an override must lie in.
 
     Without a scenario, the defaults; with one, its values after its blocks and any --param."""
+    import dataclasses
+
     from ..params import Params, parse_override
 
     if scenario is not None:
@@ -192,8 +194,25 @@ def params(
     else:
         with about("--param"):
             values = Params().override(dict(parse_override(i) for i in param or []))
+    ranges = {f"{g}.{f.name}": _range(f) for g in Params.GROUPS for f in dataclasses.fields(getattr(values, g))}
+    typer.echo(f"{'name':34s} {'value':>22s}  range")
     for name, value in values.flat().items():
-        typer.echo(f"{name:34s} {value}")
+        typer.echo(f"{name:34s} {str(value):>22s}  {ranges[name]}")
+
+
+def _range(f) -> str:
+    """A parameter's declared range in interval notation (``[0, 1]``, ``(0, inf)``), as checked
+    by ``Params.override``; a list's, by its count."""
+    if isinstance(f.default, tuple):
+        n = len(f.default)
+        return f"{n} increasing numbers" if f.metadata.get("intervals") else "a list of numbers"
+    m = f.metadata
+    lo = "(" + f"{m['above']:g}" if m.get("above") is not None else "[" + f"{m['at_least']:g}" \
+        if m.get("at_least") is not None else "(-inf"
+    hi = f"{m['below']:g})" if m.get("below") is not None else f"{m['at_most']:g}]" \
+        if m.get("at_most") is not None else "inf)"
+    kind = "whole number in " if isinstance(f.default, int) else ""
+    return f"{kind}{lo}, {hi}"
 
 
 @app.command()

@@ -95,7 +95,8 @@ def _arena(ax, sc: Scenario, R_min: float) -> None:
             ax.plot([o.start[0], o.end[0]], [o.start[1], o.end[1]], color="tab:red", lw=3, zorder=3)
     for lm in sc.landmarks:
         ax.add_patch(mp.Circle(lm.at, lm.radius, color="tab:blue", zorder=3))
-        ax.annotate(lm.id, lm.at, xytext=(4, 4), textcoords="offset points", color="tab:blue")
+        ax.annotate(lm.id, lm.at, xytext=(6, 6), textcoords="offset points", color="tab:blue", zorder=6,
+                    fontweight="bold", bbox={"boxstyle": "round,pad=0.15", "fc": "white", "ec": "none", "alpha": 0.8})
     t = sc.target
     if t.line is not None:
         ax.plot([t.line[0][0], t.line[1][0]], [t.line[0][1], t.line[1][1]], color="tab:green", lw=2, zorder=3)
