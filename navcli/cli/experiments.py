@@ -265,3 +265,31 @@ def tune(
     for k, v in best["params"].items():
         typer.echo(f"  {k} = {v:.6g}")
     typer.echo(f"wrote {', '.join(str(p) for p in files.values())}; study in {storage}")
+
+
+@app.command()
+def reproduce(
+    which: Annotated[str, typer.Argument(metavar="[pilots|learning|all]", help="Which paper's experiments.")] = "all",
+    quick: Annotated[bool, typer.Option("--quick", help="Few reruns (minutes on 2 cores), to check the machinery; "
+                                                        "the report says so.")] = False,
+    out: Annotated[Path, typer.Option(help="Folder for the runs, report.md, report.html and the PNGs.")] =
+        Path("logs/reproduce"),
+    jobs: JobsOption = None,
+    scheduler: SchedulerOption = None,
+) -> None:
+    """Both papers' experiments under their conditions, and a report of navcli's numbers with 95 %
+    intervals beside the papers', saying what agrees (the pilot paper's Table 1 with both
+    perceptions and its sensitivity, the trap rooms' diverting targets, the learning paper's Table 1
+    and Figure 3). What earlier runs left in --out is kept: the same command resumes."""
+    from ..experiments.reproduce import FULL, QUICK, SECTIONS, reproduce as run_all_sections
+
+    if which not in (*SECTIONS, "all"):
+        raise refuse(f"{which!r}: expected pilots, learning or all")
+    require_extra("pyarrow", "navcli reproduce (the sensitivity's table)")
+    out_folder(out, ("report.md", "report.html"))
+    t0 = time.perf_counter()
+    with on_stop(f"what finished is kept in {out}; run the same command again to go on"):
+        files = run_all_sections(which, out, settings=QUICK if quick else FULL, jobs=jobs or os.cpu_count() or 1,
+                                 scheduler=scheduler, echo=say)
+    typer.echo(without_mark(files["markdown"].read_text()))
+    typer.echo(f"wrote {files['markdown']} and {files['html']} in {time.perf_counter() - t0:.0f} s")

@@ -1,0 +1,111 @@
+"""``navcli reproduce`` on tiny settings: the report's numbers are those of the logs and trial
+records it names (recomputed here from the logs' summaries, not from navcli's tables)."""
+
+from __future__ import annotations
+
+import csv
+import math
+import re
+import statistics
+from pathlib import Path
+
+import pytest
+from typer.testing import CliRunner
+
+from navcli.analysis import read_log
+from navcli.analysis.files import MARK
+from navcli.cli import app
+from navcli.experiments.reproduce import QUICK, reproduce, replace
+
+TINY = replace(QUICK, reruns=2, sensitivity_seeds=2, trap_seeds=1, trap_rooms=("blocked-wall",), policy_runs=2,
+               policy_starts=3, train_trials=4, eval_every=2, eval_starts=3)
+
+
+@pytest.fixture(scope="module")
+def done(tmp_path_factory) -> tuple[Path, str]:
+    out = tmp_path_factory.mktemp("rp")
+    files = reproduce("all", out, settings=TINY, jobs=2, echo=lambda s: None)
+    return out, files["markdown"].read_text()
+
+
+def _rows(md: str, heading: str) -> list[list[str]]:
+    """The table under the section whose heading starts with ``heading``."""
+    part = md.split(f"## {heading}", 1)[1].split("\n## ", 1)[0]
+    lines = [ln for ln in part.splitlines() if ln.startswith("| ")]
+    return [[c.strip() for c in ln.strip("|").split("|")] for ln in lines[2:]]
+
+
+def _mean(cell: str) -> float:
+    return float(cell.split(" [")[0])
+
+
+def test_the_pilots_table_is_the_mean_of_the_logs_it_names(done):
+    out, md = done
+    assert md.startswith(MARK) and "QUICK RUN" in md  # marked as a quick run, at the top
+    rows = _rows(md, "Pilot paper, Table 1:")
+    for perception in ("vision", "oracle"):
+        with (out / "table1" / perception / "runs.csv").open() as f:
+            logs = [r["log"] for r in csv.DictReader(f)]
+        assert len(logs) == 2 * TINY.reruns
+        summaries = [read_log(p, topics=[]).summary for p in logs]
+        for pilot in ("geometric", "potential-field"):
+            mine = [s for s in summaries if s["pilot"] == pilot]
+            reached = [s for s in mine if s["outcome"] == "reached"]
+            time_row = next(r for r in rows if r[:3] == [perception, pilot, "time_s"])
+            path_row = next(r for r in rows if r[:3] == [perception, pilot, "path_cm"])
+            assert _mean(time_row[4]) == pytest.approx(statistics.mean(s["time_s"] for s in reached), abs=0.05)
+            assert _mean(path_row[4]) == pytest.approx(statistics.mean(100 * s["path_length_m"] for s in reached),
+                                                       abs=0.05)
+            assert time_row[5] == f"{len(reached)}/{len(mine)}"
+
+
+def test_the_trap_table_counts_the_logs_outcomes_and_diverting_targets(done):
+    out, md = done
+    rows = _rows(md, "Trap rooms")
+    with (out / "traps" / "runs.csv").open() as f:
+        summaries = [read_log(r["log"], topics=[]).summary for r in csv.DictReader(f)]
+    for pilot in ("potential-field", "geometric"):
+        mine = [s for s in summaries if s["pilot"] == pilot]
+        got = {r[1]: r[3].split(" ")[0] for r in rows if r[0] == pilot}
+        assert got["reached"] == f"{sum(s['outcome'] == 'reached' for s in mine)}/{len(mine)}"
+        assert got["needed 1 diverting target"] == f"{sum(s['diverting_targets'] == 1 for s in mine)}/{len(mine)}"
+
+
+def test_the_policy_table_is_the_trials_it_names(done):
+    out, md = done
+    rows = _rows(md, "Learning paper, Table 1")
+    with (out / "policies" / "trials.csv").open() as f:
+        trials = list(csv.DictReader(f))
+    for policy in ("learned", "hand-coded"):
+        mine = [t for t in trials if t["policy"] == policy]
+        runs = sorted({t["run"] for t in mine})
+        per_run = [sum(t["success"] == "True" for t in mine if t["run"] == r) * 99 / TINY.policy_starts for r in runs]
+        row = next(r for r in rows if r[:2] == [policy, "successes"])
+        assert _mean(row[3]) == pytest.approx(statistics.mean(per_run), abs=0.05)
+        reward = next(r for r in rows if r[:2] == [policy, "reward"])
+        per_run_reward = [statistics.mean(float(t["reward"]) for t in mine if t["run"] == r) for r in runs]
+        assert _mean(reward[3]) == pytest.approx(statistics.mean(per_run_reward), abs=0.05)
+
+
+def test_the_figure_is_written_and_named_and_the_html_holds_the_same_tables(done):
+    out, md = done
+    img = re.search(r"!\[[^]]*\]\(([^)]+)\)", md).group(1)
+    assert (out / img).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    html = (out / "report.html").read_text()
+    assert html.count("<table>") == sum(ln.startswith("| ---") for ln in md.splitlines()) == 5  # every table, once
+    assert all(math.isfinite(float(c)) for c in re.findall(r"(\d+) s \|", md))
+
+
+def test_a_second_run_resumes_what_the_first_left(done):
+    """Nothing is run again: every log, every policy run's trials and the model stay as they were."""
+    out, md = done
+    kept = [p for p in out.rglob("*") if p.suffix in (".mcap", ".npz") or p.parent.name == "runs"]
+    before = {p: p.stat().st_mtime_ns for p in kept}
+    again = reproduce("all", out, settings=TINY, jobs=2, echo=lambda s: None)["markdown"].read_text()
+    assert len(kept) > 10 and {p: p.stat().st_mtime_ns for p in kept} == before
+    assert _rows(again, "Pilot paper, Table 1:") == _rows(md, "Pilot paper, Table 1:")
+
+
+def test_the_command_refuses_an_unknown_section():
+    r = CliRunner().invoke(app, ["reproduce", "everything"])
+    assert r.exit_code == 2 and "expected pilots, learning or all" in r.output
