@@ -138,6 +138,16 @@ def t_mean(values: list[float]) -> tuple[float, float, float]:
     return t_interval(np.asarray(values, dtype=float))
 
 
+def _conditions(report: Report, out: Path, specs: list) -> None:
+    """Every parameter of the section's configurations, with their run ids, in ``conditions.json``."""
+    from ..outputs import write_text
+
+    out.mkdir(parents=True, exist_ok=True)
+    write_text(out / "conditions.json", json.dumps({"navcli_version": __version__, "configurations": [
+        {"run_id": s.run_id, **s.to_json()} for s in specs]}, indent=1) + "\n")
+    report.text(f"Every parameter of these runs, with their configurations' run ids: {out / 'conditions.json'}.")
+
+
 def _scenario(name: str):
     from ..scenario import load_scenario
 
@@ -166,10 +176,12 @@ def table1(report: Report, s: Settings, out: Path, ex) -> None:
                 "pilot and perception, the same seeds for both pilots; the paper's pace (5 cm/s, the scenario's "
                 "robot.max_speed). Means over the reached runs with 95 % t-intervals; gains paired over the seeds "
                 "both reached, with bootstrap 95 % intervals. Logs: " + str(out))
-    rows = []
+    rows: list[list[Any]] = []
+    bases: list = []
     for perception in ("vision", "oracle"):
-        runs, _ = _compare(("paper-8x8",), s.reruns, out / perception, ex, perception)
+        runs, specs = _compare(("paper-8x8",), s.reruns, out / perception, ex, perception)
         _write_runs(runs, out / perception / "runs.csv")
+        bases += specs
         table = pilot_table(runs).set_index("pilot")
         imps = improvements(runs, "geometric").set_index("metric")
         for pilot in ("geometric", "potential-field"):
@@ -188,6 +200,7 @@ def table1(report: Report, s: Settings, out: Path, ex) -> None:
     report.table(["perception", "pilot", "quantity", "the paper", "navcli [95 % CI]", "reached", "agreement",
                   "navcli's mean within the paper's ± 1 SD"], rows)
     report.text("Run ids and every run's numbers: " + ", ".join(str(out / p / "runs.csv") for p in ("vision", "oracle")))
+    _conditions(report, out, bases)
 
 
 def _write_runs(runs, path: Path) -> None:
@@ -226,7 +239,7 @@ def traps(report: Report, s: Settings, out: Path, ex) -> None:
     """The trap rooms: how often each pilot gets out, with how many diverting targets."""
     from ..analysis.tables import wilson_interval
 
-    runs, _ = _compare(s.trap_rooms, s.trap_seeds, out, ex)
+    runs, specs = _compare(s.trap_rooms, s.trap_seeds, out, ex)
     _write_runs(runs, out / "runs.csv")
     report.heading("Trap rooms: diverting targets (the thesis' real robot beside them)")
     report.text(f"{s.trap_seeds} seed(s) per room and pilot; every run: {out / 'runs.csv'}. The thesis' figures "
@@ -245,6 +258,7 @@ def traps(report: Report, s: Settings, out: Path, ex) -> None:
         m, lo, hi = t_mean(list(g["collisions"]))
         rows.append([pilot, "contacts per run", "-", f"{m:.1f} [{lo:.1f}, {hi:.1f}]", ""])
     report.table(["pilot", "quantity", "the thesis", "navcli", "agreement"], rows)
+    _conditions(report, out, specs)
 
 
 def policies(report: Report, s: Settings, out: Path, ex) -> None:
@@ -271,6 +285,7 @@ def policies(report: Report, s: Settings, out: Path, ex) -> None:
             rows.append([policy, metric, "-" if math.isnan(paper) else f"{paper:g}", f"{m:.1f} [{lo:.1f}, {hi:.1f}]",
                          "" if math.isnan(paper) else verdict(paper, lo, hi)])
     report.table(["policy", "quantity", "the paper", "navcli [95 % CI]", "agreement"], rows)
+    _conditions(report, out, [spec])
 
 
 def figure3(report: Report, s: Settings, out: Path, jobs: int) -> None:
@@ -296,6 +311,7 @@ def figure3(report: Report, s: Settings, out: Path, jobs: int) -> None:
                 f"on {s.eval_starts} fixed starts. The paper: {PAPER_FIGURE3}. navcli: {curve[-1][1]} of "
                 f"{s.eval_starts} after {curve[-1][0]}, the hand-coded policy {hand}; the learned policy "
                 + (f"first ahead of it at {ahead} trials." if ahead is not None else "never ahead of it."))
+    _conditions(report, out, [spec])
     png = curve_paths(model)[1]
     report.image(str(png.relative_to(out.parent)), "successes of the test starts against training trials")
 
