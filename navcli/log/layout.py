@@ -20,10 +20,11 @@ from __future__ import annotations
 import json
 from typing import Any
 
-from .format import (BIDS_TOPIC, CAMERA_SCENE_TOPIC, EVENTS_TOPIC, MEMORY_SCENE_TOPIC, PILOT_TOPIC, ROBOT_BODY_TOPIC,
-                     ROBOT_SCENE_TOPIC, SUMMARY_TOPIC, WORLD_SCENE_TOPIC)
+from .format import (BIDS_TOPIC, CAMERA_SCENE_TOPIC, EVENTS_TOPIC, MAP_SCENE_TOPIC, MEMORY_SCENE_TOPIC, PILOT_TOPIC,
+                     ROBOT_BODY_TOPIC, ROBOT_SCENE_TOPIC, SUMMARY_TOPIC, WORLD_SCENE_TOPIC)
 
-SCENE_TOPICS = (WORLD_SCENE_TOPIC, ROBOT_BODY_TOPIC, CAMERA_SCENE_TOPIC, ROBOT_SCENE_TOPIC, MEMORY_SCENE_TOPIC)
+SCENE_TOPICS = (WORLD_SCENE_TOPIC, ROBOT_BODY_TOPIC, CAMERA_SCENE_TOPIC, ROBOT_SCENE_TOPIC, MEMORY_SCENE_TOPIC,
+                MAP_SCENE_TOPIC)
 BID_PATHS = tuple(f"{BIDS_TOPIC}.{r}.{s}" for r in ("motion", "camera") for s in ("pilot", "navigation"))
 FORCE_PATHS = tuple(f"{PILOT_TOPIC}.{f}" for f in ("net.x", "net.y", "repulsive.x", "target.x", "turn_deg"))
 _APP_PANEL = {"ThreeDee": "3D", "Log": "RosOut"}  # SDK panel type -> the app's
