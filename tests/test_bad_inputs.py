@@ -111,6 +111,7 @@ OPTION_CASES = {
     "sweep": (["sweep", "plan.yaml"], [["--jobs", "0"], ["--jobs", "257"], ["--scheduler", "junk"],
                                        ["--scheduler", "tcp://127.0.0.1:99999"]]),
     "layout": (["layout"], [["--format", "xml"]]),
+    "reproduce": (["reproduce"], [["everything"], ["--jobs", "0"], ["--scheduler", "junk"], ["--quick", "x"]]),
 }
 
 # output paths: (command, option, the bad path, what the folder holds for it)
@@ -142,6 +143,7 @@ OUT_CASES = {
     "train": (["train", "{s}", "--trials", "1", "--eval-every", "1", "--eval-starts", "1", "--jobs", "1"], "--out",
               ["{s}", "{folder}", "{folder}/", "x.txt", _DEVICE, "{file}/m.npz", "notes.npz", "m-notes.npz"]),
     "recover": (["recover", "good.mcap.partial"], "--out", ["x.txt", "{folder}", "{s}"]),
+    "reproduce": (["reproduce", "--quick"], "--out", ["{file}", "{file}/x", "mine4"]),
 }
 
 # log and plan inputs: (command with {x} for the bad input, the bad inputs)
@@ -316,7 +318,7 @@ def _workspace(d: Path, good_log: Path) -> None:
     os.mkfifo(d / "fifo.yaml")
     (d / "zero.mcap").symlink_to("/dev/zero")
     for folder, names in (("mine", ("table.md", "history.csv", "policies.csv", "results.parquet")),
-                          ("mine2", ()), ("mine3", ("results.csv",))):
+                          ("mine2", ()), ("mine3", ("results.csv",)), ("mine4", ("report.md",))):
         (d / folder).mkdir()
         for n in names:
             (d / folder / n).write_text("mine, not navcli's\n")
