@@ -156,7 +156,6 @@ def sweep(
 ) -> None:
     """Run every scenario x parameter point x seed of a plan; one row per run in a Parquet table.
     Runs already in the table are not run again (an interrupted sweep resumes)."""
-    require_extra("pyarrow", "navcli sweep (Parquet tables)")
     from ..experiments.sweep import load_plan, plan_runs, run_sweep
 
     p = load_plan(plan)
@@ -285,7 +284,6 @@ def reproduce(
 
     if which not in (*SECTIONS, "all"):
         raise refuse(f"{which!r}: expected pilots, learning or all")
-    require_extra("pyarrow", "navcli reproduce (the sensitivity's table)")
     out_folder(out, ("report.md", "report.html"))
     t0 = time.perf_counter()
     with on_stop(f"what finished is kept in {out}; run the same command again to go on"):
