@@ -40,9 +40,9 @@ CSV_COLUMNS = ({"run_id", "pilot", "outcome"}, {"condition", "pilot", "success_r
 table, improvements; policies and their trials; a learning curve; a training's trials; tune's
 history; a sweep's results."""
 JSON_KEYS = ({"configById"}, {"content", "version"}, {"algorithm", "scenario"}, {"objective", "params", "value"},
-             {"key", "generation", "population"}, {"key", "policy", "trials"})
+             {"key", "generation", "population"}, {"key", "policy", "trials"}, {"navcli_version", "configurations"})
 """The keys that mark a JSON file navcli writes: a layout (app, SDK), a model's metadata, tune's
-best values, the GA's checkpoint, a policy comparison's run."""
+best values, the GA's checkpoint, a policy comparison's run, reproduce's conditions."""
 
 
 def navcli_wrote(path: Path) -> bool:
@@ -78,6 +78,8 @@ def navcli_wrote(path: Path) -> bool:
         return any(c <= columns for c in CSV_COLUMNS)
     if suffix == ".md":
         return first.decode("utf-8", "replace") == MARK
+    if suffix == ".html":
+        return MARK.encode() in head[:256]
     if suffix == ".yaml":
         return first.startswith(b"# navcli ")
     if suffix in (".journal", ".log"):

@@ -130,13 +130,13 @@ def run_mission(spec: RunSpec, *, out: Path | None = None, record: bool = True, 
     path = (out or spec.default_log_path()) if record or live else None
     mission = Mission(spec, snapshots=path is not None)
     recorder = open_log(spec, mission, path, live=live, port=port) if path is not None else None
-    if recorder and on_open:
-        on_open(recorder)
     observers: list[Observer] = [recording(recorder)] if recorder else []
     observers += [on_tick] if on_tick else []
     t0 = time.perf_counter()
     observers += [Pacer()] if live else []
     try:
+        if recorder and on_open:
+            on_open(recorder)  # inside: a stop while the caller speaks of the log still closes it
         advance(mission, observers)
     except BaseException as e:
         _stop(mission, e)

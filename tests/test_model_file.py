@@ -220,3 +220,17 @@ def test_a_save_leaves_no_temporary_file_and_replaces_its_own_model(tmp_path):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["m.json", "m.npz"]
     assert model_file.load(out)[1]["trials"] == 2 and json.loads((tmp_path / "m.json").read_text())["trials"] == 2
     assert io.BytesIO(out.read_bytes()).read(4) == b"PK\x03\x04"
+
+
+def test_an_encrypted_member_is_refused_in_one_sentence(tmp_path):
+    """A zip member with the encryption flag set (zipfile would ask for a password, a RuntimeError)."""
+    path = tmp_path / "enc.npz"
+    data = bytearray(model_file.BUNDLED.read_bytes())
+    data[6] |= 0x1  # the first local header's general-purpose flags: encrypted
+    cd = data.rfind(b"PK\x01\x02")
+    while cd >= 0:  # and every central-directory entry's
+        data[cd + 8] |= 0x1
+        cd = data.rfind(b"PK\x01\x02", 0, cd)
+    path.write_bytes(bytes(data))
+    with pytest.raises(model_file.ModelError, match="encrypted|damaged"):
+        model_file.load(path)

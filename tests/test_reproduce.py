@@ -109,3 +109,15 @@ def test_a_second_run_resumes_what_the_first_left(done):
 def test_the_command_refuses_an_unknown_section():
     r = CliRunner().invoke(app, ["reproduce", "everything"])
     assert r.exit_code == 2 and "expected pilots, learning or all" in r.output
+
+
+def test_the_reports_own_files_are_recognised_so_the_command_can_run_again(done):
+    """The CLI checks its folder before the work: report.md and report.html of an earlier run are
+    navcli's (their mark), so the same command resumes instead of being refused."""
+    from navcli.outputs import check_folder, navcli_wrote
+
+    out, _ = done
+    check_folder(out, ("report.md", "report.html"))  # raises if either were taken for a user's file
+    assert navcli_wrote(out / "table1" / "conditions.json")
+    (out / "mine.html").write_text("<html>mine</html>")
+    assert not navcli_wrote(out / "mine.html")

@@ -146,3 +146,15 @@ def test_the_navigation_block_refuses_what_cannot_be_run(write_scenario, block, 
     with pytest.raises(ScenarioError) as e:
         load_scenario(write_scenario(scenario_dict(navigation=block)))
     assert any(p.field == field and words in p.message for p in e.value.problems), str(e.value)
+
+
+def test_a_merge_may_be_overridden_but_a_key_written_twice_is_refused():
+    """YAML's ``<<`` merge brings a mapping's keys, which the mapping's own keys override (YAML's
+    rule); a key the mapping itself writes twice stays an error."""
+    from navcli.scenario import ScenarioError, parse_scenario
+
+    head = "version: 1\nname: m\nrobot: {start: [0.6, 2.0]}\ntarget: {at: [5.4, 3.0]}\n"
+    merged = parse_scenario(head + "arena: {<<: {width: 6.0, height: 5.0}, height: 4.0}\n")
+    assert (merged.arena.width, merged.arena.height) == (6.0, 4.0)
+    with pytest.raises(ScenarioError, match="appears twice"):
+        parse_scenario(head + "arena: {width: 6.0, height: 4.0, width: 5.0}\n")

@@ -75,7 +75,10 @@ def run(
         progress.close()
     s = res.summary
     if live and served:
-        _linger(served[0], s, linger)
+        try:
+            _linger(served[0], s, linger)
+        finally:
+            served[0].stop_serving()  # a stop between the run's end and the linger's start too
     typer.echo(f"outcome      {s['outcome']} ({s['reason']})")
     typer.echo(f"sim time     {s['time_s']:.1f} s  ({res.realtime_factor:.0f}x real time)")
     typer.echo(f"path length  {s['path_length_m']:.2f} m")

@@ -102,7 +102,9 @@ class Report:
         import html
 
         e = html.escape
-        out = ["<!doctype html><html><head><meta charset='utf-8'><title>navcli reproduce</title><style>"
+        from ..analysis.files import MARK
+
+        out = [f"<!doctype html>{MARK}<html><head><meta charset='utf-8'><title>navcli reproduce</title><style>"
                "body{font-family:sans-serif;max-width:70em;margin:2em auto}table{border-collapse:collapse}"
                "td,th{border:1px solid #bbb;padding:2px 6px;text-align:right}img{max-width:100%}</style></head><body>"]
         for kind, b in self.blocks:
@@ -217,14 +219,17 @@ def sensitivity(report: Report, s: Settings, out: Path, ex) -> None:
 
     out.mkdir(parents=True, exist_ok=True)
     plan_file = out / "plan.yaml"
-    rooms = ", ".join(str(SCENARIOS / f"{r}.yaml") for r in s.sensitivity_rooms)
-    plan_file.write_text(f"version: 1\nscenarios: [{rooms}]\nseeds: {s.sensitivity_seeds}\n"
+    rooms = ", ".join(json.dumps(str(SCENARIOS / f"{r}.yaml")) for r in s.sensitivity_rooms)  # quoted: any path
+    plan_file.write_text(f"# navcli reproduce: the sensitivity's plan\nversion: 1\nscenarios: [{rooms}]\n"
+                         f"seeds: {s.sensitivity_seeds}\n"
                          "pilots: [potential-field, geometric]\nperception: [vision, oracle]\ngrid:\n"
                          f"  robot.max_speed: [{', '.join(map(str, s.sensitivity_speeds))}]\n"
                          "  pilot.drive_while_turning: [1, 0]\n")
     table = out / "results.parquet"
-    run_sweep(plan_runs(load_plan(plan_file), None), table, ex)
+    planned = plan_runs(load_plan(plan_file), None)
+    run_sweep(planned, table, ex)
     runs = load_sweep(table)
+    runs = runs[runs["run_id"].isin({r.spec.run_id for r in planned})]  # the table keeps other plans' rows
     imps = improvements(runs, "geometric")
     report.heading("Pilot paper, Table 1's sensitivity (the paper states one condition)")
     report.text(f"{s.sensitivity_seeds} seed(s) a point; the plan: {plan_file}; every run: {table}. The paper has "
@@ -247,7 +252,7 @@ def traps(report: Report, s: Settings, out: Path, ex) -> None:
                 "target and 18 % two. Rates with Wilson 95 % intervals.")
     rows = []
     for pilot in ("potential-field", "geometric"):
-        g = runs[runs["pilot"] == pilot]
+        g = runs[(runs["pilot"] == pilot) & runs["outcome"].isin(("reached", "blocked", "timeout"))]  # not interrupted
         n = len(g)
         for key, k, paper in (("reached", int((g["outcome"] == "reached").sum()), THESIS_TRAPS["reached"]),
                               ("needed 1 diverting target", int((g["diverting_targets"] == 1).sum()),
@@ -279,6 +284,9 @@ def policies(report: Report, s: Settings, out: Path, ex) -> None:
                 f"t-intervals; successes scaled to 99 starts. Every trial: {out / 'trials.csv'}")
     rows = []
     for policy in ("learned", "hand-coded", "agents"):
+        if policy not in table.index:  # every run of it failed: said, not hidden
+            rows.append([policy, "-", "-", "no trial finished (see the runs' errors)", ""])
+            continue
         for metric, paper in (PAPER_POLICIES.get(policy) or {"successes": math.nan}).items():
             scale = 99 / s.policy_starts if metric == "successes" else 1.0
             m, lo, hi = (table.loc[policy, k] * scale for k in (metric, f"{metric}_lo", f"{metric}_hi"))
@@ -295,7 +303,7 @@ def figure3(report: Report, s: Settings, out: Path, jobs: int) -> None:
     from ..learning.model_file import curve_paths
     from ..training.trainer import train
 
-    model = out / "model.npz"
+    model = out / f"model-{s.train_trials}-every{s.eval_every}-on{s.eval_starts}.npz"  # one per size: resumed only by it
     spec = RunSpec.build(_scenario("landmarks-12"))
     have = int(model_file.load(model)[1].get("trials", 0)) if model.exists() else 0
     if have < s.train_trials:
@@ -314,6 +322,7 @@ def figure3(report: Report, s: Settings, out: Path, jobs: int) -> None:
     _conditions(report, out, [spec])
     png = curve_paths(model)[1]
     report.image(str(png.relative_to(out.parent)), "successes of the test starts against training trials")
+    report.text(f"The model, its curve and every training trial: {model}, {curve_paths(model)[0]}.")
 
 
 def reproduce(which: str, out: Path, *, settings: Settings = FULL, jobs: int = 2, scheduler: str | None = None,

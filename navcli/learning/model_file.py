@@ -126,6 +126,8 @@ def _read(path: Path) -> dict[str, np.ndarray]:
             if big or len(z.infolist()) > 64:
                 raise ModelError(f"{path}: not a navcli model (its arrays would unpack beyond {MAX_BYTES} bytes)")
             for info in z.infolist():  # what each array's header declares, before any is allocated
+                if info.flag_bits & 0x1:
+                    raise ModelError(f"{path}: its member {info.filename!r} is encrypted: not a navcli model")
                 with z.open(info) as member:
                     version = np.lib.format.read_magic(member)
                     shape, _, dtype = (np.lib.format.read_array_header_1_0(member) if version == (1, 0)

@@ -191,6 +191,7 @@ def parse_yaml(text: str, source: str) -> tuple[Any, dict[tuple, int]]:
     loader = _Loader(text)
     try:
         root = loader.get_single_node()
+        own = _own_keys(root)  # before construction, which merges `<<` keys into the mappings in place
         data = loader.construct_document(root) if root is not None else None
     except yaml.MarkedYAMLError as e:
         raise _yaml_problem(e, source) from None
@@ -217,9 +218,10 @@ def parse_yaml(text: str, source: str) -> tuple[Any, dict[tuple, int]]:
                     shown = f" ({key!r} is read as {k.tag.rsplit(':', 1)[-1]})" if isinstance(key, str) else ""
                     problems.append(Problem(source, k.start_mark.line + 1, _dotted(path), f"a key must be a name{shown}"))
                     continue
-                if key in seen:
+                if key in seen and (id(node), id(k)) in own:  # written twice; a key a merge (<<) gave may be overridden
                     problems.append(Problem(source, k.start_mark.line + 1, _dotted(path + (key,)), "appears twice in the same mapping"))
-                seen.add(key)
+                if (id(node), id(k)) in own:
+                    seen.add(key)
                 lines[path + (key,)] = k.start_mark.line + 1
                 walk(v, path + (key,))
         elif isinstance(node, yaml.SequenceNode):
@@ -247,6 +249,27 @@ def parse_yaml(text: str, source: str) -> tuple[Any, dict[tuple, int]]:
     if problems:
         raise ScenarioError(problems)
     return data, lines
+
+
+def _own_keys(root: yaml.Node | None) -> set[tuple[int, int]]:
+    """(mapping, key) of the keys written in each mapping itself (not brought by a ``<<`` merge),
+    by identity (a merge shares the key nodes of the mapping it copies)."""
+    own: set[tuple[int, int]] = set()
+    seen: set[int] = set()
+    todo = [root] if root is not None else []
+    while todo:
+        node = todo.pop()
+        if id(node) in seen:
+            continue
+        seen.add(id(node))
+        if isinstance(node, yaml.MappingNode):
+            for k, v in node.value:
+                if k.tag != "tag:yaml.org,2002:merge":
+                    own.add((id(node), id(k)))
+                todo += [k, v]
+        elif isinstance(node, yaml.SequenceNode):
+            todo += node.value
+    return own
 
 
 _NUMBER_TAGS = ("tag:yaml.org,2002:int", "tag:yaml.org,2002:float")

@@ -280,6 +280,7 @@ def train(spec: RunSpec, *, trials: int = 2000, eval_every: int = 100, eval_star
             model_file.save(out, learner, meta)
             result.saved, result.saved_in = result.trials, out
 
+    result.end = trials  # what a stop says the training goes to, wherever it comes
     try:
         with interruptible():  # Ctrl-C and SIGTERM alike, from the first trial to the last file written
             with executor(workers) as pool:  # stopped cleanly on Ctrl-C or SIGTERM, like compare's
