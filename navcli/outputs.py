@@ -57,9 +57,9 @@ def navcli_wrote(path: Path) -> bool:
     suffix = path.suffix.lower()
     with path.open("rb") as f:
         head = f.read(HEAD_BYTES)
-        size = os.fstat(f.fileno()).st_size
-        f.seek(max(0, size - 65536))
-        tail = f.read(65536)
+        if suffix in (".npz", ".parquet"):  # their directory is at the end
+            f.seek(max(0, os.fstat(f.fileno()).st_size - 65536))
+            tail = f.read(65536)
     first = head.split(b"\n", 1)[0].strip()
     if suffix == ".png":
         return head.startswith(b"\x89PNG\r\n\x1a\n") and b"Matplotlib" in head
@@ -149,8 +149,6 @@ def check_folder(path: Path, files: tuple[str, ...] = ()) -> Path:
     :class:`OutputError`. ``files``: the names (glob patterns) the command writes there; each that
     exists must be a file navcli wrote (:func:`check_file`). Nothing is created."""
     path = Path(path)
-    if str(path) == "":
-        raise OutputError("'' is not a folder name")
     if path.exists() and not path.is_dir():
         raise OutputError(f"{path}: is a file; give a folder")
     _writable_folder(path, path)

@@ -7,7 +7,7 @@ from __future__ import annotations
 import contextlib
 import os
 from pathlib import Path
-from typing import Iterator
+from typing import Any, Iterator
 
 
 @contextlib.contextmanager
@@ -29,6 +29,13 @@ def atomic(path: str | Path) -> Iterator[Path]:
 MARK = "<!-- written by navcli -->"
 """The first line of every Markdown file navcli writes (invisible when rendered): how a command
 knows a table of its own from a user's file of the same name, which it never replaces."""
+
+
+def write_csv(path: Path, frame: Any) -> Path:
+    """A pandas frame as CSV (no index), written atomically: every table navcli writes."""
+    with atomic(path) as tmp:
+        frame.to_csv(tmp, index=False)
+    return path
 
 
 def write_markdown(path: Path, text: str) -> Path:

@@ -33,7 +33,7 @@ import numpy as np
 import pandas as pd
 
 from ..log.format import POSE_TOPIC
-from .files import atomic, write_markdown
+from .files import write_csv, write_markdown
 from .logs import LogError, config_columns, path_length, read_log
 
 METRICS = {"time_s": "time (s)", "path_cm": "path length (cm)"}
@@ -399,8 +399,7 @@ def write_report(runs: pd.DataFrame, out: str | Path, baseline: str = "geometric
     files = {"runs": out / REPORT_FILES[0], "table": out / REPORT_FILES[1], "improvements": out / REPORT_FILES[2],
              "markdown": out / REPORT_FILES[3]}
     for key, frame in (("runs", runs.drop(columns=["xy"], errors="ignore")), ("table", table), ("improvements", imps)):
-        with atomic(files[key]) as tmp:
-            frame.to_csv(tmp, index=False)
+        write_csv(files[key], frame)
     write_markdown(files["markdown"], markdown(table, imps, notes(runs, table, imps, baseline, skipped)))
     if plots:
         from . import plots as figures

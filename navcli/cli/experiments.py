@@ -44,10 +44,11 @@ def compare_pilots(
     if len(set(names)) < len(names):
         raise refuse(f"--pilots: a pilot is named twice ({pilots}): each would be the same runs")
     specs = [build_spec(p, param, time_limit=time_limit, perception=choice(perception)) for p in scenarios]
-    same = [(a, b) for i, a in enumerate(scenarios) for b in scenarios[i + 1:]
-            if specs[scenarios.index(a)].run_id == specs[scenarios.index(b)].run_id]
-    if same:
-        raise refuse(f"SCENARIOS: {same[0][0]} and {same[0][1]} are the same scenario: each run would be made twice")
+    first: dict[str, Path] = {}
+    for path, spec in zip(scenarios, specs):
+        if spec.run_id in first:
+            raise refuse(f"SCENARIOS: {first[spec.run_id]} and {path} are the same scenario: each run would be made twice")
+        first[spec.run_id] = path
     from ..analysis.tables import REPORT_FILES
     from ..experiments.compare import plan, run_on
     from ..outputs import check_file

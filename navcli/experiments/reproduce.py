@@ -19,7 +19,7 @@ from __future__ import annotations
 import json
 import math
 import time
-from dataclasses import asdict, dataclass, replace
+from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import Any, Callable
 
@@ -206,10 +206,9 @@ def table1(report: Report, s: Settings, out: Path, ex) -> None:
 
 
 def _write_runs(runs, path: Path) -> None:
-    from ..outputs import atomic
+    from ..analysis.files import write_csv
 
-    with atomic(path) as tmp:
-        runs.drop(columns=["xy"], errors="ignore").to_csv(tmp, index=False)
+    write_csv(path, runs.drop(columns=["xy"], errors="ignore"))
 
 
 def sensitivity(report: Report, s: Settings, out: Path, ex) -> None:
@@ -364,4 +363,4 @@ def reproduce(which: str, out: Path, *, settings: Settings = FULL, jobs: int = 2
     return files
 
 
-__all__ = ["FULL", "QUICK", "Settings", "reproduce", "replace"]  # replace: Settings of other sizes
+__all__ = ["FULL", "QUICK", "Settings", "reproduce"]

@@ -40,6 +40,7 @@ from pathlib import Path
 from typing import Any, Callable, Mapping
 
 from ..config import ConfigError, RunSpec
+from ..analysis.files import write_csv
 from ..outputs import atomic
 from ..params import PERCEPTIONS, PILOT_NAMES, Params, ParamError
 from ..scenario import ScenarioError, load_scenario
@@ -310,8 +311,7 @@ def write_table(rows: list[dict], path: Path, csv: bool = False) -> None:
     with atomic(path) as tmp:
         df.to_parquet(tmp, index=False)
     if csv:
-        with atomic(path.with_suffix(".csv")) as tmp:
-            df.to_csv(tmp, index=False)
+        write_csv(path.with_suffix(".csv"), df)
 
 
 @dataclass

@@ -39,6 +39,7 @@ from typing import Any, Callable, Sequence
 
 from .. import NavcliError
 from ..config import RunSpec
+from ..analysis.files import write_csv
 from ..outputs import atomic, write_text
 from ..params import CONTROL_DT, Params, ParamError
 from ..scenario import PILOT_BLOCK
@@ -378,8 +379,7 @@ def write_results(history: list[dict], problem: TuneProblem, out: Path) -> dict[
     out.mkdir(parents=True, exist_ok=True)
     df = pd.DataFrame(history)
     files = dict(zip(("history", "best", "block", "plot"), (out / f for f in RESULT_FILES)))
-    with atomic(files["history"]) as tmp:
-        df.to_csv(tmp, index=False)
+    write_csv(files["history"], df)
     best = df.loc[df["objective"].idxmax()]
     values = {n: float(best[n]) for n in problem.names}
     write_text(files["best"], json.dumps({"objective": problem.objective, "value": float(best["objective"]),

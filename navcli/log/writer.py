@@ -239,7 +239,7 @@ class Recorder:
         self._state_ns = 0  # when the state topics were last published
         self._map: MapSnapshot | None = None  # the Map Manager's last snapshot
         self._diverting_drawn = False
-        self._poses: tuple[Pose, Pose] | None = None  # the last poses written (truth, odometry)
+        self._poses: tuple[Pose, Pose] | None = None  # the last poses (truth, odometry), kept by finish
 
     # -- the run
     def start(self, spec: RunSpec, pose: Pose, odometry: Pose) -> None:
@@ -300,7 +300,6 @@ class Recorder:
             log_time=ns)
         self.pose.log(PoseInFrame(timestamp=ts, frame_id="world", pose=FxPose(position=at, orientation=q)), log_time=ns)
         self.pose_ns = ns
-        self._poses = (truth, odom)
 
     def tick(self, t: Tick) -> None:
         ns = t.time_ns
@@ -362,6 +361,7 @@ class Recorder:
         if self._closed:
             return self.path
         self._closed = True
+        self._poses = poses  # what serve_final_state republishes
         try:
             if poses is not None and self.pose_ns != ns:
                 self._pose_msgs(*poses, ns, self._pan)

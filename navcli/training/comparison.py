@@ -44,9 +44,8 @@ from typing import Any, Callable
 import numpy as np
 
 from .. import NavcliError
-from ..analysis.files import write_markdown
+from ..analysis.files import write_csv, write_markdown
 from ..config import RunSpec
-from ..outputs import atomic
 from ..learning.actions import ACTIONS
 from .task import Start, random_starts, spec_at, task_spec
 
@@ -350,8 +349,7 @@ def write_table(results: list[Result], out: Path, scenario: str = "") -> dict[st
     about = {r.job.policy.label: r.job.policy.about for r in results}
     table = policy_table(trials, about)
     files = dict(zip(("table", "markdown", "trials"), (out / f for f in TABLE_FILES)))
-    for key, frame in (("table", table), ("trials", trials)):
-        with atomic(files[key]) as tmp:
-            frame.to_csv(tmp, index=False)
+    write_csv(files["table"], table)
+    write_csv(files["trials"], trials)
     write_markdown(files["markdown"], markdown(table, scenario))
     return files
