@@ -167,14 +167,14 @@ class NavigationParams:
     communicator_window_s: float = _p(0.2)
     # Rescuer (notes, section 2): blocked, lost, diverting targets
     rescuer_bid: float = _p(1.0, at_most=1.0)  # its stop, look and turn bids: an emergency, above every other bid
-    # The Rescuer's windows are distances, each the time it takes to drive it at robot.max_speed
-    # (our design: progress is about distance, so a slow robot is never blocked for being slow;
-    # 12 m and 27 m are the 40 s and 90 s these windows had at 0.3 m/s)
+    # The Rescuer's windows are distances, each the time it takes to drive it at robot.max_speed (our design: a slow
+    # robot is never blocked for being slow; 12 m and 27 m are the 40 s and 90 s these windows had at 0.3 m/s)
     blocked_window_m: float = _p(12.0, above=0.0)  # no progress toward the target while it could drive this far: blocked
     blocked_progress: float = _p(0.5, above=0.0)  # m closer to the target that counts as progress
     blocked_bumps: int = _p(3, at_least=1)  # or this many bumps within the blocked window: blocked
     diverting_timeout_m: float = _p(27.0, above=0.0)  # a diverting target not crossed while it could drive this far has failed
-    max_diverting_failures: int = _p(3, at_least=1)  # failed diverting targets before the mission ends "blocked"
+    max_diverting_failures: int = _p(0, at_least=0)  # failed diverting targets that end the mission; 0: no count does
+    gives_up: int = _p(1, at_most=1)  # 0: the Rescuer never ends a mission (long benchmarks, tests that need a long run)
     random_turn_deg: float = _p(120.0, above=0.0, at_most=180.0)  # with no diverting target: turn by up to this much
     # exploring (no diverting target): turn away from the target (within half random_turn_deg), drive up to this far
     # looking around until a new landmark is seen, then scan (our design: what hides the landmarks from where the

@@ -28,7 +28,7 @@ from navcli.scenario import load_scenario
 # limit, long enough to be killed (with 3 failed diverting targets it ended "blocked" after 152 s,
 # about a second of wall time, which a loaded machine could let pass before the test's signal).
 BLOCKED = scenario_dict(name="blocked", obstacles=[{"segment": {"from": [3, 0], "to": [3, 4]}}],
-                        mission={"time_limit": 3000, "seed": 1}, navigation={"max_diverting_failures": 1000000})
+                        mission={"time_limit": 3000, "seed": 1}, navigation={"gives_up": 0})
 
 
 def start_run(write_scenario, out, *extra):

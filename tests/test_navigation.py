@@ -4,6 +4,7 @@ states, and whole missions that need a diverting target."""
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 import re
 
 import numpy as np
@@ -203,32 +204,60 @@ def test_rescuer_sweeps_then_blocked_diverts_crosses_and_restores_the_original_t
     assert r.failures == 0
 
 
-def test_rescuer_abandons_a_diverting_target_that_cannot_be_reached_and_finally_gives_up():
-    p = NAVIGATION
-    r = Rescuer(p, np.random.default_rng(0))
-    t = _sweep(r)
-    crossings = iter([Crossing("A", "B", (2.0, 1.0), (2.0, -1.0), 2.0), Crossing("C", "D", (0.0, 3.0), (1.0, 3.0), 2.0),
-                      Crossing("E", "F", (-1.0, 2.0), (-2.0, 1.0), 2.0)])
-    failed_edges = []
+def _bumped_until_given_up(r: Rescuer, t: float, answers, limit: float = 1000.0):
+    """Bump the robot into something every second, never crossing, until the Rescuer gives up
+    (or ``limit``); the map answers with ``answers`` in turn. Returns the time, the reason, the
+    events and the edges the map was told had failed."""
+    answers, failed_edges = iter(answers), []
 
     def ask(failed):
         failed_edges.append(failed)
-        return next(crossings)
+        return next(answers)
 
-    bumps_at = 0.0
+    bumps_at, looked = 0.0, None
     events, give_up = [], None
-    while give_up is None and t < 1000:
+    while give_up is None and t < limit:
         t += 0.1
         bumps = ()
         if t - bumps_at > 1.0:  # the robot keeps hitting something, never crossing
             bumps, bumps_at = (Bump(t, "obstacle 0", (0.0, 0.0), 0.0),), t
-        out = r.decide(situation(time=t, bumps=bumps), ask)
+        # the camera reports each look asked for, and a turn asked for is made at once
+        out = r.decide(situation(time=t, bumps=bumps, looked=looked, odometry=Pose(0.0, 0.0, r._turn_to or 0.0)), ask)
+        looked = next((b.action.pan for b in out.bids if b.resource == "camera"), None)
         events += [m for _, m in out.events]
         give_up = out.give_up
-    assert give_up == f"{p.max_diverting_failures} diverting targets failed"
-    assert failed_edges == [None, frozenset({"A", "B"}), frozenset({"C", "D"})]  # the map hears of each failure
-    assert sum("abandoned" in m for m in events) == p.max_diverting_failures
-    assert t < 3 * r.window_s  # each failure took blocked_bumps bumps, not the time limit
+    return t, give_up, events, failed_edges
+
+
+CROSSINGS = (Crossing("A", "B", (2.0, 1.0), (2.0, -1.0), 2.0), Crossing("C", "D", (0.0, 3.0), (1.0, 3.0), 2.0),
+             Crossing("E", "F", (-1.0, 2.0), (-2.0, 1.0), 2.0))
+
+
+def test_rescuer_abandons_a_diverting_target_that_cannot_be_reached_and_asks_again_until_no_way_is_left():
+    """Issue 22's rule: failures end no mission by their count. Each diverting target not crossed
+    is abandoned, the map told of its edge, and another asked for; the mission ends blocked only
+    when the map shows no way out, and again after a look around."""
+    from navcli.navigation.regions import NoCrossing
+
+    r = Rescuer(NAVIGATION, np.random.default_rng(0))
+    none_left = NoCrossing("every way to the target is blocked", trapped=True)
+    t, give_up, events, failed = _bumped_until_given_up(r, _sweep(r), [*CROSSINGS, none_left, none_left])
+    assert give_up == "no way out: every way to the target is blocked"
+    assert failed == [None, frozenset("AB"), frozenset("CD"), frozenset("EF"), None]  # each failure told once
+    assert sum("abandoned" in m for m in events) == r.failures == len(CROSSINGS)
+    assert sum("exploring" in m for m in events) == 1  # it looked around once between the two answers
+
+
+def test_the_count_of_failures_may_still_end_a_mission():
+    """``max_diverting_failures`` > 0 (3 was navcli's rule before issue 22): that many abandoned
+    diverting targets end the mission, each taking ``blocked_bumps`` bumps, not the time limit."""
+    p = replace(NAVIGATION, max_diverting_failures=2)
+    r = Rescuer(p, np.random.default_rng(0))
+    t, give_up, events, failed = _bumped_until_given_up(r, _sweep(r), CROSSINGS)
+    assert give_up == "2 diverting targets failed"
+    assert failed == [None, frozenset("AB")]  # the second failure ends it before the map is asked again
+    assert sum("abandoned" in m for m in events) == 2
+    assert t < 3 * r.window_s
 
 
 def test_rescuer_stops_and_scans_when_the_target_is_lost_then_turns():
@@ -289,9 +318,8 @@ def test_a_trap_with_no_way_out_ends_blocked_well_before_its_time_limit():
     m = Mission(RunSpec.build(sc, pilot="geometric"))
     while m.outcome is None:
         m.step()
-    assert m.outcome == "blocked" and "diverting targets failed" in m.reason
-    assert m.time < sc.mission.time_limit / 2
-    assert m.navigation.rescuer.failures == NAVIGATION.max_diverting_failures
+    assert m.outcome == "blocked" and m.reason.split(": ")[1] == "no way out", m.reason
+    assert m.time < sc.mission.time_limit
 
 
 def test_the_navigation_system_lists_its_agents_and_forwards_their_bids():
@@ -455,12 +483,13 @@ def test_the_rescuer_gives_up_only_when_the_map_still_shows_no_way_out_after_exp
     assert out.give_up == "no way out: every edge out is blocked" and r.failures == 0
 
 
-def test_looking_around_is_bounded_too():
-    """A map that never gives a diverting target (too few landmarks, say) ends the mission after
-    max_diverting_failures looks around, not at the time limit."""
+def test_looking_around_is_bounded_by_the_count_of_failures_when_there_is_one():
+    """A map that never gives a diverting target (too few landmarks, say): with
+    ``max_diverting_failures`` set, the mission ends after that many looks around; without (the
+    default), the robot goes on looking, since the map may yet learn a way."""
     from navcli.navigation.regions import NoCrossing
 
-    r = Rescuer(NAVIGATION, np.random.default_rng(0))
+    r = Rescuer(replace(NAVIGATION, max_diverting_failures=3), np.random.default_rng(0))
     t = _sweep(r)
     looked, give_up, asked = None, None, 0
 
@@ -474,25 +503,41 @@ def test_looking_around_is_bounded_too():
         out = r.decide(situation(time=t, looked=looked, odometry=Pose(0.0, 0.0, r._turn_to or 0.0)), ask)
         looked = next((b.action.pan for b in out.bids if b.resource == "camera"), None)
         give_up = out.give_up
-    assert asked == NAVIGATION.max_diverting_failures + 1 and r.failures == 0
-    assert give_up.startswith(f"the map gives no diverting target after {NAVIGATION.max_diverting_failures} looks around")
+    assert asked == 3 + 1 and r.failures == 0
+    assert give_up.startswith("the map gives no diverting target after 3 looks around")
+    r, t, asked = Rescuer(NAVIGATION, np.random.default_rng(0)), 0.0, 0
+    while t < 2000.0:
+        t += 0.1
+        out = r.decide(situation(time=t, looked=looked, odometry=Pose(0.0, 0.0, r._turn_to or 0.0)), ask)
+        looked = next((b.action.pan for b in out.bids if b.resource == "camera"), None)
+        assert out.give_up is None
+    assert asked > 3 * 3  # far more looks around than the count would allow
 
 
-def test_a_target_no_scan_finds_ends_the_mission_saying_what_failed():
-    """Lost for good: every LOST_SCANS scans without the target are a failure; at
-    max_diverting_failures the mission ends, its reason counting the scans' failures."""
+def test_a_target_no_scan_finds_sends_the_robot_the_maps_way_and_counts_no_failure():
+    """Lost for good: after LOST_SCANS scans without the target (each followed by a random turn),
+    the Rescuer asks the map for a way toward where the target is believed to be and sets it as a
+    diverting target; nothing is counted as failed, and the mission goes on. With no way, it
+    explores: it turns away from the target and drives."""
+    from navcli.navigation.regions import NoCrossing
     from navcli.navigation.rescuer import LOST_SCANS
 
-    r = Rescuer(NAVIGATION, np.random.default_rng(0))
-    t = _sweep(r)
-    looked, give_up = None, None
-    for _ in range(5000):
-        t += 0.1
-        out = r.decide(situation(time=t, I_a=0.9, looked=looked, odometry=Pose(0.0, 0.0, r._turn_to or 0.0)),
-                       lambda f: None)
-        looked = next((b.action.pan for b in out.bids if b.resource == "camera"), None)
-        if out.give_up:
-            give_up = out.give_up
-            break
-    n = NAVIGATION.max_diverting_failures
-    assert give_up == f"the target is lost ({n} failures: {n} times {LOST_SCANS} scans without it)"
+    for answer in (CROSSINGS[0], NoCrossing("too few landmarks")):
+        r = Rescuer(NAVIGATION, np.random.default_rng(0))
+        t, looked, asked, scans, out = _sweep(r), None, [], 0, None
+        while not asked and t < 500.0:
+            t += 0.1
+            theta = r._turn_to or 0.0  # the robot has made the last turn asked for
+            out = r.decide(situation(time=t, I_a=0.9, looked=looked, odometry=Pose(0.0, 0.0, theta)),
+                           lambda f: asked.append(f) or answer)
+            scans += sum("still lost after a scan" in m for _, m in out.events)
+            looked = next((b.action.pan for b in out.bids if b.resource == "camera"), None)
+            assert out.give_up is None
+        assert asked == [None] and scans == LOST_SCANS - 1 and r.failures == 0
+        if isinstance(answer, Crossing):
+            assert out.diverting is not None and r.diverting_targets == 1 and r.state == "normal"
+        else:
+            assert r.state == "turn" and out.diverting is None
+            turn = math.degrees(r._turn_to - theta)  # the target is at (3, 4), egocentric: away is 233 deg
+            assert abs((turn - (math.degrees(math.atan2(4.0, 3.0)) + 180.0) + 180.0) % 360.0 - 180.0) \
+                <= NAVIGATION.random_turn_deg / 2 + 1e-9

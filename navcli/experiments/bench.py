@@ -143,7 +143,7 @@ def long_run_benchmark(spec: RunSpec, *, minutes: float = 20.0, window_s: float 
     import time
 
     spec = spec.replace(time_limit=minutes * 60.0,
-                        params=spec.params.override({"navigation.max_diverting_failures": 10 ** 6}))
+                        params=spec.params.override({"navigation.gives_up": 0}))
     costs: list[tuple[float, float]] = []  # (simulated s, wall s of the tick: its step and its logging)
     last = time.perf_counter()
     mission: Mission | None = None

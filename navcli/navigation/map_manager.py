@@ -212,7 +212,10 @@ class MapManager:
         c = first_crossing(regions, (0.0, 0.0), target, blocked, self.params.blocked_cost, sight)
         if c is None:
             same = regions.region_of((0.0, 0.0)) == regions.region_of(target)
-            return NoCrossing("the target is in the robot's region" if same else "every way to the target is blocked")
+            if same:
+                return NoCrossing("the target is in the robot's region")
+            return NoCrossing("every way to the target is blocked, by known obstacles or by diverting targets that "
+                              "failed", trapped=True)
         return c
 
     def _regions(self, beliefs: Beliefs, marks: dict[str, FuzzyPoint]) -> tuple[Regions | None, dict[Edge, str]]:

@@ -5,8 +5,11 @@ What the thesis says, and how we do it:
 
 - **Initial sweep** at the start: stop and look around (the pans of ``scan_pans_deg``).
 - **Lost** (``I_a > I_a_bar``): stop and scan. Our design: a scan that leaves the target lost is
-  followed by a turn of a random angle (the pan unit cannot look behind) and another scan; three
-  such scans count as a failure, like a failed diverting target.
+  followed by a turn of a random angle (the pan unit cannot look behind) and another scan; after
+  ``LOST_SCANS`` such scans the Rescuer asks the Map Manager for a way toward where the target is
+  believed to be (its belief's centre), as when blocked: what hides a target is most often a long
+  obstacle, and scanning on where the robot stands shows it nothing new (inside a U of fences,
+  the robot scanned until it gave up). No failure is counted.
 - **Blocked**: the robot makes no progress toward its target (``blocked_progress`` metres closer
   within the blocked window), or it hits something ``blocked_bumps`` times within that window
   (the Pilot's report of an obstacle it cannot easily avoid). The Rescuer asks the Map Manager for
@@ -32,11 +35,14 @@ What the thesis says, and how we do it:
   sweep, no scans: the camera is the Learning Agent's; a lost target is left to it), and the
   first blocked situation ends the mission ``blocked`` (its trials "terminate ... if the robot
   is blocked").
-- **Giving up** (ours): after ``max_diverting_failures`` diverting targets tried and failed (or
-  lost-target scans, above), when the map shows no way out of the robot's regions (closed in by
-  known obstacles) after the robot has looked around once more, or when the map has given no
-  diverting target after ``max_diverting_failures`` looks around in a row, the mission ends with
-  the outcome ``blocked`` and the reason, instead of grinding on until the time limit.
+- **Giving up** (issue 22's rule): only a diverting target tried and failed is a failure, and no
+  count of them ends the mission (``max_diverting_failures`` 3 was navcli's rule before: the third
+  ended it, and with it many runs in rooms with a way out). The mission ends ``blocked`` when the
+  map shows no way out of the robot's regions (every edge out closed by known obstacles, or every
+  way to the target by them and by the diverting targets that failed), and shows it again after
+  the robot has looked around once more with no diverting target crossed in between; otherwise it
+  goes on until the time limit. The reason is given in the outcome and the events.
+  ``gives_up`` 0 turns even that into one more look around (long benchmarks).
 
 The Rescuer bids ``rescuer_bid`` (1.0, our design: its actions are the emergencies of the
 Navigation system, and a stop is always safe) to stop while it sweeps or scans, to look at each
@@ -108,7 +114,6 @@ class Rescuer:
         self._crossing: Crossing | None = None
         self._last_crossed: Edge | None = None  # the edge of the last diverting target crossed
         self._lost_scans = 0  # scans in a row that did not find the lost target
-        self._lost_failures = 0  # failures that were such scans (the rest: diverting targets)
         self._crossing_world: tuple[Point, Point] | None = None  # its ends in the odometry frame
         self._crossing_since = 0.0
         self._side: float | None = None  # which side of the diverting line the robot is on
@@ -187,16 +192,15 @@ class Rescuer:
                 events.append(("info", f"target found again (I_a = {s.I_a:.2f})"))
             elif self._scanned(b.looked):
                 self._lost_scans += 1
-                if self._lost_scans >= LOST_SCANS:  # our design: a target no scan finds counts as a failure
+                if self._lost_scans >= LOST_SCANS:
+                    # our design: what hides the target is most often a long obstacle, and scanning on where
+                    # the robot stands shows it nothing new; the map's way toward where the target is
+                    # believed to be (its belief's centre) leads past it, and no failure is counted
                     self._lost_scans = 0
-                    self.failures += 1
-                    self._lost_failures += 1
-                    events.append(("warning", f"target not found in {LOST_SCANS} scans ({self.failures} failed)"))
-                    if self.failures >= self.params.max_diverting_failures:
-                        lost, diverting = self._lost_failures, self.failures - self._lost_failures
-                        also = f", {diverting} diverting target{'s' if diverting > 1 else ''}" if diverting else ""
-                        return self._give_up(f"the target is lost ({self.failures} failures: {lost} times "
-                                             f"{LOST_SCANS} scans without it{also})", events)
+                    self._enter("normal", s)
+                    events.append(("warning", f"target not found in {LOST_SCANS} scans: asking the map for a way "
+                                              "toward where it is believed to be"))
+                    return self._request(s, events, ask)
                 self._start_turn(b.odometry, events, "target still lost after a scan")
                 return Rescue(events=tuple(events))
             else:
@@ -212,6 +216,7 @@ class Rescuer:
             crossed = self._crossing
             assert crossed is not None  # a diverting line is that of a crossing
             self._clear_crossing(s, "crossed")
+            self._trapped = False  # a way out was found: the map's "no way out" before it is old news
             line = None
             # the next step of the way, from the region the robot is in now; none once the target is in
             # sight (our design: the regions' way may still go round, through virtual landmarks' regions)
@@ -230,7 +235,7 @@ class Rescuer:
         if why is None:
             return Rescue((), line, tuple(events))
         if self.params.blocked_ends:  # the learning paper's trials end when the robot is blocked
-            return self._give_up(why, events)
+            return self._give_up(why, events, s)
         abandoned = None
         tried = self._crossing.edge if self._crossing is not None else self._last_crossed
         if tried is not None and s.beliefs.pilot_blocked is not None:
@@ -260,29 +265,38 @@ class Rescuer:
                     self.tried[-1] = (*self.tried[-1][:2], "crossed, led nowhere")
                 u, v = sorted(abandoned)
                 events.append(("warning", f"crossing between {u} and {v} led nowhere ({self.failures} failed)"))
-        if self.failures >= self.params.max_diverting_failures:
-            return self._give_up(f"{self.failures} diverting targets failed", events)
+        if 0 < self.params.max_diverting_failures <= self.failures:
+            return self._give_up(f"{self.failures} diverting targets failed", events, s)
+        return self._request(s, events, ask, abandoned)
+
+    def _request(self, s: Situation, events: list, ask: Callable[[Edge | None], Crossing | NoCrossing | None],
+                 abandoned: Edge | None = None) -> Rescue:
+        """Ask the map for a diverting target (telling it of the ``abandoned`` edge, if any) and set
+        it; with none, explore, or end the mission when the map still shows no way out."""
         crossing = ask(abandoned)
         if crossing is None or isinstance(crossing, NoCrossing):
             why = crossing.why if crossing is not None else "the map gives none"
             trapped = crossing is not None and crossing.trapped
             if trapped and self._trapped:  # no way out, still, after looking around for one
-                return self._give_up(f"no way out: {why}", events)
+                return self._give_up(f"no way out: {why}", events, s)
             self._trapped = trapped
             self._explorations += 1
-            if self._explorations > self.params.max_diverting_failures:  # our design: looking around is bounded too
+            if 0 < self.params.max_diverting_failures < self._explorations:  # looking around bounded as failures are
                 return self._give_up(f"the map gives no diverting target after {self._explorations - 1} looks "
-                                     f"around ({why})", events)
-            self._start_turn(b.odometry, events, f"no diverting target ({why}); exploring", away=s.aim)
-            self._scan_after_turn = True
-            self._reset_progress(s)
+                                     f"around ({why})", events, s)
+            self._explore(s, events, f"no diverting target ({why})")
             return Rescue(events=tuple(events))
         return self._divert(crossing, s, events)
+
+    def _explore(self, s: Situation, events: list, why: str) -> None:
+        """Turn away from the target, then drive and look around (see the module docstring)."""
+        self._start_turn(s.beliefs.odometry, events, f"{why}; exploring", away=s.aim)
+        self._scan_after_turn = True
+        self._reset_progress(s)
 
     def _divert(self, crossing: Crossing, s: Situation, events: list) -> Rescue:
         """Set ``crossing`` as the diverting target, with one stop (the thesis' Rescuer wins one
         stop bid per request)."""
-        self._trapped = False
         self._explorations = 0
         self._set_crossing(crossing, s)
         self.diverting_targets += 1
@@ -291,8 +305,13 @@ class Rescuer:
         stop = Bid(self.name, "motion", STOP, self.params.rescuer_bid)
         return Rescue((stop,), self._diverting_line(s), tuple(events))
 
-    def _give_up(self, why: str, events: list) -> Rescue:
-        """End the mission as ``blocked`` for ``why``, said in the events too."""
+    def _give_up(self, why: str, events: list, s: Situation) -> Rescue:
+        """End the mission as ``blocked`` for ``why``, said in the events too; with ``gives_up`` 0,
+        say so and explore instead (the robot goes on until the time limit)."""
+        if not self.params.gives_up:
+            self._trapped, self._explorations = False, 0
+            self._explore(s, events, f"would give up ({why}), but gives_up is 0")
+            return Rescue(events=tuple(events))
         events.append(("error", f"giving up: {why}"))
         return Rescue(events=tuple(events), give_up=why)
 
