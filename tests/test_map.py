@@ -313,3 +313,38 @@ def test_the_logged_map_shows_the_regions_and_blocked_edges_the_diverting_target
     assert all(snap.vertices[k] in corners for k in fence_points)
     along = [e for e in snap.blocked if all(k.startswith("#fence") for k in e)]
     assert len(along) == 4  # the edges along the fence, drawn blocked
+
+
+def test_an_edge_where_a_failed_one_was_is_that_edge_again_under_its_new_names():
+    """The memory names a bumped or re-seen obstacle's points anew. A diverting target through
+    the edge between landmark A and a bump point failed; later the same bump, seen again as
+    another obstacle a few centimetres off, gives an edge of new names in the same place: the
+    map takes it as the failed edge (costly), and the way goes elsewhere. Far from it (more than
+    SAME_PLACE_M), a new edge is not."""
+    from navcli.beliefs import Beliefs, KnownLandmark, KnownObstacle
+    from navcli.geometry import Pose
+    from navcli.navigation.map_manager import SAME_PLACE_M, MapManager
+
+    point = lambda x, y: FuzzyPoint(x, y, (0.02, 0.014, 0.006, 0.0))  # noqa: E731
+    marks = {"A": (-2.0, 2.0), "B": (2.0, 2.0), "C": (-2.0, -2.0), "D": (2.0, -2.0), "E": (0.0, 5.0)}
+    landmarks = tuple(KnownLandmark(k, point(*p), 0.0) for k, p in marks.items())
+
+    def beliefs(key, shift):  # a short obstacle between A and B, a bit off the line A-B
+        a, b = (0.3 + shift, 2.2), (0.9 + shift, 2.2)
+        return Beliefs(0.0, Pose(0, 0, 0), (0.0, 4.0), None, (KnownObstacle(key, a, b, 0.025),), landmarks=landmarks)
+
+    first = MapManager()
+    c = first.diverting_target(beliefs("obstacle-1", 0.0), (0.0, 4.0))
+    assert not isinstance(c, NoCrossing) and any(k.startswith("#obstacle-1:") for k in c.edge)
+    first.report_blocked(c.edge)
+    again = first.diverting_target(beliefs("obstacle-9", 0.05), (0.0, 4.0))  # the same place, new names
+    renamed = frozenset(k.replace("obstacle-1:", "obstacle-9:") for k in c.edge)
+    assert not isinstance(again, NoCrossing) and again.edge != renamed
+    # a map that never failed there takes the renamed edge; one that failed far from it does too
+    assert MapManager().diverting_target(beliefs("obstacle-9", 0.05), (0.0, 4.0)).edge == renamed
+    far = MapManager()
+    far.diverting_target(beliefs("obstacle-1", 0.0), (0.0, 4.0))
+    far.report_blocked(c.edge)
+    moved = 2.5 * SAME_PLACE_M
+    far_edge = far.diverting_target(beliefs("obstacle-9", moved), (0.0, 4.0)).edge
+    assert far_edge == MapManager().diverting_target(beliefs("obstacle-9", moved), (0.0, 4.0)).edge

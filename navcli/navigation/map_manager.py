@@ -18,13 +18,17 @@ agents' questions. It makes no bids.
   region. What the long obstacles block between two landmarks is kept from every image
   (``seen_blocked``), as the thesis' map keeps the arcs reported blocked: the visual memory
   forgets a fence and sees it again under a new key, landmark ids stay (our design; an edge seen
-  blocked wrongly is still used, at ``blocked_cost``, when nothing else leads on); or, when there is none, why (:class:`~.regions.NoCrossing`), telling apart a map that
-  knows too little (look around) from one that shows no way out of the robot's region.
+  blocked wrongly is still used, at ``blocked_cost``, when nothing else leads on). A failed edge is
+  also known by where its ends were (:data:`SAME_PLACE_M`), since obstacle points are named anew.
+  When there is none, why (:class:`~.regions.NoCrossing`), telling apart a map that knows too
+  little (look around) from one that shows no way out: every edge out of the robot's region
+  closed by known obstacles, or every way to the target by them and by failed diverting targets.
 """
 
 from __future__ import annotations
 
 import itertools
+import math
 from dataclasses import dataclass, field
 
 from ..beliefs import Beliefs
@@ -36,6 +40,11 @@ from .regions import (Crossing, Edge, NoCrossing, Regions, blocked_edges, crosse
                       way_out)
 
 TARGET = "target"  # the key of a point target's marker, as the visual memory holds it
+SAME_PLACE_M = 0.5
+"""m: a new edge whose ends (those that are not virtual) lie this near those of an edge whose
+diverting target failed is that edge again (our design: the memory names the points of a bumped
+or re-seen obstacle anew, so a robot wedged in a corner was sent across the "same" edge under 20
+names, bumping each time; half a metre is about the robot's width, one place to the Pilot)."""
 SEEN_EVERY = 4
 """Images between two records of what the known fences block between landmarks (our design: a
 fence stays in the memory for dozens of images, so every fourth is enough, and the record costs
@@ -78,6 +87,8 @@ class MapManager:
         self.network = BetaNetwork(params.map_units_per_landmark)
         self.target_key = target_key
         self.blocked: dict[Edge, float] = {}  # edges of failed diverting targets: how often
+        self.failed_at: list[tuple[Point, ...]] = []  # where each one's ends (not virtual) were, odometry frame
+        self._where: dict[str, Point] = {}  # where the regions' points were when last asked, odometry frame
         self.seen_blocked: dict[Edge, str] = {}  # landmark pairs a known long obstacle was seen across: by what
         self._recalled: dict[str, _Recalled] = {}
         self._tick = 0
@@ -208,6 +219,13 @@ class MapManager:
         blocked = dict(self.blocked)
         for e in known:
             blocked[e] = blocked.get(e, 0.0) + 1.0
+        odo = beliefs.odometry
+        where = {k: odo.to_world((float(x), float(y))) for k, (x, y) in zip(regions.ids, regions.points) if k[0] != "~"}
+        self._where.update(where)
+        if self.failed_at:
+            for _, _, e in regions.edges():
+                if e not in self.blocked and self._failed_before([where[k] for k in sorted(e) if k in where]):
+                    blocked[e] = blocked.get(e, 0.0) + 1.0
         sight = [(o.key, o.a, o.b) for o in beliefs.obstacles if not o.is_point] if self.params.diverting_in_sight else None
         c = first_crossing(regions, (0.0, 0.0), target, blocked, self.params.blocked_cost, sight)
         if c is None:
@@ -235,8 +253,22 @@ class MapManager:
         return regions, known
 
     def report_blocked(self, edge: Edge) -> None:
-        """A diverting target through ``edge`` failed: make its arc costly."""
+        """A diverting target through ``edge`` failed: make its arc costly, and that of any edge
+        later found where its ends were (:data:`SAME_PLACE_M`)."""
         self.blocked[edge] = self.blocked.get(edge, 0.0) + 1.0
+        ends = tuple(self._where[k] for k in sorted(edge) if k in self._where)
+        if ends:
+            self.failed_at.append(ends)
+
+    def _failed_before(self, ends: list[Point]) -> bool:
+        """Are ``ends`` (an edge's, not virtual, odometry frame) where a failed edge's were?"""
+        def near(p: Point, q: Point) -> bool:
+            return math.dist(p, q) <= SAME_PLACE_M
+
+        for f in self.failed_at:
+            if len(f) == len(ends) and (all(map(near, f, ends)) or all(map(near, f, reversed(ends)))):
+                return True
+        return False
 
     def snapshot(self, beliefs: Beliefs) -> MapSnapshot:
         """For the log: what the map knows now, from the memory and the recalls already made."""
