@@ -378,14 +378,14 @@ def test_a_lone_sample_of_a_wall_is_no_obstacle_and_extends_no_fence():
     assert max(s.y for s in next(iter(mem.items.values())).spots) == 0.0
 
 
-@pytest.mark.parametrize("name", ["blocked-wall.yaml", "hidden-fence.yaml"])
+@pytest.mark.parametrize("name", ["blocked-wall.yaml", "hidden-fence.yaml", "u-trap.yaml", "door-wall.yaml"])
 def test_the_memorys_lines_lie_along_the_true_obstacles_over_a_run(name):
     """Every remembered linear obstacle or wall, put in the world by the true pose, lies along one
     true linear obstacle or wall: each end within its support (plus the obstacle's half-width)."""
     from navcli.experiments.compare import rerun_seed
 
     sc = load_scenario(SCENARIOS / name)
-    m = Mission(RunSpec.build(sc, seed=rerun_seed(1, 0), time_limit=60.0), snapshots=False)
+    m = Mission(RunSpec.build(sc, seed=rerun_seed(1, 0), time_limit=120.0), snapshots=False)
     W, H = sc.arena.width, sc.arena.height
     segs = [(o.a, o.b, o.radius) for o in sc.objects if o.kind == "segment"]
     walls = [((0, 0), (W, 0), 0.0), ((W, 0), (W, H), 0.0), ((W, H), (0, H), 0.0), ((0, H), (0, 0), 0.0)]

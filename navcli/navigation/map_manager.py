@@ -233,7 +233,7 @@ class MapManager:
             if same:
                 return NoCrossing("the target is in the robot's region")
             return NoCrossing("every way to the target is blocked, by known obstacles or by diverting targets that "
-                              "failed", trapped=True)
+                              "failed")
         return c
 
     def _regions(self, beliefs: Beliefs, marks: dict[str, FuzzyPoint]) -> tuple[Regions | None, dict[Edge, str]]:

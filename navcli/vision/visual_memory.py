@@ -34,9 +34,8 @@ from .camera import Detection, Sighting
 Disc = tuple[float, float, float]  # x, y, radius
 END_TIE = 0.10  # m: ends this close along a linear obstacle count as the same extent; the sharper is kept
 JOIN_ANGLE = math.radians(30.0)
-"""Stretches whose crisp directions differ by more than this are never one line (our design: the
-supports of a far sighting allow a 1.5 m piece of the next wall, round a corner, to lie "on" a
-wall; joining two things whose best estimates meet at a right angle draws a skewed wall)."""
+"""Stretches whose crisp directions differ by more than this are never one line (ours: a far
+sighting's supports let a piece of the next wall, round a corner, lie "on" a wall)."""
 STILL = (0.0,) * 10  # a Spot's drift when just seen: jx, jy, kx, ky, vt, vs, run, hx, hy, vh
 
 
@@ -50,9 +49,8 @@ class Spot:
     shift per unit of the odometry's calibration error in turning and in distance (vectors, m),
     ``vt`` and ``vs`` the summed squares of the per-tick moves (rad*m, m) whose random errors add
     up like a random walk, ``run`` the distance driven, ``H`` and ``vh`` the same as ``J`` and
-    ``vt`` for the heading drift per metre driven (m*m, m*m). One tuple, not ten fields (our
-    design, for speed: :meth:`VisualMemory.move` updates every spot every tick, and one read and
-    one write of a tuple cost less than ten of each).
+    ``vt`` for the heading drift per metre driven (m*m, m*m). One tuple, not ten fields (ours, for
+    speed: :meth:`VisualMemory.move` updates every spot every tick).
     """
 
     x: float
@@ -283,13 +281,10 @@ class VisualMemory:
                      for m in self.items.values())
 
     def forget(self) -> list[str]:
-        """Drop what has become too imprecise (not what the robot was told); return the keys.
-
+        """Drop what has become too imprecise (not what the robot was told); return the keys:
         A landmark, a point or the target goes when its I(l) passes ``forget_above`` (the thesis'
-        rule for landmarks). A linear obstacle goes when both its ends have (our design, the
-        thesis states the rule for landmarks only): I(l) is mostly the heading's width, so the
-        end of a fence nearest a robot driving along it blurs first, and forgetting the whole
-        fence then lost what the Map Manager needs most (a 7 m river was forgotten and seen again
+        rule for landmarks); a linear obstacle when both its ends have (ours: the end nearest a
+        robot driving along a fence blurs first, and forgetting the fence with it lost a 7 m river
         every ten seconds). ``forget_line_by_one_end`` 1 restores the old rule."""
         lim = self.params.forget_above
         whole = not self.params.forget_line_by_one_end
@@ -337,11 +332,12 @@ class VisualMemory:
             if same:  # the stretch seen extends what is known, and may join two known stretches
                 keep = same[0]
                 _extend(keep, spots)
-                for other in same[1:]:
+                for other in same[1:]:  # (not two fences that a stretch at their corner meets)
                     if len(keep.spots) != 2:
                         break  # it shrank to a point: nothing to join
-                    _extend(keep, other.spots)
-                    del self.items[other.key]
+                    if _same_line(keep.spots, other.spots, gap):
+                        _extend(keep, other.spots)
+                        del self.items[other.key]
                 keep.radius, keep.seen = radius, time
                 return
         if len(spots) == 1:
@@ -365,24 +361,24 @@ def _meets(a: Spot, b: Spot) -> bool:
 
 
 def _same_line(ends: list[Spot], spots: list[Spot], gap: float) -> bool:
-    """Is the sighted stretch ``spots`` part of the same linear obstacle (or wall) as the
-    remembered ``ends``? Both sighted ends lie on the remembered one's line (plausibly: within their
-    70 % cuts, not merely their supports, which at the camera's range are a metre wide) and the two
-    stretches overlap along it, or leave a gap of at most ``gap`` metres between
-    their crisp ends (``vision.line_join_gap``; our design: two views of one fence meet where a
-    view was cut, a few centimetres apart; a wider gap is open space or another thing, and
-    joining across it, as supports of metres once allowed, drew walls through open rooms)."""
+    """Is the sighted stretch ``spots`` part of the remembered line ``ends`` (a fence or wall)?
+    It runs along it (:data:`JOIN_ANGLE`, :func:`_no_direction`), both its ends lie on its line
+    (:func:`_plausible`), and the two overlap or leave at most ``gap`` m between their crisp ends
+    (``vision.line_join_gap``; ours: views of one fence meet where a view was cut; joining across
+    wider gaps, as supports of metres once allowed, drew walls through open rooms)."""
     a, b = ends
     ux, uy = b.x - a.x, b.y - a.y
     L = math.hypot(ux, uy)
     if L < 1e-9:
         return False
+    if _no_direction(a, b, L):
+        return False
     ux, uy = ux / L, uy / L
     p, q = spots
     vx, vy = q.x - p.x, q.y - p.y
     lv = math.hypot(vx, vy)
-    if lv > p.r0 + q.r0 and abs(ux * vy - uy * vx) > math.sin(JOIN_ANGLE) * lv:
-        return False  # across the line, not along it (a stretch shorter than its supports has no direction)
+    if lv > p.radius(CUT) + q.radius(CUT) and abs(ux * vy - uy * vx) > math.sin(JOIN_ANGLE) * lv:
+        return False  # across the line, not along it (a stretch shorter than its 70 % cuts has no direction)
     along = []
     for s in spots:
         rx, ry = s.x - a.x, s.y - a.y
@@ -401,9 +397,18 @@ def _near_line(s: Spot, ends: list[Spot], gap: float) -> bool:
     tol = _plausible(s, ends)
     if L < 1e-9:
         return math.hypot(s.x - a.x, s.y - a.y) <= tol
+    if _no_direction(a, b, L):
+        return False
     rx, ry = s.x - a.x, s.y - a.y
     t = (rx * ux + ry * uy) / L
     return -gap <= t <= L + gap and abs(rx * uy - ry * ux) / L <= tol
+
+
+def _no_direction(a: Spot, b: Spot, length: float) -> bool:
+    """Is a remembered line too blurred for anything to lie along it: its ends' 70 % cuts wider
+    together than ``tan(JOIN_ANGLE)`` of its ``length``? (Ours: such ends let a wall take in the
+    next wall round a corner, a U's base its arm.) It takes nothing in; a new line starts."""
+    return a.radius(CUT) + b.radius(CUT) > length * math.tan(JOIN_ANGLE)
 
 
 def _plausible(s: Spot, ends: list[Spot]) -> float:
@@ -415,16 +420,17 @@ def _plausible(s: Spot, ends: list[Spot]) -> float:
 def _extend(m: Memory, spots: list[Spot]) -> None:
     """Grow the remembered linear obstacle ``m`` to span the sighted ``spots`` too.
 
-    A linear sighting that is sharper than the memory re-anchors the line: the remembered ends
-    are moved onto the sighted line (their supports grown by the move, so they stay honest).
-    The two spots farthest apart along the obstacle become its ends (of nearly equal extent,
-    the sharper)."""
+    A linear sighting sharper than the memory and longer than its supports re-anchors the line:
+    the remembered ends are moved onto the sighted line (their supports grown by the move, so they
+    stay honest); a shorter one has no direction to give (ours: a U's arm seen by its corner
+    turned the base onto it). The two spots farthest apart along the obstacle become its ends
+    (of nearly equal extent, the sharper)."""
     a, b = m.spots
     if len(spots) == 2 and spots[0].r0 + spots[1].r0 < a.r0 + b.r0:
         p, q = spots
         ux, uy = q.x - p.x, q.y - p.y
         L = math.hypot(ux, uy)
-        if L > 1e-9:
+        if L > p.r0 + q.r0:
             ux, uy = ux / L, uy / L
             moved = []
             for e in (a, b):
