@@ -370,6 +370,30 @@ def test_a_stretch_across_a_line_is_not_part_of_it():
     assert len([m for m in mem.items.values() if m.kind == "wall"]) == 2
 
 
+def test_a_line_too_blurred_for_a_direction_takes_in_only_what_lies_near_its_crisp_line():
+    """A 4 m wall whose far end is blurred by metres (its 70 % cuts together wider than tan 30 deg
+    of its length: no direction). A short sharp stretch of the next wall round the corner, 1.4 m
+    off the wall's crisp line (within the blurred end's 70 % cut, so 'plausibly on it' before),
+    starts a wall of its own; one within line_join_gap of the crisp line is taken in."""
+    from navcli.fuzzy import CUT
+    from navcli.vision.visual_memory import JOIN_ANGLE
+
+    wall = _stretch((0.0, 3.0), (4.0, 3.0))
+    wall[1] = Spot(4.0, 3.0, 8.0, 0.0)
+    assert wall[0].radius(CUT) + wall[1].radius(CUT) > 4.0 * math.tan(JOIN_ANGLE)  # no direction
+    corner = _stretch((4.2, 1.6), (4.2, 1.5), r=0.2)  # shorter than its cuts: no direction of its own
+    assert abs(corner[0].y - 3.0) < corner[0].radius(CUT) + wall[1].radius(CUT)  # within the old tolerance
+    mem = VisualMemory(0.0)
+    mem._observe_obstacle(wall, 0.05, 0.0, "wall")
+    mem._observe_obstacle(corner, 0.05, 0.1, "wall")
+    assert len([m for m in mem.items.values() if m.kind == "wall"]) == 2
+    near = VisualMemory(0.0)
+    near._observe_obstacle(list(wall), 0.05, 0.0, "wall")
+    off = 3.0 + 0.4 * VISION.line_join_gap
+    near._observe_obstacle(_stretch((4.1, off), (4.2, off), r=0.2), 0.05, 0.1, "wall")  # short: no direction either
+    assert len([m for m in near.items.values() if m.kind == "wall"]) == 1
+
+
 def test_a_lone_sample_of_a_wall_is_no_obstacle_and_extends_no_fence():
     mem = VisualMemory(0.0)
     mem._observe_obstacle(_stretch((2.0, -1.0), (2.0, 0.0)), 0.025, 0.0)
