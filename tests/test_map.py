@@ -348,3 +348,20 @@ def test_an_edge_where_a_failed_one_was_is_that_edge_again_under_its_new_names()
     moved = 2.5 * SAME_PLACE_M
     far_edge = far.diverting_target(beliefs("obstacle-9", moved), (0.0, 4.0)).edge
     assert far_edge == MapManager().diverting_target(beliefs("obstacle-9", moved), (0.0, 4.0)).edge
+
+
+def test_an_edge_to_a_virtual_landmark_is_the_failed_one_again_only_the_same_way_out():
+    """From one landmark the ways out to either side are different edges: a failed edge from A
+    to a virtual landmark east of it blocks, in the same place, one whose virtual end lies within
+    SAME_WAY_DEG of east, not one to the north or the west."""
+    from navcli.navigation.map_manager import SAME_WAY_DEG, MapManager
+
+    mm = MapManager()
+    ray = lambda deg: (1.0 + 10 * math.cos(math.radians(deg)), 10 * math.sin(math.radians(deg)))  # noqa: E731
+    mm._where = {"A": (1.0, 0.0), "B": (1.0, 3.0), "~east": ray(0.0)}
+    mm.report_blocked(frozenset({"A", "~east"}))
+    mm._where = {"#obstacle-4:0": (1.2, 0.1), "~a": ray(0.8 * SAME_WAY_DEG), "~b": ray(1.2 * SAME_WAY_DEG),
+                 "~west": ray(180.0), "B": (1.0, 3.0)}
+    again = lambda v: mm._failed_before(mm._place(frozenset({"#obstacle-4:0", v})))  # noqa: E731
+    assert again("~a") and not again("~b") and not again("~west")
+    assert not mm._failed_before(mm._place(frozenset({"#obstacle-4:0", "B"})))  # two real ends: another edge

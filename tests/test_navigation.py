@@ -3,6 +3,7 @@ states, and whole missions that need a diverting target."""
 
 from __future__ import annotations
 
+import itertools
 import math
 from dataclasses import replace
 import re
@@ -240,12 +241,53 @@ def test_rescuer_abandons_a_diverting_target_that_cannot_be_reached_and_asks_aga
     from navcli.navigation.regions import NoCrossing
 
     r = Rescuer(NAVIGATION, np.random.default_rng(0))
-    none_left = NoCrossing("every way to the target is blocked", trapped=True)
+    none_left = NoCrossing("every edge out is blocked", trapped=True)
     t, give_up, events, failed = _bumped_until_given_up(r, _sweep(r), [*CROSSINGS, none_left, none_left])
-    assert give_up == "no way out: every way to the target is blocked"
+    assert give_up == "no way out: every edge out is blocked"
     assert failed == [None, frozenset("AB"), frozenset("CD"), frozenset("EF"), None]  # each failure told once
     assert sum("abandoned" in m for m in events) == r.failures == len(CROSSINGS)
     assert sum("exploring" in m for m in events) == 1  # it looked around once between the two answers
+
+
+def test_a_rescuer_that_never_gives_up_goes_on_asking_the_map():
+    """``gives_up`` 0 (long benchmarks): neither the map's "no way out", twice, nor a count of
+    failures ends the mission; the Rescuer explores and asks the map again each time."""
+    from navcli.navigation.regions import NoCrossing
+
+    none_left = NoCrossing("every edge out is blocked", trapped=True)
+    for extra in ({}, {"max_diverting_failures": 2}):
+        r = Rescuer(replace(NAVIGATION, gives_up=0, **extra), np.random.default_rng(0))
+        answers = itertools.chain(CROSSINGS, itertools.repeat(none_left))
+        t, give_up, events, failed = _bumped_until_given_up(r, _sweep(r), answers, limit=2000.0)
+        assert give_up is None and len(failed) > len(CROSSINGS) + 3, extra  # asked again and again
+        assert sum("would give up" in m for m in events) >= 2
+
+
+def test_a_target_found_again_starts_the_next_loss_with_fresh_scans():
+    """Found during the turn after a scan, the target's next loss takes LOST_SCANS scans again
+    before the map is asked (a count left from the last loss asked it after one)."""
+    from navcli.navigation.rescuer import LOST_SCANS
+
+    r = Rescuer(NAVIGATION, np.random.default_rng(0))
+    t, looked, asked = _sweep(r), None, []
+
+    def step(I_a):
+        nonlocal t, looked
+        t += 0.1
+        out = r.decide(situation(time=t, I_a=I_a, looked=looked, odometry=Pose(0.0, 0.0, r._turn_to or 0.0)),
+                       lambda f: asked.append(f) or CROSSINGS[0])
+        looked = next((b.action.pan for b in out.bids if b.resource == "camera"), None)
+        return out
+
+    scans = 0
+    while scans < 1:  # lost: one scan, then the turn
+        scans += sum("still lost after a scan" in m for _, m in step(0.9).events)
+    for _ in range(5):
+        step(0.0)  # found again
+    scans = 0
+    while not asked and t < 200.0:
+        scans += sum("still lost after a scan" in m for _, m in step(0.9).events)
+    assert asked == [None] and scans == LOST_SCANS - 1
 
 
 def test_the_count_of_failures_may_still_end_a_mission():
@@ -319,7 +361,7 @@ def test_a_trap_with_no_way_out_ends_blocked_well_before_its_time_limit():
     while m.outcome is None:
         m.step()
     assert m.outcome == "blocked" and m.reason.split(": ")[1] == "no way out", m.reason
-    assert m.time < sc.mission.time_limit
+    assert m.time < sc.mission.time_limit / 2
 
 
 def test_the_navigation_system_lists_its_agents_and_forwards_their_bids():

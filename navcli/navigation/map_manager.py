@@ -21,8 +21,9 @@ agents' questions. It makes no bids.
   blocked wrongly is still used, at ``blocked_cost``, when nothing else leads on). A failed edge is
   also known by where its ends were (:data:`SAME_PLACE_M`), since obstacle points are named anew.
   When there is none, why (:class:`~.regions.NoCrossing`), telling apart a map that knows too
-  little (look around) from one that shows no way out: every edge out of the robot's region
-  closed by known obstacles, or every way to the target by them and by failed diverting targets.
+  little (look around: too few landmarks, or every way to the target blocked by known obstacles
+  and failed diverting targets, which more landmarks may open) from one that shows no way out:
+  every edge out of the robot's region closed by known obstacles.
 """
 
 from __future__ import annotations
@@ -44,7 +45,10 @@ SAME_PLACE_M = 0.5
 """m: a new edge whose ends (those that are not virtual) lie this near those of an edge whose
 diverting target failed is that edge again (our design: the memory names the points of a bumped
 or re-seen obstacle anew, so a robot wedged in a corner was sent across the "same" edge under 20
-names, bumping each time; half a metre is about the robot's width, one place to the Pilot)."""
+names, bumping each time; half a metre is about the robot's width, one place to the Pilot). An
+edge with one virtual end is that edge again only if its virtual end lies the same way, within
+``SAME_WAY_DEG``: from one landmark, the ways out to either side are different edges."""
+SAME_WAY_DEG = 45.0
 SEEN_EVERY = 4
 """Images between two records of what the known fences block between landmarks (our design: a
 fence stays in the memory for dozens of images, so every fourth is enough, and the record costs
@@ -87,7 +91,7 @@ class MapManager:
         self.network = BetaNetwork(params.map_units_per_landmark)
         self.target_key = target_key
         self.blocked: dict[Edge, float] = {}  # edges of failed diverting targets: how often
-        self.failed_at: list[tuple[Point, ...]] = []  # where each one's ends (not virtual) were, odometry frame
+        self.failed_at: list[tuple[bool, tuple[Point, ...]]] = []  # where each one was (_place), odometry frame
         self._where: dict[str, Point] = {}  # where the regions' points were when last asked, odometry frame
         self.seen_blocked: dict[Edge, str] = {}  # landmark pairs a known long obstacle was seen across: by what
         self._recalled: dict[str, _Recalled] = {}
@@ -220,11 +224,10 @@ class MapManager:
         for e in known:
             blocked[e] = blocked.get(e, 0.0) + 1.0
         odo = beliefs.odometry
-        where = {k: odo.to_world((float(x), float(y))) for k, (x, y) in zip(regions.ids, regions.points) if k[0] != "~"}
-        self._where.update(where)
+        self._where = {k: odo.to_world((float(x), float(y))) for k, (x, y) in zip(regions.ids, regions.points)}
         if self.failed_at:
             for _, _, e in regions.edges():
-                if e not in self.blocked and self._failed_before([where[k] for k in sorted(e) if k in where]):
+                if e not in self.blocked and self._failed_before(self._place(e)):
                     blocked[e] = blocked.get(e, 0.0) + 1.0
         sight = [(o.key, o.a, o.b) for o in beliefs.obstacles if not o.is_point] if self.params.diverting_in_sight else None
         c = first_crossing(regions, (0.0, 0.0), target, blocked, self.params.blocked_cost, sight)
@@ -256,17 +259,39 @@ class MapManager:
         """A diverting target through ``edge`` failed: make its arc costly, and that of any edge
         later found where its ends were (:data:`SAME_PLACE_M`)."""
         self.blocked[edge] = self.blocked.get(edge, 0.0) + 1.0
-        ends = tuple(self._where[k] for k in sorted(edge) if k in self._where)
-        if ends:
-            self.failed_at.append(ends)
+        place = self._place(edge)
+        if place is not None and not self._failed_before(place):  # once per place: the list stays short
+            self.failed_at.append(place)
 
-    def _failed_before(self, ends: list[Point]) -> bool:
-        """Are ``ends`` (an edge's, not virtual, odometry frame) where a failed edge's were?"""
-        def near(p: Point, q: Point) -> bool:
-            return math.dist(p, q) <= SAME_PLACE_M
+    def _place(self, edge: Edge) -> tuple[bool, tuple[Point, ...]] | None:
+        """Where ``edge`` is, as the last request saw it (odometry frame): whether one end is
+        virtual, and the real ends (landmarks, obstacle points), or the real end and a unit step
+        toward the virtual one; None for an edge of two virtual ends or one not seen."""
+        if not all(k in self._where for k in edge):
+            return None
+        real = [self._where[k] for k in sorted(edge) if k[0] != "~"]
+        if len(real) != 1:
+            return (False, tuple(real)) if real else None
+        (v,) = (self._where[k] for k in edge if k[0] == "~")
+        (x, y), d = real[0], math.dist(real[0], v) or 1.0
+        return True, (real[0], (x + (v[0] - x) / d, y + (v[1] - y) / d))
 
-        for f in self.failed_at:
-            if len(f) == len(ends) and (all(map(near, f, ends)) or all(map(near, f, reversed(ends)))):
+    def _failed_before(self, place: tuple[bool, tuple[Point, ...]] | None) -> bool:
+        """Is ``place`` (:meth:`_place`) where a failed edge was: its real ends within
+        ``SAME_PLACE_M``, and for an edge with a virtual end, its way out within ``SAME_WAY_DEG``?"""
+        if place is None:
+            return False
+        virtual, (p, q) = place
+        chord = 2.0 * math.sin(math.radians(SAME_WAY_DEG) / 2)  # between two unit steps that far apart
+        for was_virtual, (a, b) in self.failed_at:
+            if was_virtual != virtual:
+                continue
+            if virtual:
+                turn = math.dist((b[0] - a[0], b[1] - a[1]), (q[0] - p[0], q[1] - p[1]))
+                if math.dist(a, p) <= SAME_PLACE_M and turn <= chord:
+                    return True
+            elif (math.dist(a, p) <= SAME_PLACE_M and math.dist(b, q) <= SAME_PLACE_M) or \
+                    (math.dist(a, q) <= SAME_PLACE_M and math.dist(b, p) <= SAME_PLACE_M):
                 return True
         return False
 

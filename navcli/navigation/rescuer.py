@@ -37,11 +37,12 @@ What the thesis says, and how we do it:
   is blocked").
 - **Giving up** (issue 22's rule): only a diverting target tried and failed is a failure, and no
   count of them ends the mission (``max_diverting_failures`` 3 was navcli's rule before: the third
-  ended it, and with it many runs in rooms with a way out). The mission ends ``blocked`` when the
-  map shows no way out of the robot's regions (every edge out closed by known obstacles, or every
-  way to the target by them and by the diverting targets that failed), and shows it again after
-  the robot has looked around once more with no diverting target crossed in between; otherwise it
-  goes on until the time limit. The reason is given in the outcome and the events.
+  ended it, and with it many runs in rooms with a way out; set, it also bounds the looks around
+  in a row that the map answers with no diverting target). The mission ends ``blocked`` when the
+  map shows no way out of the robot's regions (every edge out closed by known obstacles), and
+  shows it again after the robot has looked around once more with no diverting target crossed in
+  between; otherwise it goes on until the time limit. The reason is given in the outcome and the
+  events.
   ``gives_up`` 0 turns even that into one more look around (long benchmarks).
 
 The Rescuer bids ``rescuer_bid`` (1.0, our design: its actions are the emergencies of the
@@ -69,7 +70,7 @@ MIN_WINDOW_S = 20.0
 """s: the shortest blocked window and diverting timeout, whatever the speed (our design: a few of
 the stops that take fixed time, a scan of five looks about 4 s, a reflex 4-6 s, so a fast robot
 is not declared blocked by its own stops; at 0.3 m/s the windows are 40 s and 90 s)."""
-LOST_SCANS = 3  # scans (each followed by a random turn) before a lost target counts as a failure
+LOST_SCANS = 3  # scans (each followed by a random turn) before the map is asked for a way toward a lost target
 
 
 class Rescue(NamedTuple):
@@ -135,6 +136,8 @@ class Rescuer:
         while self._bumps and self._bumps[0] < s.time - self.window_s:
             self._bumps.popleft()
 
+        if s.I_a <= self.params.I_a_bar:
+            self._lost_scans = 0  # found again, in whatever state: the next loss starts its scans afresh
         if self.state == "sweep":
             if self._scanned(b.looked):
                 self._enter("normal", s)
@@ -265,7 +268,7 @@ class Rescuer:
                     self.tried[-1] = (*self.tried[-1][:2], "crossed, led nowhere")
                 u, v = sorted(abandoned)
                 events.append(("warning", f"crossing between {u} and {v} led nowhere ({self.failures} failed)"))
-        if 0 < self.params.max_diverting_failures <= self.failures:
+        if self.params.gives_up and 0 < self.params.max_diverting_failures <= self.failures:
             return self._give_up(f"{self.failures} diverting targets failed", events, s)
         return self._request(s, events, ask, abandoned)
 

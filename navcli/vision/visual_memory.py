@@ -389,7 +389,8 @@ def _same_line(ends: list[Spot], spots: list[Spot], gap: float) -> bool:
 
 def _near_line(s: Spot, ends: list[Spot], gap: float) -> bool:
     """Does spot ``s`` lie on the segment between ``ends``: off its line by no more than their 70 %
-    cuts, and along it between the ends or at most ``gap`` beyond one (see :func:`_same_line`)?"""
+    cuts (``gap`` if it has no direction), and along it between the ends or at most ``gap`` beyond
+    one (see :func:`_same_line`)?"""
     a, b = ends
     ux, uy = b.x - a.x, b.y - a.y
     L = math.hypot(ux, uy)
