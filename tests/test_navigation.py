@@ -246,7 +246,9 @@ def test_rescuer_abandons_a_diverting_target_that_cannot_be_reached_and_asks_aga
     assert give_up == "no way out: every edge out is blocked"
     assert failed == [None, frozenset("AB"), frozenset("CD"), frozenset("EF"), None]  # each failure told once
     assert sum("abandoned" in m for m in events) == r.failures == len(CROSSINGS)
-    assert sum("exploring" in m for m in events) == 1  # it looked around once between the two answers
+    # it drove out after each failure by bumps, and looked around once between the two answers
+    assert sum("caught by bumps" in m for m in events) == len(CROSSINGS)
+    assert sum("exploring" in m for m in events) == len(CROSSINGS) + 1
 
 
 def test_a_rescuer_that_never_gives_up_goes_on_asking_the_map():
@@ -288,6 +290,34 @@ def test_a_target_found_again_starts_the_next_loss_with_fresh_scans():
     while not asked and t < 200.0:
         scans += sum("still lost after a scan" in m for _, m in step(0.9).events)
     assert asked == [None] and scans == LOST_SCANS - 1
+
+
+def test_bumped_out_of_a_diverting_target_the_robot_drives_out_before_the_map_is_asked_again():
+    """Three bumps on a diverting target's way: the Rescuer abandons it and explores (turns away
+    and drives) instead of asking the map for the next way from where it is caught; the map hears
+    of the failure with the next request, when the robot is blocked again."""
+    r = Rescuer(NAVIGATION, np.random.default_rng(0))
+    t, failed = _sweep(r), []
+
+    def ask(f):
+        failed.append(f)
+        return CROSSINGS[len(failed) - 1]
+
+    out = r.decide(situation(time=t + 60.0), ask)  # no progress for a window: blocked, a diverting target
+    assert out.diverting is not None and failed == [None]
+    t += 60.0
+    for k in range(NAVIGATION.blocked_bumps):
+        t += 1.0
+        out = r.decide(situation(time=t, bumps=(Bump(t, "landmark A", (0.3, 0.0), 0.0),)), ask)
+    assert failed == [None] and r.failures == 1  # the map is not asked from where the robot is caught
+    assert out.diverting is None and r.state == "turn" and r.diverting_targets == 1
+    assert any("caught by" in m and "exploring" in m for _, m in out.events)
+    looked = None
+    while len(failed) < 2 and t < 400.0:  # it drives out, looks around, and is blocked again
+        t += 0.1
+        out = r.decide(situation(time=t, looked=looked, odometry=Pose(0.0, 0.0, r._turn_to or 0.0)), ask)
+        looked = next((b.action.pan for b in out.bids if b.resource == "camera"), None)
+    assert failed == [None, frozenset("AB")] and out.diverting is not None  # told with the next request
 
 
 def test_the_count_of_failures_may_still_end_a_mission():

@@ -26,6 +26,9 @@ What the thesis says, and how we do it:
   to the Map Manager and another is asked for. So is the edge of one that was crossed when the
   robot is next blocked before anything else happened (our design: crossing it led nowhere, and
   asking again would only send the robot back and forth across it).
+  One abandoned for bumps is followed by a drive out (exploring, below) before the map, told of the
+  failure with that request, is asked again from where the robot then is (ours: a robot caught
+  between a landmark and a wall was led back into the pocket by each next way, 10-31 contacts).
 - **Windows in distance** (ours): the blocked window and the diverting timeout are given as
   distances (``blocked_window_m``, ``diverting_timeout_m``) and last as long as the robot takes
   to drive them at full speed (:meth:`~navcli.params.RobotParams.time_to_drive`), and at least
@@ -114,6 +117,7 @@ class Rescuer:
         self._explorations = 0  # looks around in a row that the map answered with no diverting target
         self._crossing: Crossing | None = None
         self._last_crossed: Edge | None = None  # the edge of the last diverting target crossed
+        self._untold: Edge | None = None  # a failed edge the map is told of with the next request
         self._lost_scans = 0  # scans in a row that did not find the lost target
         self._crossing_world: tuple[Point, Point] | None = None  # its ends in the odometry frame
         self._crossing_since = 0.0
@@ -240,6 +244,7 @@ class Rescuer:
         if self.params.blocked_ends:  # the learning paper's trials end when the robot is blocked
             return self._give_up(why, events, s)
         abandoned = None
+        caught = len(self._bumps) >= self.params.blocked_bumps  # (before the abandoned crossing clears them)
         tried = self._crossing.edge if self._crossing is not None else self._last_crossed
         if tried is not None and s.beliefs.pilot_blocked is not None:
             # the Pilot sees a long obstacle across the way: the map, which knows it now, may lead
@@ -270,13 +275,23 @@ class Rescuer:
                 events.append(("warning", f"crossing between {u} and {v} led nowhere ({self.failures} failed)"))
         if self.params.gives_up and 0 < self.params.max_diverting_failures <= self.failures:
             return self._give_up(f"{self.failures} diverting targets failed", events, s)
+        if abandoned is not None and caught:
+            # our design: bumped out of a diverting target, the robot is caught where it stands (between
+            # a landmark and a wall, say) and the next way, asked from here, led it back in; it drives
+            # out first, and the map hears of the failure with the next request, when blocked again
+            self._untold = abandoned
+            self._explore(s, events, "caught by bumps")
+            return Rescue(events=tuple(events))
         return self._request(s, events, ask, abandoned)
 
     def _request(self, s: Situation, events: list, ask: Callable[[Edge | None], Crossing | NoCrossing | None],
                  abandoned: Edge | None = None) -> Rescue:
         """Ask the map for a diverting target (telling it of the ``abandoned`` edge, if any) and set
         it; with none, explore, or end the mission when the map still shows no way out."""
-        crossing = ask(abandoned)
+        untold, self._untold = self._untold, None
+        if untold is not None and abandoned is not None:
+            ask(untold)  # two failures to tell (rare): the first one's answer is not the robot's way now
+        crossing = ask(abandoned if abandoned is not None else untold)
         if crossing is None or isinstance(crossing, NoCrossing):
             why = crossing.why if crossing is not None else "the map gives none"
             trapped = crossing is not None and crossing.trapped
