@@ -26,7 +26,7 @@ What the thesis says, and how we do it:
   to the Map Manager and another is asked for. So is the edge of one that was crossed when the
   robot is next blocked before anything else happened (our design: crossing it led nowhere, and
   asking again would only send the robot back and forth across it).
-  One abandoned for bumps is followed by a drive out (exploring, below) before the map, told of the
+  One abandoned for bumps is followed by a drive out (exploring, above) before the map, told of the
   failure with that request, is asked again from where the robot then is (ours: a robot caught
   between a landmark and a wall was led back into the pocket by each next way, 10-31 contacts).
 - **Windows in distance** (ours): the blocked window and the diverting timeout are given as
