@@ -34,7 +34,7 @@ from dataclasses import dataclass, field
 
 from ..beliefs import Beliefs
 from ..fuzzy import FuzzyPoint
-from ..geometry import Point, Pose
+from ..geometry import Point, Pose, wrap_angle
 from ..params import CONTROL_DT, NAVIGATION, NavigationParams
 from .beta_map import BetaNetwork, collinearity
 from .regions import (Crossing, Edge, NoCrossing, Regions, blocked_edges, crossed_pairs, first_crossing, triangulate,
@@ -91,7 +91,7 @@ class MapManager:
         self.network = BetaNetwork(params.map_units_per_landmark)
         self.target_key = target_key
         self.blocked: dict[Edge, float] = {}  # edges of failed diverting targets: how often
-        self.failed_at: list[tuple[bool, tuple[Point, ...]]] = []  # where each one was (_place), odometry frame
+        self.failed_at: list[tuple[tuple[Point, ...], float | None]] = []  # where each one was (_place), odometry frame
         self._where: dict[str, Point] = {}  # where the regions' points were when last asked, odometry frame
         self.seen_blocked: dict[Edge, str] = {}  # landmark pairs a known long obstacle was seen across: by what
         self._recalled: dict[str, _Recalled] = {}
@@ -220,15 +220,13 @@ class MapManager:
             return NoCrossing(f"{len(marks)} landmark(s) mapped, too few for regions")
         if not way_out(regions, (0.0, 0.0), known, target):  # what is known to close it in, not what failed
             return NoCrossing("the known obstacles close in the robot's regions: every edge out is blocked", trapped=True)
-        blocked = dict(self.blocked)
-        for e in known:
-            blocked[e] = blocked.get(e, 0.0) + 1.0
         odo = beliefs.odometry
         self._where = {k: odo.to_world((float(x), float(y))) for k, (x, y) in zip(regions.ids, regions.points)}
-        if self.failed_at:
-            for _, _, e in regions.edges():
-                if e not in self.blocked and self._failed_before(self._place(e)):
-                    blocked[e] = blocked.get(e, 0.0) + 1.0
+        again = [e for _, _, e in regions.edges() if e not in self.blocked and self._failed_before(self._place(e))] \
+            if self.failed_at else []  # failed before, under other names
+        blocked = dict(self.blocked)
+        for e in (*known, *again):
+            blocked[e] = blocked.get(e, 0.0) + 1.0
         sight = [(o.key, o.a, o.b) for o in beliefs.obstacles if not o.is_point] if self.params.diverting_in_sight else None
         c = first_crossing(regions, (0.0, 0.0), target, blocked, self.params.blocked_cost, sight)
         if c is None:
@@ -263,35 +261,30 @@ class MapManager:
         if place is not None and not self._failed_before(place):  # once per place: the list stays short
             self.failed_at.append(place)
 
-    def _place(self, edge: Edge) -> tuple[bool, tuple[Point, ...]] | None:
-        """Where ``edge`` is, as the last request saw it (odometry frame): whether one end is
-        virtual, and the real ends (landmarks, obstacle points), or the real end and a unit step
-        toward the virtual one; None for an edge of two virtual ends or one not seen."""
+    def _place(self, edge: Edge) -> tuple[tuple[Point, ...], float | None] | None:
+        """Where ``edge`` is, as the last request saw it (odometry frame): its real ends (landmarks,
+        obstacle points) and, with one virtual end, the heading from the real end toward it (rad);
+        None for an edge of two virtual ends or one not seen."""
         if not all(k in self._where for k in edge):
             return None
-        real = [self._where[k] for k in sorted(edge) if k[0] != "~"]
+        real = tuple(self._where[k] for k in sorted(edge) if k[0] != "~")
         if len(real) != 1:
-            return (False, tuple(real)) if real else None
+            return (real, None) if real else None
         (v,) = (self._where[k] for k in edge if k[0] == "~")
-        (x, y), d = real[0], math.dist(real[0], v) or 1.0
-        return True, (real[0], (x + (v[0] - x) / d, y + (v[1] - y) / d))
+        return real, math.atan2(v[1] - real[0][1], v[0] - real[0][0])
 
-    def _failed_before(self, place: tuple[bool, tuple[Point, ...]] | None) -> bool:
+    def _failed_before(self, place: tuple[tuple[Point, ...], float | None] | None) -> bool:
         """Is ``place`` (:meth:`_place`) where a failed edge was: its real ends within
         ``SAME_PLACE_M``, and for an edge with a virtual end, its way out within ``SAME_WAY_DEG``?"""
         if place is None:
             return False
-        virtual, (p, q) = place
-        chord = 2.0 * math.sin(math.radians(SAME_WAY_DEG) / 2)  # between two unit steps that far apart
-        for was_virtual, (a, b) in self.failed_at:
-            if was_virtual != virtual:
+        ends, heading = place
+        for was, way in self.failed_at:
+            if (way is None) != (heading is None) or len(was) != len(ends):
                 continue
-            if virtual:
-                turn = math.dist((b[0] - a[0], b[1] - a[1]), (q[0] - p[0], q[1] - p[1]))
-                if math.dist(a, p) <= SAME_PLACE_M and turn <= chord:
-                    return True
-            elif (math.dist(a, p) <= SAME_PLACE_M and math.dist(b, q) <= SAME_PLACE_M) or \
-                    (math.dist(a, q) <= SAME_PLACE_M and math.dist(b, p) <= SAME_PLACE_M):
+            if heading is not None and way is not None and abs(wrap_angle(heading - way)) > math.radians(SAME_WAY_DEG):
+                continue
+            if any(all(math.dist(a, b) <= SAME_PLACE_M for a, b in zip(was, order)) for order in (ends, ends[::-1])):
                 return True
         return False
 

@@ -362,16 +362,15 @@ def _meets(a: Spot, b: Spot) -> bool:
 
 def _same_line(ends: list[Spot], spots: list[Spot], gap: float) -> bool:
     """Is the sighted stretch ``spots`` part of the remembered line ``ends`` (a fence or wall)?
-    It runs along it (:data:`JOIN_ANGLE`), its ends lie on its line (:func:`_plausible`; within
-    ``gap`` of one too blurred for a direction, :func:`_no_direction`), and the two overlap or
-    leave at most ``gap`` m between their crisp ends (``vision.line_join_gap``; ours: views of one
-    fence meet where a view was cut; joins across wider gaps drew walls through open rooms)."""
+    It runs along it (:data:`JOIN_ANGLE`), its ends lie on its line (:func:`_plausible`), and the
+    two overlap or leave at most ``gap`` m between their crisp ends (``vision.line_join_gap``; ours:
+    views of one fence meet where a view was cut; joins across wider gaps drew walls through open
+    rooms)."""
     a, b = ends
     ux, uy = b.x - a.x, b.y - a.y
     L = math.hypot(ux, uy)
     if L < 1e-9:
         return False
-    tol = gap if _no_direction(a, b, L) else math.inf
     ux, uy = ux / L, uy / L
     p, q = spots
     vx, vy = q.x - p.x, q.y - p.y
@@ -381,7 +380,7 @@ def _same_line(ends: list[Spot], spots: list[Spot], gap: float) -> bool:
     along = []
     for s in spots:
         rx, ry = s.x - a.x, s.y - a.y
-        if abs(rx * uy - ry * ux) > min(_plausible(s, ends), tol):  # off the line
+        if abs(rx * uy - ry * ux) > _plausible(s, ends, L, gap):  # off the line
             return False
         along.append(rx * ux + ry * uy)
     return min(along) <= L + gap and max(along) >= -gap
@@ -394,27 +393,23 @@ def _near_line(s: Spot, ends: list[Spot], gap: float) -> bool:
     a, b = ends
     ux, uy = b.x - a.x, b.y - a.y
     L = math.hypot(ux, uy)
-    tol = _plausible(s, ends)
-    if L < 1e-9:
-        return math.hypot(s.x - a.x, s.y - a.y) <= tol
-    if _no_direction(a, b, L):
-        tol = min(tol, gap)
+    if L < 1e-9:  # a point: as near as its cuts
+        return math.hypot(s.x - a.x, s.y - a.y) <= _plausible(s, ends, L, math.inf)
+    tol = _plausible(s, ends, L, gap)
     rx, ry = s.x - a.x, s.y - a.y
     t = (rx * ux + ry * uy) / L
     return -gap <= t <= L + gap and abs(rx * uy - ry * ux) / L <= tol
 
 
-def _no_direction(a: Spot, b: Spot, length: float) -> bool:
-    """Is a remembered line too blurred to have a direction: its ends' 70 % cuts wider together than
-    ``tan(JOIN_ANGLE)`` of its ``length``? Such a line takes in only what lies within ``gap`` of its
-    crisp line (ours: its cuts let a wall take in the next wall round a corner, a U's base its arm)."""
-    return a.radius(CUT) + b.radius(CUT) > length * math.tan(JOIN_ANGLE)
-
-
-def _plausible(s: Spot, ends: list[Spot]) -> float:
-    """How far off a remembered line's ``ends`` the spot ``s`` may lie and plausibly be on it:
-    their 70 % cuts, not their supports, which at the camera's range are a metre wide."""
-    return s.radius(CUT) + max(e.radius(CUT) for e in ends)
+def _plausible(s: Spot, ends: list[Spot], length: float, gap: float) -> float:
+    """How far off a remembered line's ``ends`` (``length`` m apart) the spot ``s`` may lie and
+    plausibly be on it: their 70 % cuts, not their supports, which at the camera's range are a
+    metre wide; at most ``gap`` for a line too blurred to have a direction, its ends' cuts together
+    wider than ``tan(JOIN_ANGLE)`` of its length (ours: such cuts let a wall take in the next wall
+    round a corner, a U's base its arm)."""
+    a, b = (e.radius(CUT) for e in ends)
+    tol = s.radius(CUT) + max(a, b)
+    return min(tol, gap) if a + b > length * math.tan(JOIN_ANGLE) else tol
 
 
 def _extend(m: Memory, spots: list[Spot]) -> None:
