@@ -303,7 +303,7 @@ class Recorder:
 
     def tick(self, t: Tick) -> None:
         ns = t.time_ns
-        pan, state = t.camera
+        pan, state, purpose = t.camera
         self._pose_msgs(t.pose, t.odometry, ns, pan)
         if self.server is not None:
             self.server.broadcast_time(ns)
@@ -315,8 +315,11 @@ class Recorder:
         if ns - self._state_ns >= SCENE_NS:
             self._state(ns)
         dets = t.detections
-        self.vision.log(encode({"pan_deg": math.degrees(pan), "state": state, "image": dets is not None, "detections":
-                                {d.key or f"obstacle{i}": d.as_json() for i, d in enumerate(dets)} if dets else {}}), ns)
+        vision = {"pan_deg": math.degrees(pan), "state": state, "image": dets is not None, "detections":
+                  {d.key or f"obstacle{i}": d.as_json() for i, d in enumerate(dets)} if dets else {}}
+        if purpose is not None:
+            vision["purpose"] = purpose
+        self.vision.log(encode(vision), ns)
         if t.memory is not None:
             self.memory_scene.log(SceneUpdate(deletions=[SceneEntityDeletion(timestamp=stamp(ns), type=SceneEntityDeletionType.All)],
                                               entities=memory_entities(t.memory, ns)), log_time=ns)
