@@ -16,7 +16,10 @@ compares the visual memory with the true room:
   remembered landmark (its true place).
 - **stalls**: the longest stretch of simulated time without progress, progress being a new
   closest approach to the target at least ``--progress`` m (0.3) closer than the last one (the
-  time after the last progress counts too unless the target was reached).
+  time after the last progress counts too unless the target was reached); and ``still_s``, the
+  longest stretch the robot stayed within ``--progress`` m of one place (spinning, rocking). A
+  detour away from the target (round a fence, a diverting target) is a stall of the first kind,
+  not of the second.
 
     python benchmarks/vision_audit.py --rooms paper-8x8,slanted-8x8 --seeds 6 --time-limit 300
     python benchmarks/vision_audit.py --rooms paper-8x8 --seeds 45 --pilots potential-field \\
@@ -72,11 +75,15 @@ def audit(job: tuple[str, str, int, str, float, tuple[tuple[str, object], ...], 
     excess = -math.inf
     landmarks = {lm.id: lm.at for lm in sc.landmarks}
     last_progress, longest = 0.0, 0.0
+    anchor, anchor_t, still = (sc.robot.start[0], sc.robot.start[1]), 0.0, 0.0
     while m.outcome is None:
         m.step()
         if m.ticks % EVERY:
             continue
         pose = m.world.pose
+        if math.dist((pose.x, pose.y), anchor) > progress:
+            anchor, anchor_t = (pose.x, pose.y), m.time
+        still = max(still, m.time - anchor_t)
         d = math.dist((pose.x, pose.y), target)
         if d <= best - progress or best == math.inf:
             best = d
@@ -103,7 +110,7 @@ def audit(job: tuple[str, str, int, str, float, tuple[tuple[str, object], ...], 
     if m.outcome != "reached":
         longest = max(longest, m.time - last_progress)
     return {"room": room, "pilot": pilot, "seed": seed, "perception": perception, "outcome": m.outcome,
-            "time": round(m.time, 1), "stall_s": round(longest, 1), "phantoms": len(phantoms),
+            "time": round(m.time, 1), "stall_s": round(longest, 1), "still_s": round(still, 1), "phantoms": len(phantoms),
             "phantoms_cut": len(cut), "phantoms_support": len(support), "phantom_at": sorted(cut.values()), "phantom_keys": sorted(support),
             "honesty_excess": round(excess, 3),
             "looks": m.camera_looks,
@@ -132,7 +139,8 @@ def main(argv: list[str] | None = None) -> None:
             rows.append(row)
             print(json.dumps(row), flush=True)
     print("room pilot: runs, reached, mean time (s), phantom lines: beyond 0.3 m / beyond its 70 % cut / beyond its "
-          "support (runs with one beyond its cut), longest stall (s), runs with a stall over 60 s", file=sys.stderr)
+          "support (runs with one beyond its cut), longest stall (s), runs with a stall over 60 s, longest "
+          "time still (s), runs still over 60 s", file=sys.stderr)
     total = [0, 0, 0]
     for room in a.rooms.split(","):
         for pilot in a.pilots.split(","):
@@ -142,7 +150,8 @@ def main(argv: list[str] | None = None) -> None:
             print(f"{room} {pilot}: {len(rs)}, {sum(r['outcome'] == 'reached' for r in rs)}, "
                   f"{statistics.mean(r['time'] for r in rs):.1f}, {' / '.join(map(str, ph))} "
                   f"({sum(r['phantoms_cut'] > 0 for r in rs)}), "
-                  f"{max(r['stall_s'] for r in rs):.0f}, {sum(r['stall_s'] > 60 for r in rs)}", file=sys.stderr)
+                  f"{max(r['stall_s'] for r in rs):.0f}, {sum(r['stall_s'] > 60 for r in rs)}, "
+                  f"{max(r['still_s'] for r in rs):.0f}, {sum(r['still_s'] > 60 for r in rs)}", file=sys.stderr)
     print(f"phantom lines in all (beyond 0.3 m / its cut / its support): {' / '.join(map(str, total))}", file=sys.stderr)
     dishonest = [r for r in rows if r["honesty_excess"] > 1e-6]
     print(f"runs where a remembered point left its support: {len(dishonest)} of {len(rows)}"
