@@ -184,12 +184,13 @@ def recover(
 def params(
     scenario: Annotated[Optional[Path], typer.Argument(metavar="SCENARIO", help="Show the values this scenario resolves to.")] = None,
     param: ParamOption = None,
+    markdown: Annotated[bool, typer.Option("--markdown", help="Print the reference table in Markdown (the docs' "
+                                                              "parameter reference).")] = False,
 ) -> None:
-    """List every parameter by its --param name, with its value and the range an override must lie in.
+    """List every parameter by its --param name, with its value, unit, the range an override must lie in,
+    and what it is.
 
     Without a scenario, the defaults; with one, its values after its blocks and any --param."""
-    import dataclasses
-
     from ..params import Params, parse_override
 
     if scenario is not None:
@@ -197,25 +198,22 @@ def params(
     else:
         with about("--param"):
             values = Params().override(dict(parse_override(i) for i in param or []))
-    ranges = {f"{g}.{f.name}": _range(f) for g in Params.GROUPS for f in dataclasses.fields(getattr(values, g))}
-    typer.echo(f"{'name':34s} {'value':>22s}  range")
-    for name, value in values.flat().items():
-        typer.echo(f"{name:34s} {str(value):>22s}  {ranges[name]}")
+    rows = [(name, _shown(value), d.unit or "-", d.range_text(), d.description)
+            for name, d, value in values.declarations()]
+    if markdown:
+        typer.echo("| parameter | default | unit | range | what it is |\n| --- | --- | --- | --- | --- |")
+        for row in rows:
+            typer.echo("| " + " | ".join(c.replace("|", "\\|") for c in (f"`{row[0]}`",) + row[1:]) + " |")
+        return
+    header = ("name", "value", "unit", "range", "description")
+    widths = [max(len(r[i]) for r in rows + [header]) for i in range(4)]
+    for row in [header] + rows:
+        typer.echo(f"{row[0]:{widths[0]}s}  {row[1]:>{widths[1]}s}  {row[2]:{widths[2]}s}  {row[3]:{widths[3]}s}  {row[4]}")
 
 
-def _range(f) -> str:
-    """A parameter's declared range in interval notation (``[0, 1]``, ``(0, inf)``), as checked
-    by ``Params.override``; a list's, by its count."""
-    if isinstance(f.default, tuple):
-        n = len(f.default)
-        return f"{n} increasing numbers" if f.metadata.get("intervals") else "a list of numbers"
-    m = f.metadata
-    lo = "(" + f"{m['above']:g}" if m.get("above") is not None else "[" + f"{m['at_least']:g}" \
-        if m.get("at_least") is not None else "(-inf"
-    hi = f"{m['below']:g})" if m.get("below") is not None else f"{m['at_most']:g}]" \
-        if m.get("at_most") is not None else "inf)"
-    kind = "whole number in " if isinstance(f.default, int) else ""
-    return f"{kind}{lo}, {hi}"
+def _shown(value) -> str:
+    """A parameter's value as ``navcli params`` prints it (a switch as true/false, as --param takes it)."""
+    return str(value).lower() if isinstance(value, bool) else str(list(value)) if isinstance(value, tuple) else str(value)
 
 
 @app.command()

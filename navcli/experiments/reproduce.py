@@ -223,7 +223,7 @@ def sensitivity(report: Report, s: Settings, out: Path, ex) -> None:
                          f"seeds: {s.sensitivity_seeds}\n"
                          "pilots: [potential-field, geometric]\nperception: [vision, oracle]\ngrid:\n"
                          f"  robot.max_speed: [{', '.join(map(str, s.sensitivity_speeds))}]\n"
-                         "  pilot.drive_while_turning: [1, 0]\n")
+                         "  pilot.drive_while_turning: [true, false]\n")
     table = out / "results.parquet"
     planned = plan_runs(load_plan(plan_file), None)
     run_sweep(planned, table, ex)

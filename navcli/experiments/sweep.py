@@ -231,8 +231,9 @@ class PlanReader(Reader):
             lo, hi = (self.param(name, x, q + (i,)) for i, x in enumerate(r))
             if isinstance(lo, list) or isinstance(hi, list):
                 raise self.fail(q, f"{name} is a list of numbers: give its values in a grid, not a range")
-            if isinstance(lo, int) and not isinstance(lo, bool):  # a sample between is no whole number
-                raise self.fail(q, f"{name} is a whole number: give its values in a grid, not a range")
+            if isinstance(lo, int):  # a sample between is no whole number, nor a switch
+                raise self.fail(q, f"{name} is a {'switch' if isinstance(lo, bool) else 'whole number'}: give its "
+                                   "values in a grid, not a range")
             if lo > hi:
                 raise self.fail(q, f"low {lo:g} is above high {hi:g}")
             bounds[name] = (lo, hi)

@@ -104,7 +104,7 @@ def parse_range(item: str) -> tuple[str, float, float] | tuple[str, float]:
     if name not in flat:
         Params().override({name: lo})  # raises: unknown parameter, with a suggestion
     if not isinstance(flat[name], float):
-        raise ParamError(f"{name} is a whole number or a list: it cannot be tuned")
+        raise ParamError(f"{name} is a whole number, a switch or a list: it cannot be tuned")
     Params().override({name: lo})
     Params().override({name: hi})
     if not lo < hi:

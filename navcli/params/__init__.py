@@ -2,20 +2,26 @@
 
 The papers' values live here (K = 18, A_t = 50, R_min = 0.40 m, bid cap 0.9 ...). A scenario's
 blocks and the command line override them; nothing else in the code base repeats a default.
-Units: metres, seconds, radians, unless a name says otherwise.
 
-The five parameter sets of a run (robot, pilot, navigation, vision, learning) travel as one
-:class:`Params`, addressed by dotted names (``pilot.K``) from ``--param``, plans and the log's
-metadata; each field declares its range, and an override outside it is refused by name."""
+The five parameter sets of a run (robot, pilot, navigation, vision, learning), and the sets of
+the plugins it uses, travel as one :class:`Params`, addressed by dotted names (``pilot.K``) from
+``--param``, plans and the log's metadata. Each parameter is declared once, with its type, unit,
+range and description (:func:`~navcli.params.declare.param`): a value outside its range is
+refused by name wherever it is made, and ``navcli params``, the scenario format's JSON Schema and
+the reference docs read the same declaration."""
 
 from __future__ import annotations
 
 import dataclasses
 import math
-from dataclasses import dataclass, field
-from typing import Any, Mapping
+from dataclasses import dataclass
+from typing import Any, ClassVar, Iterator, Mapping
 
-from . import NavcliError
+from .declare import MAX_LIST, Declared, ParamError, ParamSet, param, parse_override, suggest
+
+__all__ = ["CLUSTERS", "CONTROL_DT", "DEFAULTS", "LEARNING", "MAX_LIST", "NAVIGATION", "NAVIGATION_C2", "PILOT",
+           "ROBOT", "VISION", "Declared", "LearningParams", "NavigationParams", "ParamError", "ParamSet", "Params",
+           "PilotParams", "RobotParams", "VisionParams", "param", "parse_override"]
 
 NOISE_BOUND = 3.0
 """Sensor errors (odometry, camera) are drawn from normals clipped at this many standard deviations:
@@ -44,28 +50,20 @@ DRAW_PERIOD = 1.0
 obstacles); the forces themselves are in ``/pilot`` every tick (docs/design.md, "Drawing rates")."""
 
 
-def _p(default: Any, *, at_least: float | None = 0.0, above: float | None = None,
-       at_most: float | None = None, below: float | None = None) -> Any:
-    """A parameter field with the range an override must respect (checked by :meth:`Params.override`)."""
-    return field(default=default, metadata={"at_least": at_least, "above": above, "at_most": at_most, "below": below})
-
-
-def _intervals(default: tuple[float, ...]) -> Any:
-    """Interval bounds of a feature (the Learning Agent's states): an override keeps their count,
-    which the table of states is built on, and their increasing order."""
-    return field(default=default, metadata={"intervals": True})
-
-
 @dataclass(frozen=True)
-class RobotParams:
+class RobotParams(ParamSet):
     """Body and drive limits of the differential-drive robot (a Pioneer-sized disc); a scenario's
     ``robot:`` block sets ``radius`` and ``max_speed``."""
 
-    radius: float = _p(0.25, at_least=0.05, at_most=1.0)  # m
-    max_speed: float = _p(0.3, above=0.0, at_most=2.0)  # m/s; the physics step holds walls up to 2 m/s (tests/test_world.py)
-    max_accel: float = _p(0.5, above=0.0)  # m/s^2
-    max_turn_rate: float = _p(math.radians(90.0), above=0.0)  # rad/s
-    max_turn_accel: float = _p(math.radians(180.0), above=0.0)  # rad/s^2
+    group: ClassVar[str] = "robot"
+
+    radius: float = param(0.25, "m", "the robot's radius (a disc)", at_least=0.05, at_most=1.0)
+    max_speed: float = param(0.3, "m/s", "full speed; the physics step holds walls up to 2 m/s (tests/test_world.py)",
+                             above=0.0, at_most=2.0)
+    max_accel: float = param(0.5, "m/s^2", "the drive's acceleration limit", above=0.0)
+    max_turn_rate: float = param(math.radians(90.0), "rad/s", "the fastest turn (90 deg/s)", above=0.0)
+    max_turn_accel: float = param(math.radians(180.0), "rad/s^2", "the turn's acceleration limit (180 deg/s^2)",
+                                  above=0.0)
 
     def time_to_drive(self, metres: float) -> float:
         """Seconds the robot takes to drive ``metres`` at full speed: how the windows that are
@@ -79,159 +77,185 @@ class RobotParams:
 
 
 @dataclass(frozen=True)
-class PilotParams:
+class PilotParams(ParamSet):
     """Parameters of the Pilot (pilot paper, sections 3.4 and 4); a scenario's ``pilot:`` block
     sets ``K``, ``A_t`` and ``R_min``."""
 
-    K: float = _p(18.0, at_most=1000.0)  # eq. 2: repulsion constant
-    A_t: float = _p(50.0, at_most=1000.0)  # eq. 5: constant target attraction
-    R_min: float = _p(0.40, at_least=0.01, at_most=5.0)  # m, radius of the grown obstacles (eq. 3-4)
-    bid_cap: float = _p(0.9, at_most=1.0)  # eq. 9: the Pilot never bids above this
-    heading_gain: float = _p(1.5)  # 1/s: turn rate per radian of heading error
-    # How a winning move is executed (section 4: "the Pilot executes the turn of the winning bid"):
-    # 1, the speed and the turn commanded together, as a Pioneer's velocity and heading commands do
-    # (the default, our reading of the paper); 0, stop to turn above turn_in_place, slow by cos(error) below
-    drive_while_turning: int = _p(1, at_most=1)
-    # m: clearance the body keeps along the arc of a large turn driven at speed (see Pilot._arc_clear)
-    arc_margin: float = _p(0.1, at_least=0.0)
-    # 1: moves are executed only if safe (section 2, see Pilot._path_clear); 0: as they come (navcli before)
-    safe_execution: int = _p(1, at_most=1)
-    # 1: a request not safe, and no own move that drives, is replaced by the nearest safe heading (15 deg steps);
-    # 0: turned on the spot (navcli before: it could stand still for good, facing its target past a landmark)
-    nearest_safe: int = _p(1, at_most=1)
-    # above this heading error the robot stops to turn (drive_while_turning 0), or checks the turn's arc (1)
-    turn_in_place: float = _p(math.radians(45.0))
-    distress_gain: float = _p(1.5)  # section 5: each offending obstacle's force x 1.5 when IN_DISTRESS
-    # 1: a linear obstacle IN_DISTRESS pushes from its nearest point (our design: from its centre, section 3.2,
-    # a corner of two fences is a sink); 0: from its centre there too (navcli before)
-    distress_from_nearest: int = _p(1, at_most=1)
-    # m: the field leading away from the target, a long obstacle its strongest push, while the robot
-    # could drive this far and got along the obstacle less than a third of it: the Pilot reports the
-    # obstacle as one it cannot easily avoid (the thesis' blocked situation); 0: no report (the
-    # default: measured, it helps behind long fences and costs paper-8x8 runs; README, trap rooms)
-    blocked_report_m: float = _p(0.0)
-    wall_window: float = _p(1.0, above=0.0)  # m: a room wall acts as the stretch this long nearest the robot
-    # m: a linear obstacle longer than this acts as the stretch this long nearest the robot (the paper's are shorter)
-    line_window: float = _p(3.0, above=0.0)
-    corridor_margin: float = _p(0.40)  # m: section 3.3, the safe corridor keeps this far from the line's ends
-    # Section 3.5: reflexes and backward motion
-    backward_turn: float = _p(math.radians(160.0), at_most=math.pi)  # turns larger than this are driven backwards...
-    max_backward: float = _p(0.6)  # m: ...while the total distance driven backwards that way stays under this
-    reflex_stop_s: float = _p(0.5)  # s standing still after a bump
-    reflex_look_pans_deg: tuple[float, ...] = (-60.0, 0.0, 60.0)  # looks around after a bump
-    backup_distance: float = _p(0.30)  # m backed up after a bump
-    backup_speed: float = _p(0.15, above=0.0)  # m/s
-    # s: a reflex phase that cannot finish (the camera kept busy) is given up; the backup phase is given
-    # at least twice the time backing up takes at the speed it is driven (backed into something)
-    reflex_phase_limit_s: float = _p(4.0, above=0.0)
-    # No silent stall (our design): pushing without moving starts the reflex too. The window is a
-    # distance: the time it takes to drive it at robot.max_speed (0.6 m: 2 s at 0.3 m/s)
-    stall_window_m: float = _p(0.6, above=0.0)  # m of driving at full speed over which commanded and measured motion are compared
-    stall_min_distance: float = _p(0.1, above=0.0)  # m commanded in that window before a stall can be called
-    stall_progress: float = _p(0.2, at_most=1.0)  # a stall: less than this fraction of the commanded distance moved
-    # Section 2, eq. 1: the look-ahead camera bid (d_l / d_m) ** s
-    look_d_max: float = _p(1.0, above=0.0)  # m: d_m, the longest drive without looking ahead
-    look_exponent: float = _p(2.0, above=0.0)  # s
-    look_ahead_cone: float = _p(math.radians(30.0))  # rad: a look this close to straight ahead resets d_l
-    # 1: the Pilot bids for the camera (eq. 1's look-ahead, a reflex's looks around); 0: never (the learning
-    # paper's task: the camera is the Learning Agent's; the Pilot still avoids what the memory holds)
-    looks: int = _p(1, at_most=1)
-    # Geometric pilot (the baseline of Table 1)
-    geometric_lookahead: float = _p(1.0)  # m beyond the prohibited area at which it starts to steer
-    geometric_clearance: float = _p(0.05)  # m: its tangents pass this far outside the prohibited area
-    geometric_side_memory: float = _p(0.5)  # m driven with the way clear before the side chosen to pass is forgotten
+    group: ClassVar[str] = "pilot"
+
+    K: float = param(18.0, "force units x m^2", "eq. 2: the repulsion constant", at_most=1000.0)
+    A_t: float = param(50.0, "force units", "eq. 5: the target's constant attraction", at_most=1000.0)
+    R_min: float = param(0.40, "m", "eq. 3-4: the prohibited area's radius beyond an obstacle's surface",
+                         at_least=0.01, at_most=5.0)
+    bid_cap: float = param(0.9, "", "eq. 9: the Pilot never bids above this", at_most=1.0)
+    heading_gain: float = param(1.5, "1/s", "turn rate per radian of heading error")
+    drive_while_turning: bool = param(True, "", """how a winning move is executed (section 4: "the Pilot executes
+        the turn of the winning bid"): on, the speed and the turn commanded together, as a Pioneer's velocity and
+        heading commands do (our reading of the paper); off, stop to turn above turn_in_place, slow by cos(error)
+        below""")
+    arc_margin: float = param(0.1, "m", "clearance the body keeps along the arc of a large turn driven at speed "
+                                         "(see Pilot._arc_clear)")
+    safe_execution: bool = param(True, "", "moves are executed only if safe (section 2, see Pilot._path_clear); "
+                                           "off: as they come (navcli before)")
+    nearest_safe: bool = param(True, "", """a request not safe, with no own move that drives, is replaced by the
+        nearest safe heading (15 deg steps); off: turned on the spot (navcli before: it could stand still for good,
+        facing its target past a landmark)""")
+    turn_in_place: float = param(math.radians(45.0), "rad", "above this heading error the robot stops to turn "
+                                 "(drive_while_turning off), or checks the turn's arc (on)")
+    distress_gain: float = param(1.5, "", "section 5: each offending obstacle's force is multiplied by this when "
+                                          "IN_DISTRESS")
+    distress_from_nearest: bool = param(True, "", """a linear obstacle IN_DISTRESS pushes from its nearest point
+        (our design: from its centre, section 3.2, a corner of two fences is a sink); off: from its centre there
+        too (navcli before)""")
+    blocked_report_m: float = param(0.0, "m", """the field leading away from the target, a long obstacle its
+        strongest push, while the robot could drive this far and got along the obstacle less than a third of it:
+        the Pilot reports the obstacle as one it cannot easily avoid (the thesis' blocked situation); 0: no report
+        (the default: measured, it helps behind long fences and costs paper-8x8 runs; README, trap rooms)""")
+    wall_window: float = param(1.0, "m", "a room wall acts as the stretch this long nearest the robot", above=0.0)
+    line_window: float = param(3.0, "m", "a linear obstacle longer than this acts as the stretch this long nearest "
+                                         "the robot (the paper's are shorter)", above=0.0)
+    corridor_margin: float = param(0.40, "m", "section 3.3: the safe corridor keeps this far from the line's ends")
+    backward_turn: float = param(math.radians(160.0), "rad", "section 3.5: turns larger than this are driven "
+                                 "backwards (turning the complement) ...", at_most=math.pi)
+    max_backward: float = param(0.6, "m", "... while the total distance driven backwards that way stays under this")
+    reflex_stop_s: float = param(0.5, "s", "section 3.5: standing still after a bump")
+    reflex_look_pans_deg: tuple[float, ...] = param((-60.0, 0.0, 60.0), "deg", "section 3.5: the looks around "
+                                                    "after a bump (pans from ahead)", at_least=-180.0, at_most=180.0)
+    backup_distance: float = param(0.30, "m", "section 3.5: backed up after a bump")
+    backup_speed: float = param(0.15, "m/s", "section 3.5: the speed of that backing up (at most robot.max_speed)",
+                                above=0.0)
+    reflex_phase_limit_s: float = param(4.0, "s", """a reflex phase that cannot finish (the camera kept busy) is
+        given up after this; the backup phase is given at least twice the time backing up takes at the speed it is
+        driven (backed into something)""", above=0.0)
+    stall_window_m: float = param(0.6, "m", """no silent stall (our design): pushing without moving starts the
+        reflex too, judged over the time it takes to drive this far at robot.max_speed (0.6 m: 2 s at 0.3 m/s)""",
+                                  above=0.0)
+    stall_min_distance: float = param(0.1, "m", "commanded in that window before a stall can be called", above=0.0)
+    stall_progress: float = param(0.2, "", "a stall: less than this fraction of the commanded distance moved",
+                                  at_most=1.0)
+    look_d_max: float = param(1.0, "m", "eq. 1: d_m, the longest drive without looking ahead", above=0.0)
+    look_exponent: float = param(2.0, "", "eq. 1: s, the look-ahead bid's exponent", above=0.0)
+    look_ahead_cone: float = param(math.radians(30.0), "rad", "a look this close to straight ahead resets d_l of "
+                                                              "eq. 1")
+    looks: bool = param(True, "", """the Pilot bids for the camera (eq. 1's look-ahead, a reflex's looks around);
+        off: never (the learning paper's task: the camera is the Learning Agent's; the Pilot still avoids what the
+        memory holds)""")
+    geometric_lookahead: float = param(1.0, "m", "the geometric pilot starts to steer this far beyond the "
+                                                 "prohibited area")
+    geometric_clearance: float = param(0.05, "m", "the geometric pilot's tangents pass this far outside the "
+                                                  "prohibited area")
+    geometric_side_memory: float = param(0.5, "m", "driven with the way clear before the geometric pilot forgets "
+                                                   "the side it chose to pass on")
 
 
 @dataclass(frozen=True)
-class NavigationParams:
+class NavigationParams(ParamSet):
     """Parameters of the Navigation system's agents (learning-agent paper section 3; notes,
     sections 1-4). The bidding parameters default to the thesis' GA-tuned values for task cluster
     C1 (targets reachable without obstacles, Table 5.2); :data:`NAVIGATION_C2` holds cluster C2's
     (targets behind obstacles). The rest is our design, each with its reason."""
 
-    # Target Tracker (notes, section 2)
-    kappa1: float = _p(0.314, at_most=1.0)  # move bid with a precisely known target
-    alpha: float = _p(1.731)  # how fast that bid falls with the target's imprecision I_a
-    kappa2: float = _p(0.493, at_most=1.0)  # the look bid's peak
-    beta: float = _p(2.03, above=0.0)  # I_a = (eps / 2 pi) ** beta, eps the width of the heading's 70 % cut
-    I_a_bar: float = _p(0.386, above=0.0, below=1.0)  # I_a at which the look bid peaks; above it the Rescuer takes over
-    # Distance Estimator: kappa * tanh(I_d / d), I_d the width (m) of the target distance's 70 % cut, d its distance
-    kappa: float = _p(0.355, at_most=1.0)
-    # Risk Manager: R = 1 - min(1, q_A (|A|/6)^gamma_A + q_B (|B|/6)^gamma_B); look bid R^gamma_R when R > R_bar
-    gamma_A: float = _p(0.240)
-    gamma_B: float = _p(0.521)
-    gamma_R: float = _p(0.054, above=0.0)
-    R_bar: float = _p(0.215, at_most=1.0)
-    ahead_deg: float = _p(90.0, above=0.0, at_most=180.0)  # landmarks within this bearing are "ahead" (set A)
-    # Communicator (notes, section 1): bids are collected over this window; a later bid replaces an earlier one
-    communicator_window_s: float = _p(0.2)
-    # Rescuer (notes, section 2): blocked, lost, diverting targets
-    rescuer_bid: float = _p(1.0, at_most=1.0)  # its stop, look and turn bids: an emergency, above every other bid
-    # The Rescuer's windows are distances, each the time it takes to drive it at robot.max_speed (our design: a slow
-    # robot is never blocked for being slow; 12 m and 27 m are the 40 s and 90 s these windows had at 0.3 m/s)
-    blocked_window_m: float = _p(12.0, above=0.0)  # no progress toward the target while it could drive this far: blocked
-    blocked_progress: float = _p(0.5, above=0.0)  # m closer to the target that counts as progress
-    blocked_bumps: int = _p(3, at_least=1)  # or this many bumps within the blocked window: blocked
-    diverting_timeout_m: float = _p(27.0, above=0.0)  # a diverting target not crossed while it could drive this far has failed
-    max_diverting_failures: int = _p(0, at_least=0)  # failed diverting targets that end the mission; 0: no count does
-    gives_up: int = _p(1, at_most=1)  # 0: the Rescuer never ends a mission (long benchmarks, tests that need a long run)
-    random_turn_deg: float = _p(120.0, above=0.0, at_most=180.0)  # with no diverting target: turn by up to this much
-    # exploring (no diverting target): turn away from the target (within half random_turn_deg), drive up to this far
-    # looking around until a new landmark is seen, then scan (our design: what hides the landmarks from where the
-    # robot is blocked is a long obstacle, about 3 m in the papers' rooms); 0: turn and scan in place (navcli before)
-    explore_m: float = _p(3.0, at_least=0.0)
-    # 1: once a diverting target is crossed, a target in sight (no known long obstacle across the straight way)
-    # is headed for directly; 0: the map is asked for the way's next step all the same (navcli before)
-    sight_ends_way: int = _p(1, at_most=1)
-    scan_pans_deg: tuple[float, ...] = (-90.0, -45.0, 0.0, 45.0, 90.0)  # the looks of a scan (initial sweep, lost)
-    initial_sweep: int = _p(1, at_most=1)  # 1: the Rescuer's initial sweep (thesis node 81); 0: none (short experiments)
-    # 1: the Rescuer looks (the initial sweep, a lost target's scans, looking around to explore); 0: never, and a
-    # lost target is left to the agents (the learning paper's task, where the camera is the Learning Agent's)
-    rescuer_looks: int = _p(1, at_most=1)
-    blocked_ends: int = _p(0, at_most=1)  # 1: the first blocked situation ends the mission "blocked" (the learning paper's trials)
-    # 1: the target counts as reached only when the robot is also confident of it ("and is confident that it
-    # has reached the target"): the 70 % cut of its belief of the target wholly within reach; 0: the body alone
-    reach_confident: int = _p(0, at_most=1)
-    # > 0: and the belief's I(t) (the learning paper's I(l)) below this (a stricter reading, for the sensitivity)
-    reach_imprecision: float = _p(0.0, at_most=1.0)
-    # Map Manager (notes, sections 3-4)
-    map_encode_imprecision: float = _p(0.25, above=0.0, at_most=1.0)  # landmarks at most this imprecise are encoded
-    map_units_per_landmark: int = _p(6, at_least=1)  # beta-units kept per landmark (the sharpest)
-    map_recall_every: int = _p(5, at_least=1)  # ticks between two recalls of a landmark from the network
-    # ticks between two /map/scene updates, and the last tick (10 s; our design: the map changes slowly,
-    # and its snapshot triangulates the landmarks, which every 2 s cost some 40 µs a tick; see DRAW_PERIOD)
-    map_draw_every: int = _p(100, at_least=1)
-    virtual_distance: float = _p(10.0, above=0.0)  # m: virtual landmarks beyond the hull edges
-    blocked_cost: float = _p(1000.0, above=1.0)  # cost of a region arc known to be blocked
-    # 1: the diverting target is the farthest edge of the way the robot sees straight; 0: the first (navcli before)
-    diverting_in_sight: int = _p(1, at_most=1)
+    group: ClassVar[str] = "navigation"
+
+    kappa1: float = param(0.314, "", "Target Tracker: its move bid with a precisely known target", at_most=1.0)
+    alpha: float = param(1.731, "", "Target Tracker: how fast that bid falls with the target's imprecision I_a")
+    kappa2: float = param(0.493, "", "Target Tracker: the look bid's peak", at_most=1.0)
+    beta: float = param(2.03, "", "Target Tracker: I_a = (eps / 2 pi) ** beta, eps the width of the heading's "
+                                  "70 % cut", above=0.0)
+    I_a_bar: float = param(0.386, "", "Target Tracker: I_a at which the look bid peaks; above it the Rescuer takes "
+                                      "over", above=0.0, below=1.0)
+    kappa: float = param(0.355, "", "Distance Estimator: its bid kappa * tanh(I_d / d), I_d the width (m) of the "
+                                    "target distance's 70 % cut, d its distance", at_most=1.0)
+    gamma_A: float = param(0.240, "", "Risk Manager: R = 1 - min(1, q_A (|A|/6)^gamma_A + q_B (|B|/6)^gamma_B)")
+    gamma_B: float = param(0.521, "", "Risk Manager: the exponent of the known landmarks' term")
+    gamma_R: float = param(0.054, "", "Risk Manager: its look bid R^gamma_R", above=0.0)
+    R_bar: float = param(0.215, "", "Risk Manager: it bids only when R > R_bar", at_most=1.0)
+    ahead_deg: float = param(90.0, "deg", "Risk Manager: landmarks within this bearing are ahead (set A)",
+                             above=0.0, at_most=180.0)
+    communicator_window_s: float = param(0.2, "s", "the Communicator collects bids over this window; a later bid "
+                                                   "replaces an earlier one")
+    rescuer_bid: float = param(1.0, "", "the Rescuer's stop, look and turn bids: an emergency, above every other "
+                                        "bid", at_most=1.0)
+    blocked_window_m: float = param(12.0, "m", """no progress toward the target while the robot could drive this
+        far at robot.max_speed: blocked (our design, a distance: a slow robot is never blocked for being slow; 12 m
+        is the 40 s this window had at 0.3 m/s)""", above=0.0)
+    blocked_progress: float = param(0.5, "m", "closer to the target that counts as progress", above=0.0)
+    blocked_bumps: int = param(3, "", "or this many bumps within the blocked window: blocked", at_least=1)
+    diverting_timeout_m: float = param(27.0, "m", "a diverting target not crossed while the robot could drive this "
+                                                  "far has failed (90 s at 0.3 m/s)", above=0.0)
+    max_diverting_failures: int = param(0, "", "failed diverting targets that end the mission; 0: no count does")
+    gives_up: bool = param(True, "", "off: the Rescuer never ends a mission (long benchmarks, tests that need a "
+                                     "long run)")
+    random_turn_deg: float = param(120.0, "deg", "with no diverting target: turn by up to this much", above=0.0,
+                                   at_most=180.0)
+    explore_m: float = param(3.0, "m", """exploring (no diverting target): turn away from the target (within half
+        random_turn_deg), drive up to this far looking around until a new landmark is seen, then scan (our design:
+        what hides the landmarks from where the robot is blocked is a long obstacle, about 3 m in the papers'
+        rooms); 0: turn and scan in place (navcli before)""")
+    sight_ends_way: bool = param(True, "", """once a diverting target is crossed, a target in sight (no known long
+        obstacle across the straight way) is headed for directly; off: the map is asked for the way's next step all
+        the same (navcli before)""")
+    scan_pans_deg: tuple[float, ...] = param((-90.0, -45.0, 0.0, 45.0, 90.0), "deg", "the looks of a scan (the "
+                                             "initial sweep, a lost target)", at_least=-180.0, at_most=180.0)
+    initial_sweep: bool = param(True, "", "the Rescuer's initial sweep (thesis node 81); off: none (short "
+                                          "experiments)")
+    rescuer_looks: bool = param(True, "", """the Rescuer looks (the initial sweep, a lost target's scans, looking
+        around to explore); off: never, and a lost target is left to the agents (the learning paper's task, where
+        the camera is the Learning Agent's)""")
+    blocked_ends: bool = param(False, "", "the first blocked situation ends the mission blocked (the learning "
+                                          "paper's trials)")
+    reach_confident: bool = param(False, "", """the target counts as reached only when the robot is also confident
+        of it ("and is confident that it has reached the target"): the 70 % cut of its belief of the target wholly
+        within reach; off: the body alone""")
+    reach_imprecision: float = param(0.0, "", "> 0: and the belief's I(t) (the learning paper's I(l)) below this (a "
+                                              "stricter reading, for the sensitivity)", at_most=1.0)
+    map_encode_imprecision: float = param(0.25, "", "Map Manager: landmarks at most this imprecise are encoded",
+                                          above=0.0, at_most=1.0)
+    map_units_per_landmark: int = param(6, "", "Map Manager: beta-units kept per landmark (the sharpest)",
+                                        at_least=1)
+    map_recall_every: int = param(5, "ticks", "Map Manager: between two recalls of a landmark from the network",
+                                  at_least=1)
+    map_draw_every: int = param(100, "ticks", """between two /map/scene updates, and the last tick (10 s; our
+        design: the map changes slowly, and its snapshot triangulates the landmarks, which every 2 s cost some
+        40 us a tick; see DRAW_PERIOD)""", at_least=1)
+    virtual_distance: float = param(10.0, "m", "Map Manager: virtual landmarks beyond the hull edges", above=0.0)
+    blocked_cost: float = param(1000.0, "", "Map Manager: the cost of a region arc known to be blocked", above=1.0)
+    diverting_in_sight: bool = param(True, "", "the diverting target is the farthest edge of the way the robot sees "
+                                               "straight; off: the first (navcli before)")
 
 
 @dataclass(frozen=True)
-class VisionParams:
+class VisionParams(ParamSet):
     """The camera's measurement model and the visual memory (notes, sections 1 and 3)."""
 
-    noise_bound: float = _p(NOISE_BOUND, above=0.0)  # sensor errors are bounded at this many standard deviations
-    told_target: int = _p(1, at_most=1)  # 1: the robot is told where the target is at the start; 0: it must see it
-    heading_floor: float = _p(math.radians(0.5))  # rad: the fuzzy heading's least half-spread (a pixel or so)
-    distance_floor: float = _p(0.02)  # m: the fuzzy distance's least half-spread
-    walk_bound: float = _p(4.0)  # the per-tick odometry errors' random walk is bounded at this many deviations
-    odometry_floor: float = _p(0.005)  # relative: odometry error the memory allows for even without noise
-    bump_radius: float = _p(0.10, above=0.0)  # m: support radius of an obstacle found by the bumpers
-    bump_merge: float = _p(1.0)  # m: a bump this near another bump or a landmark joins it in a long obstacle
-    line_join_gap: float = _p(0.5)  # m: stretches of a fence or wall seen apart are one only if they overlap or are this near
-    forget_above: float = _p(0.35, above=0.0, at_most=1.0)  # I(l) above which a landmark or the target is forgotten
-    # 0: a linear obstacle (or wall) is forgotten when both its ends are above forget_above; 1: when one is
-    # (navcli before: the near end of a fence the robot drives along blurs first, and the fence went with it)
-    forget_line_by_one_end: int = _p(0, at_most=1)
-    forget_every: int = _p(5, at_least=1)  # ticks between two sweeps of the memory for what has become too imprecise
-    # ticks between two /memory/scene updates, and the last tick (3 s; our design: drawn once a second it
-    # cost some 40 µs a tick; each drawing stays where it was in the world, see DRAW_PERIOD)
-    draw_every: int = _p(30, at_least=1)
+    group: ClassVar[str] = "vision"
+
+    noise_bound: float = param(NOISE_BOUND, "standard deviations", "sensor errors are bounded at this many "
+                                                                  "standard deviations", above=0.0)
+    told_target: bool = param(True, "", "the robot is told where the target is at the start; off: it must see it")
+    heading_floor: float = param(math.radians(0.5), "rad", "the fuzzy heading's least half-spread (a pixel or so)")
+    distance_floor: float = param(0.02, "m", "the fuzzy distance's least half-spread")
+    walk_bound: float = param(4.0, "standard deviations", "the per-tick odometry errors' random walk is bounded at "
+                                                          "this many deviations")
+    odometry_floor: float = param(0.005, "", "relative odometry error the memory allows for even without noise")
+    bump_radius: float = param(0.10, "m", "support radius of an obstacle found by the bumpers", above=0.0)
+    bump_merge: float = param(1.0, "m", "a bump this near another bump or a landmark joins it in a long obstacle")
+    line_join_gap: float = param(0.5, "m", "stretches of a fence or wall seen apart are one only if they overlap or "
+                                           "are this near")
+    forget_above: float = param(0.35, "", "I(l) above which a landmark or the target is forgotten", above=0.0,
+                                at_most=1.0)
+    forget_line_by_one_end: bool = param(False, "", """on: a linear obstacle (or wall) is forgotten when one end is
+        above forget_above (navcli before: the near end of a fence the robot drives along blurs first, and the
+        fence went with it); off: when both are""")
+    forget_every: int = param(5, "ticks", "between two sweeps of the memory for what has become too imprecise",
+                              at_least=1)
+    draw_every: int = param(30, "ticks", """between two /memory/scene updates, and the last tick (3 s; our design:
+        drawn once a second it cost some 40 us a tick; each drawing stays where it was in the world, see
+        DRAW_PERIOD)""", at_least=1)
 
 
 @dataclass(frozen=True)
-class LearningParams:
+class LearningParams(ParamSet):
     """The Learning Agent (learning-agent paper, sections 4-6): its belief-state features, its
     actions and Prioritized Sweeping. The paper gives the number of intervals of each feature
     (5, 7, 4, 7: 980 states), the actions and their rewards; the interval bounds, how long one
@@ -273,20 +297,27 @@ class LearningParams:
       textbook values.
     """
 
-    distance_bounds: tuple[float, ...] = _intervals((0.9, 1.5, 3.0, 5.0))  # m: 5 intervals
-    imprecision_bounds: tuple[float, ...] = _intervals((0.02, 0.04, 0.07, 0.1, 0.15, 0.25))  # I(t): 7 intervals
-    count_bounds: tuple[float, ...] = _intervals((0.34, 0.67, 1.0))  # C-bar: 4 intervals
-    landmark_bounds: tuple[float, ...] = _intervals((0.2, 0.35, 0.5, 0.65, 0.8, 0.95))  # I-bar: 7 intervals
-    action_s: float = _p(1.0, above=0.0)  # s one action lasts
-    max_actions: int = _p(500, at_least=1)  # actions before a trial ends (the paper's 500)
-    bid: float = _p(0.5, above=0.0, at_most=1.0)  # its bids for the wheels and the camera
-    gamma: float = _p(1.0, above=0.0, at_most=1.0)
-    backups: int = _p(20, at_least=0)  # k: backups per real step
-    threshold: float = _p(1e-3, above=0.0)  # priorities at or below this are not queued
-    explore: int = _p(2, at_least=0)  # tries of each action in a state before it is judged on its values
-    q_alpha: float = _p(0.1, above=0.0, at_most=1.0)  # Q-learning's step size
-    q_epsilon: float = _p(0.1, at_most=1.0)  # Q-learning's exploration rate
-    paper_task: int = _p(1, at_most=1)  # 1: train, compare policies and the env run the paper's task (training/task.py)
+    group: ClassVar[str] = "learning"
+
+    distance_bounds: tuple[float, ...] = param((0.9, 1.5, 3.0, 5.0), "m", "the target distance D(t)'s interval "
+                                               "bounds (5 intervals)", intervals=True)
+    imprecision_bounds: tuple[float, ...] = param((0.02, 0.04, 0.07, 0.1, 0.15, 0.25), "", "the target imprecision "
+                                                  "I(t)'s interval bounds (7 intervals)", intervals=True)
+    count_bounds: tuple[float, ...] = param((0.34, 0.67, 1.0), "", "the landmark count C-bar's interval bounds (4 "
+                                            "intervals)", intervals=True)
+    landmark_bounds: tuple[float, ...] = param((0.2, 0.35, 0.5, 0.65, 0.8, 0.95), "", "the landmark imprecision "
+                                               "I-bar's interval bounds (7 intervals)", intervals=True)
+    action_s: float = param(1.0, "s", "one action lasts this long", above=0.0)
+    max_actions: int = param(500, "", "actions before a trial ends (the paper's 500)", at_least=1)
+    bid: float = param(0.5, "", "the Learning Agent's bids for the wheels and the camera", above=0.0, at_most=1.0)
+    gamma: float = param(1.0, "", "Prioritized Sweeping's discount", above=0.0, at_most=1.0)
+    backups: int = param(20, "", "k: Prioritized Sweeping's backups per real step")
+    threshold: float = param(1e-3, "", "priorities at or below this are not queued", above=0.0)
+    explore: int = param(2, "", "tries of each action in a state before it is judged on its values")
+    q_alpha: float = param(0.1, "", "Q-learning's step size", above=0.0, at_most=1.0)
+    q_epsilon: float = param(0.1, "", "Q-learning's exploration rate", at_most=1.0)
+    paper_task: bool = param(True, "", "train, compare policies and the env run the paper's task (training/task.py); "
+                                       "off: navcli's first task")
 
 
 @dataclass(frozen=True)
@@ -323,17 +354,14 @@ LEARNING = LearningParams()
 DEFAULTS = Defaults()
 
 
-class ParamError(NavcliError):
-    """An override names no parameter, or gives it a value outside its range."""
-
-
 @dataclass(frozen=True)
 class Params:
-    """The five parameter sets of one run; see the module docstring for the dotted names.
+    """The parameter sets of one run: navcli's five, and ``plugins``, the sets of the plugins it
+    may use, by the plugins' names (``(("vfh", VFHParams(...)),)``); see the module docstring.
 
-    >>> p = Params().override({"pilot.K": 30, "navigation.kappa1": 0.5})
-    >>> p.pilot.K, p.navigation.kappa1, p.pilot.A_t
-    (30.0, 0.5, 50.0)
+    >>> p = Params().override({"pilot.K": 30, "navigation.kappa1": 0.5, "pilot.looks": 0})
+    >>> p.pilot.K, p.navigation.kappa1, p.pilot.A_t, p.pilot.looks
+    (30.0, 0.5, 50.0, False)
     >>> try:
     ...     Params().override({"pilot.k": 1})
     ... except ParamError as e:
@@ -346,13 +374,18 @@ class Params:
     navigation: NavigationParams = NAVIGATION
     vision: VisionParams = VISION
     learning: LearningParams = LEARNING
+    plugins: tuple[tuple[str, ParamSet], ...] = ()
 
     GROUPS = ("robot", "pilot", "navigation", "vision", "learning")
 
+    def sets(self) -> dict[str, ParamSet]:
+        """Every parameter set by its name: navcli's five, then the plugins'."""
+        return {g: getattr(self, g) for g in self.GROUPS} | dict(self.plugins)
+
     def to_json(self) -> dict[str, dict[str, Any]]:
-        """``{"pilot": {"K": 18.0, ...}, ...}``: plain JSON values (tuples as lists)."""
-        return {g: {k: list(v) if isinstance(v, tuple) else v for k, v in dataclasses.asdict(getattr(self, g)).items()}
-                for g in self.GROUPS}
+        """navcli's five sets, ``{"pilot": {"K": 18.0, ...}, ...}``: plain JSON values (tuples as
+        lists). A plugin's set is written with its plugin (:meth:`navcli.config.RunSpec.to_json`)."""
+        return {g: getattr(self, g).to_json() for g in self.GROUPS}
 
     @classmethod
     def from_json(cls, d: Mapping[str, Mapping[str, Any]]) -> Params:
@@ -360,91 +393,42 @@ class Params:
         return cls().override({f"{g}.{k}": v for g, block in d.items() for k, v in block.items()})
 
     def flat(self) -> dict[str, Any]:
-        """Every parameter by its dotted name."""
-        return {f"{g}.{k}": v for g, block in self.to_json().items() for k, v in block.items()}
+        """Every parameter by its dotted name (plugins' too)."""
+        return {f"{g}.{k}": v for g, s in self.sets().items() for k, v in s.to_json().items()}
+
+    def declarations(self) -> Iterator[tuple[str, Declared, Any]]:
+        """(dotted name, declaration, value) of every parameter, navcli's then the plugins'."""
+        for g, s in self.sets().items():
+            for k, d, _ in s.declarations():
+                yield f"{g}.{k}", d, getattr(s, k)
+
+    def with_plugin(self, name: str, values: ParamSet) -> Params:
+        """A copy holding ``values`` as the parameter set of the plugin ``name`` (replacing any)."""
+        if name in self.GROUPS or "." in name or not name:
+            raise ParamError(f"{name!r} cannot name a plugin's parameters (navcli's own sets: {', '.join(self.GROUPS)})")
+        rest = tuple((n, s) for n, s in self.plugins if n != name)
+        return dataclasses.replace(self, plugins=tuple(sorted(rest + ((name, values),), key=lambda p: p[0])))
+
+    def plugin(self, name: str) -> ParamSet | None:
+        """The parameter set of the plugin ``name``, if this run holds one."""
+        return dict(self.plugins).get(name)
 
     def override(self, changes: Mapping[str, Any]) -> Params:
         """A copy with ``changes`` (dotted name -> value) applied; raises :class:`ParamError`."""
+        sets = self.sets()
         groups: dict[str, dict[str, Any]] = {}
         for name, value in changes.items():
             group, _, key = name.partition(".")
-            target = getattr(self, group, None) if group in self.GROUPS else None
-            fields = {f.name: f for f in dataclasses.fields(target)} if target is not None else {}
-            if key not in fields:
-                raise ParamError(f"unknown parameter {name!r}{_suggest(name, self.flat())}")
-            groups.setdefault(group, {})[key] = _checked(name, fields[key], value)
-        return dataclasses.replace(self, **{g: dataclasses.replace(getattr(self, g), **kw) for g, kw in groups.items()})
-
-
-MAX_LIST = 64
-"""The most numbers a list-valued parameter takes (its longest default has 6)."""
-
-
-def _checked(name: str, f: dataclasses.Field, value: Any) -> Any:
-    """``value`` converted to the field's type and checked against its declared range."""
-    if isinstance(f.default, tuple):
-        if (not isinstance(value, (list, tuple)) or len(value) > MAX_LIST
-                or not all(_is_number(v) and math.isfinite(v) for v in value)):
-            raise ParamError(f"{name} expects a list of at most {MAX_LIST} finite numbers, got {value!r}"[:300])
-        value = tuple(float(v) for v in value)
-        n = len(f.default)
-        if f.metadata.get("intervals") and (len(value) != n or any(b <= a for a, b in zip(value, value[1:]))):
-            raise ParamError(f"{name} must be {n} increasing numbers (the bounds of {n + 1} intervals), "
-                             f"got {list(value)}")
-        return value
-    if not _is_number(value) or not math.isfinite(value):
-        raise ParamError(f"{name} expects a finite number, got {value!r}")
-    if isinstance(f.default, int):
-        if value != int(value):
-            raise ParamError(f"{name} expects a whole number, got {value!r}")
-        value = int(value)
-    else:
-        value = float(value)
-    m = f.metadata
-    for bound, ok, words in (("at_least", lambda v, b: v >= b, "at least"), ("above", lambda v, b: v > b, "above"),
-                             ("at_most", lambda v, b: v <= b, "at most"), ("below", lambda v, b: v < b, "below")):
-        b = m.get(bound)
-        if b is not None and not ok(value, b):
-            raise ParamError(f"{name} must be {words} {b:g}, got {value:g}")
-    return value
-
-
-def _is_number(v: Any) -> bool:
-    return isinstance(v, (int, float)) and not isinstance(v, bool)
-
-
-def _suggest(name: str, known: Mapping[str, Any]) -> str:
-    import difflib
-
-    close = ([k for k in known if k.endswith("." + name)] or difflib.get_close_matches(name, known, n=1)
-             or [k for k in known if k.lower() == name.lower()])
-    return f" (did you mean {close[0]}?)" if close else " (see `navcli params` for the names)"
-
-
-def parse_override(item: str) -> tuple[str, float | list[float]]:
-    """``"pilot.K=30"`` -> ``("pilot.K", 30.0)``; a list-valued parameter takes its numbers in
-    brackets, comma-separated (``[]`` for none). The value is checked by :meth:`Params.override`.
-
-    >>> parse_override("navigation.kappa1=0.5")
-    ('navigation.kappa1', 0.5)
-    >>> parse_override("pilot.reflex_look_pans_deg=[-60, 0, 60]")
-    ('pilot.reflex_look_pans_deg', [-60.0, 0.0, 60.0])
-    """
-    name, sep, value = item.partition("=")
-    name, value = name.strip(), value.strip()
-    if not sep or not name:
-        raise ParamError(f"{item!r}: expected NAME=VALUE, e.g. pilot.K=30")
-    if len(value) > 1000:
-        raise ParamError(f"{name}: a value of {len(value)} characters is not a parameter's")
-    listed = value.startswith("[") and value.endswith("]")
-    parts = [v.strip() for v in value[1:-1].split(",")] if listed else [value]
-    if listed and parts == [""]:
-        return name, []
-    numbers = []
-    for v in parts:
-        try:
-            numbers.append(float(v))
-        except ValueError:
-            raise ParamError(f"{item!r}: {v!r} is not a number" + ("" if listed else
-                             " (a list parameter takes [a, b, ...])" if "," in value else "")) from None
-    return name, numbers if listed else numbers[0]
+            target = sets.get(group)
+            if target is None or key not in {f.name for f in dataclasses.fields(target)}:
+                raise ParamError(f"unknown parameter {name!r}{suggest(name, list(self.flat()))}")
+            groups.setdefault(group, {})[key] = value
+        own: dict[str, Any] = {}
+        out = self
+        for group, values in groups.items():
+            changed = sets[group].changed(group, values)
+            if group in self.GROUPS:
+                own[group] = changed
+            else:
+                out = out.with_plugin(group, changed)
+        return dataclasses.replace(out, **own)

@@ -15,7 +15,7 @@ from pathlib import Path
 from typing import Any
 
 from ..geometry import Point
-from ..params import CLUSTERS, DEFAULTS, PERCEPTIONS, PILOT_NAMES, ParamError, Params
+from ..params import CLUSTERS, DEFAULTS, PERCEPTIONS, PILOT_NAMES, NavigationParams, ParamError, Params
 from .model import (MAX_ID, MAX_ITEMS, NAME_RE, PILOT_BLOCK, SUPPORTED_VERSIONS, Arena, CameraSpec, Circle, Landmark,
                     MissionSpec, Noise, Obstacle, RobotSpec, Scenario, Segment, Target)
 from .yaml_reader import MAX_BYTES, Invalid, Reader, ScenarioError, parse_yaml, read_bounded, type_name
@@ -223,28 +223,27 @@ class ScenarioReader(Reader):
         m = self.mapping(v, P, (), tuple(PILOT_BLOCK))
         return {f"pilot.{k}": self.number(m[k], P + (k,), f"pilot.{k}") for k in PILOT_BLOCK if k in m}
 
-    def navigation(self, v: Any) -> dict[str, float]:
+    def navigation(self, v: Any) -> dict[str, Any]:
         """The Navigation system's parameters the block sets: ``cluster`` (``C1``, the default, or
         ``C2``: the thesis' GA-tuned sets, Table 5.2) and any of ``navigation.*`` by name, checked
-        against its declared range."""
+        against its declaration (a switch is true or false)."""
         P = ("navigation",)
-        fields = {k: v for k, v in Params().flat().items() if k.startswith("navigation.") and not isinstance(v, list)}
-        names = tuple(k.partition(".")[2] for k in fields)
-        m = self.mapping(v, P, (), ("cluster",) + names)
-        out: dict[str, float] = {}
+        decls = {k: d for k, d, _ in NavigationParams.declarations() if d.kind not in ("numbers", "intervals")}
+        m = self.mapping(v, P, (), ("cluster",) + tuple(decls))
+        out: dict[str, Any] = {}
         if "cluster" in m:
             c = self.text(m["cluster"], P + ("cluster",))
             if c not in CLUSTERS:
                 raise self.fail(P + ("cluster",), f"unknown cluster {c!r} (expected one of: {', '.join(CLUSTERS)})")
             out = {f"navigation.{k}": x for k, x in dataclasses.asdict(CLUSTERS[c]).items() if not isinstance(x, tuple)}
-        for k in names:
+        for k, d in decls.items():
             if k in m:
-                value = self.number(m[k], P + (k,))
+                raw = m[k]
+                value = raw if d.kind == "switch" and isinstance(raw, bool) else self.number(raw, P + (k,))
                 try:
-                    Params().override({f"navigation.{k}": value})
+                    out[f"navigation.{k}"] = d.check(f"navigation.{k}", value)
                 except ParamError as e:
                     raise self.fail(P + (k,), str(e).partition(" ")[2] or str(e)) from None
-                out[f"navigation.{k}"] = value
         return out
 
     # -- where things are

@@ -7,7 +7,6 @@ file is read by :mod:`navcli.scenario.loader`; its JSON Schema is :mod:`navcli.s
 
 from __future__ import annotations
 
-import dataclasses
 import hashlib
 import math
 import re
@@ -47,12 +46,13 @@ class Range:
         return None
 
 
-def _param_range(name: str, unit: str) -> Range:
-    """The range of a parameter a scenario block may set, as declared in :mod:`navcli.params`."""
-    group, _, key = name.partition(".")
-    m = next(f for f in dataclasses.fields(getattr(Params(), group)) if f.name == key).metadata
-    lo, lo_open = (m["above"], True) if m.get("above") is not None else (m["at_least"], False)
-    return Range(lo, m["at_most"], unit, lo_open)
+def _param_range(name: str) -> Range:
+    """The range and unit of a parameter a scenario block may set, as declared in :mod:`navcli.params`."""
+    d = next(d for n, d, _ in Params().declarations() if n == name)
+    lo, lo_open = d.lower
+    hi, _ = d.upper
+    assert lo is not None and hi is not None  # the parameters a scenario sets are bounded
+    return Range(lo, hi, d.unit, lo_open)
 
 
 PILOT_BLOCK = {"K": "eq. 2: repulsion constant", "A_t": "eq. 5: target attraction",
@@ -64,8 +64,8 @@ RANGES: dict[str, Range] = {
     "arena.height": Range(1.0, 100.0, "m"),
     "point": Range(0.0, 100.0, "m"),  # any coordinate, before it is checked against the arena
     "robot.heading_deg": Range(-360.0, 360.0, "deg"),
-    "robot.radius": _param_range("robot.radius", "m"),
-    "robot.max_speed": _param_range("robot.max_speed", "m/s"),
+    "robot.radius": _param_range("robot.radius"),
+    "robot.max_speed": _param_range("robot.max_speed"),
     "target.tolerance": Range(0.01, 10.0, "m"),
     "circle.radius": Range(0.01, 50.0, "m"),
     "segment.thickness": Range(0.01, 1.0, "m"),
@@ -82,9 +82,9 @@ RANGES: dict[str, Range] = {
     "camera.pan_limit_deg": Range(0.0, 180.0, "deg"),
     "camera.pan_speed_deg": Range(0.0, 3600.0, "deg/s", lo_open=True),
     "camera.look_time": Range(0.0, 10.0, "s"),
-    "pilot.K": _param_range("pilot.K", ""),
-    "pilot.A_t": _param_range("pilot.A_t", ""),
-    "pilot.R_min": _param_range("pilot.R_min", "m"),
+    "pilot.K": _param_range("pilot.K"),
+    "pilot.A_t": _param_range("pilot.A_t"),
+    "pilot.R_min": _param_range("pilot.R_min"),
 }
 """Every number field's range, by its field (``circle.radius`` for ``obstacles[i].circle.radius``);
 ``navcli schema`` and docs/scenario-format.md show the same table."""

@@ -3,29 +3,11 @@ same ranges the loader checks."""
 
 from __future__ import annotations
 
-import dataclasses
 from typing import Any
 
-from ..params import CLUSTERS, NAVIGATION, PERCEPTIONS, PILOT_NAMES
+from ..params import CLUSTERS, PERCEPTIONS, PILOT_NAMES, NavigationParams
 from .model import MAX_ID, MAX_ITEMS, NAME_RE, PILOT_BLOCK, RANGES
 from .yaml_reader import MAX_SCALAR
-
-
-
-# --- The format as a JSON Schema (for editors: the YAML language server) ---------------------
-def _param_schema(f: dataclasses.Field) -> dict[str, Any]:
-    """A parameter's JSON Schema from its declared range (:func:`navcli.params._p`)."""
-    m = f.metadata
-    d: dict[str, Any] = {"type": "integer" if isinstance(f.default, int) else "number", "default": f.default}
-    if m.get("above") is not None:
-        d["exclusiveMinimum"] = m["above"]
-    elif m.get("at_least") is not None:
-        d["minimum"] = m["at_least"]
-    if m.get("at_most") is not None:
-        d["maximum"] = m["at_most"]
-    if m.get("below") is not None:
-        d["exclusiveMaximum"] = m["below"]
-    return d
 
 
 
@@ -92,7 +74,7 @@ def json_schema() -> dict[str, Any]:
             "pilot": obj({k: num(f"pilot.{k}", what) for k, what in PILOT_BLOCK.items()}),
             "navigation": obj({"cluster": {"enum": list(CLUSTERS), "description": "the thesis' GA-tuned bidding "
                                            "parameters: C1 (default, targets reachable directly) or C2 (behind obstacles)"}}
-                              | {f.name: _param_schema(f) for f in dataclasses.fields(NAVIGATION)
-                                 if not isinstance(f.default, tuple)}),
+                              | {k: d.json_schema(default) for k, d, default in NavigationParams.declarations()
+                                 if d.kind not in ("numbers", "intervals")}),
         }, ("version", "name", "arena", "robot", "target")),
     }
