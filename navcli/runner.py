@@ -38,7 +38,10 @@ def open_log(spec: RunSpec, mission: Mission, path: Path, *, live: bool = False,
     imported here, only when a log is written.)"""
     from .log.writer import Recorder
 
-    recorder = Recorder(path, live=live, port=port, protect=(spec.scenario.source,))
+    from .plugins import pilot
+
+    recorder = Recorder(path, live=live, port=port, protect=(spec.scenario.source,),
+                        pilot_message=pilot(spec.pilot).pilot_message())
     try:
         w = mission.world
         recorder.start(spec, w.pose, w.odometry.pose)
@@ -58,8 +61,10 @@ def _stop(mission: Mission, e: BaseException) -> None:
         mission.abort("interrupted", "stopped by SIGTERM")
     elif isinstance(e, KeyboardInterrupt):
         mission.abort("interrupted", "stopped by the user (Ctrl-C)")
-    else:
-        mission.abort("error", f"{type(e).__name__}: {e}")
+    else:  # a plugin's failure says whose it was in words of its own
+        from .plugins import PluginError
+
+        mission.abort("error", str(e) if isinstance(e, PluginError) else f"{type(e).__name__}: {e}")
 
 
 def close_log(recorder, mission: Mission, summary: dict | None = None, *, stopped: bool = False,

@@ -79,7 +79,8 @@ def test_a_random_plan_is_a_seeded_sample_within_its_ranges(tmp_path):
     ("seeds: 1\nrandom: {samples: 2, ranges: {pilot.K: [3, 2]}}\n", ":4: random.ranges.pilot.K", "low 3 is above high 2"),
     ("seeds: two\n", ":3: seeds", "expected a whole number"),
     ("seeds: 1\nseed: 3\n", ":4: seed", "unknown field 'seed'"),
-    ("seeds: 1\npilots: [potential-field, wall-follower]\n", ":4: pilots[1]", "expected one of: potential-field, geometric"),
+    ("seeds: 1\npilots: [potential-field, wall-follower]\n", ":4: pilots[1]",
+         "unknown pilot 'wall-follower': not one of navcli's (potential-field, geometric), not an entry point navcli.pilots"),
     ("seeds: 1\ngrid: {pilot.K: [1, 2}\n", ":4", "not valid YAML"),
 ])
 def test_bad_plans_are_refused_with_file_line_and_field(tmp_path, body, where, message):

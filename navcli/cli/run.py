@@ -7,7 +7,8 @@ from typing import Annotated, Optional
 
 import typer
 
-from .common import MAX_SEED, ParamOption, PerceptionName, PilotName, app, build_spec, check_model, choice, finite
+from .common import (MAX_SEED, NAVIGATION_HELP, ParamOption, PerceptionName, PilotOption, app, build_spec, check_model,
+                     choice, finite)
 from .errors import EXIT_BAD_INPUT, EXIT_FAILED_MISSION, about, refuse, say
 
 
@@ -15,7 +16,7 @@ from .errors import EXIT_BAD_INPUT, EXIT_FAILED_MISSION, about, refuse, say
 def run(
     scenario: Annotated[Path, typer.Argument(metavar="SCENARIO", help="Scenario YAML file (see scenarios/).")],
     seed: Annotated[Optional[int], typer.Option(min=0, max=MAX_SEED, help="Random seed (default: the scenario's mission.seed).")] = None,
-    pilot: Annotated[Optional[PilotName], typer.Option(help="Pilot (default: the scenario's mission.pilot).")] = None,
+    pilot: PilotOption = None,
     out: Annotated[Optional[Path], typer.Option(
         help="Log file (default: logs/<scenario>/<pilot>-seed<N>-<run id>.mcap, the run id a hash of the whole "
              "configuration). Missing folders are created.")] = None,
@@ -30,13 +31,10 @@ def run(
     perception: Annotated[Optional[PerceptionName], typer.Option(
         help="What the agents know: vision (camera and visual memory) or oracle (ground truth, to isolate the "
              "pilot). Default: the scenario's mission.perception, else vision.")] = None,
-    navigation: Annotated[str, typer.Option(
-        help="Who chooses the Navigation system's moves and looks: agents (its bidding agents), hand-coded "
-             "(the learning paper's hand-coded policy) or learned[:FILE] (the Learning Agent; without FILE "
-             "the model bundled with navcli).")] = "agents",
+    navigation: Annotated[str, typer.Option(metavar="POLICY", help=NAVIGATION_HELP[0].upper() + NAVIGATION_HELP[1:] + ".")] = "agents",
 ) -> None:
     """Run one mission, record it to an MCAP log and print how it ended."""
-    spec = build_spec(scenario, param, seed=seed, pilot=choice(pilot), time_limit=time_limit,
+    spec = build_spec(scenario, param, seed=seed, pilot=pilot, time_limit=time_limit,
                       perception=choice(perception), navigation=navigation)
     check_model(spec.navigation)
     import signal
@@ -132,7 +130,7 @@ def validate(files: Annotated[list[Path], typer.Argument(metavar="FILES", help="
 def bench(
     scenario: Annotated[Path, typer.Argument(metavar="SCENARIO", help="Scenario to time.")] = Path("scenarios/paper-8x8.yaml"),
     repeat: Annotated[int, typer.Option(min=1, max=1000, help="Runs per configuration; the median is reported.")] = 5,
-    pilot: Annotated[Optional[PilotName], typer.Option(help="Pilot (default: the scenario's).")] = None,
+    pilot: PilotOption = None,
     seed: Annotated[Optional[int], typer.Option(min=0, max=MAX_SEED)] = None,
     occlusion: Annotated[bool, typer.Option(help="Instead: time the pilot's occlusion test, loop vs numpy.")] = False,
     param: ParamOption = None,
@@ -148,7 +146,7 @@ def bench(
 
         occlusion_benchmark(echo=typer.echo)
         return
-    spec = build_spec(scenario, param, seed=seed, pilot=choice(pilot), perception=choice(perception))
+    spec = build_spec(scenario, param, seed=seed, pilot=pilot, perception=choice(perception))
     from ..experiments.bench import benchmark, long_run_benchmark, objects_benchmark
 
     if long:

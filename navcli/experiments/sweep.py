@@ -42,7 +42,9 @@ from typing import Any, Callable, Mapping
 from ..config import ConfigError, RunSpec
 from ..analysis.files import write_csv
 from ..outputs import atomic
-from ..params import PERCEPTIONS, PILOT_NAMES, Params, ParamError
+from .. import NavcliError
+from ..params import PERCEPTIONS, Params, ParamError
+from ..plugins import registry
 from ..scenario import ScenarioError, load_scenario
 from ..scenario.yaml_reader import Invalid, Reader, parse_yaml, read_bounded
 from .compare import reruns
@@ -104,6 +106,9 @@ def load_plan(path: str | Path) -> Plan:
 class PlanReader(Reader):
     """The scenario loader's typed reader, for plan files."""
 
+    known = Params()
+    """The parameters the plan may set: navcli's, and those of its plugin pilots once read."""
+
     def integer(self, v: Any, path: tuple, rng: str = "mission.seed") -> int:
         """A whole number from 0 to 2**64 - 1 (the range of a seed)."""
         return super().integer(v, path, rng)
@@ -128,7 +133,7 @@ class PlanReader(Reader):
         seeds = g(self.integer, top["seeds"], ("seeds",), default=1)
         if seeds == 0:
             self.fail(("seeds",), "must be at least 1")
-        pilots = g(self.choices, top.get("pilots"), ("pilots",), PILOT_NAMES)
+        pilots = g(self.pilots, top.get("pilots"), ("pilots",))
         perceptions = g(self.choices, top.get("perception"), ("perception",), PERCEPTIONS, True)
         time_limit = g(lambda: self.opt(top, "time_limit", (), self.number, None, positive=True))
         fixed = g(self.overrides, top.get("params", {}), ("params",), default={})
@@ -152,8 +157,9 @@ class PlanReader(Reader):
             for pilot in pilots or [None]:
                 for perception in perceptions or [None]:
                     try:
-                        bases.append(RunSpec.build(sc, pilot=pilot, perception=perception, time_limit=time_limit))
-                    except ConfigError as e:
+                        bases.append(RunSpec.build(sc, pilot=pilot, perception=perception, time_limit=time_limit,
+                                                   also=pilots or ()))
+                    except NavcliError as e:
                         self.fail(("scenarios", i), str(e))
         plan = Plan(self.source, tuple(bases), tuple(points), seeds or 1)
         if not self.problems and plan.size > MAX_RUNS:
@@ -181,11 +187,26 @@ class PlanReader(Reader):
             raise self.fail(path, f"lists {', '.join(twice)} twice (each would run the same runs again)")
         return names
 
+    def pilots(self, v: Any, path: tuple) -> list[str] | None:
+        """The plan's pilots (a non-empty list of distinct names): navcli's, installed plugins' or
+        ``module:Class``, each found; their own parameters may then be set by the plan."""
+        if v is None:
+            return None
+        names = self.choices(v, path, tuple(v) if isinstance(v, list) else ())
+        for i, name in enumerate(names or []):
+            try:
+                c = registry.pilot(name)
+            except NavcliError as e:
+                raise self.fail(path + (i,), str(e)) from None
+            if c.params_class is not None:
+                self.known = self.known.with_plugin(c.group, c.params_class())
+        return names
+
     def param(self, name: Any, value: Any, path: tuple) -> float | list[float]:
         """``value`` checked as the parameter ``name`` (its type and range; a list for a list-valued
-        parameter such as ``pilot.reflex_look_pans_deg``)."""
+        parameter such as ``pilot.reflex_look_pans_deg``; a plugin pilot's of the plan's pilots)."""
         try:
-            return Params().override({name: value}).flat()[name]
+            return self.known.override({name: value}).flat()[name]
         except ParamError as e:
             raise self.fail(path, str(e)) from None
 

@@ -21,6 +21,8 @@ Units are in each field's description. Force units are those of the pilot paper'
 
 from __future__ import annotations
 
+import functools
+import typing
 from typing import Annotated, Any, Literal
 
 import msgspec
@@ -106,6 +108,62 @@ class Pilot(_Msg):
     blocked_by: Annotated[str, Meta(description=(
         "memory key of the long obstacle ahead that the field cannot lead round this tick; with "
         "pilot.blocked_report_m set, reported to the Navigation system once it has lasted the time to drive that far"))] | UnsetType = UNSET
+
+
+@functools.lru_cache(maxsize=None)
+def pilot_message_type(info: type[Struct] | None = None, name: str = "", about: str = "") -> type[Struct]:
+    """The ``/pilot`` message of a run whose pilot declares ``info``: :class:`Pilot` with the
+    fields of ``info`` (a plugin's ``Info``, a ``msgspec.Struct``) added, each optional, so the
+    log's schema says what the plugin writes; ``name`` titles it (``navcli.Pilot+vfh``) and
+    ``about`` (the plugin's identity) goes into its description. :class:`Pilot` itself without one.
+    Raises ``ValueError`` for a field that /pilot has already."""
+    if info is None:
+        return Pilot
+    hints = typing.get_type_hints(info, include_extras=True)
+    clash = sorted(set(hints) & set(Pilot.__struct_fields__))
+    if clash:
+        raise ValueError(f"its Info declares {', '.join(clash)}, which /pilot has already")
+    merged = msgspec.defstruct(f"Pilot+{name}", [(k, typing.Union[t, UnsetType], UNSET) for k, t in hints.items()],
+                               bases=(Pilot,), forbid_unknown_fields=True, module=__name__)
+    merged.__doc__ = (f"{Pilot.__doc__} The fields {', '.join(hints)} are the {name} pilot's own, declared by "
+                      f"the plugin ({about}).")
+    return merged
+
+
+def viewer_problems(schema: dict, path: str = "") -> list[str]:
+    """Why Foxglove's ``parseJsonSchema`` (mcap-support) would refuse ``schema``, the viewer then
+    dropping its whole topic: the root and every nested object needs ``"type": "object"`` and a
+    ``properties`` object; each property one ``type`` among boolean, number, integer, string
+    (base64 contentEncoding only), object, array (of those) or a ``oneOf`` of number constants.
+    Empty: the viewer reads it."""
+    if not isinstance(schema, dict) or schema.get("type") != "object":
+        return [f"{path or 'root'}: not \"type\": \"object\""]
+    if not isinstance(schema.get("properties"), dict):
+        return [f"{path or 'root'}: object without properties"]
+    out = []
+    for name, f in schema["properties"].items():
+        at = f"{path}.{name}" if path else name
+        if "oneOf" in f:
+            if not all(isinstance(a.get("const"), (int, float)) for a in f["oneOf"]):
+                out.append(f"{at}: oneOf alternatives must be number constants")
+            continue
+        kind = f.get("type")
+        if kind in ("boolean", "number", "integer"):
+            continue
+        if kind == "string":
+            if f.get("contentEncoding", "base64") != "base64":
+                out.append(f"{at}: unsupported contentEncoding")
+        elif kind == "object":
+            out += viewer_problems(f, at)
+        elif kind == "array":
+            item = f.get("items", {})
+            if item.get("type") == "object":
+                out += viewer_problems(item, at)
+            elif item.get("type") not in ("boolean", "number", "integer", "string"):
+                out.append(f"{at}: unsupported array item type {item.get('type')!r}")
+        else:
+            out.append(f"{at}: unsupported type {kind!r}")
+    return out
 
 
 def pilot_message(info: dict[str, Any], v: float, omega_deg: float) -> dict[str, Any]:

@@ -187,9 +187,12 @@ def _aside(partial: Path) -> Path:
 
 class Recorder:
     """Writes one run to ``path`` (see module docstring). Use :meth:`start`, :meth:`tick` per
-    control tick, then :meth:`finish` exactly once, also after an interruption."""
+    control tick, then :meth:`finish` exactly once, also after an interruption. ``pilot_message``
+    is the run's ``/pilot`` message type (a plugin pilot's adds the fields its ``Info`` declares:
+    :func:`~navcli.log.format.pilot_message_type`)."""
 
-    def __init__(self, path: str | Path, *, live: bool = False, port: int = 8765, protect: tuple[str, ...] = ()):
+    def __init__(self, path: str | Path, *, live: bool = False, port: int = 8765, protect: tuple[str, ...] = (),
+                 pilot_message: type = Pilot):
         self.path = check_log_path(Path(path), protect)
         self.partial = self.path.with_name(self.path.name + ".partial")
         self.lock = Lock(self.path.with_name(self.path.name + ".lock"))
@@ -220,7 +223,7 @@ class Recorder:
         self.robot_body = SceneUpdateChannel(fmt.ROBOT_BODY_TOPIC, context=ctx)
         self.camera_scene = SceneUpdateChannel(fmt.CAMERA_SCENE_TOPIC, context=ctx)
         self.events = LogChannel(fmt.EVENTS_TOPIC, context=ctx)
-        self.pilot = _json_channel(fmt.PILOT_TOPIC, Pilot, ctx)
+        self.pilot = _json_channel(fmt.PILOT_TOPIC, pilot_message, ctx)  # a plugin pilot's: with its Info's fields
         self.bids = _json_channel(fmt.BIDS_TOPIC, Bids, ctx)
         self.summary = _json_channel(fmt.SUMMARY_TOPIC, MissionSummary, ctx)
         self.vision = _json_channel(fmt.VISION_TOPIC, Vision, ctx)

@@ -27,13 +27,9 @@ NOISE_BOUND = 3.0
 """Sensor errors (odometry, camera) are drawn from normals clipped at this many standard deviations:
 physical sensors have bounded errors, and the fuzzy supports of the visual memory rely on the bound."""
 
-PILOT_NAMES = ("potential-field", "geometric")
-"""The pilots a scenario or ``--pilot`` may name; the first is the default."""
 PERCEPTIONS = ("vision", "oracle")
-"""What the agents may know: the camera and visual memory (default), or ground truth."""
-NAVIGATIONS = ("agents", "hand-coded", "learned")
-"""Who chooses the Navigation system's moves and looks: its bidding agents (default), the hand-coded
-policy or the Learning Agent (``learned:FILE`` names a model; plain ``learned`` the bundled one)."""
+"""What the agents may know: the camera and visual memory (default), or ground truth. (Pilots and
+Navigation policies are found by name: :mod:`navcli.plugins`.)"""
 
 # --- Timing: both rates in one place --------------------------------------------------------
 CONTROL_DT = 0.1
@@ -328,7 +324,6 @@ class Defaults:
     landmark_radius: float = 0.15
     segment_thickness: float = 0.05  # m: the physical width of a linear obstacle
     target_tolerance: float = 0.3
-    pilot: str = PILOT_NAMES[0]
     time_limit: float = 900.0
     seed: int = 1
     odometry_noise: float = 0.02

@@ -15,7 +15,10 @@ from pathlib import Path
 from typing import Any
 
 from ..geometry import Point
-from ..params import CLUSTERS, DEFAULTS, PERCEPTIONS, PILOT_NAMES, NavigationParams, ParamError, Params
+from .. import NavcliError
+from ..params import CLUSTERS, DEFAULTS, PERCEPTIONS, NavigationParams, ParamError, Params
+from ..plugins import registry
+from ..plugins.registry import BUILTIN_PILOTS
 from .model import (MAX_ID, MAX_ITEMS, NAME_RE, PILOT_BLOCK, SUPPORTED_VERSIONS, Arena, CameraSpec, Circle, Landmark,
                     MissionSpec, Noise, Obstacle, RobotSpec, Scenario, Segment, Target)
 from .yaml_reader import MAX_BYTES, Invalid, Reader, ScenarioError, parse_yaml, read_bounded, type_name
@@ -185,9 +188,11 @@ class ScenarioReader(Reader):
     def mission(self, v: Any) -> MissionSpec:
         P = ("mission",)
         m = self.mapping(v, P, (), ("pilot", "time_limit", "seed", "perception"))
-        pilot = self.opt(m, "pilot", P, self.text, DEFAULTS.pilot)
-        if pilot not in PILOT_NAMES:
-            raise self.fail(P + ("pilot",), f"unknown pilot {pilot!r} (expected one of: {', '.join(PILOT_NAMES)})")
+        pilot = self.opt(m, "pilot", P, self.text, BUILTIN_PILOTS[0])
+        try:
+            registry.pilot(pilot)  # navcli's, an installed plugin's, or module:Class
+        except NavcliError as e:
+            raise self.fail(P + ("pilot",), str(e)) from None
         perception = self.opt(m, "perception", P, self.text, DEFAULTS.perception)
         if perception not in PERCEPTIONS:
             raise self.fail(P + ("perception",),

@@ -5,9 +5,14 @@ from __future__ import annotations
 
 from typing import Any
 
-from ..params import CLUSTERS, PERCEPTIONS, PILOT_NAMES, NavigationParams
-from .model import MAX_ID, MAX_ITEMS, NAME_RE, PILOT_BLOCK, RANGES
+from ..params import CLUSTERS, PERCEPTIONS, NavigationParams
+from ..plugins.registry import BUILTIN_PILOTS, NAME_RE
+from .model import MAX_ID, MAX_ITEMS, PILOT_BLOCK, RANGES
+from .model import NAME_RE as SCENARIO_NAME_RE
 from .yaml_reader import MAX_SCALAR
+
+PILOT_NAME = rf"^{NAME_RE.pattern}$|^[^\s:]+:[A-Za-z_][A-Za-z0-9_.]*$"
+"""What a pilot's name can be: an installed plugin's (the registry's rule) or ``module:Class``."""
 
 
 
@@ -43,7 +48,7 @@ def json_schema() -> dict[str, Any]:
                        "(1.0e-3): YAML 1.1 reads 1e-3 as text.",
         **obj({
             "version": {"const": 1},
-            "name": {"type": "string", "pattern": f"^{NAME_RE.pattern}$", "not": {"pattern": "\n"},  # no trailing newline
+            "name": {"type": "string", "pattern": f"^{SCENARIO_NAME_RE.pattern}$", "not": {"pattern": "\n"},  # no trailing newline
                      "description": "names the log folder"},
             "description": {"type": "string", "maxLength": MAX_SCALAR},
             "arena": obj({"width": num("arena.width", "metres"), "height": num("arena.height", "metres")},
@@ -60,7 +65,9 @@ def json_schema() -> dict[str, Any]:
                     ("segment",))]}},
             "landmarks": {"type": "array", "maxItems": MAX_ITEMS, "items": obj(
                 {"id": ident, "at": point, "radius": num("landmark.radius", "metres")}, ("id", "at"))},
-            "mission": obj({"pilot": {"enum": list(PILOT_NAMES)}, "perception": {"enum": list(PERCEPTIONS)},
+            "mission": obj({"pilot": {"type": "string", "pattern": PILOT_NAME, "examples": list(BUILTIN_PILOTS),
+                                      "description": "potential-field (default), geometric, an installed plugin's name, "
+                                                     "or module:Class"}, "perception": {"enum": list(PERCEPTIONS)},
                             "time_limit": num("mission.time_limit", "simulated seconds"),
                             "seed": {"type": "integer", "minimum": 0, "maximum": 2 ** 64 - 1}}),
             "noise": obj({"odometry": num("noise.odometry", "relative standard deviation"),
