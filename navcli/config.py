@@ -21,6 +21,7 @@ from typing import Any, Iterable, Mapping
 
 from . import NavcliError
 from . import __version__
+from .analysis.files import file_name
 from .params import CONTROL_DT, PERCEPTIONS, PHYSICS_DT, Params
 from .plugins import registry
 from .plugins.registry import BUILTIN_POLICIES, Component
@@ -147,8 +148,9 @@ class RunSpec:
         return hashlib.sha256(blob.encode()).hexdigest()
 
     def log_name(self) -> str:
-        """``<pilot>-seed<N>-<first 8 hex digits of run_id>.mcap``."""
-        return f"{self.pilot}-seed{self.seed}-{self.run_id[:8]}.mcap"
+        """``<pilot>-seed<N>-<first 8 hex digits of run_id>.mcap`` (a ``module:Class`` pilot's name
+        made a file name's: ``mod_Class``)."""
+        return f"{file_name(self.pilot)}-seed{self.seed}-{self.run_id[:8]}.mcap"
 
     def default_log_path(self, root: Path = LOG_ROOT) -> Path:
         """``<root>/<scenario>/<pilot>-seed<N>-<id>.mcap``."""

@@ -182,20 +182,34 @@ def recover(
 def params(
     scenario: Annotated[Optional[Path], typer.Argument(metavar="SCENARIO", help="Show the values this scenario resolves to.")] = None,
     param: ParamOption = None,
+    pilot: PilotOption = None,
+    navigation: Annotated[Optional[str], typer.Option(metavar="POLICY", help="A Navigation policy whose parameters to "
+                                                                             "show too (a plugin's).")] = None,
     markdown: Annotated[bool, typer.Option("--markdown", help="Print the reference table in Markdown (the docs' "
                                                               "parameter reference).")] = False,
 ) -> None:
     """List every parameter by its --param name, with its value, unit, the range an override must lie in,
-    and what it is.
+    and what it is: navcli's, and a plugin's own (NAME.x) for the pilot and policy chosen, or, without a
+    scenario or a choice, for every installed plugin.
 
     Without a scenario, the defaults; with one, its values after its blocks and any --param."""
     from ..params import Params, parse_override
+    from ..plugins import GROUPS, installed
+    from ..plugins import navigation as policies
+    from ..plugins import pilot as find_pilot
 
     if scenario is not None:
-        values = build_spec(scenario, param).params
+        values = build_spec(scenario, param, pilot=pilot, navigation=navigation).params
     else:
+        chosen = ([find_pilot(pilot)] if pilot else []) + list(policies(navigation) if navigation else [])
+        if not chosen:  # every installed plugin's (one that cannot be loaded is left out: `plugins list` says why)
+            chosen = [c for kind in GROUPS for c in installed(kind) if not isinstance(c, tuple)]
+        values = Params()
+        for c in chosen:
+            if c.params_class is not None:
+                values = values.with_plugin(c.group, c.params_class())
         with about("--param"):
-            values = Params().override(dict(parse_override(i) for i in param or []))
+            values = values.override(dict(parse_override(i) for i in param or []))
     rows = [(name, _shown(value), d.unit or "-", d.range_text(), d.description)
             for name, d, value in values.declarations()]
     if markdown:

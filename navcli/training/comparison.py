@@ -36,7 +36,6 @@ import dataclasses
 import hashlib
 import json
 import math
-import re
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Callable
@@ -44,7 +43,7 @@ from typing import Any, Callable
 import numpy as np
 
 from .. import NavcliError
-from ..analysis.files import write_csv, write_markdown
+from ..analysis.files import file_name, write_csv, write_markdown
 from ..config import RunSpec
 from ..learning.actions import ACTIONS
 from .task import Start, random_starts, spec_at, task_spec
@@ -145,10 +144,6 @@ def job_key(spec: RunSpec, policy: Policy, run: int, starts: tuple[Start, ...]) 
     return hashlib.sha256(blob.encode()).hexdigest()
 
 
-def _slug(label: str) -> str:
-    return re.sub(r"[^A-Za-z0-9_.-]+", "_", label).strip("_") or "policy"
-
-
 def plan(spec: RunSpec, policies: list[Policy], runs: int, starts: int, out: Path) -> list[Job]:
     """Every (policy, run) of a comparison, run by run (so that an interrupted comparison has
     whole runs of every policy)."""
@@ -160,7 +155,7 @@ def plan(spec: RunSpec, policies: list[Policy], runs: int, starts: int, out: Pat
         st = run_starts(base, r)
         for p in policies:
             key = job_key(spec, p, r, st)
-            jobs.append(Job(spec, p, r, st, key, str(out / "runs" / f"{_slug(p.label)}-run{r}-{key[:12]}.json")))
+            jobs.append(Job(spec, p, r, st, key, str(out / "runs" / f"{file_name(p.label, 'policy')}-run{r}-{key[:12]}.json")))
     return jobs
 
 
