@@ -99,10 +99,31 @@ def _json_channel(topic: str, cls: type, ctx: foxglove.Context) -> BaseChannel:
 
 
 @functools.cache
+def enums() -> dict[str, tuple[str, ...]]:
+    """Every enumeration a log carries, taken from the code that produces it (each field of the log
+    format marked :func:`~navcli.log.format.enumerated` names one of these)."""
+    from ..bidding import ACTION_TYPES
+    from ..mission import OUTCOMES
+    from ..navigation.rescuer import STATES as RESCUER_STATES
+    from ..pilot.base import MODES, PHASES
+    from ..pilot.geometric import RULES, SIDES
+    from ..vision.camera import KINDS, STATES as CAMERA_STATES
+
+    return {"pilot.mode": MODES, "pilot.phase": PHASES, "geometric.rule": RULES, "geometric.side": SIDES,
+            "action.type": ACTION_TYPES, "camera.state": CAMERA_STATES, "detection.kind": KINDS,
+            "mission.outcome": OUTCOMES, "rescuer.state": RESCUER_STATES}
+
+
+def log_schema(cls: type) -> dict:
+    """The JSON Schema of a message class as the log stores it: with the producers' enumerations."""
+    return json_schema(cls, enums())
+
+
+@functools.cache
 def schema_of(cls: type) -> foxglove.Schema:
-    """The JSON Schema of a message class as the log stores it, derived once per process (about
-    1 ms a class, which a process that runs many, ``compare`` or a benchmark, pays once)."""
-    schema = json_schema(cls)
+    """The JSON Schema of a message class as the log stores it (:func:`log_schema`), derived once per
+    process (about 1 ms a class, which a process that runs many, ``compare`` or a benchmark, pays once)."""
+    schema = log_schema(cls)
     return foxglove.Schema(name=schema["title"], encoding="jsonschema", data=json.dumps(schema).encode())
 
 

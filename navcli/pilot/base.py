@@ -72,6 +72,11 @@ class PilotOutput:
 
 
 
+MODES = ("avoid", "idle", "reflex")
+"""What a pilot does in a tick, as ``/pilot.mode`` says: proposes a move of its own, proposes none (the
+Navigation system's request is carried out), or runs a reflex (section 3.5, after a bump or a stall)."""
+PHASES = ("stop", "look", "backup", "done")
+"""The phases of a reflex (section 3.5), as ``/pilot.phase`` says."""
 SAFE_STEP = math.radians(15.0)  # rad between the headings :meth:`Pilot._nearest_safe` tries
 SAFE_STEPS = 12  # each way: up to a half turn
 LOOK_AHEAD = Look(0.0)  # the look-ahead of eq. 1 (a value: one serves every tick)
