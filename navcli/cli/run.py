@@ -229,11 +229,15 @@ def _shown(value) -> str:
 
 
 @app.command()
-def schema() -> None:
+def schema(
+    markdown: Annotated[bool, typer.Option("--markdown", help="Instead: every field with what it is, its default, "
+                                                              "range and unit, as a Markdown table (the docs').")] = False,
+) -> None:
     """Print the scenario format as a JSON Schema, for editors (the YAML language server:
     `# yaml-language-server: $schema=scenario.schema.json` at the top of a scenario)."""
     import json
 
     from ..scenario import json_schema
+    from ..scenario.schema import reference_table
 
-    typer.echo(json.dumps(json_schema(), indent=2))
+    typer.echo(reference_table() if markdown else json.dumps(json_schema(), indent=2), nl=not markdown)

@@ -19,7 +19,7 @@ from typing import Any, ClassVar, Iterator, Mapping
 
 from .declare import MAX_LIST, Declared, ParamError, ParamSet, param, parse_override, suggest
 
-__all__ = ["CLUSTERS", "CONTROL_DT", "DEFAULTS", "LEARNING", "MAX_LIST", "NAVIGATION", "NAVIGATION_C2", "PILOT",
+__all__ = ["CLUSTERS", "CONTROL_DT", "LEARNING", "MAX_LIST", "NAVIGATION", "NAVIGATION_C2", "PILOT",
            "ROBOT", "VISION", "Declared", "LearningParams", "NavigationParams", "ParamError", "ParamSet", "Params",
            "PilotParams", "RobotParams", "VisionParams", "param", "parse_override"]
 
@@ -316,27 +316,6 @@ class LearningParams(ParamSet):
                                        "off: navcli's first task")
 
 
-@dataclass(frozen=True)
-class Defaults:
-    """Defaults of the optional scenario blocks other than the parameter sets (the scenario format)."""
-
-    heading_deg: float = 0.0
-    landmark_radius: float = 0.15
-    segment_thickness: float = 0.05  # m: the physical width of a linear obstacle
-    target_tolerance: float = 0.3
-    time_limit: float = 900.0
-    seed: int = 1
-    odometry_noise: float = 0.02
-    vision_heading_deg: float = 2.0
-    vision_distance: float = 0.05
-    camera_fov_deg: float = 60.0
-    camera_range: float = 6.0
-    camera_pan_limit_deg: float = 100.0  # the pan unit turns this far either side of ahead
-    camera_pan_speed_deg: float = 90.0  # deg/s
-    camera_look_time: float = 0.3  # s of image processing per look, the camera busy meanwhile
-    perception: str = PERCEPTIONS[0]
-
-
 ROBOT = RobotParams()
 PILOT = PilotParams()
 NAVIGATION = NavigationParams()
@@ -346,7 +325,6 @@ NAVIGATION_C2 = dataclasses.replace(NAVIGATION, alpha=1.231, beta=2.12, kappa1=1
 CLUSTERS = {"C1": NAVIGATION, "C2": NAVIGATION_C2}
 VISION = VisionParams()
 LEARNING = LearningParams()
-DEFAULTS = Defaults()
 
 
 @dataclass(frozen=True)
