@@ -253,6 +253,11 @@ class Mission:
             return False
         return not nav.reach_imprecision or believed.imprecision() < nav.reach_imprecision
 
+    @property
+    def pending(self) -> tuple[Event, ...]:
+        """Events raised outside a step (the mission's start) and not yet handed out, left in place."""
+        return tuple(self._pending)
+
     def drain_events(self) -> list[Event]:
         """Events raised outside a step (the mission's start) and not yet handed out."""
         events, self._pending = self._pending, []
@@ -270,10 +275,13 @@ class Mission:
         self.outcome, self.reason = outcome, reason
         self.world.stop()
 
-    def abort(self, outcome: str, reason: str) -> None:
-        """End the mission from outside (Ctrl-C, an error)."""
+    def abort(self, outcome: str, reason: str, say: bool = False) -> None:
+        """End the mission from outside (Ctrl-C, an error, an observer); with ``say``, the reason is
+        an event of the mission's too (handed out by :meth:`drain_events`)."""
         assert outcome in OUTCOMES
         self._end(outcome, reason)
+        if say:
+            self._pending.append(Event(self.world.time, "mission", "warning", reason))
 
     def summary(self) -> dict:
         """The ``/mission/summary`` record (the log format in the README)."""

@@ -92,8 +92,12 @@ class SweepRun:
 
 
 # --- the plan file ---------------------------------------------------------------------------
-def load_plan(path: str | Path) -> Plan:
-    """Read and validate a plan file; raise :class:`PlanError` naming file, line and field."""
+def load_plan(path: str | Path | Mapping[str, Any], source: str = "<dict>") -> Plan:
+    """Read and validate a plan file; raise :class:`PlanError` naming file, line and field. A
+    mapping is taken as a plan file's content (its paths relative to the current folder; refusals
+    name ``source``)."""
+    if isinstance(path, Mapping):
+        return PlanReader(source, {}).plan(dict(path), Path.cwd())
     p = Path(path)
     text = read_bounded(p, MAX_PLAN_BYTES, "a plan file", PlanError)
     try:

@@ -58,10 +58,10 @@ from foxglove.messages import (
 )
 
 from .. import NavcliError
-from ..bidding import RESOURCES
 from ..params import DRAW_PERIOD, SCENE_REFRESH
 from . import format as fmt
 from .format import Bids, MissionSummary, Navigation, Pilot, Vision, encode, json_schema, pilot_message
+from .records import bids_record, navigation_record, vision_record
 from .scenes import CAMERA_AT, FOV, NO_TURN, ROBOT, arena_shapes, cylinder, fan, force_arrows, grown, map_entities, \
     memory_entities, place, stamp, yaw
 
@@ -86,7 +86,6 @@ WRITE_OPTIONS = MCAPWriteOptions(compression=MCAPCompression.Lz4, compression_th
 again as large, and every MCAP reader (the mcap library, Foxglove) reads it."""
 SCENE_NS = round(SCENE_REFRESH * 1e9)  # the state topics are republished at least this often
 DRAW_NS = round(DRAW_PERIOD * 1e9)  # the Pilot's decorations in /robot/scene are drawn at most this often
-SYSTEMS = ("pilot", "navigation")  # the bidders at the robot-level auction, always in /bids
 _LEVEL = {"info": LogLevel.Info, "warning": LogLevel.Warning, "error": LogLevel.Error}
 
 
@@ -327,7 +326,7 @@ class Recorder:
 
     def tick(self, t: Tick) -> None:
         ns = t.time_ns
-        pan, state = t.camera
+        pan = t.camera[0]
         self._pose_msgs(t.pose, t.odometry, ns, pan)
         if self.server is not None:
             self.server.broadcast_time(ns)
@@ -338,9 +337,7 @@ class Recorder:
             self._pilot_scene(t, ns)
         if ns - self._state_ns >= SCENE_NS:
             self._state(ns)
-        dets = t.detections
-        self.vision.log(encode({"pan_deg": math.degrees(pan), "state": state, "image": dets is not None, "detections":
-                                {d.key or f"obstacle{i}": d.as_json() for i, d in enumerate(dets)} if dets else {}}), ns)
+        self.vision.log(encode(vision_record(t)), ns)
         if t.memory is not None:
             self.memory_scene.log(SceneUpdate(deletions=[SceneEntityDeletion(timestamp=stamp(ns), type=SceneEntityDeletionType.All)],
                                               entities=memory_entities(t.memory, ns)), log_time=ns)
@@ -414,54 +411,3 @@ class Recorder:
         if self.server is not None:
             server, self.server = self.server, None
             server.stop()
-
-
-_NO_BIDS = dict.fromkeys(SYSTEMS, 0.0)
-
-
-def bids_record(t: Tick) -> dict:
-    """The ``/bids`` message (a :class:`~navcli.messages.Bids` as plain values): fixed keys per
-    resource so every value is plottable in Foxglove."""
-    msg: dict = {r: {**_NO_BIDS, "actions": {}} for r in RESOURCES}
-    for b in t.bids:
-        per = msg[b.resource]
-        per[b.bidder] = b.value
-        per["actions"][b.bidder] = b.action.as_json()
-    for r in RESOURCES:
-        win = t.winners[r]
-        if win is not None:
-            msg[r]["winner"] = win.bidder
-    agents: dict = {}
-    for b in t.agent_bids:
-        per = agents.get(b.bidder)
-        if per is None:
-            per = agents[b.bidder] = {}
-        per[b.resource] = b.value
-    msg["agents"] = agents
-    return msg
-
-
-
-def navigation_record(t: Tick) -> dict:
-    """The ``/navigation`` message (a :class:`~navcli.messages.Navigation` as plain values): every
-    agent's bids, what was forwarded, and why."""
-    nav = t.navigation
-    assert nav is not None  # called for ticks with a Navigation system's output only
-    agents: dict[str, dict[str, float]] = {}
-    for b in nav.agent_bids:
-        a = agents.get(b.bidder)
-        if a is None:
-            a = agents[b.bidder] = {"motion": 0.0, "camera": 0.0}
-        if b.value > a[b.resource]:  # max(), as a test: no call
-            a[b.resource] = b.value
-    fwd: dict = {"motion": 0.0, "camera": 0.0}
-    for b in nav.bids:
-        fwd[b.resource] = b.value
-        fwd[f"{b.resource}_agent"] = nav.forwarded_by[b.resource]
-    msg = {"agents": agents, "forwarded": fwd, **nav.info, "diverting": nav.diverting}  # info: the scalar fields
-    if nav.target is not None:
-        msg["target"] = {"x": nav.target[0], "y": nav.target[1]}
-    if nav.target_line is not None:
-        (ax, ay), (bx, by) = nav.target_line
-        msg["line_a"], msg["line_b"] = {"x": ax, "y": ay}, {"x": bx, "y": by}
-    return msg
