@@ -193,3 +193,14 @@ def test_at_most_twelve_modules_sit_at_the_top_of_the_package():
     the papers' systems are (pilot, vision, navigation, learning) and as navcli's own parts are."""
     top = sorted(p.stem for p in (ROOT / "navcli").glob("*.py") if p.stem not in ("__init__", "__main__"))
     assert len(top) <= MAX_TOP_LEVEL, top
+
+
+def test_ci_runs_the_readmes_test_command():
+    """`.ci/run` is the README's test command (with a quiet pip): lint, types, tests."""
+    import re
+
+    readme = (ROOT / "README.md").read_text()
+    command = re.search(r"```sh\n(python -m pip install -e '\.\[test\]' && [^\n]+)\n```", readme).group(1)
+    ci = (ROOT / ".ci" / "run").read_text().strip().splitlines()[-1]
+    assert ci == command.replace("pip install -e", "pip install -q -e")
+    assert "ruff check" in command and "mypy" in command and "pytest" in command

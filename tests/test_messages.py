@@ -12,7 +12,7 @@ from mcap.reader import make_reader
 
 from conftest import SCENARIOS, scenario_dict
 from navcli.config import RunSpec
-from navcli.log.format import ENUM, MESSAGES
+from navcli.log.format import MESSAGES
 from navcli.log.format import viewer_problems as foxglove_problems
 from navcli.log.writer import log_schema as json_schema
 from navcli.runner import run_mission

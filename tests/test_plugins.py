@@ -7,7 +7,6 @@ from __future__ import annotations
 
 import json
 import sys
-import textwrap
 
 import jsonschema
 import pytest
@@ -125,7 +124,7 @@ def _write(path, text):
 
 def _messages(path, topic):
     with open(path, "rb") as f:
-        for schema, channel, message in make_reader(f).iter_messages(topics=[topic]):
+        for schema, _, message in make_reader(f).iter_messages(topics=[topic]):
             yield json.loads(schema.data), json.loads(message.data)
 
 

@@ -39,7 +39,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable, Mapping
 
-from ..config import ConfigError, RunSpec
+from ..config import RunSpec
 from ..analysis.files import write_csv
 from ..outputs import atomic
 from .. import NavcliError

@@ -192,7 +192,7 @@ def run_trials(job: Job) -> list[dict]:
             m = Mission(spec_at(base, st), snapshots=False)
             advance(m, until=lambda m: m.ticks > 0 and not m.navigation.sweeping)  # as NavigationTask.reset
             end = m.time + p.max_actions * p.action_s  # the learned policies' time after their sweep, at most
-            advance(m, until=lambda m: m.time >= end - 1e-9)
+            advance(m, until=lambda m, end=end: m.time >= end - 1e-9)
             out.append(_record(i, st, m.outcome or "timeout", m.time))
         return out
     from .task import NavigationTask
