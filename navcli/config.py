@@ -51,10 +51,7 @@ class RunSpec:
     navigation: str = BUILTIN_POLICIES[0]  # agents | hand-coded | learned[:FILE] | a plugin's | agents+a plugin's
 
     def __post_init__(self) -> None:
-        params = self.params
-        for c in self.components:
-            if c.params_class is not None and params.plugin(c.group) is None:
-                params = params.with_plugin(c.group, c.params_class())
+        params = registry.with_params(self.params, self.components)
         if params is not self.params:
             object.__setattr__(self, "params", params)
         if self.perception not in PERCEPTIONS:
@@ -96,10 +93,8 @@ class RunSpec:
         m = scenario.mission
         pilot = pilot or m.pilot
         navigation = navigation or BUILTIN_POLICIES[0]
-        params = scenario.params
-        for c in (registry.pilot(pilot),) + registry.navigation(navigation) + tuple(map(registry.pilot, also)):
-            if c.params_class is not None and params.plugin(c.group) is None:
-                params = params.with_plugin(c.group, c.params_class())
+        params = registry.with_params(scenario.params, (registry.pilot(pilot),) + registry.navigation(navigation)
+                                      + tuple(map(registry.pilot, also)))
         return cls(scenario, m.seed if seed is None else seed, pilot, perception or m.perception,
                    float(m.time_limit if time_limit is None else time_limit), params.override(overrides or {}),
                    navigation)

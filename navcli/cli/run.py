@@ -195,6 +195,7 @@ def params(
     Without a scenario, the defaults; with one, its values after its blocks and any --param."""
     from ..params import Params, parse_override
     from ..plugins import GROUPS, installed
+    from ..plugins.registry import with_params
     from ..plugins import navigation as policies
     from ..plugins import pilot as find_pilot
 
@@ -204,10 +205,7 @@ def params(
         chosen = ([find_pilot(pilot)] if pilot else []) + list(policies(navigation) if navigation else [])
         if not chosen:  # every installed plugin's (one that cannot be loaded is left out: `plugins list` says why)
             chosen = [c for kind in GROUPS for c in installed(kind) if not isinstance(c, tuple)]
-        values = Params()
-        for c in chosen:
-            if c.params_class is not None:
-                values = values.with_plugin(c.group, c.params_class())
+        values = with_params(Params(), chosen)
         with about("--param"):
             values = values.override(dict(parse_override(i) for i in param or []))
     rows = [(name, _shown(value), d.unit or "-", d.range_text(), d.description)

@@ -202,8 +202,7 @@ class PlanReader(Reader):
                 c = registry.pilot(name)
             except NavcliError as e:
                 raise self.fail(path + (i,), str(e)) from None
-            if c.params_class is not None:
-                self.known = self.known.with_plugin(c.group, c.params_class())
+            self.known = registry.with_params(self.known, [c])
         return names
 
     def param(self, name: Any, value: Any, path: tuple) -> float | list[float]:

@@ -390,3 +390,12 @@ def undeclared(c: Component, info: dict[str, Any]) -> str:
     return (f"{c.label} wrote {', '.join(extra)} into /pilot, which its Info does not declare: declare every "
             f"field its avoid() returns in its class's Info (a msgspec.Struct); `navcli plugins check pilot "
             f"{c.name}` shows what else it gets wrong")
+
+
+def with_params(params: Any, components: Iterable[Component]) -> Any:
+    """``params`` (a :class:`~navcli.params.Params`) holding the parameter set of each plugin of
+    ``components`` that declares one: its defaults, where ``params`` holds none yet."""
+    for c in components:
+        if c.params_class is not None and params.plugin(c.group) is None:
+            params = params.with_plugin(c.group, c.params_class())
+    return params

@@ -192,7 +192,7 @@ def run_trials(job: Job) -> list[dict]:
             m = Mission(spec_at(base, st), snapshots=False)
             advance(m, until=lambda m: m.ticks > 0 and not m.navigation.sweeping)  # as NavigationTask.reset
             end = m.time + p.max_actions * p.action_s  # the learned policies' time after their sweep, at most
-            advance(m, until=lambda m, end=end: m.time >= end - 1e-9)
+            advance(m, until=_past(end))
             out.append(_record(i, st, m.outcome or "timeout", m.time))
         return out
     from .task import NavigationTask
@@ -205,6 +205,11 @@ def run_trials(job: Job) -> list[dict]:
         assert task.mission is not None  # the trial's
         out.append(_record(i, st, r.outcome, task.mission.time, r.actions, r.reward, r.counts))
     return out
+
+
+def _past(end: float) -> Callable[[Any], bool]:
+    """The test that a mission's time has reached ``end`` (s)."""
+    return lambda m: m.time >= end - 1e-9
 
 
 def run_job(job: Job) -> dict:
