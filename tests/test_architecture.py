@@ -91,6 +91,9 @@ def test_analysis_imports_only_the_format():
 
 
 def test_the_format_imports_only_msgspec():
+    """The enumerations a log carries (a look's purposes, the Rescuer's states ...) are declared by
+    the code that produces them and given to the format's schemas by the recorder
+    (``navcli.log.writer.enums``), so the format, and the analysis that reads it, import no navcli."""
     for dep in MODULES[FORMAT]:
         assert dep.split(".")[0] in STDLIB | {"msgspec", "__future__"}, dep
 

@@ -200,6 +200,11 @@ def test_params_shows_each_range_as_the_overrides_enforce_it():
             with pytest.raises(ParamError):
                 Params().override({name: 0.5})
             continue
+        if rng.startswith("one of "):  # a parameter that names a choice: its default among them, another word refused
+            assert value in rng.removeprefix("one of ").split(", ")
+            with pytest.raises(ParamError):
+                Params().override({name: value + "x"})
+            continue
         m = re.fullmatch(r"(?:whole number in )?([\[(])(\S+), (\S+)([\])])", rng)
         if m is None:
             assert "numbers" in rng, line  # the list-valued ones

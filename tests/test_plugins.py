@@ -130,7 +130,8 @@ def _messages(path, topic):
 
 def test_a_module_class_pilot_from_a_plain_folder_runs_with_its_parameters_and_fields(folder):
     r = CliRunner().invoke(app, ["run", "room.yaml" if _room(folder) else "", "--pilot", "swerve:Swerve",
-                                 "--time-limit", "8", "--param", "Swerve.swerve_deg=30", "--out", "swerve.mcap"])
+                                 "--perception", "oracle", "--time-limit", "8", "--param", "Swerve.swerve_deg=30",
+                                 "--out", "swerve.mcap"])
     assert r.exit_code in (0, 3), r.output
     log = read_log(folder / "swerve.mcap")
     assert log.summary["pilot"] == "swerve:Swerve"
@@ -203,8 +204,9 @@ def test_an_installed_package_is_found_by_its_entry_point(folder, monkeypatch):
 
 def test_an_unknown_name_is_refused_saying_where_it_was_looked_for(folder):
     sc = str(_room(folder).source)
-    for args, words in ((["--pilot", "vfh"], "unknown pilot 'vfh': not one of navcli's (potential-field, geometric), "
-                                             "not an entry point navcli.pilots of an installed package"),
+    for args, words in ((["--pilot", "no-such-pilot"], "unknown pilot 'no-such-pilot': not one of navcli's "
+                                                       "(potential-field, geometric), not an entry point navcli.pilots "
+                                                       "of an installed package"),
                         (["--pilot", "nosuch:Pilot"], "no module 'nosuch' among the installed packages or in the "
                                                       "current folder"),
                         (["--pilot", "swerve:NotAPilot"], "is not a subclass of navcli.pilot.Pilot"),

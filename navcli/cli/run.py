@@ -195,9 +195,9 @@ def params(
     Without a scenario, the defaults; with one, its values after its blocks and any --param."""
     from ..params import Params, parse_override
     from ..plugins import GROUPS, installed
-    from ..plugins.registry import with_params
     from ..plugins import navigation as policies
     from ..plugins import pilot as find_pilot
+    from ..plugins.registry import with_params
 
     if scenario is not None:
         values = build_spec(scenario, param, pilot=pilot, navigation=navigation).params

@@ -28,6 +28,7 @@ from typing import Annotated, Any, Mapping, Sequence
 import msgspec
 from msgspec import UNSET, Meta, Struct, UnsetType
 
+
 # The topics of the log: each name is written here once, and every writer and reader uses these.
 TF_TOPIC = "/tf"  # foxglove.FrameTransforms: world -> base_link (the true pose), base_link -> camera (the pan)
 POSE_TOPIC = "/robot/pose"  # foxglove.PoseInFrame: the true pose
@@ -196,6 +197,7 @@ class Action(_Msg):
     heading_deg: DEG | UnsetType = UNSET
     speed: Annotated[float, Meta(description="m/s, negative backwards")] | UnsetType = UNSET
     pan_deg: Annotated[float, Meta(description="camera pan, degrees from the heading, positive to the left")] | UnsetType = UNSET
+    purpose: Annotated[str, enumerated("look.purpose", "a look's purpose: the image-processing routine it asks for")] | UnsetType = UNSET
 
 
 class ResourceBids(_Msg):
@@ -235,10 +237,14 @@ class Sighting(_Msg):
 
 
 class DetectionMsg(_Msg):
-    """What one image showed of one object: one point, or both ends of a linear stretch."""
+    """What one image showed of one object: one point, or the two extremities of a linear
+    obstacle in view."""
 
     kind: Annotated[str, enumerated("detection.kind", "what the image showed")]
     points: list[Sighting]
+    ends: Annotated[list[bool], Meta(description=(
+        "an identified linear obstacle: per end (a, b), whether the point seen toward it is the end itself "
+        "(false: where the view cut the obstacle, which goes on past it)"))] | UnsetType = UNSET
 
 
 class Vision(_Msg):
@@ -248,7 +254,10 @@ class Vision(_Msg):
     state: Annotated[str, enumerated("camera.state", "the camera: free, turning to a pan, or processing an image")]
     image: Annotated[bool, Meta(description="an image was taken this tick")]
     detections: Annotated[dict[str, DetectionMsg], Meta(
-        description="by landmark id, target marker, or obstacle<i> for an unidentified obstacle")]
+        description="by landmark id, target marker, segment:<key> or wall:<key> for an identified linear obstacle, "
+                    "or obstacle<i> for an unidentified obstacle")]
+    purpose: Annotated[str, enumerated("look.purpose", "what the look being carried out is for, the "
+                                                  "image-processing routine it runs (absent: idle)")] | UnsetType = UNSET
 
 
 # --- /mission/summary -------------------------------------------------------------------------

@@ -69,8 +69,12 @@ def navigation_record(t: Tick) -> dict:
 
 def vision_record(t: Tick) -> dict:
     """The ``/vision`` message (a :class:`~navcli.log.format.Vision` as plain values): the pan, the
-    camera's state, and the detections of an image taken this tick."""
-    pan, state = t.camera
+    camera's state, the detections of an image taken this tick, and the purpose of the look being
+    carried out (none while idle)."""
+    pan, state, purpose = t.camera
     dets = t.detections
-    return {"pan_deg": math.degrees(pan), "state": state, "image": dets is not None, "detections":
-            {d.key or f"obstacle{i}": d.as_json() for i, d in enumerate(dets)} if dets else {}}
+    vision = {"pan_deg": math.degrees(pan), "state": state, "image": dets is not None, "detections":
+              {d.key or f"obstacle{i}": d.as_json() for i, d in enumerate(dets)} if dets else {}}
+    if purpose is not None:
+        vision["purpose"] = purpose
+    return vision

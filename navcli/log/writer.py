@@ -101,7 +101,7 @@ def _json_channel(topic: str, cls: type, ctx: foxglove.Context) -> BaseChannel:
 def enums() -> dict[str, tuple[str, ...]]:
     """Every enumeration a log carries, taken from the code that produces it (each field of the log
     format marked :func:`~navcli.log.format.enumerated` names one of these)."""
-    from ..bidding import ACTION_TYPES
+    from ..bidding import ACTION_TYPES, PURPOSES
     from ..mission import OUTCOMES
     from ..navigation.rescuer import STATES as RESCUER_STATES
     from ..pilot.base import MODES, PHASES
@@ -110,7 +110,7 @@ def enums() -> dict[str, tuple[str, ...]]:
 
     return {"pilot.mode": MODES, "pilot.phase": PHASES, "geometric.rule": RULES, "geometric.side": SIDES,
             "action.type": ACTION_TYPES, "camera.state": CAMERA_STATES, "detection.kind": KINDS,
-            "mission.outcome": OUTCOMES, "rescuer.state": RESCUER_STATES}
+            "mission.outcome": OUTCOMES, "rescuer.state": RESCUER_STATES, "look.purpose": PURPOSES}
 
 
 def log_schema(cls: type) -> dict:

@@ -38,6 +38,7 @@ PHYSICS_SUBSTEPS = 5
 """Physics steps per control tick: the world steps at CONTROL_DT / PHYSICS_SUBSTEPS (50 Hz)."""
 PHYSICS_DT = CONTROL_DT / PHYSICS_SUBSTEPS
 PHYSICS_DT_NS = round(PHYSICS_DT * 1e9)
+COLLISION_SLOP = 0.001  # m: how far the physics lets two bodies overlap (pymunk's default, 0.1, is in pixels)
 SCENE_REFRESH = 1.0
 """Seconds between two publications of the log's state topics (the arena, the robot's body, the
 camera's field of view): a viewer that seeks, or joins a live run late, shows them within this time."""
@@ -131,6 +132,9 @@ class PilotParams(ParamSet):
                                   at_most=1.0)
     look_d_max: float = param(1.0, "m", "eq. 1: d_m, the longest drive without looking ahead", above=0.0)
     look_exponent: float = param(2.0, "", "eq. 1: s, the look-ahead bid's exponent", above=0.0)
+    look_cap: float = param(1.0, "", """eq. 1's bid never above this: 1, eq. 1 as written (d_m is "the maximum distance
+        allowed to travel without looking ahead", so the bid reaches 1 there); 0.9 (navcli before: the cap of eq. 9's
+        motion bid)""", at_most=1.0)
     look_ahead_cone: float = param(math.radians(30.0), "rad", "a look this close to straight ahead resets d_l of "
                                                               "eq. 1")
     looks: bool = param(True, "", """the Pilot bids for the camera (eq. 1's look-ahead, a reflex's looks around);
@@ -229,6 +233,15 @@ class VisionParams(ParamSet):
     noise_bound: float = param(NOISE_BOUND, "standard deviations", "sensor errors are bounded at this many "
                                                                   "standard deviations", above=0.0)
     told_target: bool = param(True, "", "the robot is told where the target is at the start; off: it must see it")
+    routines: bool = param(True, "", "a look registers only what the routine of its purpose finds "
+                                     "(vision/routines.py), no look no image; off: every image registers all in view "
+                                     "(navcli before)")
+    line_objects: bool = param(True, "", "a fence or wall is one object, its ends fused end by end "
+                                         "(vision/visual_memory.py); off: view-cut pieces re-joined by geometry "
+                                         "(navcli before)")
+    walls: str = param("seen", "", "how the robot knows the room's walls (vision/perception.py): seen (as lines, "
+                                   "like fences), known (from the start) or felt (by the bumpers only)",
+                       choices=("seen", "known", "felt"))
     heading_floor: float = param(math.radians(0.5), "rad", "the fuzzy heading's least half-spread (a pixel or so)")
     distance_floor: float = param(0.02, "m", "the fuzzy distance's least half-spread")
     walk_bound: float = param(4.0, "standard deviations", "the per-tick odometry errors' random walk is bounded at "

@@ -21,7 +21,7 @@ navcli.params.declare.ParamError: Gains.gain must be above 0, got -1
 
 The type is the default's: a ``bool`` is a switch (``true``/``false``; 1 and 0 are taken for
 them), an ``int`` a whole number, a ``float`` a number, a tuple of floats a list of numbers (with
-``intervals``, a fixed count of increasing bounds). A number is at least 0 unless its declaration
+``intervals``, a fixed count of increasing bounds), a word with ``choices`` one of those words. A number is at least 0 unless its declaration
 says otherwise (``at_least``, ``above``, ``at_most``, ``below``; ``at_least=None`` for no lower
 bound). Units: ``m``, ``s``, ``rad``, ``m/s`` ..., ``""`` for a pure number.
 """
@@ -42,7 +42,7 @@ DECLARED = "navcli.param"
 """The key of a field's metadata that holds its :class:`Declared`."""
 _UNSET: Any = object()
 
-Kind = Literal["switch", "integer", "number", "numbers", "intervals"]
+Kind = Literal["switch", "integer", "number", "numbers", "intervals", "choice"]
 
 
 class ParamError(NavcliError):
@@ -67,10 +67,16 @@ class Declared:
     at_most: float | None = None
     below: float | None = None
     count: int = 0  # intervals: how many bounds (the default's, which the states are built on)
+    choices: tuple[str, ...] = ()  # a choice: the words it takes
 
     def check(self, name: str, value: Any) -> Any:
         """``value`` in this parameter's type (a whole number as ``int``, a switch as ``bool``, a
-        list as a tuple of floats), or :class:`ParamError` naming ``name`` and saying why not."""
+        list as a tuple of floats, a choice as one of its words), or :class:`ParamError` naming
+        ``name`` and saying why not."""
+        if self.kind == "choice":
+            if value not in self.choices:
+                raise ParamError(f"{name} is one of {', '.join(self.choices)}, got {value!r}"[:300])
+            return value
         if self.kind == "switch":
             if isinstance(value, bool):
                 return value
@@ -88,6 +94,8 @@ class Declared:
             for v in out:
                 self._within(name, v)
             return out
+        if isinstance(value, str):
+            raise ParamError(f"{name}: {value!r} is not a number"[:300])
         if not _is_number(value) or not math.isfinite(value):
             raise ParamError(f"{name} expects a finite number, got {value!r}"[:300])
         if self.kind == "integer":
@@ -126,6 +134,8 @@ class Declared:
         """
         if self.kind == "switch":
             return "true or false"
+        if self.kind == "choice":
+            return "one of " + ", ".join(self.choices)
         if self.kind == "intervals":
             return f"{self.count} increasing numbers"
         (lo, lo_open), (hi, hi_open) = self.lower, self.upper
@@ -139,6 +149,8 @@ class Declared:
         d: dict[str, Any] = {"description": self.description + unit}
         if self.kind == "switch":
             return d | {"type": "boolean", "default": default}
+        if self.kind == "choice":
+            return d | {"enum": list(self.choices), "default": default}
         bounds: dict[str, Any] = {}
         (lo, lo_open), (hi, hi_open) = self.lower, self.upper
         if lo is not None:
@@ -153,13 +165,15 @@ class Declared:
 
 def param(default: Any, unit: str, description: str, *, at_least: float | None = _UNSET,
           above: float | None = None, at_most: float | None = None, below: float | None = None,
-          intervals: bool = False) -> Any:
+          intervals: bool = False, choices: tuple[str, ...] = ()) -> Any:
     """A parameter field of a :class:`ParamSet`: its default, unit (``""`` for a pure number) and
     description, and for a number its range (at least 0 unless said otherwise; ``above`` replaces
-    that lower bound, ``at_least=None`` removes it). A default outside its own range is a mistake
-    of the declaration, refused when the class is made."""
-    if isinstance(default, bool):
-        kind: Kind = "switch"
+    that lower bound, ``at_least=None`` removes it); a word's ``choices``. A default outside its
+    own range is a mistake of the declaration, refused when the class is made."""
+    if isinstance(default, str) and choices:
+        kind: Kind = "choice"
+    elif isinstance(default, bool):
+        kind = "switch"
     elif isinstance(default, int):
         kind = "integer"
     elif isinstance(default, float):
@@ -167,13 +181,14 @@ def param(default: Any, unit: str, description: str, *, at_least: float | None =
     elif isinstance(default, tuple):
         kind = "intervals" if intervals else "numbers"
     else:
-        raise TypeError(f"a parameter's default is a bool, an int, a float or a tuple of floats, got {default!r}")
+        raise TypeError(f"a parameter's default is a bool, an int, a float, a tuple of floats or a word with its "
+                        f"choices, got {default!r}")
     if at_least is _UNSET:
         at_least = 0.0 if kind in ("integer", "number") and above is None else None
-    if kind == "switch":
+    if kind in ("switch", "choice"):
         at_least = above = at_most = below = None
     d = Declared(kind, unit, " ".join(description.split()), at_least, above, at_most, below,
-                 len(default) if kind == "intervals" else 0)
+                 len(default) if kind == "intervals" else 0, tuple(choices))
     d.check("the default", default)
     return dataclasses.field(default=default, metadata={DECLARED: d})
 
@@ -236,13 +251,14 @@ def suggest(name: str, known: Iterator[str] | list[str]) -> str:
 
 def parse_override(item: str) -> tuple[str, Any]:
     """``"pilot.K=30"`` -> ``("pilot.K", 30.0)``; a list-valued parameter takes its numbers in
-    brackets, comma-separated (``[]`` for none); a switch ``true`` or ``false`` (or 1, 0). The value
-    is checked by :meth:`~navcli.params.Params.override`.
+    brackets, comma-separated (``[]`` for none); a switch ``true`` or ``false`` (or 1, 0); any other
+    word is kept as it is (a parameter that names a choice, ``vision.walls=known``). The value is
+    checked by :meth:`~navcli.params.Params.override`.
 
     >>> parse_override("navigation.kappa1=0.5"), parse_override("pilot.looks=false")
     (('navigation.kappa1', 0.5), ('pilot.looks', False))
-    >>> parse_override("pilot.reflex_look_pans_deg=[-60, 0, 60]")
-    ('pilot.reflex_look_pans_deg', [-60.0, 0.0, 60.0])
+    >>> parse_override("pilot.reflex_look_pans_deg=[-60, 0, 60]"), parse_override("vision.walls=known")
+    (('pilot.reflex_look_pans_deg', [-60.0, 0.0, 60.0]), ('vision.walls', 'known'))
     """
     name, sep, value = item.partition("=")
     name, value = name.strip(), value.strip()
@@ -261,6 +277,8 @@ def parse_override(item: str) -> tuple[str, Any]:
         try:
             numbers_.append(float(v))
         except ValueError:
+            if not listed and v.replace("-", "").replace("_", "").isalnum():
+                return name, v  # a word: a choice (the parameter's check says which words it takes)
             raise ParamError(f"{item!r}: {v!r} is not a number" + ("" if listed else
                              " (a list parameter takes [a, b, ...])" if "," in value else "")) from None
     return name, numbers_ if listed else numbers_[0]
