@@ -86,8 +86,9 @@ Observer = Callable[[Mission, Tick], "bool | None"]
 """Told of every tick of a mission, after it: the recorder (:func:`recording`), the progress bar,
 live pacing (:class:`Pacer`), a trainer, a comparison, a user's function. Observers read; they
 never step the mission or change what it decides, but one may stop it: returning ``False`` (as
-Stable-Baselines3's callbacks do) ends the mission ``interrupted``, "stopped by <its name>". One
-with a ``begin(mission)`` method is told of the mission before its first step as well."""
+Stable-Baselines3's callbacks do) ends the mission ``interrupted``, "stopped by <its name>". Given
+to :func:`run_mission`, one with a ``begin(mission)`` method is told of the mission before its first
+step as well, and one with an ``end(mission)`` after its last."""
 
 
 def advance(mission: Mission, observers: tuple[Observer, ...] | list[Observer] = (),
