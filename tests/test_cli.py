@@ -190,20 +190,25 @@ def test_params_shows_each_range_as_the_overrides_enforce_it():
     checked = switches = 0
     lines = r.output.splitlines()
     assert re.fullmatch(r"name\s+value\s+unit\s+range\s+description", lines[0])
-    assert len(lines) - 1 == len(Params().flat())
+    from navcli.plugins import GROUPS, installed
+    from navcli.plugins.registry import with_params
+
+    plugins = [c for kind in GROUPS for c in installed(kind) if not isinstance(c, tuple)]
+    known = with_params(Params(), plugins)  # navcli's parameters, and any installed plugin's
+    assert len(lines) - 1 == len(known.flat())
     for line in lines[1:]:
         name, value, unit, rng, description = re.split(r"\s{2,}", line.strip(), maxsplit=4)
         assert unit and len(description) > 10, line
         if rng == "true or false":
             switches += 1
-            assert Params().override({name: value == "false"}).flat()[name] is (value == "false")
+            assert known.override({name: value == "false"}).flat()[name] is (value == "false")
             with pytest.raises(ParamError):
-                Params().override({name: 0.5})
+                known.override({name: 0.5})
             continue
         if rng.startswith("one of "):  # a parameter that names a choice: its default among them, another word refused
             assert value in rng.removeprefix("one of ").split(", ")
             with pytest.raises(ParamError):
-                Params().override({name: value + "x"})
+                known.override({name: value + "x"})
             continue
         m = re.fullmatch(r"(?:whole number in )?([\[(])(\S+), (\S+)([\])])", rng)
         if m is None:
@@ -217,10 +222,10 @@ def test_params_shows_each_range_as_the_overrides_enforce_it():
                 continue
             past = b + step * max(1e-6, abs(b) * 1e-6)
             with pytest.raises(ParamError):
-                Params().override({name: past})
+                known.override({name: past})
             if not closed:
                 with pytest.raises(ParamError):
-                    Params().override({name: b})
+                    known.override({name: b})
             checked += 1
     assert switches >= 15
     assert checked > 50
