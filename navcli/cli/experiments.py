@@ -11,8 +11,6 @@ from typing import Annotated, Optional
 import typer
 
 from ..analysis.files import without_mark
-from ..config import ConfigError
-from ..plugins import pilot as find_pilot
 from .common import (MAX_JOBS, MAX_SEED, JobsOption, ParamOption, PerceptionName, PilotOption, SchedulerOption, app,
                      build_spec, choice, compare_app, executor_for, finite, out_file, out_folder, progress_bar,
                      require_extra)
@@ -44,6 +42,8 @@ def compare_pilots(
         raise refuse("--pilots: no pilot given")
     if len(set(names)) < len(names):
         raise refuse(f"--pilots: a pilot is named twice ({pilots}): each would be the same runs")
+    from ..plugins import pilot as find_pilot
+
     with about("--pilots"):
         for name in names:
             find_pilot(name)
@@ -296,6 +296,9 @@ def reproduce(
 
     if which not in (*SECTIONS, "all"):
         raise refuse(f"{which!r}: expected pilots, learning or all")
+    from ..config import ConfigError
+    from ..plugins import pilot as find_pilot
+
     extra = list(dict.fromkeys(pilot or []))
     with about("--pilot"):
         for name in extra:
