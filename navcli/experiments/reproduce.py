@@ -222,32 +222,49 @@ def _write_runs(runs, path: Path) -> None:
     write_csv(path, runs.drop(columns=["xy"], errors="ignore"))
 
 
+VISION_CHOICES = ("{}", "{vision.routines: 0}", "{vision.line_objects: 0}", "{vision.walls: known}",
+                  "{vision.walls: felt}", "{pilot.look_cap: 0.9}",
+                  "{vision.routines: 0, vision.line_objects: 0, pilot.look_cap: 0.9}")
+"""navcli's choices where the papers are silent on what the robot senses, one at a time from the
+defaults (a plan's points), with vision: every look sees all, lines joined by geometry, the
+walls known or felt, eq. 1's look capped at 0.9, and all three old choices together (navcli
+before issue 35)."""
+
+
 def sensitivity(report: Report, s: Settings, out: Path, ex) -> None:
-    """Table 1's dependence on the unstated: speed and how a turn is executed, both perceptions."""
+    """Table 1's dependence on the unstated: speed and how a turn is executed (both perceptions),
+    and what the robot senses (:data:`VISION_CHOICES`, with vision)."""
     from ..analysis.tables import improvements, load_sweep
     from .sweep import load_plan, plan_runs, run_sweep
 
     out.mkdir(parents=True, exist_ok=True)
-    plan_file = out / "plan.yaml"
     rooms = ", ".join(json.dumps(str(SCENARIOS / f"{r}.yaml")) for r in s.sensitivity_rooms)  # quoted: any path
-    plan_file.write_text(f"# navcli reproduce: the sensitivity's plan\nversion: 1\nscenarios: [{rooms}]\n"
-                         f"seeds: {s.sensitivity_seeds}\n"
-                         "pilots: [potential-field, geometric]\nperception: [vision, oracle]\ngrid:\n"
-                         f"  robot.max_speed: [{', '.join(map(str, s.sensitivity_speeds))}]\n"
-                         "  pilot.drive_while_turning: [true, false]\n")
-    table = out / "results.parquet"
-    planned = plan_runs(load_plan(plan_file), None)
-    run_sweep(planned, table, ex)
-    runs = load_sweep(table)
-    runs = runs[runs["run_id"].isin({r.spec.run_id for r in planned})]  # the table keeps other plans' rows
-    imps = improvements(runs, "geometric")
+    head = (f"# navcli reproduce: the sensitivity's plan\nversion: 1\nscenarios: [{rooms}]\n"
+            f"seeds: {s.sensitivity_seeds}\npilots: [potential-field, geometric]\n")
+    plans = {"plan.yaml": head + "perception: [vision, oracle]\ngrid:\n"
+                              f"  robot.max_speed: [{', '.join(map(str, s.sensitivity_speeds))}]\n"
+                              "  pilot.drive_while_turning: [true, false]\n",
+             "vision-choices.yaml": head + "perception: vision\npoints:\n"
+                                   + "".join(f"  - {c}\n" for c in VISION_CHOICES)}
     report.heading("Pilot paper, Table 1's sensitivity (the paper states one condition)")
-    report.text(f"{s.sensitivity_seeds} seed(s) a point; the plan: {plan_file}; every run: {table}. The paper has "
-                "no numbers here: the column says how the potential field's gain moves with what it leaves unstated.")
-    rows = [[r["condition"], r["metric"], f"{r['improvement_pct']:+.1f} [{r['ci95_low']:+.1f}, {r['ci95_high']:+.1f}]",
-             int(r["pairs"]), verdict(PAPER_GAINS[r["metric"]], r["ci95_low"], r["ci95_high"])]
-            for _, r in imps.iterrows()]
-    report.table(["condition", "metric", "PF gain % [95 % CI]", "pairs", "the paper's gain"], rows)
+    report.text(f"{s.sensitivity_seeds} seed(s) a point; the plans: {', '.join(str(out / f) for f in plans)}. The "
+                "paper has no numbers here: the column says how the potential field's gain moves with what it leaves "
+                "unstated: the robot's pace and how a turn is executed (both perceptions), then what the robot senses "
+                "(vision; each choice alone from the defaults, and navcli's three old choices together).")
+    for name, text in plans.items():
+        plan_file = out / name
+        plan_file.write_text(text)
+        table = out / (name.removesuffix(".yaml").replace("plan", "results") + ".parquet")
+        planned = plan_runs(load_plan(plan_file), None)
+        run_sweep(planned, table, ex)
+        runs = load_sweep(table)
+        runs = runs[runs["run_id"].isin({r.spec.run_id for r in planned})]  # the table keeps other plans' rows
+        imps = improvements(runs, "geometric")
+        rows = [[r["condition"], r["metric"], f"{r['improvement_pct']:+.1f} [{r['ci95_low']:+.1f}, {r['ci95_high']:+.1f}]",
+                 int(r["pairs"]), verdict(PAPER_GAINS[r["metric"]], r["ci95_low"], r["ci95_high"])]
+                for _, r in imps.iterrows()]
+        report.text(f"Every run: {table}.")
+        report.table(["condition", "metric", "PF gain % [95 % CI]", "pairs", "the paper's gain"], rows)
 
 
 def traps(report: Report, s: Settings, out: Path, ex, pilots: tuple[str, ...] = ()) -> None:
