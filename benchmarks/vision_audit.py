@@ -46,7 +46,7 @@ from navcli.fuzzy import CUT
 from navcli.geometry import distance_to_segment
 from navcli.mission import Mission
 try:
-    from navcli.config import parse_override
+    from navcli.params import parse_override
 except ImportError:  # navcli before issue 35 (the benchmark is run from older checkouts too)
     from navcli.params import parse_override  # type: ignore[no-redef,attr-defined]
 

@@ -1,10 +1,16 @@
 """navcli: a mission runner for the bidding Pilot/Vision/Navigation robot of Busquets, Mohan et al.
 
-The public API, for notebooks and scripts (imported lazily, so ``navcli --help`` stays fast)::
+The public API, for notebooks and scripts (imported lazily, so ``navcli --help`` stays fast;
+:mod:`navcli.api` says more)::
 
-    from navcli import RunSpec, load_scenario, run_mission
-    spec = RunSpec.build(load_scenario("scenarios/paper-8x8.yaml"), seed=3, overrides={"pilot.K": 30})
-    result = run_mission(spec)          # -> RunResult: summary, log path, wall time
+    import navcli
+    r = navcli.run("scenarios/paper-8x8.yaml", seed=3, params={"pilot.K": 30})  # -> Run, no file written
+    r.summary["outcome"], r.bids[["time_s", "motion.pilot", "motion.navigation"]]
+    df = navcli.compare(["scenarios/paper-8x8.yaml"], ["potential-field", "geometric"], reruns=5)
+    df = navcli.sweep("plans/table1-sensitivity.yaml")
+
+A pilot or Navigation policy of one's own is a plugin (:mod:`navcli.plugins`): ``Pilot``,
+``Avoidance``, ``ParamSet`` and ``param`` are what it is made of.
 
 The package reads like the papers' architecture: ``pilot/`` (the Pilot), ``vision/`` (camera,
 visual memory, perception), ``navigation/`` (the Navigation agents and the Communicator),
@@ -35,6 +41,9 @@ class NavcliError(ValueError):
     option: str | None = None
 
 _API = {
+    "run": "api", "compare": "api", "sweep": "api", "spec": "api", "Run": "api",
+    "Pilot": "pilot", "Avoidance": "pilot", "ParamSet": "params", "param": "params",
+    "AgentSetup": "navigation.situation", "PluginError": "plugins", "UnknownPlugin": "plugins",
     "Agent": "navigation.situation", "Bid": "bidding", "Look": "bidding", "Move": "bidding", "arbitrate": "bidding",
     "Beliefs": "beliefs", "Bump": "beliefs", "KnownObstacle": "beliefs",
     "ConfigError": "config", "RunSpec": "config",

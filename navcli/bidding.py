@@ -109,6 +109,8 @@ def looked_at(looked: Look | None, want: Look) -> bool:
 
 
 Action = Move | Look
+ACTION_TYPES = ("move", "look")
+"""The kinds of action, as a bid's action says in ``/bids`` (:meth:`Move.as_json`, :meth:`Look.as_json`)."""
 
 
 class _BidFields(NamedTuple):

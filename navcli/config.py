@@ -2,10 +2,11 @@
 
 Everything that decides a run travels in it, from the command line to a worker process and into
 the log: the scenario (its text and sha256, not just a path), the seed, the pilot, the
-perception, the time limit and every parameter after the scenario's and the command line's
-overrides. Its :attr:`RunSpec.run_id` (a sha256 of its JSON form and navcli's version) names the
+perception, the Navigation policy, the time limit and every parameter after the scenario's and the
+command line's overrides; for a plugin, its identity (name, version, origin) and its own
+parameters. Its :attr:`RunSpec.run_id` (a sha256 of its JSON form and navcli's version) names the
 run: it is part of the default log path and the key by which comparisons resume, so two runs
-share a log only if they are the same run.
+share a log only if they are the same run, and a plugin's run never takes a stock pilot's.
 """
 
 from __future__ import annotations
@@ -16,11 +17,14 @@ import hashlib
 import json
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Mapping
+from typing import Any, Iterable, Mapping
 
 from . import NavcliError
 from . import __version__
-from .params import CONTROL_DT, NAVIGATIONS, PERCEPTIONS, PHYSICS_DT, PILOT_NAMES, ParamError, Params
+from .analysis.files import file_name
+from .params import CONTROL_DT, PERCEPTIONS, PHYSICS_DT, Params
+from .plugins import registry
+from .plugins.registry import BUILTIN_POLICIES, Component
 from .scenario import RANGES, Scenario, parse_scenario
 
 LOG_ROOT = Path("logs")
@@ -32,7 +36,11 @@ class ConfigError(NavcliError):
 
 @dataclass(frozen=True)
 class RunSpec:
-    """Everything that decides one run (see the module docstring). Build it with :meth:`build`."""
+    """Everything that decides one run (see the module docstring). Build it with :meth:`build`.
+
+    ``pilot`` and ``navigation`` are names the registry resolves (:mod:`navcli.plugins`): navcli's
+    own, an installed plugin's, or ``module:Class``; ``params`` holds the parameter sets of the
+    plugins the run uses (their defaults when not given)."""
 
     scenario: Scenario
     seed: int
@@ -40,17 +48,14 @@ class RunSpec:
     perception: str
     time_limit: float  # simulated seconds
     params: Params
-    navigation: str = NAVIGATIONS[0]  # agents | hand-coded | learned[:FILE] (the Learning Agent's policy)
+    navigation: str = BUILTIN_POLICIES[0]  # agents | hand-coded | learned[:FILE] | a plugin's | agents+a plugin's
 
     def __post_init__(self) -> None:
-        if self.pilot not in PILOT_NAMES:
-            raise ConfigError(f"unknown pilot {self.pilot!r} (expected one of: {', '.join(PILOT_NAMES)})")
+        params = registry.with_params(self.params, self.components)
+        if params is not self.params:
+            object.__setattr__(self, "params", params)
         if self.perception not in PERCEPTIONS:
             raise ConfigError(f"unknown perception {self.perception!r} (expected one of: {', '.join(PERCEPTIONS)})")
-        mode, _, file = self.navigation.partition(":")
-        if mode not in NAVIGATIONS or (file and mode != "learned"):
-            raise ConfigError(f"unknown navigation {self.navigation!r} (expected agents, hand-coded, learned "
-                              f"or learned:FILE)")
         if not (isinstance(self.seed, int) and 0 <= self.seed < 2 ** 64):
             raise ConfigError(f"the seed must be a whole number from 0 to 2**64 - 1, got {self.seed!r}")
         limit = RANGES["mission.time_limit"]
@@ -65,16 +70,34 @@ class RunSpec:
             if sd * bound >= 1.0:  # a relative error clipped at this many deviations could reach -100 %
                 raise ConfigError(f"{name} ({sd:g}) times vision.noise_bound ({bound:g}) must be below 1")
 
+    @property
+    def components(self) -> tuple[Component, ...]:
+        """The run's pilot, then its Navigation policies, as the registry finds them (raises
+        :class:`~navcli.plugins.UnknownPlugin` for an unknown name)."""
+        return (registry.pilot(self.pilot),) + registry.navigation(self.navigation)
+
+    @property
+    def plugins(self) -> tuple[tuple[str, Component], ...]:
+        """(role, component) of each plugin the run uses: ``pilot`` or ``navigation``."""
+        return tuple(("pilot" if i == 0 else "navigation", c) for i, c in enumerate(self.components) if not c.builtin)
+
     @classmethod
     def build(cls, scenario: Scenario, *, seed: int | None = None, pilot: str | None = None,
               perception: str | None = None, time_limit: float | None = None,
-              overrides: Mapping[str, Any] | None = None, navigation: str | None = None) -> RunSpec:
+              overrides: Mapping[str, Any] | None = None, navigation: str | None = None,
+              also: Iterable[str] = ()) -> RunSpec:
         """The scenario's own choices, with any of them replaced, and ``overrides`` (dotted
-        parameter names, ``{"pilot.K": 30}``) applied on top of the scenario's parameters."""
+        parameter names, ``{"pilot.K": 30}``) applied on top of the scenario's parameters. A
+        plugin's parameters (``vfh.threshold``) may be overridden when the run uses it, or when it
+        is one of the pilots named in ``also`` (a comparison's other pilots)."""
         m = scenario.mission
-        return cls(scenario, m.seed if seed is None else seed, pilot or m.pilot, perception or m.perception,
-                   float(m.time_limit if time_limit is None else time_limit),
-                   scenario.params.override(overrides or {}), navigation or NAVIGATIONS[0])
+        pilot = pilot or m.pilot
+        navigation = navigation or BUILTIN_POLICIES[0]
+        params = registry.with_params(scenario.params, (registry.pilot(pilot),) + registry.navigation(navigation)
+                                      + tuple(map(registry.pilot, also)))
+        return cls(scenario, m.seed if seed is None else seed, pilot, perception or m.perception,
+                   float(m.time_limit if time_limit is None else time_limit), params.override(overrides or {}),
+                   navigation)
 
     def replace(self, **changes: Any) -> RunSpec:
         """A copy with some fields changed (``seed=2``, ``pilot="geometric"``)."""
@@ -82,20 +105,32 @@ class RunSpec:
 
     def to_json(self) -> dict[str, Any]:
         """The configuration as plain JSON (the scenario by name, file and sha256; its text goes
-        into the log as an attachment)."""
+        into the log as an attachment); ``plugins`` (only when the run uses one) names each plugin,
+        its version and origin, with its own parameters."""
         sc = self.scenario
-        return {"scenario": {"name": sc.name, "file": sc.source, "sha256": sc.sha256},
-                "seed": self.seed, "pilot": self.pilot, "perception": self.perception,
-                "time_limit_s": self.time_limit, "params": self.params.to_json(), "navigation": self.navigation}
+        d = {"scenario": {"name": sc.name, "file": sc.source, "sha256": sc.sha256},
+             "seed": self.seed, "pilot": self.pilot, "perception": self.perception,
+             "time_limit_s": self.time_limit, "params": self.params.to_json(), "navigation": self.navigation}
+        plugins = [{"role": role, **c.identity(), "params": own.to_json() if (own := self.params.plugin(c.group)) else {}}
+                   for role, c in self.plugins]
+        return d | {"plugins": plugins} if plugins else d
 
     @classmethod
     def from_json(cls, d: Mapping[str, Any], scenario_text: str) -> RunSpec:
-        """The inverse of :meth:`to_json`, given the scenario's text (a log's attachment)."""
+        """The inverse of :meth:`to_json`, given the scenario's text (a log's attachment). A run of
+        a plugin needs that plugin, in the same version."""
         sc = parse_scenario(scenario_text, d["scenario"].get("file", "<log>"))
         if sc.sha256 != d["scenario"]["sha256"]:
             raise ConfigError("the scenario text does not match the configuration's sha256")
-        return cls(sc, int(d["seed"]), d["pilot"], d["perception"], float(d["time_limit_s"]),
-                   Params.from_json(d["params"]), d.get("navigation", NAVIGATIONS[0]))
+        params = Params.from_json(d["params"])
+        for p in d.get("plugins", []):
+            c = registry.pilot(p["name"]) if p["role"] == "pilot" else registry.find("policy", p["name"])
+            if c.version != p["version"]:
+                raise ConfigError(f"the run used {p['name']} version {p['version']}; {c.label} is another")
+            if c.params_class is not None:
+                params = params.with_plugin(c.group, c.params_class(**p["params"]))
+        return cls(sc, int(d["seed"]), d["pilot"], d["perception"], float(d["time_limit_s"]), params,
+                   d.get("navigation", BUILTIN_POLICIES[0]))
 
     @functools.cached_property
     def run_id(self) -> str:
@@ -108,8 +143,9 @@ class RunSpec:
         return hashlib.sha256(blob.encode()).hexdigest()
 
     def log_name(self) -> str:
-        """``<pilot>-seed<N>-<first 8 hex digits of run_id>.mcap``."""
-        return f"{self.pilot}-seed{self.seed}-{self.run_id[:8]}.mcap"
+        """``<pilot>-seed<N>-<first 8 hex digits of run_id>.mcap`` (a ``module:Class`` pilot's name
+        made a file name's: ``mod_Class``)."""
+        return f"{file_name(self.pilot)}-seed{self.seed}-{self.run_id[:8]}.mcap"
 
     def default_log_path(self, root: Path = LOG_ROOT) -> Path:
         """``<root>/<scenario>/<pilot>-seed<N>-<id>.mcap``."""
@@ -123,38 +159,5 @@ class RunSpec:
                 "scenario": sc.name, "scenario_file": sc.source, "scenario_sha256": sc.sha256,
                 "seed": str(self.seed), "pilot": self.pilot, "perception": self.perception,
                 "time_limit_s": repr(self.time_limit), "navigation": self.navigation, "navcli_version": __version__,
-                "control_dt_s": repr(CONTROL_DT), "physics_dt_s": repr(PHYSICS_DT)}
-
-
-def parse_override(item: str) -> tuple[str, float | list[float] | str]:
-    """``"pilot.K=30"`` -> ``("pilot.K", 30.0)``; a list-valued parameter takes its numbers in
-    brackets, comma-separated (``[]`` for none); a word is kept as it is (a parameter that names
-    a choice, ``vision.walls=known``). The value is checked by :meth:`Params.override`.
-
-    >>> parse_override("navigation.kappa1=0.5")
-    ('navigation.kappa1', 0.5)
-    >>> parse_override("pilot.reflex_look_pans_deg=[-60, 0, 60]")
-    ('pilot.reflex_look_pans_deg', [-60.0, 0.0, 60.0])
-    >>> parse_override("vision.walls=known")
-    ('vision.walls', 'known')
-    """
-    name, sep, value = item.partition("=")
-    name, value = name.strip(), value.strip()
-    if not sep or not name:
-        raise ParamError(f"{item!r}: expected NAME=VALUE, e.g. pilot.K=30")
-    if len(value) > 1000:
-        raise ParamError(f"{name}: a value of {len(value)} characters is not a parameter's")
-    listed = value.startswith("[") and value.endswith("]")
-    parts = [v.strip() for v in value[1:-1].split(",")] if listed else [value]
-    if listed and parts == [""]:
-        return name, []
-    numbers = []
-    for v in parts:
-        try:
-            numbers.append(float(v))
-        except ValueError:
-            if not listed and v.replace("-", "").replace("_", "").isalnum():
-                return name, v  # a word: a choice (the parameter's check says which words it takes)
-            raise ParamError(f"{item!r}: {v!r} is not a number" + ("" if listed else
-                             " (a list parameter takes [a, b, ...])" if "," in value else "")) from None
-    return name, numbers if listed else numbers[0]
+                "control_dt_s": repr(CONTROL_DT), "physics_dt_s": repr(PHYSICS_DT)} | (
+                    {"plugins": json.dumps([{"role": r, **c.identity()} for r, c in self.plugins])} if self.plugins else {})

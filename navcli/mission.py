@@ -25,20 +25,21 @@ from .bidding import Bid, Look, Move, Resource, arbitrate
 from .config import RunSpec
 from .fuzzy import CUT, FuzzyPoint
 from .geometry import Pose, segments_intersect
-from .navigation import MapSnapshot, NavigationOutput, NavigationSystem
+from .navigation import AgentSetup, MapSnapshot, NavigationOutput, NavigationSystem
 from .params import CONTROL_DT
-from .pilot import PilotOutput, make_pilot
+from .pilot import PilotOutput
+from .plugins import registry
 from .vision.camera import Detection
 from .vision.perception import make_perception
 from .vision.visual_memory import Remembered
 from .world import World
 
 OUTCOMES = ("reached", "timeout", "blocked", "interrupted", "error")
-COMPONENTS = ("odometry", "camera", "rescuer")
+COMPONENTS = ("odometry", "camera", "rescuer", "plugins")
 """The components that draw random numbers: the world's odometry errors, the camera's measurement
-errors, the Rescuer's random turns. Each draws from a generator of its own, spawned from the run's
-seed (docs/design.md, "Random numbers"); a new component is added at the end, so the others keep
-their streams."""
+errors, the Rescuer's random turns, and the plugins (a plugin pilot's or policy's ``rng``). Each
+draws from a generator of its own, spawned from the run's seed (docs/design.md, "Random numbers");
+a new component is added at the end, so the others keep their streams."""
 
 
 def component_generators(seed: int) -> dict[str, np.random.Generator]:
@@ -101,17 +102,28 @@ class Mission:
         rngs = component_generators(spec.seed)
         self.world = World(spec.scenario, rngs["odometry"], p.robot)
         self.perception = make_perception(spec.perception, spec.scenario, rngs["camera"], p)
-        self.pilot = make_pilot(spec.pilot, p.pilot, p.robot)
+        pilot = registry.pilot(spec.pilot)
+        policies = registry.navigation(spec.navigation)
+        self.plugins = tuple(c for c in (pilot,) + policies if not c.builtin)  # whose exceptions are theirs
+        self.pilot = pilot.cls(p.pilot, p.robot) if pilot.builtin else registry.build(
+            pilot, p.pilot, p.robot, own_params=p.plugin(pilot.group), rng=rngs["plugins"])
+        self._pilot_fields = registry.pilot_fields(pilot)  # what a plugin pilot's /pilot may hold
         t = spec.scenario.target
+        pan_limit = spec.scenario.camera.pan_limit
         self.policy_agent = policy_agent
-        if policy_agent is None and spec.navigation != "agents":
+        if policy_agent is None and policies[0].builtin and policies[0].name != "agents":
             from .learning import policy_agent as make_policy_agent  # the Learning Agent or the hand-coded policy
 
-            self.policy_agent = make_policy_agent(spec.navigation, p.learning, max_speed=p.robot.max_speed,
-                                             pan_limit=spec.scenario.camera.pan_limit, target_key=t.landmark)
+            self.policy_agent = make_policy_agent(policies[0].name.partition(":")[0], policies[0].argument, p.learning,
+                                                  max_speed=p.robot.max_speed, pan_limit=pan_limit,
+                                                  target_key=t.landmark)
+        setup = AgentSetup(p, None, pan_limit, t.landmark or "target", rngs["plugins"])
+        agents = tuple(registry.build(c, setup._replace(own_params=p.plugin(c.group))) for c in policies
+                       if not c.builtin)
         self.navigation = NavigationSystem(p.navigation, p.robot, p.pilot, target_key=t.landmark or "target",
-                                           line_target=t.kind == "line", rng=rngs["rescuer"],
-                                           pan_limit=spec.scenario.camera.pan_limit, policy_agent=self.policy_agent)
+                                           line_target=t.kind == "line", rng=rngs["rescuer"], pan_limit=pan_limit,
+                                           policy_agent=self.policy_agent, plugin_agents=agents,
+                                           own_agents=any(c.name == "agents" for c in policies))
         self._reach = t.tolerance  # how near the target's point counts as there (m)
         if t.kind == "landmark":
             lm = next(lm for lm in self.scenario.landmarks if lm.id == t.landmark)
@@ -149,6 +161,8 @@ class Mission:
         same = nav.target == beliefs.target and nav.target_line == beliefs.target_line
         for_pilot = beliefs if same else replace(beliefs, target=nav.target, target_line=nav.target_line)
         out = self.pilot.decide(for_pilot, request)
+        if self._pilot_fields is not None and not out.info.keys() <= self._pilot_fields:
+            raise registry.PluginError(registry.undeclared(registry.pilot(self.spec.pilot), out.info))
         self._pilot_blocked = out.blocked_by
         return nav, out
 
@@ -173,16 +187,24 @@ class Mission:
         return bumps
 
     def step(self) -> Tick:
-        """Run one control period: perceive, bid, arbitrate, act, step the world, record."""
+        """Run one control period: perceive, bid, arbitrate, act, step the world, record. An
+        exception raised in a plugin's code (or passing through it) is raised as the plugin's
+        :class:`~navcli.plugins.PluginError`, the original as its cause."""
         if self.outcome is not None:
             raise RuntimeError(f"the mission has ended ({self.outcome})")
         world = self.world
         before = world.pose
-        beliefs = self.perceive()
-        nav, pilot_out = self.bid(beliefs)
-        bids = tuple(pilot_out.bids) + nav.bids  # the Pilot is consulted first (ties)
-        winners = arbitrate(bids)
-        command, detections = self.act(winners, before)
+        try:
+            beliefs = self.perceive()
+            nav, pilot_out = self.bid(beliefs)
+            bids = tuple(pilot_out.bids) + nav.bids  # the Pilot is consulted first (ties)
+            winners = arbitrate(bids)
+            command, detections = self.act(winners, before)
+        except Exception as e:
+            culprit = registry.blame(e, self.plugins) if self.plugins else None
+            if culprit is None:
+                raise
+            raise registry.failed(culprit, e) from e
         bumps = self.step_world(command)
         self.ticks += 1
         after = world.pose
@@ -231,6 +253,11 @@ class Mission:
             return False
         return not nav.reach_imprecision or believed.imprecision() < nav.reach_imprecision
 
+    @property
+    def pending(self) -> tuple[Event, ...]:
+        """Events raised outside a step (the mission's start) and not yet handed out, left in place."""
+        return tuple(self._pending)
+
     def drain_events(self) -> list[Event]:
         """Events raised outside a step (the mission's start) and not yet handed out."""
         events, self._pending = self._pending, []
@@ -248,10 +275,13 @@ class Mission:
         self.outcome, self.reason = outcome, reason
         self.world.stop()
 
-    def abort(self, outcome: str, reason: str) -> None:
-        """End the mission from outside (Ctrl-C, an error)."""
+    def abort(self, outcome: str, reason: str, say: bool = False) -> None:
+        """End the mission from outside (Ctrl-C, an error, an observer); with ``say``, the reason is
+        an event of the mission's too (handed out by :meth:`drain_events`)."""
         assert outcome in OUTCOMES
         self._end(outcome, reason)
+        if say:
+            self._pending.append(Event(self.world.time, "mission", "warning", reason))
 
     def summary(self) -> dict:
         """The ``/mission/summary`` record (the log format in the README)."""

@@ -10,7 +10,7 @@ from __future__ import annotations
 import time
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Callable
+from typing import TYPE_CHECKING, Callable, Sequence
 
 from .config import RunSpec
 from .signals import Terminated, deferred
@@ -38,7 +38,10 @@ def open_log(spec: RunSpec, mission: Mission, path: Path, *, live: bool = False,
     imported here, only when a log is written.)"""
     from .log.writer import Recorder
 
-    recorder = Recorder(path, live=live, port=port, protect=(spec.scenario.source,))
+    from .plugins import pilot
+
+    recorder = Recorder(path, live=live, port=port, protect=(spec.scenario.source,),
+                        pilot_message=pilot(spec.pilot).pilot_message())
     try:
         w = mission.world
         recorder.start(spec, w.pose, w.odometry.pose)
@@ -58,8 +61,10 @@ def _stop(mission: Mission, e: BaseException) -> None:
         mission.abort("interrupted", "stopped by SIGTERM")
     elif isinstance(e, KeyboardInterrupt):
         mission.abort("interrupted", "stopped by the user (Ctrl-C)")
-    else:
-        mission.abort("error", f"{type(e).__name__}: {e}")
+    else:  # a plugin's failure says whose it was in words of its own
+        from .plugins import PluginError
+
+        mission.abort("error", str(e) if isinstance(e, PluginError) else f"{type(e).__name__}: {e}")
 
 
 def close_log(recorder, mission: Mission, summary: dict | None = None, *, stopped: bool = False,
@@ -69,28 +74,35 @@ def close_log(recorder, mission: Mission, summary: dict | None = None, *, stoppe
     ``stopped``: the mission was ended by :func:`_stop`; the log's last event says why."""
     with deferred():
         w = mission.world
+        for e in mission.drain_events():  # an observer's stop, said after the last tick
+            recorder.event(e, w.time_ns)
         if stopped:
             recorder.event(Event(mission.time, "mission", "error", mission.reason), w.time_ns)
         recorder.finish(mission.summary() if summary is None else summary, w.time_ns, (w.pose, w.odometry.pose),
                         keep_serving=keep_serving)
 
 
-Observer = Callable[[Mission, Tick], None]
+Observer = Callable[[Mission, Tick], "bool | None"]
 """Told of every tick of a mission, after it: the recorder (:func:`recording`), the progress bar,
-live pacing (:class:`Pacer`), a trainer or a comparison. Observers read; they never step the
-mission or change what it decides."""
+live pacing (:class:`Pacer`), a trainer, a comparison, a user's function. Observers read; they
+never step the mission or change what it decides, but one may stop it: returning ``False`` (as
+Stable-Baselines3's callbacks do) ends the mission ``interrupted``, "stopped by <its name>". Given
+to :func:`run_mission`, one with a ``begin(mission)`` method is told of the mission before its first
+step as well, and one with an ``end(mission)`` after its last."""
 
 
 def advance(mission: Mission, observers: tuple[Observer, ...] | list[Observer] = (),
             until: Callable[[Mission], bool] | None = None) -> None:
     """The run loop: step ``mission`` until it ends, or until ``until(mission)`` holds (checked
-    before each step), telling every observer of each tick in turn. ``navcli run``, the
-    benchmark, training trials, the policy comparison and the Gymnasium environment all run
-    missions through here."""
+    before each step), telling every observer of each tick in turn (one that returns ``False``
+    stops it: see :data:`Observer`). ``navcli run``, the benchmark, training trials, the policy
+    comparison and the Gymnasium environment all run missions through here."""
     while mission.outcome is None and not (until is not None and until(mission)):
         tick = mission.step()
         for observe in observers:
-            observe(mission, tick)
+            if observe(mission, tick) is False and mission.outcome is None:
+                mission.abort("interrupted", f"stopped by {getattr(observe, '__name__', type(observe).__name__)}",
+                              say=True)
 
 
 def recording(recorder: Recorder) -> Observer:
@@ -113,11 +125,14 @@ class Pacer:
 
 def run_mission(spec: RunSpec, *, out: Path | None = None, record: bool = True, live: bool = False,
                 port: int = 8765, on_tick: Observer | None = None,
-                on_open: Callable[[Recorder], None] | None = None, keep_serving: bool = False) -> RunResult:
+                on_open: Callable[[Recorder], None] | None = None, keep_serving: bool = False,
+                observers: Sequence[Observer] = ()) -> RunResult:
     """Run the configuration ``spec`` to its end and return its summary.
 
     The log goes to ``out``, by default :meth:`RunSpec.default_log_path`.
-    ``record=False`` runs without a log (the benchmark's baseline). ``live`` serves the run to
+    ``record=False`` runs without a log (the benchmark's baseline). ``observers`` are told of
+    every tick, after ``on_tick``, those with a ``begin(mission)`` before the first step and those
+    with an ``end(mission)`` after the last, whatever ended it; any may stop the run (:data:`Observer`). ``live`` serves the run to
     Foxglove on ``ws://127.0.0.1:<port>`` and paces it to real time. ``on_tick`` observes every
     tick (progress display; tests use it to interrupt a run); ``on_open`` is called once the log
     is open (what the CLI says of it: a killed run's ``.partial`` kept aside, the port ``--live``
@@ -129,22 +144,34 @@ def run_mission(spec: RunSpec, *, out: Path | None = None, record: bool = True, 
     """
     path = (out or spec.default_log_path()) if record or live else None
     mission = Mission(spec, snapshots=path is not None)
+    _tell(observers, "begin", mission)
     recorder = open_log(spec, mission, path, live=live, port=port) if path is not None else None
-    observers: list[Observer] = [recording(recorder)] if recorder else []
-    observers += [on_tick] if on_tick else []
+    told: list[Observer] = [recording(recorder)] if recorder else []
+    told += ([on_tick] if on_tick else []) + list(observers)
     t0 = time.perf_counter()
-    observers += [Pacer()] if live else []
+    told += [Pacer()] if live else []
     try:
         if recorder and on_open:
             on_open(recorder)  # inside: a stop while the caller speaks of the log still closes it
-        advance(mission, observers)
+        advance(mission, told)
     except BaseException as e:
         _stop(mission, e)
+        _tell(observers, "end", mission)
         if recorder:
             close_log(recorder, mission, stopped=True)
         raise
     wall = time.perf_counter() - t0
     summary = mission.summary()
+    _tell(observers, "end", mission)
     if recorder:
         close_log(recorder, mission, summary, keep_serving=keep_serving)
     return RunResult(summary, path, wall)
+
+
+def _tell(observers: Sequence[Observer], hook: str, mission: Mission) -> None:
+    """Call ``hook`` (``begin``: before the first step; ``end``: after the last, before the log is
+    closed) of each observer that has it."""
+    for o in observers:
+        method = getattr(o, hook, None)
+        if method is not None:
+            method(mission)

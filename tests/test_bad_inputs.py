@@ -72,7 +72,11 @@ SCENARIO_COMMANDS = {
 OPTION_CASES = {
     "run": (["run", "{s}"], [["--seed", "-1"], ["--seed", str(2**64)], ["--seed", "1.5"], ["--time-limit", "nan"],
                              ["--time-limit", "inf"], ["--time-limit", "0.05"], ["--time-limit", "1e999"],
-                             ["--port", "70000"], ["--pilot", "sonar"], ["--perception", "lidar"],
+                             ["--port", "70000"], ["--pilot", "sonar"], ["--pilot", "nosuchmodule:Pilot"],
+                             ["--pilot", "os:path"], ["--pilot", "collections:NoSuchClass"], ["--pilot", "./nope.py:P"],
+                             ["--navigation", "agents+bogus"], ["--navigation", "agents+agents"],
+                             ["--navigation", "hand-coded+agents"], ["--param", "vfh.threshold=3"],
+                             ["--perception", "lidar"],
                              ["--navigation", "bogus"], ["--navigation", "learned:nope.npz"],
                              ["--param", "pilot.K=nan"], ["--param", "pilot.K=abc"], ["--param", "nope=1"],
                              ["--param", "pilot.K"], ["--param", "pilot.K=-1"],
@@ -108,10 +112,12 @@ OPTION_CASES = {
                                      ["--fps", "0"], ["--fps", "1000"], ["--dpi", "1000"], ["--from", "-1"],
                                      ["--from", "nan"], ["--to", "inf"], ["--from", "5", "--to", "1"]]),
     "report": (["report", "logs"], [["--baseline", "sonar"]]),
+    "plugins check": (["plugins", "check"], [["robot", "geometric"], ["pilot", "sonar"], ["policy", "nosuchmodule:X"]]),
     "sweep": (["sweep", "plan.yaml"], [["--jobs", "0"], ["--jobs", "257"], ["--scheduler", "junk"],
                                        ["--scheduler", "tcp://127.0.0.1:99999"]]),
     "layout": (["layout"], [["--format", "xml"]]),
-    "reproduce": (["reproduce"], [["everything"], ["--jobs", "0"], ["--scheduler", "junk"], ["--quick", "x"]]),
+    "reproduce": (["reproduce"], [["everything"], ["--jobs", "0"], ["--scheduler", "junk"], ["--quick", "x"],
+                                  ["--pilot", "sonar"], ["--pilot", "geometric"]]),
 }
 
 # output paths: (command, option, the bad path, what the folder holds for it)
@@ -362,7 +368,7 @@ def test_the_table_is_large_enough_and_every_command_is_in_it():
     names = set()
     for name, cmd in click_app.commands.items():
         names |= {f"{name} {sub}" for sub in getattr(cmd, "commands", {})} or {name}
-    covered = {" ".join(c.values[0][1][:2]) if c.values[0][1][0] in ("plot", "compare") else c.values[0][1][0]
+    covered = {" ".join(c.values[0][1][:2]) if c.values[0][1][0] in ("plot", "compare", "plugins") else c.values[0][1][0]
                for c in CASES}
-    assert names - covered - {"schema"} == set(), names - covered
+    assert names - covered - {"schema", "plugins list"} == set(), names - covered
     assert os.path.exists("/dev/null")

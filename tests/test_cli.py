@@ -179,27 +179,42 @@ def test_bench_reports_the_floor_and_the_stack_against_it():
 
 def test_params_shows_each_range_as_the_overrides_enforce_it():
     """Every numeric range `navcli params` prints holds the default and refuses a value just past
-    each finite end (so the listing says what `--param` accepts)."""
+    each finite end (so the listing says what `--param` accepts); every parameter has a unit (``-``
+    for a pure number) and a description, and a switch takes true and false."""
     import re
 
     from navcli.params import ParamError, Params
 
     r = CliRunner().invoke(app, ["params"])
     assert r.exit_code == 0, r.output
-    checked = 0
-    for line in r.output.splitlines()[1:]:
-        m = re.fullmatch(r"(\S+)\s+(\S.*?)\s+(?:whole number in )?([\[(])(\S+), (\S+)([\])])", line)
-        if m is None:
-            choice = re.fullmatch(r"(\S+)\s+(\S+)\s+one of (.+)", line)
-            if choice is not None:  # a parameter that names a choice: its default among them, another word refused
-                name, value, options = choice.groups()
-                assert value in options.split(", ")
-                with pytest.raises(ParamError):
-                    Params().override({name: value + "x"})
-                continue
-            assert "numbers" in line, line  # the list-valued ones
+    checked = switches = 0
+    lines = r.output.splitlines()
+    assert re.fullmatch(r"name\s+value\s+unit\s+range\s+description", lines[0])
+    from navcli.plugins import GROUPS, installed
+    from navcli.plugins.registry import with_params
+
+    plugins = [c for kind in GROUPS for c in installed(kind) if not isinstance(c, tuple)]
+    known = with_params(Params(), plugins)  # navcli's parameters, and any installed plugin's
+    assert len(lines) - 1 == len(known.flat())
+    for line in lines[1:]:
+        name, value, unit, rng, description = re.split(r"\s{2,}", line.strip(), maxsplit=4)
+        assert unit and len(description) > 10, line
+        if rng == "true or false":
+            switches += 1
+            assert known.override({name: value == "false"}).flat()[name] is (value == "false")
+            with pytest.raises(ParamError):
+                known.override({name: 0.5})
             continue
-        name, value, lo_open, lo, hi, hi_open = m.groups()
+        if rng.startswith("one of "):  # a parameter that names a choice: its default among them, another word refused
+            assert value in rng.removeprefix("one of ").split(", ")
+            with pytest.raises(ParamError):
+                known.override({name: value + "x"})
+            continue
+        m = re.fullmatch(r"(?:whole number in )?([\[(])(\S+), (\S+)([\])])", rng)
+        if m is None:
+            assert "numbers" in rng, line  # the list-valued ones
+            continue
+        lo_open, lo, hi, hi_open = m.groups()
         assert float(lo) <= float(value) <= float(hi)
         for bound, closed, step in ((lo, lo_open == "[", -1), (hi, hi_open == "]", +1)):
             b = float(bound)
@@ -207,9 +222,10 @@ def test_params_shows_each_range_as_the_overrides_enforce_it():
                 continue
             past = b + step * max(1e-6, abs(b) * 1e-6)
             with pytest.raises(ParamError):
-                Params().override({name: past})
+                known.override({name: past})
             if not closed:
                 with pytest.raises(ParamError):
-                    Params().override({name: b})
+                    known.override({name: b})
             checked += 1
+    assert switches >= 15
     assert checked > 50

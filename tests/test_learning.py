@@ -239,13 +239,14 @@ def test_the_hand_coded_policy_follows_section_6(intervals, action):
 
 # -- the run option, the mission, the model file, the environment
 def test_run_spec_carries_the_navigation_choice(make_scenario):
-    from navcli.config import ConfigError, RunSpec
+    from navcli import NavcliError
+    from navcli.config import RunSpec
 
     sc = make_scenario()
     a, h = RunSpec.build(sc), RunSpec.build(sc, navigation="hand-coded")
     assert a.navigation == "agents" and a.to_json()["navigation"] == "agents" and a.run_id != h.run_id
     assert RunSpec.from_json(h.to_json(), sc.text) == h and h.metadata()["navigation"] == "hand-coded"
-    with pytest.raises(ConfigError, match="unknown navigation"):
+    with pytest.raises(NavcliError, match="unknown navigation policy 'hand-coded:x'"):
         RunSpec.build(sc, navigation="hand-coded:x")
 
 

@@ -12,44 +12,11 @@ from mcap.reader import make_reader
 
 from conftest import SCENARIOS, scenario_dict
 from navcli.config import RunSpec
-from navcli.log.format import MESSAGES, json_schema
+from navcli.log.format import MESSAGES
+from navcli.log.format import viewer_problems as foxglove_problems
+from navcli.log.writer import log_schema as json_schema
 from navcli.runner import run_mission
 from navcli.scenario import load_scenario
-
-
-def foxglove_problems(schema: dict, path: str = "") -> list[str]:
-    """The rules of Foxglove's ``parseJsonSchema`` (mcap-support): the root and every nested
-    object has ``"type": "object"`` and a ``properties`` object; each property has one ``type``
-    among boolean, number, integer, string (base64 contentEncoding only), object, array (of
-    those) or a ``oneOf`` of number constants. Anything else makes the viewer refuse the topic."""
-    if not isinstance(schema, dict) or schema.get("type") != "object":
-        return [f"{path or 'root'}: not \"type\": \"object\""]
-    if not isinstance(schema.get("properties"), dict):
-        return [f"{path or 'root'}: object without properties"]
-    out = []
-    for name, f in schema["properties"].items():
-        at = f"{path}.{name}" if path else name
-        if "oneOf" in f:
-            if not all(isinstance(a.get("const"), (int, float)) for a in f["oneOf"]):
-                out.append(f"{at}: oneOf alternatives must be number constants")
-            continue
-        kind = f.get("type")
-        if kind in ("boolean", "number", "integer"):
-            continue
-        if kind == "string":
-            if f.get("contentEncoding", "base64") != "base64":
-                out.append(f"{at}: unsupported contentEncoding")
-        elif kind == "object":
-            out += foxglove_problems(f, at)
-        elif kind == "array":
-            item = f.get("items", {})
-            if item.get("type") == "object":
-                out += foxglove_problems(item, at)
-            elif item.get("type") not in ("boolean", "number", "integer", "string"):
-                out.append(f"{at}: unsupported array item type {item.get('type')!r}")
-        else:
-            out.append(f"{at}: unsupported type {kind!r}")
-    return out
 
 
 def test_the_checker_refuses_what_foxglove_refuses():

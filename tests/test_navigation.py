@@ -6,7 +6,6 @@ from __future__ import annotations
 import itertools
 import math
 from dataclasses import replace
-import re
 
 import numpy as np
 import pytest
@@ -306,7 +305,7 @@ def test_bumped_out_of_a_diverting_target_the_robot_drives_out_before_the_map_is
     out = r.decide(situation(time=t + 60.0), ask)  # no progress for a window: blocked, a diverting target
     assert out.diverting is not None and failed == [None]
     t += 60.0
-    for k in range(NAVIGATION.blocked_bumps):
+    for _ in range(NAVIGATION.blocked_bumps):
         t += 1.0
         out = r.decide(situation(time=t, bumps=(Bump(t, "landmark A", (0.3, 0.0), 0.0),)), ask)
     assert failed == [None] and r.failures == 1  # the map is not asked from where the robot is caught
@@ -601,7 +600,7 @@ def test_a_target_no_scan_finds_sends_the_robot_the_maps_way_and_counts_no_failu
             t += 0.1
             theta = r._turn_to or 0.0  # the robot has made the last turn asked for
             out = r.decide(situation(time=t, I_a=0.9, looked=looked, odometry=Pose(0.0, 0.0, theta)),
-                           lambda f: asked.append(f) or answer)
+                           lambda f, asked=asked, answer=answer: asked.append(f) or answer)
             scans += sum("still lost after a scan" in m for _, m in out.events)
             looked = next((b.action for b in out.bids if b.resource == "camera"), None)
             assert out.give_up is None

@@ -5,8 +5,6 @@ backup) lasts as long as the robot takes to cover its distance, so a robot at 0.
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 import pytest
 
@@ -15,7 +13,7 @@ from navcli.config import RunSpec
 from navcli.mission import Mission
 from navcli.navigation.regions import Crossing
 from navcli.navigation.rescuer import Rescuer
-from navcli.params import CONTROL_DT, NAVIGATION, PILOT, ROBOT, RobotParams
+from navcli.params import CONTROL_DT, NAVIGATION, PILOT, RobotParams
 from navcli.pilot.base import Pilot
 from test_navigation import _sweep, situation
 from test_pilots import beliefs
@@ -63,7 +61,7 @@ def test_the_diverting_timeout_is_a_distance(speed):
     fails once the robot could have driven diverting_timeout_m at full speed."""
     robot = RobotParams(max_speed=speed)
     r = Rescuer(NAVIGATION, np.random.default_rng(0), robot)
-    t = t0 = _sweep(r)
+    t = _sweep(r)
     crossing = Crossing("L", "R", (30.0, 1.0), (30.0, -1.0), 3.0)
     asked = []
 

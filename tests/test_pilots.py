@@ -300,11 +300,11 @@ def test_geometric_pilot_keeps_its_side_over_a_gap_in_the_memory_until_clear_for
     assert tick([left_piece]).info["side"] == "right"
     memory = PILOT.geometric_side_memory
     steps = 4
-    for i in range(steps):  # clear, for less than the memory's distance
+    for _ in range(steps):  # clear, for less than the memory's distance
         x += 0.99 * memory / steps
         assert tick([]).move is None
     assert tick([right_piece]).info["side"] == "right"  # kept: the clear stretch was too short
-    for i in range(steps + 1):  # clear for more than the memory's distance
+    for _ in range(steps + 1):  # clear for more than the memory's distance
         x += memory / steps
         tick([])
     assert tick([right_piece]).info["side"] == "left"  # forgotten: chosen afresh, the nearer side

@@ -86,6 +86,7 @@ def test_unknown_baseline_unreadable_log_and_one_pilot_are_said(three_pairs, tmp
     (tmp_path / "runs" / "broken.mcap").write_bytes(b"not an mcap")
     r = report(tmp_path / "runs", "--out", tmp_path / "rep", "--baseline", "geometrc")
     assert r.exit_code == 2 and "'geometrc' is not a pilot" in r.output and not (tmp_path / "rep").exists()
+    assert "none of these runs' (potential-field)" in r.output
     r = report(tmp_path / "runs", "--out", tmp_path / "rep", "--baseline", "geometric")
     assert r.exit_code == 0, r.output
     assert f"skipped {tmp_path / 'runs' / 'broken.mcap'}: not a readable MCAP log" in r.output

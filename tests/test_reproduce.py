@@ -12,6 +12,7 @@ from pathlib import Path
 import pytest
 from typer.testing import CliRunner
 
+from conftest import ROOT
 from navcli.analysis import read_log
 from navcli.analysis.files import MARK
 from navcli.cli import app
@@ -19,13 +20,26 @@ from navcli.experiments.reproduce import QUICK, reproduce
 
 TINY = replace(QUICK, reruns=2, sensitivity_seeds=2, trap_seeds=1, trap_rooms=("blocked-wall",), policy_runs=2,
                policy_starts=3, train_trials=4, eval_every=2, eval_starts=3)
+VFH = "vfh_pilot:VFHPilot"
+"""The example plugin (examples/vfh-pilot), beside the paper's two pilots, as reproduce --pilot runs it."""
+PILOTS = ("geometric", "potential-field", VFH)
+
+
+def _reproduce(out: Path) -> str:
+    """``navcli reproduce all --pilot vfh_pilot:VFHPilot`` on TINY settings: the report's Markdown."""
+    import sys
+
+    sys.path.insert(0, str(ROOT / "examples" / "vfh-pilot"))  # the plugin's folder, as if installed
+    try:
+        return reproduce("all", out, settings=TINY, jobs=2, echo=lambda s: None, pilots=(VFH,))["markdown"].read_text()
+    finally:
+        sys.path.remove(str(ROOT / "examples" / "vfh-pilot"))
 
 
 @pytest.fixture(scope="module")
 def done(tmp_path_factory) -> tuple[Path, str]:
     out = tmp_path_factory.mktemp("rp")
-    files = reproduce("all", out, settings=TINY, jobs=2, echo=lambda s: None)
-    return out, files["markdown"].read_text()
+    return out, _reproduce(out)
 
 
 def _rows(md: str, heading: str) -> list[list[str]]:
@@ -46,9 +60,9 @@ def test_the_pilots_table_is_the_mean_of_the_logs_it_names(done):
     for perception in ("vision", "oracle"):
         with (out / "table1" / perception / "runs.csv").open() as f:
             logs = [r["log"] for r in csv.DictReader(f)]
-        assert len(logs) == 2 * TINY.reruns
+        assert len(logs) == len(PILOTS) * TINY.reruns
         summaries = [read_log(p, topics=[]).summary for p in logs]
-        for pilot in ("geometric", "potential-field"):
+        for pilot in PILOTS:
             mine = [s for s in summaries if s["pilot"] == pilot]
             reached = [s for s in mine if s["outcome"] == "reached"]
             time_row = next(r for r in rows if r[:3] == [perception, pilot, "time_s"])
@@ -64,7 +78,7 @@ def test_the_trap_table_counts_the_logs_outcomes_and_diverting_targets(done):
     rows = _rows(md, "Trap rooms")
     with (out / "traps" / "runs.csv").open() as f:
         summaries = [read_log(r["log"], topics=[]).summary for r in csv.DictReader(f)]
-    for pilot in ("potential-field", "geometric"):
+    for pilot in PILOTS:
         mine = [s for s in summaries if s["pilot"] == pilot]
         got = {r[1]: r[3].split(" ")[0] for r in rows if r[0] == pilot}
         assert got["reached"] == f"{sum(s['outcome'] == 'reached' for s in mine)}/{len(mine)}"
@@ -102,7 +116,7 @@ def test_a_second_run_resumes_what_the_first_left(done):
     out, md = done
     kept = [p for p in out.rglob("*") if p.suffix in (".mcap", ".npz") or p.parent.name == "runs"]
     before = {p: p.stat().st_mtime_ns for p in kept}
-    again = reproduce("all", out, settings=TINY, jobs=2, echo=lambda s: None)["markdown"].read_text()
+    again = _reproduce(out)
     assert len(kept) > 10 and {p: p.stat().st_mtime_ns for p in kept} == before
     assert _rows(again, "Pilot paper, Table 1:") == _rows(md, "Pilot paper, Table 1:")
 
@@ -122,3 +136,14 @@ def test_the_reports_own_files_are_recognised_so_the_command_can_run_again(done)
     assert navcli_wrote(out / "table1" / "conditions.json")
     (out / "mine.html").write_text("<html>mine</html>")
     assert not navcli_wrote(out / "mine.html")
+
+
+def test_a_users_pilot_runs_beside_the_papers_two_without_the_papers_numbers(done):
+    _, md = done
+    rows = _rows(md, "Pilot paper, Table 1:")
+    mine = [r for r in rows if r[1] == VFH]
+    assert len(mine) == 4 and all(r[3] == "-" and r[6] == "" for r in mine)  # no paper number, no verdict
+    gains = [r for r in rows if r[1] == f"{VFH} gain %"]
+    assert [r[0] for r in gains] == ["vision", "vision", "oracle", "oracle"] and all(r[3] == "-" for r in gains)
+    r = CliRunner().invoke(app, ["reproduce", "pilots", "--pilot", "geometric"])
+    assert r.exit_code == 2 and "one of the paper's two pilots" in r.output

@@ -39,7 +39,8 @@ REFUSED = {
     "bad name": scenario_dict(name="Paper 8x8"),
     "name with a newline": scenario_dict(name="r\n"),
     "two target forms": scenario_dict(target={"at": [5, 2], "line": [[3, 1], [3, 3]]}),
-    "unknown pilot": scenario_dict(mission={"pilot": "autopilot"}),
+    # any name may be an installed plugin's, so only what no name can be is the schema's to refuse
+    "a pilot no name can be": scenario_dict(mission={"pilot": "auto pilot!"}),
     "circle and segment in one item": scenario_dict(obstacles=[{"circle": {"center": [3, 3], "radius": 0.2},
                                                                 "segment": {"from": [1, 1], "to": [2, 2]}}]),
 }
@@ -58,9 +59,58 @@ def test_the_schema_and_the_loader_share_their_ranges():
     assert speed["maximum"] == 2.0 and speed["exclusiveMinimum"] == 0.0
 
 
-def test_the_documented_ranges_are_the_loaders():
-    rows = [ln.split("|")[1:5] for ln in (ROOT / "docs" / "scenario-format.md").read_text().splitlines()
-            if ln.startswith("| `") and "≤" in ln]
-    documented = {f.strip().strip("`"): (lo.strip(), hi.strip(), unit.strip()) for f, lo, hi, unit in rows}
-    assert documented == {k: (("> " if r.lo_open else "≥ ") + f"{r.lo:g}", f"≤ {r.hi:d}" if isinstance(r.hi, int)
-                              else f"≤ {r.hi:g}", r.unit or "-") for k, r in RANGES.items()}
+def test_the_documented_fields_are_the_loaders():
+    """docs/scenario-format.md holds the table made from the fields' declaration, and that table
+    says each range as the loader checks it (RANGES, which the loader's Reader.number uses)."""
+    from navcli.scenario.schema import reference_table
+
+    table = reference_table()
+    assert table in (ROOT / "docs" / "scenario-format.md").read_text(), "refresh it: navcli schema --markdown"
+    rows = [ln.split("|")[1:7] for ln in table.splitlines() if ln.startswith("| `") and "≤" in ln]
+    documented = {f.strip().strip("`"): (lo.strip(), hi.strip(), unit.strip()) for f, _, _, lo, hi, unit in rows}
+    assert documented == {k.removeprefix("scenario."): (("> " if r.lo_open else "≥ ") + f"{r.lo:g}",
+                                                         f"≤ {r.hi:d}" if isinstance(r.hi, int) else f"≤ {r.hi:g}",
+                                                         r.unit or "-") for k, r in RANGES.items()}
+
+
+def test_every_field_the_loader_takes_is_declared_and_in_the_schema(tmp_path):
+    """A field's name is written once: an undeclared key is refused by the loader, and the schema's
+    properties are the declaration's, block by block."""
+    from navcli.scenario.model import FIELDS
+
+    schema = json_schema()
+    assert set(schema["properties"]) == set(FIELDS["scenario"])
+    for block in ("arena", "robot", "target", "mission", "noise", "camera", "pilot"):
+        assert set(schema["properties"][block]["properties"]) == set(FIELDS[block]), block
+        assert schema["properties"][block]["required"] == [k for k, f in FIELDS[block].items() if f.required]
+    items = schema["properties"]["obstacles"]["items"]["oneOf"]
+    assert [set(i["properties"][k]["properties"]) for i, k in zip(items, ("circle", "segment"))] == \
+        [set(FIELDS["circle"]), set(FIELDS["segment"])]
+    for block, fields in FIELDS.items():
+        for key, f in fields.items():
+            if f.default is not None and f.kind not in ("block", "list", "param") and block in schema["properties"]:
+                assert schema["properties"][block]["properties"][key]["default"] == f.default, (block, key)
+
+
+def test_the_documented_example_loads_and_shows_every_field():
+    """docs/scenario-format.md's annotated example is a scenario the loader takes, and it writes
+    every declared field (the target's other forms in comments): the docs cannot show a field that
+    is not there, nor leave one out."""
+    import re
+
+    import yaml
+
+    from navcli.scenario.model import FIELDS
+
+    text = (ROOT / "docs" / "scenario-format.md").read_text()
+    example = re.search(r"## Fields\n\n```yaml\n(.*?)```", text, re.S).group(1)
+    parse_scenario(example, "docs/scenario-format.md")
+    data = yaml.safe_load(example)
+    uncommented = yaml.safe_load(re.sub(r"^(\s*)# (landmark|line):", r"\1\2:", example, flags=re.M))
+    assert set(data) == set(FIELDS["scenario"])
+    for block in ("arena", "robot", "mission", "noise", "camera", "pilot"):
+        assert set(data[block]) == set(FIELDS[block]), block
+    assert set(uncommented["target"]) == set(FIELDS["target"])
+    kinds = {k: v for o in data["obstacles"] for k, v in o.items()}
+    assert set(kinds["circle"]) == set(FIELDS["circle"]) and set(kinds["segment"]) == set(FIELDS["segment"])
+    assert set(data["landmarks"][0]) == set(FIELDS["landmark"])

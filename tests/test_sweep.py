@@ -91,7 +91,8 @@ def test_a_plan_of_points_gives_each_point_whole_with_the_defaults_filling_in(tm
     ("seeds: 1\nrandom: {samples: 2, ranges: {pilot.K: [3, 2]}}\n", ":4: random.ranges.pilot.K", "low 3 is above high 2"),
     ("seeds: two\n", ":3: seeds", "expected a whole number"),
     ("seeds: 1\nseed: 3\n", ":4: seed", "unknown field 'seed'"),
-    ("seeds: 1\npilots: [potential-field, wall-follower]\n", ":4: pilots[1]", "expected one of: potential-field, geometric"),
+    ("seeds: 1\npilots: [potential-field, wall-follower]\n", ":4: pilots[1]",
+         "unknown pilot 'wall-follower': not one of navcli's (potential-field, geometric), not an entry point navcli.pilots"),
     ("seeds: 1\ngrid: {pilot.K: [1, 2}\n", ":4", "not valid YAML"),
 ])
 def test_bad_plans_are_refused_with_file_line_and_field(tmp_path, body, where, message):
@@ -270,7 +271,7 @@ def test_a_list_valued_parameter_is_a_grid_axis_and_a_column(tmp_path):
 
 
 def test_param_takes_a_list(tmp_path):
-    from navcli.config import parse_override
+    from navcli.params import parse_override
     from navcli.params import ParamError
 
     assert parse_override("pilot.reflex_look_pans_deg=[]") == ("pilot.reflex_look_pans_deg", [])

@@ -63,7 +63,7 @@ def test_the_pan_takes_time_and_stops_at_its_limit(make_scenario):
     cam = camera(make_scenario, landmarks=[{"id": "A", "at": [1.0, 3.5]}])  # straight to the left
     spec = cam.spec
     t, images = 0.0, []
-    for k in range(40):  # the look is asked for until its image is taken
+    for _ in range(40):  # the look is asked for until its image is taken
         out = cam.step(t, ROBOT, Look(math.radians(90), "search") if not images else None, CONTROL_DT)
         if out is not None:
             images.append((t, out))

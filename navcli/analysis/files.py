@@ -26,6 +26,19 @@ def atomic(path: str | Path) -> Iterator[Path]:
             tmp.unlink()
 
 
+def file_name(label: str, empty: str = "run") -> str:
+    """``label`` (a pilot's or policy's name, which may be ``pkg.mod:Class`` or a path) as part of
+    a file name: every run of characters other than letters, digits, ``_``, ``.`` and ``-`` made one
+    ``_`` (``empty`` if nothing is left). navcli's own names pass unchanged.
+
+    >>> file_name("potential-field"), file_name("./my pilots/x.py:Pilot"), file_name("learned:m.npz")
+    ('potential-field', 'my_pilots_x.py_Pilot', 'learned_m.npz')
+    """
+    import re
+
+    return re.sub(r"[^A-Za-z0-9_.-]+", "_", label).strip("_.") or empty
+
+
 MARK = "<!-- written by navcli -->"
 """The first line of every Markdown file navcli writes (invisible when rendered): how a command
 knows a table of its own from a user's file of the same name, which it never replaces."""

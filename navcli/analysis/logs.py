@@ -77,7 +77,7 @@ def _yaw(q) -> float:
     return math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))
 
 
-def _flat(record: dict) -> dict[str, Any]:
+def flatten(record: dict) -> dict[str, Any]:
     """``pd.json_normalize(record).iloc[0].to_dict()`` without a frame per message (that was ~85 %
     of a read): the same dotted keys in the same order, the same values. Per record, not one
     ``json_normalize`` per topic, so columns, dtypes and the summary's types stay what they were."""
@@ -107,7 +107,7 @@ def _row(schema: str, encoding: str, data: bytes, decoded) -> dict[str, Any]:
         if not data:
             return {}
         record = json.loads(data)
-        return _flat(record) if isinstance(record, dict) else pd.json_normalize(record).iloc[0].to_dict()
+        return flatten(record) if isinstance(record, dict) else pd.json_normalize(record).iloc[0].to_dict()
     if schema == "foxglove.PoseInFrame":
         p = decoded.pose
         return {"x": p.position.x, "y": p.position.y, "theta": _yaw(p.orientation), "frame_id": decoded.frame_id}
@@ -166,11 +166,7 @@ def read_log(path: str | Path, topics: Iterable[str] | None = None) -> RunLog:
         raise LogError(f"{path}: no such file") from None
     except Exception as e:  # the mcap reader raises many kinds on a damaged file
         raise LogError(f"{path}: not a readable MCAP log ({type(e).__name__}: {e})") from None
-    frames = {}
-    for topic, rs in rows.items():
-        df = pd.DataFrame(rs).sort_values("log_time_ns", kind="stable").reset_index(drop=True)
-        df["time_s"] = df["log_time_ns"] / 1e9
-        frames[topic] = df
+    frames = topic_frames(rows)
     summary_rows = rows.get(SUMMARY_TOPIC, [])
     summary = {k: v for k, v in summary_rows[-1].items() if k != "log_time_ns"} if summary_rows else {}
     for k in SUMMARY_NUMBERS:
@@ -178,6 +174,18 @@ def read_log(path: str | Path, topics: Iterable[str] | None = None) -> RunLog:
         if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
             raise LogError(f"{path}: its summary's {k} is {v!r}, not a finite number (a damaged or foreign log)")
     return RunLog(path, frames, summary, metadata, attachments)
+
+
+def topic_frames(rows: dict[str, list[dict]]) -> dict[str, pd.DataFrame]:
+    """One DataFrame per topic from its rows (each with ``log_time_ns``), in log-time order, with
+    ``time_s``: how :func:`read_log` builds them, and a run kept in memory too
+    (:mod:`navcli.log.frames`)."""
+    frames = {}
+    for topic, rs in rows.items():
+        df = pd.DataFrame(rs).sort_values("log_time_ns", kind="stable").reset_index(drop=True)
+        df["time_s"] = df["log_time_ns"] / 1e9
+        frames[topic] = df
+    return frames
 
 
 def _decoded(reader, topics):

@@ -11,6 +11,7 @@ how far the map had drifted. Reads logs only; never imports the simulator.
 from __future__ import annotations
 
 import math
+from collections import deque
 from pathlib import Path
 
 from ..log.format import MAP_SCENE_TOPIC, POSE_TOPIC
@@ -22,9 +23,7 @@ LOOP, LIST = 1, 2  # foxglove.LinePrimitive's types (0 is a strip)
 
 def last_map(path: Path):
     """(log time ns, decoded SceneUpdate) of the last ``/map/scene`` message (only it decoded), or None."""
-    last = None
-    for last in scene_messages(path, MAP_SCENE_TOPIC, decode=False):
-        pass
+    last = next(iter(deque(scene_messages(path, MAP_SCENE_TOPIC, decode=False), maxlen=1)), None)
     if last is None:
         return None
     ns, (decode, data) = last

@@ -11,7 +11,7 @@ from pathlib import Path
 import pandas as pd
 
 from ..log.format import POSE_TOPIC
-from .files import atomic
+from .files import atomic, file_name
 from .logs import read_log
 
 
@@ -88,7 +88,7 @@ def comparison_plots(runs: pd.DataFrame, out: Path) -> dict[str, Path]:
             failed = int((~gp["reached"]).sum())
             ax.set_title(f"{scenario} ({perception}): {pilot}, {int(gp['reached'].sum())}/{len(gp)} reached"
                          + (f"\n{failed} failed: orange, x where they stopped" if failed else ""))
-            files[f"trajectories-{tag}-{pilot}"] = save_figure(fig, out / f"trajectories-{tag}-{pilot}.png")
+            files[f"trajectories-{tag}-{pilot}"] = save_figure(fig, out / f"trajectories-{tag}-{file_name(pilot)}.png")
         ok = g[g["reached"]]
         pilots = sorted(g["pilot"].unique())
         labels = [f"{p}\n({int((~g.loc[g['pilot'] == p, 'reached']).sum())} failed, not shown)" for p in pilots]

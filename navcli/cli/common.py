@@ -19,7 +19,7 @@ from typing import TYPE_CHECKING, Annotated, Any, Iterator, Optional
 import typer
 
 from .. import NavcliError
-from ..params import PERCEPTIONS, PILOT_NAMES
+from ..params import PERCEPTIONS
 from .errors import about
 
 if TYPE_CHECKING:
@@ -36,7 +36,6 @@ app = typer.Typer(
 plot_app = typer.Typer(help="Figures of the pilot paper for a scenario, as PNG files.", no_args_is_help=True)
 compare_app = typer.Typer(help="Rerun missions with many seeds and compare, from the logs.", no_args_is_help=True)
 
-PilotName = Enum("PilotName", {n.replace("-", "_"): n for n in PILOT_NAMES}, type=str)  # type: ignore[misc]
 PerceptionName = Enum("PerceptionName", {n: n for n in PERCEPTIONS}, type=str)  # type: ignore[misc]
 
 MAX_SEED = 2 ** 64 - 1
@@ -53,6 +52,14 @@ def finite(value: Optional[float]) -> Optional[float]:
     return value
 
 
+PILOT_HELP = ("potential-field, geometric, an installed plugin's name (entry point navcli.pilots) or module:Class "
+              "(a module importable here, or path/to/file.py:Class)")
+PilotOption = Annotated[Optional[str], typer.Option(metavar="NAME", help=f"Pilot: {PILOT_HELP} (default: the scenario's "
+                                                                          "mission.pilot).")]
+NAVIGATION_HELP = ("who chooses the Navigation system's moves and looks: agents (its bidding agents), hand-coded "
+                   "(the learning paper's hand-coded policy), learned[:FILE] (the Learning Agent; without FILE the "
+                   "model bundled with navcli), a policy plugin's name (entry point navcli.policies) or module:Class, "
+                   "or agents+NAME: a plugin's agent bidding beside the bidding agents")
 ParamOption = Annotated[Optional[list[str]], typer.Option(
     "--param", metavar="NAME=VALUE",
     help="Override any parameter by its dotted name (pilot.K, pilot.R_min, navigation.kappa1, robot.max_speed, "
@@ -89,10 +96,10 @@ def load(path: Path) -> Scenario:
 
 def build_spec(path: Path, params: list[str] | None = None, **choices: Any) -> RunSpec:
     """The run configuration of a scenario file with the command line's choices (``seed``,
-    ``pilot``, ``perception``, ``time_limit``; None keeps the scenario's) and ``--param`` overrides."""
+    ``pilot``, ``perception``, ``time_limit``, ``navigation``; None keeps the scenario's; ``also``,
+    other pilots whose parameters ``--param`` may set) and ``--param`` overrides."""
     from ..config import RunSpec
-    from ..config import parse_override
-    from ..params import ParamError
+    from ..params import ParamError, parse_override
 
     sc = load(path)
     with about("--param", ParamError):
@@ -106,18 +113,16 @@ def build_spec(path: Path, params: list[str] | None = None, **choices: Any) -> R
 
 
 def check_model(navigation: str) -> None:
-    """Refuse a ``learned:FILE`` that is not a usable model."""
-    mode, sep, file = navigation.partition(":")
-    if mode != "learned":
-        return
-    if sep and not file.strip():
-        from ..config import ConfigError
+    """Refuse a ``learned:FILE`` that is not a usable model (the registry has refused an unknown
+    name already)."""
+    from ..plugins import navigation as policies
 
-        raise ConfigError("--navigation learned: names no model file (learned:FILE, or plain learned for the bundled one)")
-    from ..learning.model_file import load_policy
+    for c in policies(navigation):
+        if c.builtin and c.name.startswith("learned"):
+            from ..learning.model_file import load_policy
 
-    with about("--navigation"):
-        load_policy(Path(file) if file else None)
+            with about("--navigation"):
+                load_policy(Path(c.argument) if c.argument else None)
 
 
 def out_file(path: Path, suffixes: tuple[str, ...], what: str, option: str = "--out") -> Path:

@@ -5,7 +5,8 @@ code  meaning
 ====  =========================================================================================
 0     success (``run``: the mission reached its target)
 1     an internal error (a bug, said so in one line; ``NAVCLI_DEBUG=1`` shows its traceback), or
-      some runs of a batch raised one (the rest are kept)
+      some runs of a batch raised one (the rest are kept), or a plugin failed (said as that
+      plugin's, with its name: :class:`~navcli.plugins.PluginError`)
 2     bad input: a :class:`~navcli.NavcliError` (a refused scenario, plan, model, log, option or
       output path), or a Dask scheduler that cannot be reached
 3     ``run``: the mission ended without reaching its target (timeout, blocked)
@@ -83,6 +84,10 @@ def guarded(fn: Callable[..., Any]) -> Callable[..., Any]:
         try:
             return fn(*args, **kwargs)
         except NavcliError as e:
+            if os.environ.get("NAVCLI_DEBUG") and e.__cause__ is not None:  # a plugin's failure: its traceback
+                import traceback
+
+                traceback.print_exception(e.__cause__)
             say(describe(e))
             raise typer.Exit(e.exit_code) from None
         except KeyboardInterrupt as e:

@@ -11,9 +11,9 @@ from typing import Annotated, Optional
 import typer
 
 from ..analysis.files import without_mark
-from ..params import PILOT_NAMES
-from .common import (MAX_JOBS, MAX_SEED, JobsOption, ParamOption, PerceptionName, SchedulerOption, app, build_spec,
-                     choice, compare_app, executor_for, finite, out_file, out_folder, progress_bar, require_extra)
+from .common import (MAX_JOBS, MAX_SEED, JobsOption, ParamOption, PerceptionName, PilotOption, SchedulerOption, app,
+                     build_spec, choice, compare_app, executor_for, finite, out_file, out_folder, progress_bar,
+                     require_extra)
 from .errors import EXIT_INTERNAL, about, on_stop, refuse, say
 from .views import write_tables
 
@@ -24,7 +24,8 @@ app.add_typer(compare_app, name="compare")
 def compare_pilots(
     scenarios: Annotated[list[Path], typer.Argument(metavar="SCENARIOS", help="Scenario YAML files.")],
     reruns: Annotated[int, typer.Option(min=1, max=10_000, help="Reruns per scenario and pilot (the paper: 45).")] = 45,
-    pilots: Annotated[str, typer.Option(help="Comma-separated pilots; the last is the baseline.")] =
+    pilots: Annotated[str, typer.Option(help="Comma-separated pilots, the last the baseline: navcli's (potential-field, "
+                                             "geometric), installed plugins' names, or module:Class.")] =
         "potential-field,geometric",
     jobs: Annotated[Optional[int], typer.Option(min=1, max=MAX_JOBS, help="Worker processes (default: the machine's cores).")] = None,
     out: Annotated[Path, typer.Option(help="Folder for the logs, the table and the plots.")] = Path("logs/compare"),
@@ -37,13 +38,16 @@ def compare_pilots(
     """The pilot paper's Table 1: every pilot on every scenario with the same seeds, in parallel;
     logs that are already complete are kept (an interrupted comparison resumes)."""
     names = [p.strip() for p in pilots.split(",") if p.strip()]
-    bad = [p for p in names if p not in PILOT_NAMES]
-    if bad or not names:
-        raise refuse(f"--pilots: unknown pilot(s) {', '.join(bad) or '(none given)'} "
-                     f"(expected some of: {', '.join(PILOT_NAMES)})")
+    if not names:
+        raise refuse("--pilots: no pilot given")
     if len(set(names)) < len(names):
         raise refuse(f"--pilots: a pilot is named twice ({pilots}): each would be the same runs")
-    specs = [build_spec(p, param, time_limit=time_limit, perception=choice(perception)) for p in scenarios]
+    from ..plugins import pilot as find_pilot
+
+    with about("--pilots"):
+        for name in names:
+            find_pilot(name)
+    specs = [build_spec(p, param, time_limit=time_limit, perception=choice(perception), also=names) for p in scenarios]
     first: dict[str, Path] = {}
     for path, spec in zip(scenarios, specs):
         if spec.run_id in first:
@@ -90,8 +94,9 @@ def compare_policies(
     scenario: Annotated[Path, typer.Argument(metavar="SCENARIO", help="Scenario YAML file (the paper's setting: scenarios/landmarks-12.yaml).")],
     policy: Annotated[Optional[list[str]], typer.Option(
         "--policy", metavar="POLICY", help="learned (the bundled model), learned:FILE (a model of `navcli train`, Prioritized Sweeping "
-                         "or Q-learning), hand-coded, agents, or a baseline of one action in every state (all-MB, all-MLL, all-MOT, "
-                         "all-MVL, all-MVT); repeatable (default: learned, hand-coded, agents). Every policy runs the "
+                         "or Q-learning), hand-coded, agents, a baseline of one action in every state (all-MB, all-MLL, all-MOT, "
+                         "all-MVL, all-MVT), or a Navigation policy plugin (its name, module:Class, or agents+NAME: run as "
+                         "agents is); repeatable (default: learned, hand-coded, agents). Every policy runs the "
                          "learning paper's task (learning.paper_task=0: navcli's first one).")] = None,
     runs: Annotated[int, typer.Option(min=1, max=1000, help="Runs (seeds of the missions' noise) per policy.")] = 5,
     starts: Annotated[int, typer.Option(min=1, max=10_000, help="Fixed random starts per run, those `navcli train` evaluates on "
@@ -206,6 +211,7 @@ def tune(
     scheduler: SchedulerOption = None,
     time_limit: Annotated[Optional[float], typer.Option(min=0.1, callback=finite, help="Override the scenarios' time limit (s).")] = None,
     perception: Annotated[Optional[PerceptionName], typer.Option(help="vision or oracle for every run.")] = None,
+    pilot: PilotOption = None,
     seed: Annotated[int, typer.Option(min=0, max=MAX_SEED, help="Seed of the optimiser (not of the runs).")] = 1,
     population: Annotated[int, typer.Option(min=2, max=10_000, help="GA: individuals per generation.")] = 20,
     generations: Annotated[int, typer.Option(min=1, max=100_000, help="GA: generations.")] = 100,
@@ -219,8 +225,9 @@ def tune(
     for name, value, allowed in (("--algorithm", algorithm, ALGORITHMS), ("--objective", objective, OBJECTIVES)):
         if value not in allowed:
             raise refuse(f"{name}: {value!r} is not one of {', '.join(allowed)}")
+    probe = build_spec(scenarios[0], None, pilot=pilot).params  # navcli's parameters and the pilot's own
     with about("--param"):
-        parsed = [parse_range(p) for p in param]
+        parsed = [parse_range(p, probe) for p in param]
     names = [p[0] for p in parsed]
     if len(set(names)) < len(names):
         raise refuse(f"--param: {', '.join(sorted({n for n in names if names.count(n) > 1}))} given twice")
@@ -228,7 +235,8 @@ def tune(
     if not tuned:
         raise refuse("--param: name at least one parameter to tune, as NAME=LOW:HIGH or NAME")
     fixed = [f"{p[0]}={p[1]}" for p in parsed if len(p) == 2]
-    bases = tuple(build_spec(s, fixed, time_limit=time_limit, perception=choice(perception)) for s in scenarios)
+    bases = tuple(build_spec(s, fixed, time_limit=time_limit, perception=choice(perception), pilot=pilot)
+                  for s in scenarios)
     problem = TuneProblem(bases, tuple(p[0] for p in tuned), tuple(p[1] for p in tuned),
                           tuple(p[2] for p in tuned), seeds, objective)
     require_extra("deap" if algorithm == "ga" else "optuna", "navcli tune")
@@ -276,6 +284,9 @@ def reproduce(
         Path("logs/reproduce"),
     jobs: JobsOption = None,
     scheduler: SchedulerOption = None,
+    pilot: Annotated[Optional[list[str]], typer.Option(
+        "--pilot", metavar="NAME", help="Also run this pilot (an installed plugin's name, or module:Class) beside the "
+                                        "paper's two in Table 1 and the trap rooms; repeatable.")] = None,
 ) -> None:
     """Both papers' experiments under their conditions, and a report of navcli's numbers with 95 %
     intervals beside the papers', saying what agrees (the pilot paper's Table 1 with both
@@ -285,10 +296,18 @@ def reproduce(
 
     if which not in (*SECTIONS, "all"):
         raise refuse(f"{which!r}: expected pilots, learning or all")
+    from ..config import ConfigError
+    from ..plugins import pilot as find_pilot
+
+    extra = list(dict.fromkeys(pilot or []))
+    with about("--pilot"):
+        for name in extra:
+            if find_pilot(name).builtin:
+                raise ConfigError(f"{name} is one of the paper's two pilots, which reproduce runs anyway")
     out_folder(out, ("report.md", "report.html"))
     t0 = time.perf_counter()
     with on_stop(f"what finished is kept in {out}; run the same command again to go on"):
         files = run_all_sections(which, out, settings=QUICK if quick else FULL, jobs=jobs or os.cpu_count() or 1,
-                                 scheduler=scheduler, echo=say)
+                                 scheduler=scheduler, echo=say, pilots=tuple(extra))
     typer.echo(without_mark(files["markdown"].read_text()))
     typer.echo(f"wrote {files['markdown']} and {files['html']} in {time.perf_counter() - t0:.0f} s")

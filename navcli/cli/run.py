@@ -7,7 +7,8 @@ from typing import Annotated, Optional
 
 import typer
 
-from .common import MAX_SEED, ParamOption, PerceptionName, PilotName, app, build_spec, check_model, choice, finite
+from .common import (MAX_SEED, NAVIGATION_HELP, ParamOption, PerceptionName, PilotOption, app, build_spec, check_model,
+                     choice, finite)
 from .errors import EXIT_BAD_INPUT, EXIT_FAILED_MISSION, about, refuse, say
 
 
@@ -15,7 +16,7 @@ from .errors import EXIT_BAD_INPUT, EXIT_FAILED_MISSION, about, refuse, say
 def run(
     scenario: Annotated[Path, typer.Argument(metavar="SCENARIO", help="Scenario YAML file (see scenarios/).")],
     seed: Annotated[Optional[int], typer.Option(min=0, max=MAX_SEED, help="Random seed (default: the scenario's mission.seed).")] = None,
-    pilot: Annotated[Optional[PilotName], typer.Option(help="Pilot (default: the scenario's mission.pilot).")] = None,
+    pilot: PilotOption = None,
     out: Annotated[Optional[Path], typer.Option(
         help="Log file (default: logs/<scenario>/<pilot>-seed<N>-<run id>.mcap, the run id a hash of the whole "
              "configuration). Missing folders are created.")] = None,
@@ -30,13 +31,10 @@ def run(
     perception: Annotated[Optional[PerceptionName], typer.Option(
         help="What the agents know: vision (camera and visual memory) or oracle (ground truth, to isolate the "
              "pilot). Default: the scenario's mission.perception, else vision.")] = None,
-    navigation: Annotated[str, typer.Option(
-        help="Who chooses the Navigation system's moves and looks: agents (its bidding agents), hand-coded "
-             "(the learning paper's hand-coded policy) or learned[:FILE] (the Learning Agent; without FILE "
-             "the model bundled with navcli).")] = "agents",
+    navigation: Annotated[str, typer.Option(metavar="POLICY", help=NAVIGATION_HELP[0].upper() + NAVIGATION_HELP[1:] + ".")] = "agents",
 ) -> None:
     """Run one mission, record it to an MCAP log and print how it ended."""
-    spec = build_spec(scenario, param, seed=seed, pilot=choice(pilot), time_limit=time_limit,
+    spec = build_spec(scenario, param, seed=seed, pilot=pilot, time_limit=time_limit,
                       perception=choice(perception), navigation=navigation)
     check_model(spec.navigation)
     import signal
@@ -132,7 +130,7 @@ def validate(files: Annotated[list[Path], typer.Argument(metavar="FILES", help="
 def bench(
     scenario: Annotated[Path, typer.Argument(metavar="SCENARIO", help="Scenario to time.")] = Path("scenarios/paper-8x8.yaml"),
     repeat: Annotated[int, typer.Option(min=1, max=1000, help="Runs per configuration; the median is reported.")] = 5,
-    pilot: Annotated[Optional[PilotName], typer.Option(help="Pilot (default: the scenario's).")] = None,
+    pilot: PilotOption = None,
     seed: Annotated[Optional[int], typer.Option(min=0, max=MAX_SEED)] = None,
     occlusion: Annotated[bool, typer.Option(help="Instead: time the pilot's occlusion test, loop vs numpy.")] = False,
     param: ParamOption = None,
@@ -148,7 +146,7 @@ def bench(
 
         occlusion_benchmark(echo=typer.echo)
         return
-    spec = build_spec(scenario, param, seed=seed, pilot=choice(pilot), perception=choice(perception))
+    spec = build_spec(scenario, param, seed=seed, pilot=pilot, perception=choice(perception))
     from ..experiments.bench import benchmark, long_run_benchmark, objects_benchmark
 
     if long:
@@ -184,49 +182,60 @@ def recover(
 def params(
     scenario: Annotated[Optional[Path], typer.Argument(metavar="SCENARIO", help="Show the values this scenario resolves to.")] = None,
     param: ParamOption = None,
+    pilot: PilotOption = None,
+    navigation: Annotated[Optional[str], typer.Option(metavar="POLICY", help="A Navigation policy whose parameters to "
+                                                                             "show too (a plugin's).")] = None,
+    markdown: Annotated[bool, typer.Option("--markdown", help="Print the reference table in Markdown (the docs' "
+                                                              "parameter reference).")] = False,
 ) -> None:
-    """List every parameter by its --param name, with its value and the range an override must lie in.
+    """List every parameter by its --param name, with its value, unit, the range an override must lie in,
+    and what it is: navcli's, and a plugin's own (NAME.x) for the pilot and policy chosen, or, without a
+    scenario or a choice, for every installed plugin.
 
     Without a scenario, the defaults; with one, its values after its blocks and any --param."""
-    import dataclasses
-
-    from ..config import parse_override
-    from ..params import Params
+    from ..params import Params, parse_override
+    from ..plugins import GROUPS, installed
+    from ..plugins import navigation as policies
+    from ..plugins import pilot as find_pilot
+    from ..plugins.registry import with_params
 
     if scenario is not None:
-        values = build_spec(scenario, param).params
+        values = build_spec(scenario, param, pilot=pilot, navigation=navigation).params
     else:
+        chosen = ([find_pilot(pilot)] if pilot else []) + list(policies(navigation) if navigation else [])
+        if not chosen:  # every installed plugin's (one that cannot be loaded is left out: `plugins list` says why)
+            chosen = [c for kind in GROUPS for c in installed(kind) if not isinstance(c, tuple)]
+        values = with_params(Params(), chosen)
         with about("--param"):
-            values = Params().override(dict(parse_override(i) for i in param or []))
-    ranges = {f"{g}.{f.name}": _range(f) for g in Params.GROUPS for f in dataclasses.fields(getattr(values, g))}
-    typer.echo(f"{'name':34s} {'value':>22s}  range")
-    for name, value in values.flat().items():
-        typer.echo(f"{name:34s} {str(value):>22s}  {ranges[name]}")
+            values = values.override(dict(parse_override(i) for i in param or []))
+    rows = [(name, _shown(value), d.unit or "-", d.range_text(), d.description)
+            for name, d, value in values.declarations()]
+    if markdown:
+        typer.echo("| parameter | default | unit | range | what it is |\n| --- | --- | --- | --- | --- |")
+        for row in rows:
+            typer.echo("| " + " | ".join(c.replace("|", "\\|") for c in (f"`{row[0]}`",) + row[1:]) + " |")
+        return
+    header = ("name", "value", "unit", "range", "description")
+    widths = [max(len(r[i]) for r in rows + [header]) for i in range(4)]
+    for row in [header] + rows:
+        typer.echo(f"{row[0]:{widths[0]}s}  {row[1]:>{widths[1]}s}  {row[2]:{widths[2]}s}  {row[3]:{widths[3]}s}  {row[4]}")
 
 
-def _range(f) -> str:
-    """A parameter's declared range in interval notation (``[0, 1]``, ``(0, inf)``), as checked
-    by ``Params.override``; a list's, by its count."""
-    if f.metadata.get("choices"):
-        return "one of " + ", ".join(f.metadata["choices"])
-    if isinstance(f.default, tuple):
-        n = len(f.default)
-        return f"{n} increasing numbers" if f.metadata.get("intervals") else "a list of numbers"
-    m = f.metadata
-    lo = "(" + f"{m['above']:g}" if m.get("above") is not None else "[" + f"{m['at_least']:g}" \
-        if m.get("at_least") is not None else "(-inf"
-    hi = f"{m['below']:g})" if m.get("below") is not None else f"{m['at_most']:g}]" \
-        if m.get("at_most") is not None else "inf)"
-    kind = "whole number in " if isinstance(f.default, int) else ""
-    return f"{kind}{lo}, {hi}"
+def _shown(value) -> str:
+    """A parameter's value as ``navcli params`` prints it (a switch as true/false, as --param takes it)."""
+    return str(value).lower() if isinstance(value, bool) else str(list(value)) if isinstance(value, tuple) else str(value)
 
 
 @app.command()
-def schema() -> None:
+def schema(
+    markdown: Annotated[bool, typer.Option("--markdown", help="Instead: every field with what it is, its default, "
+                                                              "range and unit, as a Markdown table (the docs').")] = False,
+) -> None:
     """Print the scenario format as a JSON Schema, for editors (the YAML language server:
     `# yaml-language-server: $schema=scenario.schema.json` at the top of a scenario)."""
     import json
 
     from ..scenario import json_schema
+    from ..scenario.schema import reference_table
 
-    typer.echo(json.dumps(json_schema(), indent=2))
+    typer.echo(reference_table() if markdown else json.dumps(json_schema(), indent=2), nl=not markdown)

@@ -11,7 +11,6 @@ from typing import Annotated, Optional
 import typer
 
 from ..analysis.files import without_mark
-from ..params import PILOT_NAMES
 from .common import ParamOption, app, build_spec, finite, out_file, out_folder, plot_app, progress_bar
 from .errors import about, refuse, say
 
@@ -138,7 +137,8 @@ def report(
         "results.csv): then every parameter point is a condition of its own, and no plots are made."))],
     out: Annotated[Optional[Path], typer.Option(help="Where to write the table and plots (default: LOGDIR, "
                                                      "or the results table's folder).")] = None,
-    baseline: Annotated[str, typer.Option(help="The pilot the others are compared with.")] = "geometric",
+    baseline: Annotated[str, typer.Option(help="The pilot the others are compared with (a pilot of the logs; the "
+                                                "report says so when none of the runs is its).")] = "geometric",
 ) -> None:
     """Rebuild the comparison table and plots from existing logs, running nothing; with several
     conditions (parameter points of a sweep), a table of every pilot against the baseline per
@@ -147,21 +147,26 @@ def report(
     if not (logdir.is_dir() or table):
         raise refuse(f"{logdir}: no such file or folder" if not logdir.exists() else
                      f"{logdir}: expected a folder of logs or a sweep's results table (.parquet or .csv)")
-    if baseline not in PILOT_NAMES:
-        raise refuse(f"--baseline: {baseline!r} is not a pilot (expected one of: {', '.join(PILOT_NAMES)})")
     from ..analysis.tables import REPORT_FILES
+    from ..plugins import UnknownPlugin, pilot
 
+    try:
+        pilot(baseline)
+        anywhere = False
+    except UnknownPlugin:  # no pilot navcli can run: it must be one of the logs'
+        anywhere = True
     folder = out_folder(out or (logdir.parent if table else logdir), REPORT_FILES)
     if out is None:
         say(f"the table and plots go to {folder} (--out to choose another folder)")
-    write_tables(logdir, baseline, folder, table=table)
+    write_tables(logdir, baseline, folder, table=table, baseline_in_runs=anywhere)
 
 
 def write_tables(logdir: Path, baseline: str, out: Path, logs: list[str | Path] | None = None,
-                 table: bool = False) -> None:
+                 table: bool = False, baseline_in_runs: bool = False) -> None:
     """The table of the logs under ``logdir`` (or of ``logs``; with ``table``, of the sweep
     results table ``logdir``), printed and written to ``out``; an unreadable log is skipped with a
-    line naming it; the same run twice, or no readable log at all, is refused."""
+    line naming it; the same run twice, or no readable log at all, is refused, and so, with
+    ``baseline_in_runs``, is a baseline none of the runs has."""
     from ..analysis.tables import load_runs, load_sweep, write_report
 
     skipped: list[tuple[str, str]] = []
@@ -170,6 +175,10 @@ def write_tables(logdir: Path, baseline: str, out: Path, logs: list[str | Path] 
     finally:
         for path, why in skipped:
             say(f"skipped {path}: {why}")
+    pilots = sorted(set(runs["pilot"]))
+    if baseline_in_runs and baseline not in pilots:
+        raise refuse(f"--baseline: {baseline!r} is not a pilot: none of these runs' ({', '.join(pilots)}), and none "
+                     "navcli can find (navcli's, an installed plugin's, module:Class)")
     files = write_report(runs, out, baseline, skipped, plots=not table)
     typer.echo("")
     typer.echo(without_mark(files["markdown"].read_text()))

@@ -33,6 +33,8 @@ TRAP_ROOMS = ("river-bridges", "u-trap", "door-wall", "hidden-fence", "blocked-w
 PAPER_TABLE1: dict[str, dict[str, tuple[float, float]]] = {
     "geometric": {"time_s": (297.3, 81.9), "path_cm": (1532, 429)},  # mean, standard deviation
     "potential-field": {"time_s": (243.4, 99.1), "path_cm": (1195, 198)}}
+PAPER_PILOTS = ("potential-field", "geometric")
+"""The pilot paper's two pilots (``--pilot`` adds a user's beside them)."""
 PAPER_GAINS = {"time_s": 18.1, "path_cm": 22.0}  # %: the potential field against the geometric pilot
 PAPER_POLICIES: dict[str, dict[str, float]] = {"learned": {"successes": 84, "reward": -336, "actions": 49.95},
                   "hand-coded": {"successes": 24, "reward": -858, "actions": 153.33}}
@@ -157,20 +159,22 @@ def _scenario(name: str):
 
 
 def _compare(names: tuple[str, ...], reruns: int, out: Path, ex, perception: str | None = None,
-             overrides: dict | None = None):
-    """Every pilot on each room with the same seeds (``navcli compare pilots``): the runs frame."""
+             overrides: dict | None = None, pilots: tuple[str, ...] = ()):
+    """The paper's two pilots and ``pilots`` on each room with the same seeds (``navcli compare
+    pilots``): the runs frame."""
     from ..analysis.tables import load_runs
     from ..config import RunSpec
     from .compare import plan, run_on
 
     specs = [RunSpec.build(_scenario(n), perception=perception, overrides=overrides or {}) for n in names]
-    work = plan(specs, ["potential-field", "geometric"], reruns, out)
+    work = plan(specs, list(PAPER_PILOTS + pilots), reruns, out)
     run_on(work, ex)
     return load_runs(out, paths=[j.log for j in work]), specs
 
 
-def table1(report: Report, s: Settings, out: Path, ex) -> None:
-    """The pilot paper's Table 1, with vision and with ground truth."""
+def table1(report: Report, s: Settings, out: Path, ex, pilots: tuple[str, ...] = ()) -> None:
+    """The pilot paper's Table 1, with vision and with ground truth (and ``pilots`` beside the
+    paper's two, which the paper has no numbers for)."""
     from ..analysis.tables import improvements, pilot_table
 
     report.heading("Pilot paper, Table 1: the potential-field pilot against the geometric one")
@@ -181,24 +185,31 @@ def table1(report: Report, s: Settings, out: Path, ex) -> None:
     rows: list[list[Any]] = []
     bases: list = []
     for perception in ("vision", "oracle"):
-        runs, specs = _compare(("paper-8x8",), s.reruns, out / perception, ex, perception)
+        runs, specs = _compare(("paper-8x8",), s.reruns, out / perception, ex, perception, pilots=pilots)
         _write_runs(runs, out / perception / "runs.csv")
         bases += specs
         table = pilot_table(runs).set_index("pilot")
         imps = improvements(runs, "geometric").set_index("metric")
-        for pilot in ("geometric", "potential-field"):
+        for pilot in ("geometric", "potential-field") + pilots:
             ok = runs[(runs["pilot"] == pilot) & (runs["outcome"] == "reached")]
             for metric in ("time_s", "path_cm"):
                 m, lo, hi = t_mean(list(ok[metric]))
-                paper, sd = PAPER_TABLE1[pilot][metric]
-                rows.append([perception, pilot, metric, f"{paper:g} ± {sd:g}", f"{m:.1f} [{lo:.1f}, {hi:.1f}]",
+                paper, sd = PAPER_TABLE1.get(pilot, {}).get(metric, (math.nan, math.nan))
+                known = not math.isnan(paper)  # a user's pilot: the paper has no number for it
+                rows.append([perception, pilot, metric, f"{paper:g} ± {sd:g}" if known else "-",
+                             f"{m:.1f} [{lo:.1f}, {hi:.1f}]",
                              f"{int(table.loc[pilot, 'reached'])}/{int(table.loc[pilot, 'runs'])}",
-                             verdict(paper, lo, hi), "yes" if abs(m - paper) <= sd else "no"])
-        for metric in ("time_s", "path_cm"):
-            g = imps.loc[metric]
-            rows.append([perception, "PF gain %", metric, f"+{PAPER_GAINS[metric]:g}",
-                         f"{g['improvement_pct']:+.1f} [{g['ci95_low']:+.1f}, {g['ci95_high']:+.1f}] ({int(g['pairs'])} pairs)",
-                         "", verdict(PAPER_GAINS[metric], g["ci95_low"], g["ci95_high"]), ""])
+                             verdict(paper, lo, hi) if known else "", ("yes" if abs(m - paper) <= sd else "no") if known
+                             else ""])
+        for pilot in ("potential-field",) + pilots:
+            for metric in ("time_s", "path_cm"):
+                g = imps[imps["pilot"] == pilot].loc[metric]
+                paper = PAPER_GAINS[metric] if pilot == "potential-field" else math.nan
+                rows.append([perception, "PF gain %" if pilot == "potential-field" else f"{pilot} gain %", metric,
+                             f"+{paper:g}" if not math.isnan(paper) else "-",
+                             f"{g['improvement_pct']:+.1f} [{g['ci95_low']:+.1f}, {g['ci95_high']:+.1f}] "
+                             f"({int(g['pairs'])} pairs)", "",
+                             verdict(paper, g["ci95_low"], g["ci95_high"]) if not math.isnan(paper) else "", ""])
     report.table(["perception", "pilot", "quantity", "the paper", "navcli [95 % CI]", "reached", "agreement",
                   "navcli's mean within the paper's ± 1 SD"], rows)
     report.text("Run ids and every run's numbers: " + ", ".join(str(out / p / "runs.csv") for p in ("vision", "oracle")))
@@ -232,7 +243,7 @@ def sensitivity(report: Report, s: Settings, out: Path, ex) -> None:
             f"seeds: {s.sensitivity_seeds}\npilots: [potential-field, geometric]\n")
     plans = {"plan.yaml": head + "perception: [vision, oracle]\ngrid:\n"
                               f"  robot.max_speed: [{', '.join(map(str, s.sensitivity_speeds))}]\n"
-                              "  pilot.drive_while_turning: [1, 0]\n",
+                              "  pilot.drive_while_turning: [true, false]\n",
              "vision-choices.yaml": head + "perception: vision\npoints:\n"
                                    + "".join(f"  - {c}\n" for c in VISION_CHOICES)}
     report.heading("Pilot paper, Table 1's sensitivity (the paper states one condition)")
@@ -256,18 +267,18 @@ def sensitivity(report: Report, s: Settings, out: Path, ex) -> None:
         report.table(["condition", "metric", "PF gain % [95 % CI]", "pairs", "the paper's gain"], rows)
 
 
-def traps(report: Report, s: Settings, out: Path, ex) -> None:
+def traps(report: Report, s: Settings, out: Path, ex, pilots: tuple[str, ...] = ()) -> None:
     """The trap rooms: how often each pilot gets out, with how many diverting targets."""
     from ..analysis.tables import wilson_interval
 
-    runs, specs = _compare(s.trap_rooms, s.trap_seeds, out, ex)
+    runs, specs = _compare(s.trap_rooms, s.trap_seeds, out, ex, pilots=pilots)
     _write_runs(runs, out / "runs.csv")
     report.heading("Trap rooms: diverting targets (the thesis' real robot beside them)")
     report.text(f"{s.trap_seeds} seed(s) per room and pilot; every run: {out / 'runs.csv'}. The thesis' figures "
                 "(its real robot, its rooms): 85 % reached; of runs past long obstacles 58 % needed one diverting "
                 "target and 18 % two. Rates with Wilson 95 % intervals.")
     rows = []
-    for pilot in ("potential-field", "geometric"):
+    for pilot in PAPER_PILOTS + pilots:
         g = runs[(runs["pilot"] == pilot) & runs["outcome"].isin(("reached", "blocked", "timeout"))]  # not interrupted
         n = len(g)
         for key, k, paper in (("reached", int((g["outcome"] == "reached").sum()), THESIS_TRAPS["reached"]),
@@ -342,9 +353,10 @@ def figure3(report: Report, s: Settings, out: Path, jobs: int) -> None:
 
 
 def reproduce(which: str, out: Path, *, settings: Settings = FULL, jobs: int = 2, scheduler: str | None = None,
-              echo: Callable[[str], None] = print) -> dict[str, Path]:
+              echo: Callable[[str], None] = print, pilots: tuple[str, ...] = ()) -> dict[str, Path]:
     """Run the sections of ``which`` (``pilots``, ``learning`` or ``all``) into ``out`` and write
-    ``report.md`` and ``report.html`` there; returns the files written."""
+    ``report.md`` and ``report.html`` there; returns the files written. ``pilots`` (plugins'
+    names) run beside the paper's two in Table 1 and the trap rooms."""
     from ..analysis.files import write_markdown
     from ..outputs import write_text
     from .executor import executor
@@ -361,9 +373,9 @@ def reproduce(which: str, out: Path, *, settings: Settings = FULL, jobs: int = 2
     with executor(jobs, scheduler) as ex:
         steps: list[tuple[str, Callable[[], None]]] = []
         if which in ("pilots", "all"):
-            steps += [("Table 1 (pilots)", lambda: table1(report, settings, out / "table1", ex)),
+            steps += [("Table 1 (pilots)", lambda: table1(report, settings, out / "table1", ex, pilots)),
                       ("sensitivity", lambda: sensitivity(report, settings, out / "sensitivity", ex)),
-                      ("trap rooms", lambda: traps(report, settings, out / "traps", ex))]
+                      ("trap rooms", lambda: traps(report, settings, out / "traps", ex, pilots))]
         if which in ("learning", "all"):
             steps += [("Table 1 (policies)", lambda: policies(report, settings, out / "policies", ex)),
                       ("Figure 3", lambda: figure3(report, settings, out / "figure3", jobs))]

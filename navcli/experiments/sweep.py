@@ -46,10 +46,12 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable, Mapping
 
-from ..config import ConfigError, RunSpec
+from ..config import RunSpec
 from ..analysis.files import write_csv
 from ..outputs import atomic
-from ..params import PERCEPTIONS, PILOT_NAMES, Params, ParamError
+from .. import NavcliError
+from ..params import PERCEPTIONS, Params, ParamError
+from ..plugins import registry
 from ..scenario import ScenarioError, load_scenario
 from ..scenario.yaml_reader import Invalid, Reader, parse_yaml, read_bounded
 from .compare import reruns
@@ -97,8 +99,12 @@ class SweepRun:
 
 
 # --- the plan file ---------------------------------------------------------------------------
-def load_plan(path: str | Path) -> Plan:
-    """Read and validate a plan file; raise :class:`PlanError` naming file, line and field."""
+def load_plan(path: str | Path | Mapping[str, Any], source: str = "<dict>") -> Plan:
+    """Read and validate a plan file; raise :class:`PlanError` naming file, line and field. A
+    mapping is taken as a plan file's content (its paths relative to the current folder; refusals
+    name ``source``)."""
+    if isinstance(path, Mapping):
+        return PlanReader(source, {}).plan(dict(path), Path.cwd())
     p = Path(path)
     text = read_bounded(p, MAX_PLAN_BYTES, "a plan file", PlanError)
     try:
@@ -110,6 +116,9 @@ def load_plan(path: str | Path) -> Plan:
 
 class PlanReader(Reader):
     """The scenario loader's typed reader, for plan files."""
+
+    known = Params()
+    """The parameters the plan may set: navcli's, and those of its plugin pilots once read."""
 
     def integer(self, v: Any, path: tuple, rng: str = "mission.seed") -> int:
         """A whole number from 0 to 2**64 - 1 (the range of a seed)."""
@@ -136,7 +145,7 @@ class PlanReader(Reader):
         seeds = g(self.integer, top["seeds"], ("seeds",), default=1)
         if seeds == 0:
             self.fail(("seeds",), "must be at least 1")
-        pilots = g(self.choices, top.get("pilots"), ("pilots",), PILOT_NAMES)
+        pilots = g(self.pilots, top.get("pilots"), ("pilots",))
         perceptions = g(self.choices, top.get("perception"), ("perception",), PERCEPTIONS, True)
         time_limit = g(lambda: self.opt(top, "time_limit", (), self.number, None, positive=True))
         fixed = g(self.overrides, top.get("params", {}), ("params",), default={})
@@ -162,8 +171,9 @@ class PlanReader(Reader):
             for pilot in pilots or [None]:
                 for perception in perceptions or [None]:
                     try:
-                        bases.append(RunSpec.build(sc, pilot=pilot, perception=perception, time_limit=time_limit))
-                    except ConfigError as e:
+                        bases.append(RunSpec.build(sc, pilot=pilot, perception=perception, time_limit=time_limit,
+                                                   also=pilots or ()))
+                    except NavcliError as e:
                         self.fail(("scenarios", i), str(e))
         plan = Plan(self.source, tuple(bases), tuple(points), seeds or 1)
         if not self.problems and plan.size > MAX_RUNS:
@@ -191,11 +201,25 @@ class PlanReader(Reader):
             raise self.fail(path, f"lists {', '.join(twice)} twice (each would run the same runs again)")
         return names
 
+    def pilots(self, v: Any, path: tuple) -> list[str] | None:
+        """The plan's pilots (a non-empty list of distinct names): navcli's, installed plugins' or
+        ``module:Class``, each found; their own parameters may then be set by the plan."""
+        if v is None:
+            return None
+        names = self.choices(v, path, tuple(v) if isinstance(v, list) else ())
+        for i, name in enumerate(names or []):
+            try:
+                c = registry.pilot(name)
+            except NavcliError as e:
+                raise self.fail(path + (i,), str(e)) from None
+            self.known = registry.with_params(self.known, [c])
+        return names
+
     def param(self, name: Any, value: Any, path: tuple) -> float | list[float]:
         """``value`` checked as the parameter ``name`` (its type and range; a list for a list-valued
-        parameter such as ``pilot.reflex_look_pans_deg``)."""
+        parameter such as ``pilot.reflex_look_pans_deg``; a plugin pilot's of the plan's pilots)."""
         try:
-            return Params().override({name: value}).flat()[name]
+            return self.known.override({name: value}).flat()[name]
         except ParamError as e:
             raise self.fail(path, str(e)) from None
 
@@ -229,7 +253,7 @@ class PlanReader(Reader):
             raise self.fail(P, f"more than {MAX_RUNS} points; split the plan")
         given = [self.overrides(x, P + (i,)) for i, x in enumerate(v)]
         names = list(dict.fromkeys(n for pt in given for n in pt))
-        defaults = Params().flat()
+        defaults = self.known.flat()  # navcli's, and the plan's plugin pilots' own
         points = [{n: pt.get(n, defaults[n]) for n in names} for pt in given]
         for i, pt in enumerate(points):
             if pt in points[:i]:
@@ -258,8 +282,9 @@ class PlanReader(Reader):
             lo, hi = (self.param(name, x, q + (i,)) for i, x in enumerate(r))
             if isinstance(lo, list) or isinstance(hi, list):
                 raise self.fail(q, f"{name} is a list of numbers: give its values in a grid, not a range")
-            if isinstance(lo, int) and not isinstance(lo, bool):  # a sample between is no whole number
-                raise self.fail(q, f"{name} is a whole number: give its values in a grid, not a range")
+            if isinstance(lo, int):  # a sample between is no whole number, nor a switch
+                raise self.fail(q, f"{name} is a {'switch' if isinstance(lo, bool) else 'whole number'}: give its "
+                                   "values in a grid, not a range")
             if lo > hi:
                 raise self.fail(q, f"low {lo:g} is above high {hi:g}")
             bounds[name] = (lo, hi)

@@ -41,7 +41,7 @@ from .. import NavcliError
 from ..config import RunSpec
 from ..analysis.files import write_csv
 from ..outputs import atomic, write_text
-from ..params import CONTROL_DT, Params, ParamError
+from ..params import CONTROL_DT, Params, ParamError, parse_override
 from ..scenario import PILOT_BLOCK
 from .compare import reruns
 from .executor import map_ordered, require
@@ -81,32 +81,34 @@ class TuneProblem:
         return hashlib.sha256(blob.encode()).hexdigest()[:12]
 
 
-def parse_range(item: str) -> tuple[str, float, float] | tuple[str, float]:
+def parse_range(item: str, params: Params | None = None) -> tuple[str, float, float] | tuple[str, Any]:
     """``"pilot.K=0:30"`` -> ``("pilot.K", 0.0, 30.0)`` (tuned); ``"pilot.K"`` -> tuned in
-    :data:`DEFAULT_RANGE`; ``"pilot.K=30"`` -> ``("pilot.K", 30.0)`` (fixed for every trial).
-    Bounds and values are checked against the parameter's own range; whole-number and list
+    :data:`DEFAULT_RANGE`; ``"pilot.K=30"`` -> ``("pilot.K", 30.0)`` (fixed for every trial, any
+    value ``--param`` takes). Bounds and values are checked against the parameter's own range in
+    ``params`` (navcli's, and a plugin pilot's own when given); whole-number, switch and list
     parameters cannot be tuned.
 
     >>> parse_range("pilot.K=0:30"), parse_range("navigation.alpha")
     (('pilot.K', 0.0, 30.0), ('navigation.alpha', 0.0, 5.0))
     """
+    params = params or Params()
     name, sep, value = (s.strip() for s in item.partition("="))
     if not sep:
         lo, hi = DEFAULT_RANGE
     elif ":" not in value:
-        v = float(_number(item, value))
-        Params().override({name: v})
+        name, v = parse_override(item)
+        params.override({name: v})
         return name, v
     else:
         a, _, b = value.partition(":")
         lo, hi = _number(item, a), _number(item, b)
-    flat = Params().flat()
+    flat = params.flat()
     if name not in flat:
-        Params().override({name: lo})  # raises: unknown parameter, with a suggestion
+        params.override({name: lo})  # raises: unknown parameter, with a suggestion
     if not isinstance(flat[name], float):
-        raise ParamError(f"{name} is a whole number or a list: it cannot be tuned")
-    Params().override({name: lo})
-    Params().override({name: hi})
+        raise ParamError(f"{name} is a whole number, a switch or a list: it cannot be tuned")
+    params.override({name: lo})
+    params.override({name: hi})
     if not lo < hi:
         raise ParamError(f"{item!r}: expected LOW:HIGH with LOW below HIGH")
     return name, lo, hi

@@ -20,15 +20,15 @@ from .learning_agent import LearningAgent, hand_coded_agent, table_policy
 __all__ = ["LearningAgent", "hand_coded_agent", "policy_agent", "table_policy"]
 
 
-def policy_agent(navigation: str, params: LearningParams = LEARNING, *, max_speed: float = ROBOT.max_speed,
+def policy_agent(kind: str, file: str = "", params: LearningParams = LEARNING, *, max_speed: float = ROBOT.max_speed,
                  pan_limit: float = math.radians(100.0), target_key: str | None = None) -> LearningAgent:
-    """The agent of a run's ``navigation`` choice: ``hand-coded``, ``learned`` (the bundled model)
-    or ``learned:FILE``. Raises :class:`~.model_file.ModelError` for a bad model file."""
-    mode, _, file = navigation.partition(":")
-    if mode == "hand-coded":
+    """The agent of the Navigation policy ``kind``: ``hand-coded``, or ``learned`` from the model
+    ``file`` (the bundled one when empty). Raises :class:`~.model_file.ModelError` for a bad model
+    file."""
+    if kind == "hand-coded":
         return hand_coded_agent(params=params, max_speed=max_speed, pan_limit=pan_limit, target_key=target_key)
-    if mode != "learned":
-        raise ValueError(f"no policy agent for navigation {navigation!r}")
+    if kind != "learned":
+        raise ValueError(f"no policy agent for navigation {kind!r}")
     from .model_file import load_policy
 
     return LearningAgent(table_policy(load_policy(Path(file) if file else None)), params=params, max_speed=max_speed,

@@ -117,8 +117,8 @@ def state_of(index: int) -> tuple[int, int, int, int]:
     for n in reversed(SHAPE):
         index, i = divmod(index, n)
         out.append(i)
-    d, t, l, o = reversed(out)
-    return d, t, l, o
+    d, t, c, i = reversed(out)
+    return d, t, c, i
 
 
 def check_bounds(params: LearningParams) -> None:

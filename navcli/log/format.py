@@ -21,12 +21,13 @@ Units are in each field's description. Force units are those of the pilot paper'
 
 from __future__ import annotations
 
-from typing import Annotated, Any, Literal
+import functools
+import typing
+from typing import Annotated, Any, Mapping, Sequence
 
 import msgspec
 from msgspec import UNSET, Meta, Struct, UnsetType
 
-from ..bidding import LookPurpose
 
 # The topics of the log: each name is written here once, and every writer and reader uses these.
 TF_TOPIC = "/tf"  # foxglove.FrameTransforms: world -> base_link (the true pose), base_link -> camera (the pan)
@@ -44,6 +45,19 @@ BIDS_TOPIC = "/bids"  # navcli.Bids
 VISION_TOPIC = "/vision"  # navcli.Vision
 NAVIGATION_TOPIC = "/navigation"  # navcli.Navigation
 SUMMARY_TOPIC = "/mission/summary"  # navcli.MissionSummary
+
+ENUM = "x-navcli-enum"
+"""Marks a field (in its schema) whose values are an enumeration declared by the code that produces
+them (the Rescuer's states, the Pilot's modes ...), never here: :func:`json_schema` given ``enums``
+turns the mark into an ``enum`` of those values, and the recorder gives it the producers'
+(:data:`navcli.log.writer.ENUMS`)."""
+
+
+def enumerated(name: str, description: str) -> Meta:
+    """The ``Meta`` of a text field whose values are the enumeration ``name`` (see :data:`ENUM`):
+    ``Annotated[str, enumerated("rescuer.state", "the Rescuer's state")]``."""
+    return Meta(description=description, extra_json_schema={ENUM: name})
+
 
 DEG = Annotated[float, Meta(description="degrees; 0 = straight ahead, positive to the left (egocentric)")]
 BID = Annotated[float, Meta(ge=0.0, le=1.0, description="bid in [0, 1]")]
@@ -84,12 +98,12 @@ class Pilot(_Msg):
     in_corridor on a target line), the geometric pilot its rule (nearest, clearance, rule, side,
     turn_deg); a reflex (section 3.5) writes its phase."""
 
-    mode: Annotated[Literal["avoid", "idle", "reflex"], Meta(
-        description="avoid: the pilot proposes a move; idle: it proposes none; reflex: section 3.5 after a bump or stall")]
+    mode: Annotated[str, enumerated("pilot.mode", "avoid: the pilot proposes a move; idle: it proposes none; reflex: section 3.5 "
+                                   "after a bump or stall")]
     bid: Annotated[float, Meta(ge=0.0, le=1.0, description="the pilot's motion bid in [0, 1] (eq. 9 for the potential-field pilot)")]
     look_bid: Annotated[float, Meta(ge=0.0, le=1.0, description="the pilot's look-ahead camera bid in [0, 1] (eq. 1)")]
     command: Command
-    phase: Annotated[Literal["stop", "look", "backup", "done"], Meta(description="the reflex's phase")] | UnsetType = UNSET
+    phase: Annotated[str, enumerated("pilot.phase", "the reflex's phase")] | UnsetType = UNSET
     turn_deg: Annotated[float, Meta(description="the turn the pilot asks for, degrees, positive to the left")] | UnsetType = UNSET
     raw_turn_deg: Annotated[float, Meta(description="eq. 7's angle before section 5's mean with the previous, degrees")] | UnsetType = UNSET
     in_distress: Annotated[bool, Meta(description="inside a prohibited area (grown obstacle)")] | UnsetType = UNSET
@@ -103,11 +117,67 @@ class Pilot(_Msg):
     in_corridor: Annotated[bool, Meta(description="section 3.3: inside the safe corridor of a target line")] | UnsetType = UNSET
     nearest: Annotated[str, Meta(description="memory key of the nearest prohibited area")] | UnsetType = UNSET
     clearance: Annotated[float, Meta(description="m from the robot's centre to that area's edge (negative: inside)")] | UnsetType = UNSET
-    rule: Annotated[Literal["escape", "clear", "tangent"], Meta(description="the geometric pilot's rule this tick")] | UnsetType = UNSET
-    side: Annotated[Literal["right", "left"], Meta(description="the side the geometric pilot passes on")] | UnsetType = UNSET
+    rule: Annotated[str, enumerated("geometric.rule", "the geometric pilot's rule this tick")] | UnsetType = UNSET
+    side: Annotated[str, enumerated("geometric.side", "the side the geometric pilot passes on")] | UnsetType = UNSET
     blocked_by: Annotated[str, Meta(description=(
         "memory key of the long obstacle ahead that the field cannot lead round this tick; with "
         "pilot.blocked_report_m set, reported to the Navigation system once it has lasted the time to drive that far"))] | UnsetType = UNSET
+
+
+@functools.lru_cache(maxsize=None)
+def pilot_message_type(info: type[Struct] | None = None, name: str = "", about: str = "") -> type[Struct]:
+    """The ``/pilot`` message of a run whose pilot declares ``info``: :class:`Pilot` with the
+    fields of ``info`` (a plugin's ``Info``, a ``msgspec.Struct``) added, each optional, so the
+    log's schema says what the plugin writes; ``name`` titles it (``navcli.Pilot+vfh``) and
+    ``about`` (the plugin's identity) goes into its description. :class:`Pilot` itself without one.
+    Raises ``ValueError`` for a field that /pilot has already."""
+    if info is None:
+        return Pilot
+    hints = typing.get_type_hints(info, include_extras=True)
+    clash = sorted(set(hints) & set(Pilot.__struct_fields__))
+    if clash:
+        raise ValueError(f"its Info declares {', '.join(clash)}, which /pilot has already")
+    merged = msgspec.defstruct(f"Pilot+{name}", [(k, typing.Union[t, UnsetType], UNSET) for k, t in hints.items()],
+                               bases=(Pilot,), forbid_unknown_fields=True, module=__name__)
+    merged.__doc__ = (f"{Pilot.__doc__} The fields {', '.join(hints)} are the {name} pilot's own, declared by "
+                      f"the plugin ({about}).")
+    return merged
+
+
+def viewer_problems(schema: dict, path: str = "") -> list[str]:
+    """Why Foxglove's ``parseJsonSchema`` (mcap-support) would refuse ``schema``, the viewer then
+    dropping its whole topic: the root and every nested object needs ``"type": "object"`` and a
+    ``properties`` object; each property one ``type`` among boolean, number, integer, string
+    (base64 contentEncoding only), object, array (of those) or a ``oneOf`` of number constants.
+    Empty: the viewer reads it."""
+    if not isinstance(schema, dict) or schema.get("type") != "object":
+        return [f"{path or 'root'}: not \"type\": \"object\""]
+    if not isinstance(schema.get("properties"), dict):
+        return [f"{path or 'root'}: object without properties"]
+    out = []
+    for name, f in schema["properties"].items():
+        at = f"{path}.{name}" if path else name
+        if "oneOf" in f:
+            if not all(isinstance(a.get("const"), (int, float)) for a in f["oneOf"]):
+                out.append(f"{at}: oneOf alternatives must be number constants")
+            continue
+        kind = f.get("type")
+        if kind in ("boolean", "number", "integer"):
+            continue
+        if kind == "string":
+            if f.get("contentEncoding", "base64") != "base64":
+                out.append(f"{at}: unsupported contentEncoding")
+        elif kind == "object":
+            out += viewer_problems(f, at)
+        elif kind == "array":
+            item = f.get("items", {})
+            if item.get("type") == "object":
+                out += viewer_problems(item, at)
+            elif item.get("type") not in ("boolean", "number", "integer", "string"):
+                out.append(f"{at}: unsupported array item type {item.get('type')!r}")
+        else:
+            out.append(f"{at}: unsupported type {kind!r}")
+    return out
 
 
 def pilot_message(info: dict[str, Any], v: float, omega_deg: float) -> dict[str, Any]:
@@ -123,11 +193,11 @@ def pilot_message(info: dict[str, Any], v: float, omega_deg: float) -> dict[str,
 class Action(_Msg):
     """A bid's action: a move (heading_deg, speed) or a look (pan_deg)."""
 
-    type: Literal["move", "look"]
+    type: Annotated[str, enumerated("action.type", "what the action is")]
     heading_deg: DEG | UnsetType = UNSET
     speed: Annotated[float, Meta(description="m/s, negative backwards")] | UnsetType = UNSET
     pan_deg: Annotated[float, Meta(description="camera pan, degrees from the heading, positive to the left")] | UnsetType = UNSET
-    purpose: Annotated[LookPurpose, Meta(description="a look's purpose: the image-processing routine it asks for")] | UnsetType = UNSET
+    purpose: Annotated[str, enumerated("look.purpose", "a look's purpose: the image-processing routine it asks for")] | UnsetType = UNSET
 
 
 class ResourceBids(_Msg):
@@ -170,7 +240,7 @@ class DetectionMsg(_Msg):
     """What one image showed of one object: one point, or the two extremities of a linear
     obstacle in view."""
 
-    kind: Literal["landmark", "target", "obstacle", "wall"]
+    kind: Annotated[str, enumerated("detection.kind", "what the image showed")]
     points: list[Sighting]
     ends: Annotated[list[bool], Meta(description=(
         "an identified linear obstacle: per end (a, b), whether the point seen toward it is the end itself "
@@ -181,13 +251,13 @@ class Vision(_Msg):
     """The camera each tick: pan, state, and the detections of an image taken this tick."""
 
     pan_deg: Annotated[float, Meta(description="degrees from the heading, positive to the left")]
-    state: Literal["idle", "panning", "processing"]
+    state: Annotated[str, enumerated("camera.state", "the camera: free, turning to a pan, or processing an image")]
     image: Annotated[bool, Meta(description="an image was taken this tick")]
     detections: Annotated[dict[str, DetectionMsg], Meta(
         description="by landmark id, target marker, segment:<key> or wall:<key> for an identified linear obstacle, "
                     "or obstacle<i> for an unidentified obstacle")]
-    purpose: Annotated[LookPurpose, Meta(description=(
-        "what the look being carried out is for, the image-processing routine it runs (absent: idle)"))] | UnsetType = UNSET
+    purpose: Annotated[str, enumerated("look.purpose", "what the look being carried out is for, the "
+                                                  "image-processing routine it runs (absent: idle)")] | UnsetType = UNSET
 
 
 # --- /mission/summary -------------------------------------------------------------------------
@@ -206,7 +276,7 @@ class MissionSummary(_Msg):
     scenario: str
     seed: int
     pilot: str
-    outcome: Literal["reached", "timeout", "blocked", "interrupted", "error"]
+    outcome: Annotated[str, enumerated("mission.outcome", "how the mission ended")]
     reason: str
     time_s: Annotated[float, Meta(description="simulated seconds")]
     path_length_m: Annotated[float, Meta(description="m driven (ground truth)")]
@@ -260,7 +330,7 @@ class Navigation(_Msg):
     landmarks_known: Annotated[int, Meta(description="landmarks in the visual memory")]
     landmarks_ahead: int
     target_source: Annotated[str, Meta(description="memory, map:<beta-unit>, line, or none")]
-    rescuer: Literal["sweep", "normal", "lost", "turn"]
+    rescuer: Annotated[str, enumerated("rescuer.state", "the Rescuer's state")]
     diverting: Annotated[bool, Meta(description="the current target is a diverting target")]
     diverting_targets: Annotated[int, Meta(description="diverting targets set so far")]
     failures: Annotated[int, Meta(description="diverting targets failed so far")]
@@ -278,15 +348,19 @@ encode = msgspec.json.Encoder().encode
 """Compact JSON of a message (msgspec writes NaN and infinity as null, which the schemas refuse)."""
 
 
-def json_schema(cls: type[Struct]) -> dict[str, Any]:
-    """The JSON Schema of ``cls`` as Foxglove's parser accepts it, titled ``navcli.<Name>``."""
+def json_schema(cls: type[Struct], enums: Mapping[str, Sequence[str]] | None = None) -> dict[str, Any]:
+    """The JSON Schema of ``cls`` as Foxglove's parser accepts it, titled ``navcli.<Name>``; with
+    ``enums`` (enumeration name -> values), every :func:`enumerated` field gets its ``enum``
+    (``KeyError`` for one it does not give); without, such a field is plain text."""
     raw = msgspec.json.schema(cls)
     defs = raw.get("$defs", {})
 
     def fix(node: dict[str, Any]) -> dict[str, Any]:
         if "$ref" in node:
             node = defs[node["$ref"].rsplit("/", 1)[1]] | {k: v for k, v in node.items() if k != "$ref"}
-        out = {k: v for k, v in node.items() if k not in ("title", "default", "$defs")}
+        out = {k: v for k, v in node.items() if k not in ("title", "default", "$defs", ENUM)}
+        if ENUM in node and enums is not None:
+            out["enum"] = list(enums[node[ENUM]])
         if "properties" in out:
             out["properties"] = {k: fix(v) for k, v in out["properties"].items()}
         for key in ("additionalProperties", "items"):

@@ -58,10 +58,10 @@ from foxglove.messages import (
 )
 
 from .. import NavcliError
-from ..bidding import RESOURCES
 from ..params import DRAW_PERIOD, SCENE_REFRESH
 from . import format as fmt
 from .format import Bids, MissionSummary, Navigation, Pilot, Vision, encode, json_schema, pilot_message
+from .records import bids_record, navigation_record, vision_record
 from .scenes import CAMERA_AT, FOV, NO_TURN, ROBOT, arena_shapes, cylinder, fan, force_arrows, grown, map_entities, \
     memory_entities, place, stamp, yaw
 
@@ -86,7 +86,6 @@ WRITE_OPTIONS = MCAPWriteOptions(compression=MCAPCompression.Lz4, compression_th
 again as large, and every MCAP reader (the mcap library, Foxglove) reads it."""
 SCENE_NS = round(SCENE_REFRESH * 1e9)  # the state topics are republished at least this often
 DRAW_NS = round(DRAW_PERIOD * 1e9)  # the Pilot's decorations in /robot/scene are drawn at most this often
-SYSTEMS = ("pilot", "navigation")  # the bidders at the robot-level auction, always in /bids
 _LEVEL = {"info": LogLevel.Info, "warning": LogLevel.Warning, "error": LogLevel.Error}
 
 
@@ -99,10 +98,31 @@ def _json_channel(topic: str, cls: type, ctx: foxglove.Context) -> BaseChannel:
 
 
 @functools.cache
+def enums() -> dict[str, tuple[str, ...]]:
+    """Every enumeration a log carries, taken from the code that produces it (each field of the log
+    format marked :func:`~navcli.log.format.enumerated` names one of these)."""
+    from ..bidding import ACTION_TYPES, PURPOSES
+    from ..mission import OUTCOMES
+    from ..navigation.rescuer import STATES as RESCUER_STATES
+    from ..pilot.base import MODES, PHASES
+    from ..pilot.geometric import RULES, SIDES
+    from ..vision.camera import KINDS, STATES as CAMERA_STATES
+
+    return {"pilot.mode": MODES, "pilot.phase": PHASES, "geometric.rule": RULES, "geometric.side": SIDES,
+            "action.type": ACTION_TYPES, "camera.state": CAMERA_STATES, "detection.kind": KINDS,
+            "mission.outcome": OUTCOMES, "rescuer.state": RESCUER_STATES, "look.purpose": PURPOSES}
+
+
+def log_schema(cls: type) -> dict:
+    """The JSON Schema of a message class as the log stores it: with the producers' enumerations."""
+    return json_schema(cls, enums())
+
+
+@functools.cache
 def schema_of(cls: type) -> foxglove.Schema:
-    """The JSON Schema of a message class as the log stores it, derived once per process (about
-    1 ms a class, which a process that runs many, ``compare`` or a benchmark, pays once)."""
-    schema = json_schema(cls)
+    """The JSON Schema of a message class as the log stores it (:func:`log_schema`), derived once per
+    process (about 1 ms a class, which a process that runs many, ``compare`` or a benchmark, pays once)."""
+    schema = log_schema(cls)
     return foxglove.Schema(name=schema["title"], encoding="jsonschema", data=json.dumps(schema).encode())
 
 
@@ -187,9 +207,12 @@ def _aside(partial: Path) -> Path:
 
 class Recorder:
     """Writes one run to ``path`` (see module docstring). Use :meth:`start`, :meth:`tick` per
-    control tick, then :meth:`finish` exactly once, also after an interruption."""
+    control tick, then :meth:`finish` exactly once, also after an interruption. ``pilot_message``
+    is the run's ``/pilot`` message type (a plugin pilot's adds the fields its ``Info`` declares:
+    :func:`~navcli.log.format.pilot_message_type`)."""
 
-    def __init__(self, path: str | Path, *, live: bool = False, port: int = 8765, protect: tuple[str, ...] = ()):
+    def __init__(self, path: str | Path, *, live: bool = False, port: int = 8765, protect: tuple[str, ...] = (),
+                 pilot_message: type = Pilot):
         self.path = check_log_path(Path(path), protect)
         self.partial = self.path.with_name(self.path.name + ".partial")
         self.lock = Lock(self.path.with_name(self.path.name + ".lock"))
@@ -220,7 +243,7 @@ class Recorder:
         self.robot_body = SceneUpdateChannel(fmt.ROBOT_BODY_TOPIC, context=ctx)
         self.camera_scene = SceneUpdateChannel(fmt.CAMERA_SCENE_TOPIC, context=ctx)
         self.events = LogChannel(fmt.EVENTS_TOPIC, context=ctx)
-        self.pilot = _json_channel(fmt.PILOT_TOPIC, Pilot, ctx)
+        self.pilot = _json_channel(fmt.PILOT_TOPIC, pilot_message, ctx)  # a plugin pilot's: with its Info's fields
         self.bids = _json_channel(fmt.BIDS_TOPIC, Bids, ctx)
         self.summary = _json_channel(fmt.SUMMARY_TOPIC, MissionSummary, ctx)
         self.vision = _json_channel(fmt.VISION_TOPIC, Vision, ctx)
@@ -303,7 +326,7 @@ class Recorder:
 
     def tick(self, t: Tick) -> None:
         ns = t.time_ns
-        pan, state, purpose = t.camera
+        pan = t.camera[0]
         self._pose_msgs(t.pose, t.odometry, ns, pan)
         if self.server is not None:
             self.server.broadcast_time(ns)
@@ -314,12 +337,7 @@ class Recorder:
             self._pilot_scene(t, ns)
         if ns - self._state_ns >= SCENE_NS:
             self._state(ns)
-        dets = t.detections
-        vision = {"pan_deg": math.degrees(pan), "state": state, "image": dets is not None, "detections":
-                  {d.key or f"obstacle{i}": d.as_json() for i, d in enumerate(dets)} if dets else {}}
-        if purpose is not None:
-            vision["purpose"] = purpose
-        self.vision.log(encode(vision), ns)
+        self.vision.log(encode(vision_record(t)), ns)
         if t.memory is not None:
             self.memory_scene.log(SceneUpdate(deletions=[SceneEntityDeletion(timestamp=stamp(ns), type=SceneEntityDeletionType.All)],
                                               entities=memory_entities(t.memory, ns)), log_time=ns)
@@ -393,54 +411,3 @@ class Recorder:
         if self.server is not None:
             server, self.server = self.server, None
             server.stop()
-
-
-_NO_BIDS = dict.fromkeys(SYSTEMS, 0.0)
-
-
-def bids_record(t: Tick) -> dict:
-    """The ``/bids`` message (a :class:`~navcli.messages.Bids` as plain values): fixed keys per
-    resource so every value is plottable in Foxglove."""
-    msg: dict = {r: {**_NO_BIDS, "actions": {}} for r in RESOURCES}
-    for b in t.bids:
-        per = msg[b.resource]
-        per[b.bidder] = b.value
-        per["actions"][b.bidder] = b.action.as_json()
-    for r in RESOURCES:
-        win = t.winners[r]
-        if win is not None:
-            msg[r]["winner"] = win.bidder
-    agents: dict = {}
-    for b in t.agent_bids:
-        per = agents.get(b.bidder)
-        if per is None:
-            per = agents[b.bidder] = {}
-        per[b.resource] = b.value
-    msg["agents"] = agents
-    return msg
-
-
-
-def navigation_record(t: Tick) -> dict:
-    """The ``/navigation`` message (a :class:`~navcli.messages.Navigation` as plain values): every
-    agent's bids, what was forwarded, and why."""
-    nav = t.navigation
-    assert nav is not None  # called for ticks with a Navigation system's output only
-    agents: dict[str, dict[str, float]] = {}
-    for b in nav.agent_bids:
-        a = agents.get(b.bidder)
-        if a is None:
-            a = agents[b.bidder] = {"motion": 0.0, "camera": 0.0}
-        if b.value > a[b.resource]:  # max(), as a test: no call
-            a[b.resource] = b.value
-    fwd: dict = {"motion": 0.0, "camera": 0.0}
-    for b in nav.bids:
-        fwd[b.resource] = b.value
-        fwd[f"{b.resource}_agent"] = nav.forwarded_by[b.resource]
-    msg = {"agents": agents, "forwarded": fwd, **nav.info, "diverting": nav.diverting}  # info: the scalar fields
-    if nav.target is not None:
-        msg["target"] = {"x": nav.target[0], "y": nav.target[1]}
-    if nav.target_line is not None:
-        (ax, ay), (bx, by) = nav.target_line
-        msg["line_a"], msg["line_b"] = {"x": ax, "y": ay}, {"x": bx, "y": by}
-    return msg

@@ -36,11 +36,11 @@ from .distance_estimator import DistanceEstimator
 from .map_manager import TARGET, MapManager, MapSnapshot
 from .rescuer import Rescuer
 from .risk_manager import RiskManager
-from .situation import Agent, Situation
+from .situation import Agent, AgentSetup, Situation
 from .target_tracker import TargetTracker
 
-__all__ = ["Communicator", "DistanceEstimator", "MapManager", "NavigationOutput", "NavigationSystem", "Rescuer",
-           "RiskManager", "Situation", "TargetTracker"]
+__all__ = ["Agent", "AgentSetup", "Communicator", "DistanceEstimator", "MapManager", "NavigationOutput",
+           "NavigationSystem", "Rescuer", "RiskManager", "Situation", "TargetTracker"]
 
 
 class NavigationOutput(NamedTuple):
@@ -64,14 +64,16 @@ class NavigationSystem:
     """The agents, the Map Manager and the Communicator (see the module docstring).
 
     ``target_key`` is how the visual memory names the target (``target`` for a point, the
-    landmark's id for a landmark); ``line_target`` for a mission whose target is a line."""
+    landmark's id for a landmark); ``line_target`` for a mission whose target is a line.
+    ``plugin_agents`` bid beside the bidding agents (after them), or instead of them without
+    ``own_agents``; a ``policy_agent`` (the Learning Agent) replaces them all."""
 
     name = "navigation"
 
     def __init__(self, params: NavigationParams = NAVIGATION, robot: RobotParams = ROBOT,
                  pilot: PilotParams = PILOT, target_key: str = TARGET, line_target: bool = False,
                  rng: np.random.Generator | None = None, pan_limit: float = math.radians(100.0),
-                 policy_agent: Agent | None = None):
+                 policy_agent: Agent | None = None, plugin_agents: tuple[Agent, ...] = (), own_agents: bool = True):
         self.params = params
         self.target_key = target_key
         self.line_target = line_target
@@ -80,7 +82,7 @@ class NavigationSystem:
         self.risk = RiskManager(params, pan_limit)
         self.estimator = DistanceEstimator(params, robot.max_speed)
         self.rescuer = Rescuer(params, rng, robot)
-        self.agents: tuple[Agent, ...] = (self.tracker, self.risk, self.estimator)
+        self.agents: tuple[Agent, ...] = ((self.tracker, self.risk, self.estimator) if own_agents else ()) + plugin_agents
         # the Learning Agent (or the hand-coded policy) replaces the three (learning-agent paper,
         # section 4); it waits for the Rescuer's initial sweep, so its actions are its own
         self.policy_agent = policy_agent

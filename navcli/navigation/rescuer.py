@@ -74,6 +74,10 @@ MIN_WINDOW_S = 20.0
 the stops that take fixed time, a scan of five looks about 4 s, a reflex 4-6 s, so a fast robot
 is not declared blocked by its own stops; at 0.3 m/s the windows are 40 s and 90 s)."""
 LOST_SCANS = 3  # scans (each followed by a random turn) before the map is asked for a way toward a lost target
+STATES = ("sweep", "normal", "lost", "turn", "drive", "explore")
+"""The Rescuer's states, as ``/navigation.rescuer`` says: its initial sweep, normal (no rescue), scanning
+for a lost target, turning (a random angle, or away from the target to explore), driving out to explore,
+exploring (looking around for landmarks it did not know)."""
 
 
 class Rescue(NamedTuple):

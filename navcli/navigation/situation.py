@@ -4,12 +4,16 @@ from __future__ import annotations
 
 import math
 from types import MappingProxyType
-from typing import Mapping, NamedTuple, Protocol
+from typing import TYPE_CHECKING, Mapping, NamedTuple, Protocol
 
 from ..beliefs import Beliefs
 from ..bidding import Bid
 from ..fuzzy import FuzzyPoint
 from ..geometry import Point
+from ..params import ParamSet, Params
+
+if TYPE_CHECKING:
+    import numpy as np
 
 
 class Situation(NamedTuple):
@@ -62,3 +66,21 @@ class Agent(Protocol):
 
     def bid(self, s: Situation) -> list[Bid]:
         ...
+
+
+class AgentSetup(NamedTuple):
+    """What a Navigation agent given by a plugin (``--navigation NAME``, or ``agents+NAME`` beside
+    navcli's bidding agents) is made with: ``cls(setup)``.
+
+    ``params`` holds every parameter of the run (``params.robot.max_speed`` ...); ``own_params``
+    the agent's own set (its class's ``Params``, with the run's overrides), or None; ``pan_limit``
+    how far the camera pans either side of ahead (rad); ``target_key`` how the visual memory names
+    the target (``target``, or a landmark's id); ``rng`` the run's generator for plugins (seeded
+    from the run's seed: draw from it, never from a global generator, so the same seed gives the
+    same run)."""
+
+    params: Params
+    own_params: ParamSet | None
+    pan_limit: float
+    target_key: str
+    rng: np.random.Generator

@@ -40,11 +40,14 @@ from __future__ import annotations
 import math
 from collections import deque
 from dataclasses import dataclass, field
+from typing import Any, ClassVar
+
+import numpy as np
 
 from ..beliefs import Beliefs, Bump, KnownObstacle
 from ..bidding import Bid, Look, Move, looked_at
 from ..geometry import Pose, distance_to_segment, motion_between, wrap_angle
-from ..params import CONTROL_DT, PILOT, ROBOT, PilotParams, RobotParams
+from ..params import CONTROL_DT, PILOT, ROBOT, ParamSet, PilotParams, RobotParams
 
 
 @dataclass(frozen=True)
@@ -76,6 +79,11 @@ class PilotOutput:
 
 
 
+MODES = ("avoid", "idle", "reflex")
+"""What a pilot does in a tick, as ``/pilot.mode`` says: proposes a move of its own, proposes none (the
+Navigation system's request is carried out), or runs a reflex (section 3.5, after a bump or a stall)."""
+PHASES = ("stop", "look", "backup", "done")
+"""The phases of a reflex (section 3.5), as ``/pilot.phase`` says."""
 SAFE_STEP = math.radians(15.0)  # rad between the headings :meth:`Pilot._nearest_safe` tries
 SAFE_STEPS = 12  # each way: up to a half turn
 LOOK_AHEAD = Look(0.0, "obstacles")  # the look-ahead of eq. 1 (a value: one serves every tick)
@@ -83,11 +91,23 @@ MAX_STALL_WINDOW_S = 30.0  # s: the stall watch's longest window (0.6 m takes 60
 
 
 class Pilot:
-    """Shared pilot machinery (see the module docstring); ``avoid`` proposes nothing here."""
+    """Shared pilot machinery (see the module docstring); ``avoid`` proposes nothing here.
+
+    A pilot of one's own subclasses this and implements :meth:`avoid` (see ``navcli.plugins``):
+    it is made with navcli's pilot and robot parameters, ``own_params`` (an instance of its class's
+    ``Params``, a :class:`~navcli.params.ParamSet`, with the run's overrides; None without one) and
+    ``rng`` (the run's generator for plugins: draw from it, never from a global one)."""
 
     name = "pilot"
+    Params: ClassVar[type[ParamSet] | None] = None
+    """A plugin's own parameters (a :class:`~navcli.params.ParamSet` dataclass), or None."""
+    Info: ClassVar[Any] = None
+    """A plugin's ``msgspec.Struct`` of the fields its :meth:`avoid` adds to ``/pilot``, or None."""
 
-    def __init__(self, params: PilotParams = PILOT, robot: RobotParams = ROBOT):
+    def __init__(self, params: PilotParams = PILOT, robot: RobotParams = ROBOT, *,
+                 own_params: ParamSet | None = None, rng: np.random.Generator | None = None):
+        self.own_params = own_params
+        self.rng = rng
         self.params = params
         self.max_speed = robot.max_speed
         self.robot = robot
@@ -120,6 +140,14 @@ class Pilot:
 
     # -- to be provided by the strategies
     def avoid(self, beliefs: Beliefs, obstacles: tuple[KnownObstacle, ...], request: Move | None) -> Avoidance:
+        """The strategy's own move this tick (outside reflexes): ``beliefs`` (egocentric: x ahead,
+        y to the left; ``beliefs.target`` the current target, a diverting one while the Rescuer
+        holds one), the ``obstacles`` the robot knows (its visual memory, bumped ones included) and
+        the Navigation system's motion ``request`` (or None). Returns an :class:`Avoidance`: a
+        :class:`~navcli.bidding.Move` (heading in rad, speed at most ``self.max_speed``) with a bid
+        in [0, ``params.bid_cap``] (0 or no move: the request is carried out, when safe), and
+        ``info``, the quantities behind it for ``/pilot`` (its fields, or the class's ``Info``'s).
+        Here: nothing."""
         return Avoidance(None, 0.0, {})
 
     # -- per tick

@@ -38,6 +38,12 @@ from ..geometry import ORIGIN, Point, closest_on_segment, segment_distance, wrap
 from .base import Avoidance, Pilot
 
 
+RULES = ("escape", "clear", "tangent")
+"""The geometric pilot's rules (the module docstring's 2, 4 and 3), as ``/pilot.rule`` says."""
+SIDES = ("right", "left")
+"""The sides it passes a prohibited area on, as ``/pilot.side`` says."""
+
+
 def ray_enters(h: float, o: KnownObstacle, R: float, reach: float) -> bool:
     """Does driving ``reach`` metres from the origin along heading ``h`` enter ``o`` grown by ``R``
     from its surface?"""

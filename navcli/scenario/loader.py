@@ -15,8 +15,10 @@ from pathlib import Path
 from typing import Any
 
 from ..geometry import Point
-from ..params import CLUSTERS, DEFAULTS, PERCEPTIONS, PILOT_NAMES, ParamError, Params
-from .model import (MAX_ID, MAX_ITEMS, NAME_RE, PILOT_BLOCK, SUPPORTED_VERSIONS, Arena, CameraSpec, Circle, Landmark,
+from .. import NavcliError
+from ..params import CLUSTERS, NavigationParams, ParamError, Params
+from ..plugins import registry
+from .model import (FIELDS, MAX_ID, MAX_ITEMS, NAME_RE, SUPPORTED_VERSIONS, Arena, CameraSpec, Circle, Landmark,
                     MissionSpec, Noise, Obstacle, RobotSpec, Scenario, Segment, Target)
 from .yaml_reader import MAX_BYTES, Invalid, Reader, ScenarioError, parse_yaml, read_bounded, type_name
 
@@ -45,28 +47,54 @@ class ScenarioReader(Reader):
             raise self.fail(path, f"a landmark id is 1 to {MAX_ID} printable characters, found {s[:80]!r}")
         return s
 
+    def block(self, v: Any, name: str, path: tuple) -> dict:
+        """The mapping of the block ``name`` at ``path``: every required field of it there, no field
+        the format does not declare (:data:`~navcli.scenario.model.FIELDS`)."""
+        fields = FIELDS[name]
+        return self.mapping(v, path, tuple(k for k, f in fields.items() if f.required),
+                            tuple(k for k, f in fields.items() if not f.required))
+
+    def field(self, m: dict, block: str, key: str, path: tuple) -> Any:
+        """Field ``key`` of the block ``block`` read from the mapping ``m`` (at ``path``) as its
+        declaration says (its kind, its range), or its default when absent."""
+        f = FIELDS[block][key]
+        if key not in m:
+            return f.default
+        v, at = m[key], path + (key,)
+        if f.kind in ("number", "param"):
+            return self.number(v, at, f"{block}.{key}" if f.range is not None else None)
+        if f.kind == "integer":
+            return self.integer(v, at, f"{block}.{key}")
+        if f.kind == "point":
+            return self.point(v, at)
+        if f.kind == "id":
+            return self.ident(v, at)
+        text = self.text(v, at)
+        if f.kind == "choice" and text not in f.choices:
+            raise self.fail(at, f"unknown {key} {text!r} (expected one of: {', '.join(f.choices)})")
+        return text
+
     # -- the blocks
     def scenario(self, d: Any, text: str) -> Scenario:
         try:
-            top = self.mapping(d, (), ("version", "name", "arena", "robot", "target"),
-                               ("description", "obstacles", "landmarks", "mission", "noise", "camera", "pilot",
-                                "navigation"))
+            top = self.block(d, "scenario", ())
         except Invalid:
             raise ScenarioError(self.problems) from None
         g = self.guard
+        default = {k: f.default for k, f in FIELDS["scenario"].items()}
         version = g(self.version, top["version"])
         name = g(self.name, top["name"])
-        description = g(self.text, top.get("description", ""), ("description",), default="")
+        description = g(self.field, top, "scenario", "description", (), default="")
         arena = g(self.arena, top["arena"])
         robot, robot_params = g(self.robot, top["robot"], default=(None, {}))
-        landmarks = g(self.landmarks, top.get("landmarks", []), default=())
+        landmarks = g(self.landmarks, top.get("landmarks", default["landmarks"]), default=())
         target = g(self.target, top["target"], landmarks or ())
-        obstacles = g(self.obstacles, top.get("obstacles", []), default=())
-        mission = g(self.mission, top.get("mission", {}))
-        noise = g(self.noise, top.get("noise", {}))
-        camera = g(self.camera, top.get("camera", {}))
-        pilot_params = g(self.pilot, top.get("pilot", {}), default={})
-        nav_params = g(self.navigation, top.get("navigation", {}), default={})
+        obstacles = g(self.obstacles, top.get("obstacles", default["obstacles"]), default=())
+        mission = g(self.mission, top.get("mission", default["mission"]))
+        noise = g(self.noise, top.get("noise", default["noise"]))
+        camera = g(self.camera, top.get("camera", default["camera"]))
+        pilot_params = g(self.pilot, top.get("pilot", default["pilot"]), default={})
+        nav_params = g(self.navigation, top.get("navigation", default["navigation"]), default={})
         if self.problems:
             raise ScenarioError(self.problems)
         params = Params().override(robot_params | pilot_params | nav_params)
@@ -92,32 +120,34 @@ class ScenarioReader(Reader):
         return s
 
     def arena(self, v: Any) -> Arena:
-        m = self.mapping(v, ("arena",), ("width", "height"), ())
-        w = self.number(m["width"], ("arena", "width"), "arena.width")
-        h = self.number(m["height"], ("arena", "height"), "arena.height")
-        return Arena(w, h)
+        P = ("arena",)
+        m = self.block(v, "arena", P)
+        return Arena(self.field(m, "arena", "width", P), self.field(m, "arena", "height", P))
 
     def robot(self, v: Any) -> tuple[RobotSpec, dict[str, float]]:
         """The start, and the robot parameters the block sets (``radius``, ``max_speed``)."""
         P = ("robot",)
-        m = self.mapping(v, P, ("start",), ("heading_deg", "radius", "max_speed"))
-        spec = RobotSpec(start=self.point(m["start"], P + ("start",)),
-                         heading=math.radians(self.opt(m, "heading_deg", P, self.number, DEFAULTS.heading_deg,
-                                                       rng="robot.heading_deg")))
-        return spec, {f"robot.{k}": self.number(m[k], P + (k,), f"robot.{k}") for k in ("radius", "max_speed") if k in m}
+        m = self.block(v, "robot", P)
+        spec = RobotSpec(start=self.field(m, "robot", "start", P),
+                         heading=math.radians(self.field(m, "robot", "heading_deg", P)))
+        return spec, self.params_of(m, "robot", P)
+
+    def params_of(self, m: dict, block: str, path: tuple) -> dict[str, float]:
+        """The parameters the block ``block`` sets (its fields of kind ``param``), by their names."""
+        return {f.param: self.field(m, block, k, path) for k, f in FIELDS[block].items() if f.kind == "param" and k in m}
 
     def target(self, v: Any, landmarks: tuple[Landmark, ...]) -> Target:
         P = ("target",)
-        m = self.mapping(v, P, (), ("at", "landmark", "line", "tolerance"))
+        m = self.block(v, "target", P)
         forms = [k for k in ("at", "landmark", "line") if k in m]
         if len(forms) != 1:
             found = " and ".join(forms) if forms else "none"
             raise self.fail(P, f"needs exactly one of 'at', 'landmark' or 'line', found {found}")
-        tol = self.opt(m, "tolerance", P, self.number, DEFAULTS.target_tolerance, rng="target.tolerance")
+        tol = self.field(m, "target", "tolerance", P)
         if "at" in m:
-            return Target("point", self.point(m["at"], P + ("at",)), tol)
+            return Target("point", self.field(m, "target", "at", P), tol)
         if "landmark" in m:
-            lid = self.ident(m["landmark"], P + ("landmark",))
+            lid = self.field(m, "target", "landmark", P)
             by_id = {lm.id: lm for lm in landmarks}
             if lid not in by_id:
                 known = ", ".join(sorted(by_id)) or "none defined"
@@ -132,119 +162,99 @@ class ScenarioReader(Reader):
         return Target("line", ((a[0] + b[0]) / 2, (a[1] + b[1]) / 2), tol, line=(a, b))
 
     def obstacles(self, v: Any) -> tuple[Obstacle, ...]:
-        P = ("obstacles",)
-        if not isinstance(v, list):
-            raise self.fail(P, f"expected a list of obstacles, found {type_name(v)}")
+        return tuple(o for o in self.items(v, "obstacles", self.obstacle) if o is not None)
+
+    def items(self, v: Any, name: str, read: Any) -> list:
+        """The list ``name`` (obstacles, landmarks): at most MAX_ITEMS, each item read by ``read``
+        (None where it was refused, so every item's problems show)."""
+        P = (name,)
+        if not isinstance(v, (list, tuple)):  # a tuple: the declared default, none
+            raise self.fail(P, f"expected a list of {name}, found {type_name(v)}")
         if len(v) > MAX_ITEMS:
-            raise self.fail(P, f"holds {len(v)} obstacles, at most {MAX_ITEMS}")
-        out = []
-        for i, item in enumerate(v):
-            out.append(self.guard(self.obstacle, item, P + (i,)))
-        return tuple(o for o in out if o is not None)
+            raise self.fail(P, f"holds {len(v)} {name}, at most {MAX_ITEMS}")
+        return [self.guard(read, item, P + (i,)) for i, item in enumerate(v)]
 
     def obstacle(self, v: Any, P: tuple) -> Obstacle:
         m = self.mapping(v, P, (), ("circle", "segment"))
         if len(m) != 1:
             raise self.fail(P, "expected exactly one of 'circle' or 'segment'")
         if "circle" in m:
-            c = self.mapping(m["circle"], P + ("circle",), ("center", "radius"), ())
-            return Circle(self.point(c["center"], P + ("circle", "center")),
-                          self.number(c["radius"], P + ("circle", "radius"), "circle.radius"))
-        s = self.mapping(m["segment"], P + ("segment",), ("from", "to"), ("thickness",))
-        a = self.point(s["from"], P + ("segment", "from"))
-        b = self.point(s["to"], P + ("segment", "to"))
+            Q = P + ("circle",)
+            c = self.block(m["circle"], "circle", Q)
+            return Circle(self.field(c, "circle", "center", Q), self.field(c, "circle", "radius", Q))
+        Q = P + ("segment",)
+        s = self.block(m["segment"], "segment", Q)
+        a, b = self.field(s, "segment", "from", Q), self.field(s, "segment", "to", Q)
         if math.dist(a, b) < 1e-6:
-            raise self.fail(P + ("segment",), "is degenerate: 'from' and 'to' are the same point")
-        t = self.opt(s, "thickness", P + ("segment",), self.number, DEFAULTS.segment_thickness, rng="segment.thickness")
-        return Segment(a, b, t)
+            raise self.fail(Q, "is degenerate: 'from' and 'to' are the same point")
+        return Segment(a, b, self.field(s, "segment", "thickness", Q))
 
     def landmarks(self, v: Any) -> tuple[Landmark, ...]:
-        P = ("landmarks",)
-        if not isinstance(v, list):
-            raise self.fail(P, f"expected a list of landmarks, found {type_name(v)}")
-        if len(v) > MAX_ITEMS:
-            raise self.fail(P, f"holds {len(v)} landmarks, at most {MAX_ITEMS}")
         out: list[Landmark] = []
         seen: dict[str, int] = {}
-        for i, item in enumerate(v):
-            lm = self.guard(self.landmark, item, P + (i,))
+        for i, lm in enumerate(self.items(v, "landmarks", self.landmark)):
             if lm is None:
                 continue
             if lm.id in seen:
-                self.fail(P + (i, "id"), f"landmark id {lm.id!r} is already used by landmarks[{seen[lm.id]}]")
+                self.fail(("landmarks", i, "id"), f"landmark id {lm.id!r} is already used by landmarks[{seen[lm.id]}]")
                 continue
             seen[lm.id] = i
             out.append(lm)
         return tuple(out)
 
     def landmark(self, v: Any, P: tuple) -> Landmark:
-        m = self.mapping(v, P, ("id", "at"), ("radius",))
-        return Landmark(self.ident(m["id"], P + ("id",)), self.point(m["at"], P + ("at",)),
-                        self.opt(m, "radius", P, self.number, DEFAULTS.landmark_radius, rng="landmark.radius"))
+        m = self.block(v, "landmark", P)
+        return Landmark(*(self.field(m, "landmark", k, P) for k in ("id", "at", "radius")))
 
     def mission(self, v: Any) -> MissionSpec:
         P = ("mission",)
-        m = self.mapping(v, P, (), ("pilot", "time_limit", "seed", "perception"))
-        pilot = self.opt(m, "pilot", P, self.text, DEFAULTS.pilot)
-        if pilot not in PILOT_NAMES:
-            raise self.fail(P + ("pilot",), f"unknown pilot {pilot!r} (expected one of: {', '.join(PILOT_NAMES)})")
-        perception = self.opt(m, "perception", P, self.text, DEFAULTS.perception)
-        if perception not in PERCEPTIONS:
-            raise self.fail(P + ("perception",),
-                            f"unknown perception {perception!r} (expected one of: {', '.join(PERCEPTIONS)})")
-        return MissionSpec(pilot, self.opt(m, "time_limit", P, self.number, DEFAULTS.time_limit, rng="mission.time_limit"),
-                           self.opt(m, "seed", P, self.integer, DEFAULTS.seed, rng="mission.seed"), perception)
+        m = self.block(v, "mission", P)
+        pilot = self.field(m, "mission", "pilot", P)
+        try:
+            registry.pilot(pilot)  # navcli's, an installed plugin's, or module:Class
+        except NavcliError as e:
+            raise self.fail(P + ("pilot",), str(e)) from None
+        return MissionSpec(pilot, *(self.field(m, "mission", k, P) for k in ("time_limit", "seed", "perception")))
 
     def noise(self, v: Any) -> Noise:
         P = ("noise",)
-        m = self.mapping(v, P, (), ("odometry", "odometry_drift_deg_per_m", "vision_heading_deg", "vision_distance"))
-        def get(key: str, default: float) -> float:
-            return self.opt(m, key, P, self.number, default, rng=f"noise.{key}")
-
-        return Noise(get("odometry", DEFAULTS.odometry_noise),
-                     math.radians(get("vision_heading_deg", DEFAULTS.vision_heading_deg)),
-                     get("vision_distance", DEFAULTS.vision_distance),
-                     math.radians(get("odometry_drift_deg_per_m", 0.0)))
+        m = self.block(v, "noise", P)
+        get = {k: self.field(m, "noise", k, P) for k in FIELDS["noise"]}
+        return Noise(get["odometry"], math.radians(get["vision_heading_deg"]), get["vision_distance"],
+                     math.radians(get["odometry_drift_deg_per_m"]))
 
     def camera(self, v: Any) -> CameraSpec:
         P = ("camera",)
-        m = self.mapping(v, P, (), ("fov_deg", "range", "pan_limit_deg", "pan_speed_deg", "look_time"))
-        def get(key: str, default: float) -> float:
-            return self.opt(m, key, P, self.number, default, rng=f"camera.{key}")
-
-        return CameraSpec(math.radians(get("fov_deg", DEFAULTS.camera_fov_deg)), get("range", DEFAULTS.camera_range),
-                          math.radians(get("pan_limit_deg", DEFAULTS.camera_pan_limit_deg)),
-                          math.radians(get("pan_speed_deg", DEFAULTS.camera_pan_speed_deg)),
-                          get("look_time", DEFAULTS.camera_look_time))
+        m = self.block(v, "camera", P)
+        get = {k: self.field(m, "camera", k, P) for k in FIELDS["camera"]}
+        return CameraSpec(math.radians(get["fov_deg"]), get["range"], math.radians(get["pan_limit_deg"]),
+                          math.radians(get["pan_speed_deg"]), get["look_time"])
 
     def pilot(self, v: Any) -> dict[str, float]:
         """The pilot parameters the block sets."""
-        P = ("pilot",)
-        m = self.mapping(v, P, (), tuple(PILOT_BLOCK))
-        return {f"pilot.{k}": self.number(m[k], P + (k,), f"pilot.{k}") for k in PILOT_BLOCK if k in m}
+        return self.params_of(self.block(v, "pilot", ("pilot",)), "pilot", ("pilot",))
 
-    def navigation(self, v: Any) -> dict[str, float]:
+    def navigation(self, v: Any) -> dict[str, Any]:
         """The Navigation system's parameters the block sets: ``cluster`` (``C1``, the default, or
         ``C2``: the thesis' GA-tuned sets, Table 5.2) and any of ``navigation.*`` by name, checked
-        against its declared range."""
+        against its declaration (a switch is true or false)."""
         P = ("navigation",)
-        fields = {k: v for k, v in Params().flat().items() if k.startswith("navigation.") and not isinstance(v, list)}
-        names = tuple(k.partition(".")[2] for k in fields)
-        m = self.mapping(v, P, (), ("cluster",) + names)
-        out: dict[str, float] = {}
+        decls = {k: d for k, d, _ in NavigationParams.declarations() if d.kind not in ("numbers", "intervals")}
+        m = self.mapping(v, P, (), ("cluster",) + tuple(decls))
+        out: dict[str, Any] = {}
         if "cluster" in m:
             c = self.text(m["cluster"], P + ("cluster",))
             if c not in CLUSTERS:
                 raise self.fail(P + ("cluster",), f"unknown cluster {c!r} (expected one of: {', '.join(CLUSTERS)})")
             out = {f"navigation.{k}": x for k, x in dataclasses.asdict(CLUSTERS[c]).items() if not isinstance(x, tuple)}
-        for k in names:
+        for k, d in decls.items():
             if k in m:
-                value = self.number(m[k], P + (k,))
+                raw = m[k]
+                value = raw if d.kind == "switch" and isinstance(raw, bool) else self.number(raw, P + (k,))
                 try:
-                    Params().override({f"navigation.{k}": value})
+                    out[f"navigation.{k}"] = d.check(f"navigation.{k}", value)
                 except ParamError as e:
                     raise self.fail(P + (k,), str(e).partition(" ")[2] or str(e)) from None
-                out[f"navigation.{k}"] = value
         return out
 
     # -- where things are

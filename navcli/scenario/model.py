@@ -7,15 +7,15 @@ file is read by :mod:`navcli.scenario.loader`; its JSON Schema is :mod:`navcli.s
 
 from __future__ import annotations
 
-import dataclasses
 import hashlib
 import math
 import re
 from dataclasses import dataclass, field
-from typing import Literal
+from typing import Any, Literal
 
 from ..geometry import Point, distance_to_segment
-from ..params import DEFAULTS, Params
+from ..params import PERCEPTIONS, Params
+from ..plugins.registry import BUILTIN_PILOTS
 
 SUPPORTED_VERSIONS = (1,)
 NAME_RE = re.compile(r"[a-z0-9-]{1,64}")
@@ -47,47 +47,109 @@ class Range:
         return None
 
 
-def _param_range(name: str, unit: str) -> Range:
-    """The range of a parameter a scenario block may set, as declared in :mod:`navcli.params`."""
-    group, _, key = name.partition(".")
-    m = next(f for f in dataclasses.fields(getattr(Params(), group)) if f.name == key).metadata
-    lo, lo_open = (m["above"], True) if m.get("above") is not None else (m["at_least"], False)
-    return Range(lo, m["at_most"], unit, lo_open)
+@dataclass(frozen=True)
+class Field:
+    """One field of the scenario format, declared once: the loader reads it by this (what it is, if
+    it is required, its default, a number's range and unit), and ``navcli schema`` and the
+    reference table of docs/scenario-format.md (``navcli schema --markdown``) are made from it.
+
+    ``kind``: ``number``, ``integer``, ``text``, ``choice`` (one of ``choices``), ``point``
+    ([x, y] in metres), ``id`` (a landmark's), ``line`` (two points), ``list`` or ``block``;
+    ``param``: the number is that parameter's (its declaration gives the range and unit)."""
+
+    description: str
+    range: Range | None = None
+    default: Any = None
+    required: bool = False
+    kind: str = "number"
+    choices: tuple[str, ...] = ()
+    param: str = ""
 
 
-PILOT_BLOCK = {"K": "eq. 2: repulsion constant", "A_t": "eq. 5: target attraction",
-               "R_min": "metres: prohibited area beyond an obstacle's surface"}
-"""The parameters a scenario's ``pilot:`` block sets (each ``pilot.<key>``), with what they are."""
+def _param(name: str) -> Field:
+    """A field a scenario block sets that is the parameter ``name``: its description, range and unit
+    as :mod:`navcli.params` declares them (so they are written once)."""
+    d, default = next((d, v) for n, d, v in Params().declarations() if n == name)
+    lo, lo_open = d.lower
+    hi, _ = d.upper
+    assert lo is not None and hi is not None  # the parameters a scenario sets are bounded
+    return Field(f"{d.description} (the parameter {name})", Range(lo, hi, d.unit, lo_open), default, kind="param",
+                 param=name)
 
-RANGES: dict[str, Range] = {
-    "arena.width": Range(1.0, 100.0, "m"),
-    "arena.height": Range(1.0, 100.0, "m"),
-    "point": Range(0.0, 100.0, "m"),  # any coordinate, before it is checked against the arena
-    "robot.heading_deg": Range(-360.0, 360.0, "deg"),
-    "robot.radius": _param_range("robot.radius", "m"),
-    "robot.max_speed": _param_range("robot.max_speed", "m/s"),
-    "target.tolerance": Range(0.01, 10.0, "m"),
-    "circle.radius": Range(0.01, 50.0, "m"),
-    "segment.thickness": Range(0.01, 1.0, "m"),
-    "landmark.radius": Range(0.01, 5.0, "m"),
-    "mission.time_limit": Range(0.1, 86_400.0, "s"),  # a tick at least, up to a simulated day
-    "mission.seed": Range(0, 2 ** 64 - 1),
+
+POINT = Range(0.0, 100.0, "m")
+"""Any coordinate of a point (``start``, ``at``, ``center``, ``from``, ``to``, a line's ends),
+before it is checked against the arena."""
+FIELDS: dict[str, dict[str, Field]] = {
+    "scenario": {
+        "version": Field("the format's version: this navcli reads 1", required=True, kind="integer"),
+        "name": Field("1 to 64 of a-z, 0-9 and '-': it names the log folder", required=True, kind="text"),
+        "description": Field("free text", default="", kind="text"),
+        "arena": Field("the room: its width and height (walls on its border)", required=True, kind="block"),
+        "robot": Field("where the robot starts (its size and speed are parameters)", required=True, kind="block"),
+        "target": Field("the mission's target: exactly one of at, landmark, line", required=True, kind="block"),
+        "obstacles": Field(f"circle and segment obstacles, at most {MAX_ITEMS}", default=(), kind="list"),
+        "landmarks": Field(f"landmarks, at most {MAX_ITEMS}, their ids unique", default=(), kind="list"),
+        "mission": Field("the pilot, perception, time limit and seed", default={}, kind="block"),
+        "noise": Field("the sensors' errors; 0 turns a source off", default={}, kind="block"),
+        "camera": Field("the camera on its pan unit", default={}, kind="block"),
+        "pilot": Field("the pilot's parameters of the pilot paper", default={}, kind="block"),
+        "navigation": Field("the Navigation system's parameters: a cluster, and any navigation.* parameter by name",
+                            default={}, kind="block")},
+    "arena": {"width": Field("the room's width", Range(1.0, 100.0, "m"), required=True),
+              "height": Field("the room's height", Range(1.0, 100.0, "m"), required=True)},
+    "robot": {"start": Field("where the robot starts, clear of every obstacle, landmark and wall by its radius",
+                             required=True, kind="point"),
+              "heading_deg": Field("its heading at the start, counter-clockwise from +x", Range(-360.0, 360.0, "deg"),
+                                   default=0.0),
+              "radius": _param("robot.radius"), "max_speed": _param("robot.max_speed")},
+    "target": {"at": Field("a point target", kind="point"), "landmark": Field("the landmark with this id", kind="id"),
+               "line": Field("a diverting target: the line [[x, y], [x, y]] to cross", kind="line"),
+               "tolerance": Field("how close to a point (or to a landmark's body, with the robot's) counts as reached",
+                                  Range(0.01, 10.0, "m"), default=0.3)},
+    "circle": {"center": Field("a point obstacle's centre", required=True, kind="point"),
+               "radius": Field("its radius", Range(0.01, 50.0, "m"), required=True)},
+    "segment": {"from": Field("a linear obstacle's one end", required=True, kind="point"),
+                "to": Field("its other end", required=True, kind="point"),
+                "thickness": Field("its physical width", Range(0.01, 1.0, "m"), default=0.05)},
+    "landmark": {"id": Field(f"1 to {MAX_ID} printable characters, unique", required=True, kind="id"),
+                 "at": Field("where it stands", required=True, kind="point"),
+                 "radius": Field("its radius", Range(0.01, 5.0, "m"), default=0.15)},
+    "mission": {"pilot": Field("potential-field, geometric, an installed plugin's name, or module:Class",
+                               default=BUILTIN_PILOTS[0], kind="text"),
+                "time_limit": Field("simulated seconds before the mission ends as timeout", Range(0.1, 86_400.0, "s"),
+                                    default=900.0),  # a tick at least, up to a simulated day
+                "seed": Field("the run's seed; rerun i of a comparison uses one derived from it and i",
+                              Range(0, 2 ** 64 - 1), default=1, kind="integer"),
+                "perception": Field("vision (the camera and visual memory) or oracle (ground truth)",
+                                    default=PERCEPTIONS[0], kind="choice", choices=PERCEPTIONS)},
     # noise * NOISE_BOUND < 1, so a clipped error never turns a distance or a scale negative
-    "noise.odometry": Range(0.0, 0.3),
-    "noise.odometry_drift_deg_per_m": Range(0.0, 10.0, unit="deg/m"),
-    "noise.vision_heading_deg": Range(0.0, 20.0, "deg"),
-    "noise.vision_distance": Range(0.0, 0.3),
-    "camera.fov_deg": Range(0.0, 360.0, "deg", lo_open=True),
-    "camera.range": Range(0.1, 100.0, "m"),
-    "camera.pan_limit_deg": Range(0.0, 180.0, "deg"),
-    "camera.pan_speed_deg": Range(0.0, 3600.0, "deg/s", lo_open=True),
-    "camera.look_time": Range(0.0, 10.0, "s"),
-    "pilot.K": _param_range("pilot.K", ""),
-    "pilot.A_t": _param_range("pilot.A_t", ""),
-    "pilot.R_min": _param_range("pilot.R_min", "m"),
+    "noise": {"odometry": Field("relative standard deviation of travelled distance and turned angle",
+                                Range(0.0, 0.3), default=0.02),
+              "odometry_drift_deg_per_m": Field("standard deviation of the heading's drift per metre driven (a "
+                                                "per-run rate and a per-tick part)", Range(0.0, 10.0, "deg/m"),
+                                                default=0.0),
+              "vision_heading_deg": Field("standard deviation of a measured heading", Range(0.0, 20.0, "deg"),
+                                          default=2.0),
+              "vision_distance": Field("relative standard deviation of a measured distance", Range(0.0, 0.3),
+                                       default=0.05)},
+    "camera": {"fov_deg": Field("the field of view", Range(0.0, 360.0, "deg", lo_open=True), default=60.0),
+               "range": Field("how far it sees", Range(0.1, 100.0, "m"), default=6.0),
+               "pan_limit_deg": Field("how far the pan unit turns either side of ahead", Range(0.0, 180.0, "deg"),
+                                      default=100.0),
+               "pan_speed_deg": Field("the pan unit's speed", Range(0.0, 3600.0, "deg/s", lo_open=True), default=90.0),
+               "look_time": Field("image processing per look, the camera busy meanwhile", Range(0.0, 10.0, "s"),
+                                  default=0.3)},
+    "pilot": {"K": _param("pilot.K"), "A_t": _param("pilot.A_t"), "R_min": _param("pilot.R_min")},
 }
-"""Every number field's range, by its field (``circle.radius`` for ``obstacles[i].circle.radius``);
-``navcli schema`` and docs/scenario-format.md show the same table."""
+"""Every field of the format by block (``scenario`` the top level; ``circle``, ``segment`` and
+``landmark`` the items of the lists); the ``navigation`` block's are its parameters'."""
+
+RANGES: dict[str, Range] = {"point": POINT} | {f"{block}.{key}": f.range for block, fields in FIELDS.items()
+                                               for key, f in fields.items() if f.range is not None}
+"""Every number field's range, by its field (``circle.radius`` for ``obstacles[i].circle.radius``)."""
+PILOT_BLOCK = tuple(FIELDS["pilot"])
+"""The parameters a scenario's ``pilot:`` block sets (each ``pilot.<key>``)."""
 
 
 # --- The values a scenario is made of -------------------------------------------------------
@@ -152,7 +214,7 @@ class MissionSpec:
     pilot: str
     time_limit: float  # simulated seconds
     seed: int
-    perception: str = DEFAULTS.perception  # vision | oracle
+    perception: str = PERCEPTIONS[0]  # vision | oracle
 
 
 @dataclass(frozen=True)
@@ -167,9 +229,9 @@ class Noise:
 class CameraSpec:
     fov: float  # rad
     range: float  # m
-    pan_limit: float = math.radians(DEFAULTS.camera_pan_limit_deg)  # rad either side of ahead
-    pan_speed: float = math.radians(DEFAULTS.camera_pan_speed_deg)  # rad/s
-    look_time: float = DEFAULTS.camera_look_time  # s of processing per look
+    pan_limit: float = math.radians(FIELDS["camera"]["pan_limit_deg"].default)  # rad either side of ahead
+    pan_speed: float = math.radians(FIELDS["camera"]["pan_speed_deg"].default)  # rad/s
+    look_time: float = FIELDS["camera"]["look_time"].default  # s of processing per look
 
 
 @dataclass(frozen=True)

@@ -3,98 +3,101 @@ same ranges the loader checks."""
 
 from __future__ import annotations
 
-import dataclasses
 from typing import Any
 
-from ..params import CLUSTERS, NAVIGATION, PERCEPTIONS, PILOT_NAMES
-from .model import MAX_ID, MAX_ITEMS, NAME_RE, PILOT_BLOCK, RANGES
+from ..params import CLUSTERS, NavigationParams
+from ..plugins.registry import BUILTIN_PILOTS, NAME_RE
+from .model import FIELDS, MAX_ID, MAX_ITEMS, POINT, Field
+from .model import NAME_RE as SCENARIO_NAME_RE
 from .yaml_reader import MAX_SCALAR
 
-
-
-# --- The format as a JSON Schema (for editors: the YAML language server) ---------------------
-def _param_schema(f: dataclasses.Field) -> dict[str, Any]:
-    """A parameter's JSON Schema from its declared range (:func:`navcli.params._p`)."""
-    m = f.metadata
-    if m.get("choices"):
-        return {"enum": list(m["choices"]), "default": f.default}
-    d: dict[str, Any] = {"type": "integer" if isinstance(f.default, int) else "number", "default": f.default}
-    if m.get("above") is not None:
-        d["exclusiveMinimum"] = m["above"]
-    elif m.get("at_least") is not None:
-        d["minimum"] = m["at_least"]
-    if m.get("at_most") is not None:
-        d["maximum"] = m["at_most"]
-    if m.get("below") is not None:
-        d["exclusiveMaximum"] = m["below"]
-    return d
-
+PILOT_NAME = rf"^{NAME_RE.pattern}$|^[^\s:]+:[A-Za-z_][A-Za-z0-9_.]*$"
+"""What a pilot's name can be: an installed plugin's (the registry's rule) or ``module:Class``."""
+POINT_SCHEMA = {"type": "array", "description": "[x, y] in metres, inside the arena", "minItems": 2, "maxItems": 2,
+                "items": {"type": "number", "minimum": POINT.lo, "maximum": POINT.hi}}
 
 
 def json_schema() -> dict[str, Any]:
-    """The scenario format as a JSON Schema (draft-07), built from the same ranges the loader
-    checks. It catches what a schema can (fields, types, ranges, names); where things are
-    (inside the arena, clear of obstacles, a reachable target) only the loader checks."""
+    """The scenario format as a JSON Schema (draft-07), built from the fields' declarations
+    (:data:`~navcli.scenario.model.FIELDS`) the loader reads. It catches what a schema can (fields,
+    types, ranges, names); where things are (inside the arena, clear of obstacles, a reachable
+    target) only the loader checks."""
 
-    def num(key: str, description: str) -> dict:
-        r = RANGES[key]
-        d: dict[str, Any] = {"type": "number", "description": description, "maximum": r.hi}
-        d["exclusiveMinimum" if r.lo_open else "minimum"] = r.lo
-        return d
+    def value(f: Field) -> dict[str, Any]:
+        d: dict[str, Any] = {"description": f.description + (f" ({f.range.unit})" if f.range and f.range.unit else "")}
+        if f.default is not None and f.kind not in ("list", "block"):
+            d["default"] = f.default
+        if f.kind in ("number", "param", "integer"):
+            d["type"] = "integer" if f.kind == "integer" else "number"
+            if f.range is not None:
+                d |= {"maximum": f.range.hi, ("exclusiveMinimum" if f.range.lo_open else "minimum"): f.range.lo}
+            return d
+        kinds: dict[str, dict[str, Any]] = {
+            "point": POINT_SCHEMA, "line": {"type": "array", "minItems": 2, "maxItems": 2, "items": POINT_SCHEMA},
+            "id": {"type": ["string", "integer"], "minLength": 1, "maxLength": MAX_ID},
+            "text": {"type": "string", "maxLength": MAX_SCALAR}, "choice": {"enum": list(f.choices)}}
+        return d | kinds[f.kind]
 
-    def obj(props: dict, required: tuple[str, ...] = (), description: str = "") -> dict:
-        d = {"type": "object", "properties": props, "additionalProperties": False, "required": list(required)}
-        return d | ({"description": description} if description else {})
+    def block(which: str, /, **special: dict) -> dict[str, Any]:
+        fields = FIELDS[which]
+        props = {k: special.get(k) or value(f) for k, f in fields.items()}
+        return {"type": "object", "properties": props, "additionalProperties": False,
+                "required": [k for k, f in fields.items() if f.required]}
 
-    point = {"type": "array", "description": "[x, y] in metres, inside the arena", "minItems": 2, "maxItems": 2,
-             "items": num("point", "metres")}
-    ident = {"type": ["string", "integer"], "description": "a landmark id", "minLength": 1, "maxLength": MAX_ID}
-    target = obj({"at": point, "landmark": ident,
-                  "line": {"type": "array", "minItems": 2, "maxItems": 2, "items": point,
-                           "description": "a diverting target: the line to cross"},
-                  "tolerance": num("target.tolerance", "metres: how close to a point target counts as reached")},
-                 description="exactly one of at, landmark, line")
-    target["oneOf"] = [{"required": [k]} for k in ("at", "landmark", "line")]
+    target = block("target") | {"description": FIELDS["scenario"]["target"].description,
+                                "oneOf": [{"required": [k]} for k in ("at", "landmark", "line")]}
+    top = FIELDS["scenario"]
     return {
         "$schema": "http://json-schema.org/draft-07/schema#",
         "$id": "https://navcli/scenario-v1.schema.json",
         "title": "navcli scenario, version 1",
         "description": "Metres, seconds, degrees in keys ending _deg. Write exponents with a point and a sign "
                        "(1.0e-3): YAML 1.1 reads 1e-3 as text.",
-        **obj({
-            "version": {"const": 1},
-            "name": {"type": "string", "pattern": f"^{NAME_RE.pattern}$", "not": {"pattern": "\n"},  # no trailing newline
-                     "description": "names the log folder"},
-            "description": {"type": "string", "maxLength": MAX_SCALAR},
-            "arena": obj({"width": num("arena.width", "metres"), "height": num("arena.height", "metres")},
-                         ("width", "height")),
-            "robot": obj({"start": point, "heading_deg": num("robot.heading_deg", "degrees, counter-clockwise from +x"),
-                          "radius": num("robot.radius", "metres"), "max_speed": num("robot.max_speed", "m/s")},
-                         ("start",)),
-            "target": target,
-            "obstacles": {"type": "array", "maxItems": MAX_ITEMS, "items": {"oneOf": [
-                obj({"circle": obj({"center": point, "radius": num("circle.radius", "metres")},
-                                   ("center", "radius"))}, ("circle",)),
-                obj({"segment": obj({"from": point, "to": point,
-                                     "thickness": num("segment.thickness", "metres")}, ("from", "to"))},
-                    ("segment",))]}},
-            "landmarks": {"type": "array", "maxItems": MAX_ITEMS, "items": obj(
-                {"id": ident, "at": point, "radius": num("landmark.radius", "metres")}, ("id", "at"))},
-            "mission": obj({"pilot": {"enum": list(PILOT_NAMES)}, "perception": {"enum": list(PERCEPTIONS)},
-                            "time_limit": num("mission.time_limit", "simulated seconds"),
-                            "seed": {"type": "integer", "minimum": 0, "maximum": 2 ** 64 - 1}}),
-            "noise": obj({"odometry": num("noise.odometry", "relative standard deviation"),
-                          "odometry_drift_deg_per_m": num("noise.odometry_drift_deg_per_m",
-                                                          "degrees of heading drift per metre driven, standard deviation"),
-                          "vision_heading_deg": num("noise.vision_heading_deg", "degrees, standard deviation"),
-                          "vision_distance": num("noise.vision_distance", "relative standard deviation")}),
-            "camera": obj({k: num(f"camera.{k}", u) for k, u in (
-                ("fov_deg", "degrees"), ("range", "metres"), ("pan_limit_deg", "degrees either side of ahead"),
-                ("pan_speed_deg", "degrees per second"), ("look_time", "seconds of processing per look"))}),
-            "pilot": obj({k: num(f"pilot.{k}", what) for k, what in PILOT_BLOCK.items()}),
-            "navigation": obj({"cluster": {"enum": list(CLUSTERS), "description": "the thesis' GA-tuned bidding "
-                                           "parameters: C1 (default, targets reachable directly) or C2 (behind obstacles)"}}
-                              | {f.name: _param_schema(f) for f in dataclasses.fields(NAVIGATION)
-                                 if not isinstance(f.default, tuple)}),
-        }, ("version", "name", "arena", "robot", "target")),
+        **block("scenario",
+                version={"const": 1, "description": top["version"].description},
+                name={"type": "string", "pattern": f"^{SCENARIO_NAME_RE.pattern}$", "not": {"pattern": "\n"},  # no trailing newline
+                      "description": top["name"].description},
+                arena=block("arena"), robot=block("robot"), target=target,
+                obstacles={"type": "array", "maxItems": MAX_ITEMS, "description": top["obstacles"].description,
+                           "items": {"oneOf": [
+                               {"type": "object", "properties": {"circle": block("circle")}, "required": ["circle"],
+                                "additionalProperties": False},
+                               {"type": "object", "properties": {"segment": block("segment")}, "required": ["segment"],
+                                "additionalProperties": False}]}},
+                landmarks={"type": "array", "maxItems": MAX_ITEMS, "description": top["landmarks"].description,
+                           "items": block("landmark")},
+                mission=block("mission", pilot={"type": "string", "pattern": PILOT_NAME,
+                                                "examples": list(BUILTIN_PILOTS),
+                                                "description": FIELDS["mission"]["pilot"].description,
+                                                "default": BUILTIN_PILOTS[0]}),
+                noise=block("noise"), camera=block("camera"), pilot=block("pilot"),
+                navigation={"type": "object", "additionalProperties": False, "required": [],
+                            "description": top["navigation"].description,
+                            "properties": {"cluster": {"enum": list(CLUSTERS), "description": "the thesis' GA-tuned "
+                                           "bidding parameters: C1 (default, targets reachable directly) or C2 (behind "
+                                           "obstacles)"}}
+                            | {k: d.json_schema(default) for k, d, default in NavigationParams.declarations()
+                               if d.kind not in ("numbers", "intervals")}}),
     }
+
+
+def reference_table() -> str:
+    """Every field of the format with what it is, its default, its range and unit, as a Markdown
+    table: docs/scenario-format.md's "Fields, one by one" (``navcli schema --markdown``)."""
+    rows = ["| field | what it is | default | from | to | unit |", "| --- | --- | --- | --- | --- | --- |"]
+    for block, fields in FIELDS.items():
+        for key, f in fields.items():
+            if f.kind in ("block", "list"):
+                continue
+            where = key if block == "scenario" else f"{block}.{key}"
+            default = "required" if f.required else "-" if f.default is None else "empty" if f.default == "" else \
+                f"`{f.default}`" if not isinstance(f.default, float) else f"`{f.default:g}`"
+            r = f.range
+            lo = "" if r is None else ("> " if r.lo_open else "≥ ") + f"{r.lo:g}"
+            hi = "" if r is None else f"≤ {r.hi:d}" if isinstance(r.hi, int) else f"≤ {r.hi:g}"
+            unit = (r.unit or "-") if r is not None else "m" if f.kind in ("point", "line") else "-"
+            rows.append(f"| `{where}` | {f.description} | {default} | {lo} | {hi} | {unit} |")
+    r = POINT
+    rows.append(f"| `point` | any coordinate of a point above, before it is checked against the arena | - | "
+                f"≥ {r.lo:g} | ≤ {r.hi:g} | {r.unit} |")
+    return "\n".join(rows) + "\n"

@@ -36,7 +36,6 @@ import dataclasses
 import hashlib
 import json
 import math
-import re
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Callable
@@ -44,13 +43,13 @@ from typing import Any, Callable
 import numpy as np
 
 from .. import NavcliError
-from ..analysis.files import write_csv, write_markdown
+from ..analysis.files import file_name, write_csv, write_markdown
 from ..config import RunSpec
 from ..learning.actions import ACTIONS
 from .task import Start, random_starts, spec_at, task_spec
 
 CONSTANT = tuple(f"all-{a}" for a in ACTIONS)  # one action in every state: the baselines all-MB, all-MLL ...
-POLICY_KINDS = ("learned", "hand-coded", "agents") + CONSTANT
+POLICY_KINDS = ("learned", "hand-coded", "agents", "plugin") + CONSTANT
 DEFAULT_POLICIES = ("learned", "hand-coded", "agents")
 METRICS = ("successes", "reward", "actions") + ACTIONS + ("time_s",)
 """The table's columns: successes out of the starts, then means per trial."""
@@ -82,16 +81,24 @@ class Policy:
 
 def parse_policy(text: str) -> Policy:
     """The policy named by a ``--policy`` value; raises :class:`PolicyError`, or
-    :class:`~.model_file.ModelError` for a model file that cannot be used."""
-    kind, sep, file = text.partition(":")
-    if kind not in POLICY_KINDS or (sep and (kind != "learned" or not file)):
-        raise PolicyError(f"unknown policy {text!r} (expected learned, learned:FILE, hand-coded, agents, "
-                          f"or one action everywhere: {', '.join(CONSTANT)})")
-    if kind in CONSTANT:
+    :class:`~.model_file.ModelError` for a model file that cannot be used. A Navigation policy
+    plugin (or ``agents+NAME``) runs as ``agents`` does: missions, no actions."""
+    from ..plugins import UnknownPlugin, navigation
+
+    if text in CONSTANT:
         from ..learning.features import N_STATES
 
-        action = ACTIONS.index(kind[4:])
-        return Policy(text, kind, np.full(N_STATES, action, dtype=np.int8).tobytes(), f"{kind[4:]} in every state")
+        action = ACTIONS.index(text[4:])
+        return Policy(text, text, np.full(N_STATES, action, dtype=np.int8).tobytes(), f"{text[4:]} in every state")
+    try:
+        found = navigation(text)
+    except UnknownPlugin as e:
+        raise PolicyError(f"unknown policy {text!r} (expected learned, learned:FILE, hand-coded, agents, one action "
+                          f"everywhere: {', '.join(CONSTANT)}, or a Navigation policy plugin: {e})") from None
+    if any(not c.builtin for c in found):
+        return Policy(text, "plugin", None, " and ".join(c.label for c in found if not c.builtin)
+                      + (" beside the bidding agents" if len(found) > 1 else ""))
+    kind, file = found[0].name.partition(":")[0], found[0].argument
     if kind == "agents":
         return Policy(text, kind, None, "the Navigation system's bidding agents")
     if kind == "hand-coded":
@@ -130,14 +137,11 @@ def run_starts(starts: list[Start], run: int) -> tuple[Start, ...]:
 def job_key(spec: RunSpec, policy: Policy, run: int, starts: tuple[Start, ...]) -> str:
     """sha256 (hex) of what decides a job's trials (see the module docstring)."""
     table = hashlib.sha256(policy.table).hexdigest() if policy.table is not None else None
-    nav = "learned" if policy.kind in CONSTANT else policy.kind  # a table like a learned one's (in the key too)
+    nav = "learned" if policy.kind in CONSTANT else policy.label if policy.kind == "plugin" else policy.kind
+    # (a constant table is a table like a learned one's, in the key too; a plugin's identity is in the run id)
     blob = json.dumps([spec.replace(navigation=nav).run_id, table, run,
                        [dataclasses.asdict(s) for s in starts]], sort_keys=True)
     return hashlib.sha256(blob.encode()).hexdigest()
-
-
-def _slug(label: str) -> str:
-    return re.sub(r"[^A-Za-z0-9_.-]+", "_", label).strip("_") or "policy"
 
 
 def plan(spec: RunSpec, policies: list[Policy], runs: int, starts: int, out: Path) -> list[Job]:
@@ -151,7 +155,7 @@ def plan(spec: RunSpec, policies: list[Policy], runs: int, starts: int, out: Pat
         st = run_starts(base, r)
         for p in policies:
             key = job_key(spec, p, r, st)
-            jobs.append(Job(spec, p, r, st, key, str(out / "runs" / f"{_slug(p.label)}-run{r}-{key[:12]}.json")))
+            jobs.append(Job(spec, p, r, st, key, str(out / "runs" / f"{file_name(p.label, 'policy')}-run{r}-{key[:12]}.json")))
     return jobs
 
 
@@ -178,16 +182,17 @@ def run_trials(job: Job) -> list[dict]:
     """The trials of ``job``, one record per start (in this process)."""
     spec, p = job.spec, job.spec.params.learning
     out = []
-    if job.policy.kind == "agents":
+    if job.policy.table is None:  # the bidding agents, or a plugin's: missions
         from ..mission import Mission
         from ..runner import advance
 
-        base = task_spec(spec).replace(navigation="agents")  # the same task as the policies' (task.py)
+        nav = job.policy.label if job.policy.kind == "plugin" else "agents"
+        base = task_spec(spec).replace(navigation=nav)  # the same task as the policies' (task.py)
         for i, st in enumerate(job.starts):
             m = Mission(spec_at(base, st), snapshots=False)
             advance(m, until=lambda m: m.ticks > 0 and not m.navigation.sweeping)  # as NavigationTask.reset
             end = m.time + p.max_actions * p.action_s  # the learned policies' time after their sweep, at most
-            advance(m, until=lambda m: m.time >= end - 1e-9)
+            advance(m, until=_past(end))
             out.append(_record(i, st, m.outcome or "timeout", m.time))
         return out
     from .task import NavigationTask
@@ -200,6 +205,11 @@ def run_trials(job: Job) -> list[dict]:
         assert task.mission is not None  # the trial's
         out.append(_record(i, st, r.outcome, task.mission.time, r.actions, r.reward, r.counts))
     return out
+
+
+def _past(end: float) -> Callable[[Any], bool]:
+    """The test that a mission's time has reached ``end`` (s)."""
+    return lambda m: m.time >= end - 1e-9
 
 
 def run_job(job: Job) -> dict:

@@ -93,6 +93,12 @@ class Detection(NamedTuple):
         return out
 
 
+STATES = ("idle", "panning", "processing")
+"""The camera's states, as ``/vision.state`` says: free, turning to a pan, processing an image."""
+KINDS = ("landmark", "target", "obstacle", "wall")
+"""What a detection is, as ``/vision``'s detections say."""
+
+
 class Camera:
     """The pan unit, the image and the measurement model (see the module docstring)."""
 

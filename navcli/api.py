@@ -1,0 +1,208 @@
+"""navcli from Python, for notebooks and scripts: build a run, run it, and get its data as pandas
+DataFrames; run batches (a comparison of pilots, a sweep) into one DataFrame. Nothing is written
+unless asked (``log=``, ``out=``), so a notebook leaves no file in its folder.
+
+>>> import navcli
+>>> r = navcli.run("scenarios/open-arena.yaml", pilot="geometric", time_limit=6.0, params={"pilot.K": 20})
+>>> r.summary["outcome"], round(r.summary["time_s"], 1), len(r.bids) == r.summary["ticks"]
+('timeout', 6.0, True)
+>>> {"motion.pilot", "motion.navigation", "motion.winner"} <= set(r.bids.columns)
+True
+
+``r.frames`` holds a DataFrame per topic (``/robot/pose``, ``/pilot``, ``/bids``, ``/vision``,
+``/navigation``, ``/events``), with the columns :func:`navcli.analysis.read_log` gives a log's;
+``r.poses``, ``r.bids`` ... name them. An observer (a function of the mission and its tick) sees
+every tick, and may stop the run by returning ``False``:
+
+>>> far = lambda mission, tick: tick.pose.x < 1.0  # stop once past x = 1 m
+>>> navcli.run("scenarios/open-arena.yaml", observers=[far]).summary["reason"]
+'stopped by <lambda>'
+
+Batches run on the machine's cores (``jobs``) and return one row per run, the columns
+:func:`navcli.analysis.tables.pilot_table` and :func:`~navcli.analysis.tables.improvements` take:
+
+>>> df = navcli.compare(["scenarios/open-arena.yaml"], ["potential-field", "geometric"], reruns=2, time_limit=3.0, jobs=1)
+>>> sorted(df["pilot"]), set(df["outcome"])
+(['geometric', 'geometric', 'potential-field', 'potential-field'], {'timeout'})
+"""
+
+from __future__ import annotations
+
+import os
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import TYPE_CHECKING, Any, Iterable, Mapping, Sequence
+
+from .config import RunSpec
+from .log import format as fmt
+from .scenario import Scenario, load_scenario
+
+if TYPE_CHECKING:
+    import pandas as pd
+
+    from .runner import Observer
+
+__all__ = ["Run", "compare", "run", "spec", "sweep"]
+
+
+def spec(scenario: str | Path | Scenario | RunSpec, *, seed: int | None = None, pilot: str | None = None,
+         perception: str | None = None, navigation: str | None = None, time_limit: float | None = None,
+         params: Mapping[str, Any] | None = None, also: Iterable[str] = ()) -> RunSpec:
+    """A run's whole configuration (:class:`~navcli.config.RunSpec`): a scenario (its file, or one
+    loaded) with any of its choices replaced and ``params`` (``{"pilot.K": 30}``, a plugin's
+    ``{"vfh.tau_high": 25}``) on top; a :class:`RunSpec` given is returned with those changes.
+    ``pilot`` and ``navigation`` name navcli's, an installed plugin's, or ``module:Class``."""
+    if isinstance(scenario, RunSpec):
+        base = scenario
+        sc = base.scenario
+        changes = {k: v for k, v in dict(seed=seed, pilot=pilot, perception=perception, navigation=navigation,
+                                         time_limit=None if time_limit is None else float(time_limit)).items()
+                   if v is not None}
+        out = base.replace(**changes)
+        return out.replace(params=out.params.override(params or {})) if params else out
+    sc = scenario if isinstance(scenario, Scenario) else load_scenario(scenario)
+    return RunSpec.build(sc, seed=seed, pilot=pilot, perception=perception, time_limit=time_limit,
+                         overrides=params, navigation=navigation, also=also)
+
+
+@dataclass(frozen=True)
+class Run:
+    """One run's results: its configuration, its summary (``/mission/summary``'s fields), its
+    tables (``frames``, a DataFrame per topic), the log if one was written, and the wall time."""
+
+    spec: RunSpec
+    summary: dict[str, Any]
+    frames: dict[str, pd.DataFrame] = field(repr=False)
+    log: Path | None
+    wall_s: float
+
+    def __getitem__(self, topic: str) -> pd.DataFrame:
+        return self.frames[topic]
+
+    @property
+    def poses(self) -> pd.DataFrame:
+        """``/robot/pose``: the true pose (x, y, theta) at the start and every tick."""
+        return self.frames[fmt.POSE_TOPIC]
+
+    @property
+    def odometry(self) -> pd.DataFrame:
+        """``/robot/odometry``: where the robot believed it was."""
+        return self.frames[fmt.ODOMETRY_TOPIC]
+
+    @property
+    def bids(self) -> pd.DataFrame:
+        """``/bids``: every system's bid per resource, the winner and the actions, every tick."""
+        return self.frames[fmt.BIDS_TOPIC]
+
+    @property
+    def pilot(self) -> pd.DataFrame:
+        """``/pilot``: the Pilot's decision and the quantities behind it (a plugin's fields too)."""
+        return self.frames[fmt.PILOT_TOPIC]
+
+    @property
+    def navigation(self) -> pd.DataFrame:
+        """``/navigation``: every Navigation agent's bids, what was forwarded, the Rescuer's state."""
+        return self.frames[fmt.NAVIGATION_TOPIC]
+
+    @property
+    def vision(self) -> pd.DataFrame:
+        """``/vision``: the camera's pan and state, and what each image showed."""
+        return self.frames[fmt.VISION_TOPIC]
+
+    @property
+    def events(self) -> pd.DataFrame:
+        """``/events``: the start, bumps, reflexes, the Rescuer's decisions, the end."""
+        return self.frames[fmt.EVENTS_TOPIC]
+
+
+def run(scenario: str | Path | Scenario | RunSpec, *, seed: int | None = None, pilot: str | None = None,
+        perception: str | None = None, navigation: str | None = None, time_limit: float | None = None,
+        params: Mapping[str, Any] | None = None, observers: Sequence[Observer] = (),
+        log: str | Path | None = None) -> Run:
+    """Run one mission (see :func:`spec` for the choices) and return its :class:`Run`, its tables
+    kept in memory. ``observers`` see every tick; one that returns ``False`` stops the run
+    (``interrupted``). ``log``: also write the MCAP log there (none by default). Ctrl-C stops the
+    run and is raised again, as an exception in a plugin is (its :class:`~navcli.plugins.PluginError`)."""
+    from .log.frames import FrameRecorder
+    from .runner import run_mission
+
+    s = spec(scenario, seed=seed, pilot=pilot, perception=perception, navigation=navigation, time_limit=time_limit,
+             params=params)
+    frames = FrameRecorder()
+    t0 = time.perf_counter()
+    res = run_mission(s, out=Path(log) if log is not None else None, record=log is not None,
+                      observers=[frames, *observers])
+    return Run(s, res.summary, frames.frames(), res.log, time.perf_counter() - t0)
+
+
+def _jobs(jobs: int | None) -> int:
+    return jobs or os.cpu_count() or 1
+
+
+def summary_row(spec: RunSpec) -> dict[str, Any]:
+    """A run without a log (in a worker): its row, as :func:`navcli.analysis.tables.load_runs`
+    makes one from a log (its configuration and summary; no poses)."""
+    from .analysis.logs import config_columns
+    from .runner import run_mission
+
+    s = run_mission(spec, record=False).summary
+    return {"run_id": spec.run_id, "scenario": s["scenario"], "pilot": s["pilot"], "seed": s["seed"],
+            "scenario_sha256": spec.scenario.sha256, "perception": spec.perception, "time_limit_s": spec.time_limit,
+            "outcome": s["outcome"], "reached": s["outcome"] == "reached", "time_s": s["time_s"],
+            "path_m": s["path_length_m"], "path_cm": 100.0 * s["path_length_m"], "collisions": s["collisions"],
+            "camera_looks": s["camera_looks"], "ticks": s["ticks"], "diverting_targets": s["diverting_targets"],
+            "navigation": s["navigation"]} | config_columns(spec.to_json())
+
+
+def compare(scenarios: Sequence[str | Path | Scenario], pilots: Sequence[str] = ("potential-field", "geometric"), *,
+            reruns: int = 5, perception: str | None = None, navigation: str | None = None,
+            time_limit: float | None = None, params: Mapping[str, Any] | None = None, jobs: int | None = None,
+            out: str | Path | None = None) -> pd.DataFrame:
+    """``navcli compare pilots`` from Python: every pilot on every scenario with the same ``reruns``
+    seeds, in ``jobs`` worker processes (default: every core), one row per run. With ``out``, each
+    run's log is written there (and a rerun keeps the complete ones, as the command does); without,
+    nothing is written. ``pilot_table(df)`` and ``improvements(df, baseline)`` of
+    :mod:`navcli.analysis.tables` make the paper's Table 1 from it."""
+    import pandas as pd
+
+    from .experiments.compare import plan, reruns as seeded, run_on
+    from .experiments.executor import executor, map_ordered
+
+    bases = [spec(sc, perception=perception, navigation=navigation, time_limit=time_limit, params=params,
+                  also=pilots) for sc in scenarios]
+    with executor(_jobs(jobs)) as ex:
+        if out is None:
+            specs = [s.replace(pilot=p) for base in bases for s in seeded(base, {}, reruns) for p in pilots]
+            return pd.DataFrame(map_ordered(summary_row, specs, ex))
+        from .analysis.tables import load_runs
+
+        work = plan(bases, list(pilots), reruns, Path(out))
+        run_on(work, ex)
+    return load_runs(paths=[j.log for j in work]).drop(columns=["xy"])
+
+
+def sweep(plan: str | Path | Mapping[str, Any], *, jobs: int | None = None, out: str | Path | None = None) -> pd.DataFrame:
+    """``navcli sweep`` from Python: every scenario x parameter point x seed of a plan (a plan file,
+    or the same as a dict, its paths relative to the current folder), one row per run. With
+    ``out``, the logs and ``results.parquet`` go there (and a rerun resumes, as the command does);
+    without, nothing is written."""
+    import pandas as pd
+
+    from .experiments.executor import executor, run_each
+    from .experiments.sweep import load_plan, plan_runs, read_table, run_row, run_sweep
+
+    p = load_plan(plan) if isinstance(plan, (str, Path)) else load_plan(plan, source="<dict>")
+    runs = plan_runs(p, None if out is None else Path(out))
+    with executor(_jobs(jobs)) as ex:
+        if out is None:
+            rows: list[dict] = [{}] * len(runs)
+
+            def keep(i: int, f: Any) -> None:
+                rows[i] = f.result()
+
+            run_each(run_row, runs, ex, keep)
+            return pd.DataFrame(rows)
+        table = Path(out) / "results.parquet"
+        run_sweep(runs, table, ex)
+    return read_table(table)

@@ -1,0 +1,236 @@
+"""What a plugin gets wrong, told to its author (in the spirit of Gymnasium's ``env_checker``).
+
+:func:`contract_problems` is the quick look every lookup makes (the class's kind, its ``Params``,
+its ``Info``); :func:`check` exercises it: made with navcli's defaults, fed a handful of
+situations (open floor, an obstacle ahead, a wall across, inside a prohibited area, the target
+behind, a bump), its output checked against navcli's contract and its ``/pilot`` messages against
+their schema, fed the same situations again by a second instance (the same output: no hidden
+randomness), and run for a short mission with each perception. ``navcli plugins check KIND NAME``
+prints the result.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from typing import Any
+
+from .registry import Component, Kind, NavcliError, locate
+
+CHECK_SCENARIO = "open-arena"
+"""The bundled room the checker's missions run in (an empty room: any pilot should cross it)."""
+CHECK_SECONDS = 20.0
+"""Simulated seconds of each of the checker's missions."""
+NAVCLI_AGENTS = ("target-tracker", "risk-manager", "distance-estimator", "rescuer", "learning-agent")
+"""The names navcli's own Navigation agents bid under (a plugin's agent must not take one)."""
+
+
+def _params_problems(c: Component) -> list[str]:
+    from ..params import ParamSet
+
+    P = c.params_class
+    if P is None:
+        return []
+    if not (isinstance(P, type) and issubclass(P, ParamSet) and dataclasses.is_dataclass(P)):
+        return ["its Params is not a frozen dataclass deriving from navcli.params.ParamSet"]
+    try:
+        P()
+    except (TypeError, NavcliError) as e:
+        return [f"its Params cannot be made with its defaults: {e}"]
+    return []
+
+
+def _info_problems(c: Component) -> list[str]:
+    import msgspec
+
+    from ..log.format import json_schema, viewer_problems
+
+    info = c.info_class
+    if info is None:
+        return []
+    if not (isinstance(info, type) and issubclass(info, msgspec.Struct)):
+        return ["its Info is not a msgspec.Struct (the fields it adds to /pilot, each typed)"]
+    try:
+        schema = json_schema(c.pilot_message())
+    except (ValueError, TypeError) as e:
+        return [f"its Info cannot extend /pilot: {e}"]
+    return [f"its Info's schema would be refused by the viewers: {p}" for p in viewer_problems(schema)]
+
+
+def contract_problems(c: Component) -> list[str]:
+    """What is wrong with ``c``'s class itself (not yet run): of the wrong kind, or its ``Params``
+    or ``Info`` malformed. Empty when nothing is."""
+    if c.builtin:
+        return []
+    cls = c.cls
+    if c.kind == "pilot":
+        from ..pilot import Pilot
+
+        if not (isinstance(cls, type) and issubclass(cls, Pilot)):
+            return [f"{cls!r} is not a subclass of navcli.pilot.Pilot (a pilot implements Pilot.avoid)"]
+    elif not callable(cls) or not callable(getattr(cls, "bid", None)):
+        return [f"{cls!r} is no Navigation agent: it needs bid(situation) -> list[Bid] (navcli.navigation.Agent)"]
+    if getattr(cls, "version", None) is not None and not isinstance(cls.version, str):
+        return [f"its version is {cls.version!r}, not text"]
+    return _params_problems(c) + (_info_problems(c) if c.kind == "pilot" else [])
+
+
+def _situations() -> list[tuple[str, Any, Any]]:
+    """(what, beliefs, the Navigation system's request) the checker feeds a pilot, egocentric."""
+    from ..beliefs import Beliefs, Bump, KnownObstacle
+    from ..bidding import Move
+    from ..geometry import Pose
+
+    odo = Pose(1.0, 1.0, 0.0)
+    ahead = Move(0.0, 0.3)
+    fence = KnownObstacle("o1", (1.0, 1.5), (1.0, -1.5), 0.025)
+    return [("open floor", Beliefs(0.0, odo, (3.0, 0.0), None, ()), ahead),
+            ("an obstacle ahead", Beliefs(0.1, odo, (3.0, 0.0), None, (KnownObstacle("o0", (0.8, 0.0), (0.8, 0.0), 0.15),)),
+             ahead),
+            ("a fence across", Beliefs(0.2, odo, (3.0, 0.2), None, (fence,)), Move(0.07, 0.3)),
+            ("a wall across", Beliefs(0.3, odo, (3.0, 0.0), None, (KnownObstacle("wall-n", (0.6, 3.0), (0.6, -3.0), 0.0,
+                                                                                 True),)), ahead),
+            ("inside a prohibited area", Beliefs(0.4, odo, (3.0, 0.0), None,
+                                                 (KnownObstacle("o2", (0.35, 0.1), (0.35, 0.1), 0.1),)), ahead),
+            ("the target behind", Beliefs(0.5, odo, (-2.0, 0.5), None, (fence,)), Move(math.pi - 0.2, 0.3)),
+            ("no target", Beliefs(0.6, odo, None, None, (fence,)), None),
+            ("a bump", Beliefs(0.7, odo, (3.0, 0.0), None, (fence,), bumps=(Bump(0.65, "obstacle 1", (2.0, 1.0), 0.0),),
+                               touching=True), ahead)]
+
+
+def _pilot_problems(c: Component) -> list[str]:
+    import msgspec
+    import numpy as np
+
+    from ..bidding import Move
+    from ..log.format import encode, pilot_message
+    from ..params import PILOT, ROBOT
+
+    P = c.params_class
+    own = P() if P is not None else None
+    outputs: list[list[Any]] = [[], []]
+    problems: list[str] = []
+    message = c.pilot_message()
+    for run in (0, 1):
+        try:
+            pilot = c.cls(PILOT, ROBOT, own_params=own, rng=np.random.default_rng(0))
+        except Exception as e:
+            return [f"cannot be made as navcli makes it, cls(PilotParams(), RobotParams(), own_params=..., rng=...): "
+                    f"{type(e).__name__}: {e}"]
+        for what, beliefs, request in _situations():
+            try:
+                out = pilot.decide(beliefs, request)
+                winner = next((b for b in out.bids if b.resource == "motion"), None)
+                v, w = pilot.execute(winner)
+            except Exception as e:
+                problems.append(f"{what}: raised {type(e).__name__}: {e}")
+                continue
+            outputs[run].append((out.bids, out.info, v, w))
+            if run:
+                continue
+            for b in out.bids:
+                if b.bidder != pilot.name:
+                    problems.append(f"{what}: a bid under the name {b.bidder!r}, not the Pilot's {pilot.name!r}")
+                if b.resource == "motion" and b.value > PILOT.bid_cap + 1e-12:
+                    problems.append(f"{what}: a motion bid of {b.value:g}, above the Pilot's cap {PILOT.bid_cap:g}")
+                if isinstance(b.action, Move) and abs(b.action.speed) > ROBOT.max_speed + 1e-9:
+                    problems.append(f"{what}: a move at {b.action.speed:g} m/s, faster than robot.max_speed")
+            if not (math.isfinite(v) and math.isfinite(w)):
+                problems.append(f"{what}: the wheel command ({v}, {w}) is not finite")
+            try:
+                msgspec.json.decode(encode(pilot_message(out.info, v, math.degrees(w))), type=message)
+            except (msgspec.ValidationError, TypeError) as e:
+                problems.append(f"{what}: its /pilot message breaks the schema its Info declares: {e}")
+    if not problems and outputs[0] != outputs[1]:
+        problems.append("two instances fed the same situations decided differently: draw random numbers from "
+                        "self.rng (the run's generator), never from a global one")
+    return problems
+
+
+def _policy_problems(c: Component) -> list[str]:
+    import numpy as np
+
+    from ..bidding import Bid
+    from ..fuzzy import FuzzyPoint
+    from ..navigation.situation import AgentSetup, Situation
+    from ..params import Params
+
+    P = c.params_class
+    own = P() if P is not None else None
+    params = Params() if own is None else Params().with_plugin(c.group, own)
+    try:
+        agent = c.cls(AgentSetup(params, own, math.radians(100.0), "target", np.random.default_rng(0)))
+    except Exception as e:
+        return [f"cannot be made as navcli makes it, cls(AgentSetup(...)): {type(e).__name__}: {e}"]
+    name = getattr(agent, "name", None)
+    if not isinstance(name, str) or not name:
+        return ["it has no name (a str attribute: its bids and the log's /navigation go by it)"]
+    if name in NAVCLI_AGENTS:
+        return [f"its name {name!r} is that of one of navcli's agents"]
+    problems = []
+    for what, beliefs, _ in _situations():
+        target = FuzzyPoint(beliefs.target[0], beliefs.target[1], (0.3, 0.2, 0.1, 0.0)) if beliefs.target else None
+        s = Situation(beliefs, target, None, "memory" if target else "none", 0.05 if target else 1.0)
+        try:
+            bids = agent.bid(s)
+        except Exception as e:
+            problems.append(f"{what}: bid() raised {type(e).__name__}: {e}")
+            continue
+        if not isinstance(bids, (list, tuple)) or not all(isinstance(b, Bid) for b in bids):
+            problems.append(f"{what}: bid() returned {bids!r}, not a list of navcli.Bid")
+        elif any(b.bidder != name for b in bids):
+            problems.append(f"{what}: a bid under another name than its own ({name!r})")
+    return problems
+
+
+def _mission_problems(c: Component) -> list[str]:
+    """A short mission in :data:`CHECK_SCENARIO` with each perception, its /pilot messages checked."""
+    import msgspec
+
+    from ..config import RunSpec
+    from ..log.format import encode, pilot_message
+    from ..mission import Mission
+    from ..runner import advance
+    from ..scenario import load_scenario
+    from ..experiments.reproduce import SCENARIOS
+
+    sc = load_scenario(SCENARIOS / f"{CHECK_SCENARIO}.yaml")
+    message = c.pilot_message() if c.kind == "pilot" else None
+    problems: list[str] = []
+
+    def check_tick(mission: Any, tick: Any) -> None:
+        if message is not None and not problems:
+            v, w = tick.command
+            try:
+                msgspec.json.decode(encode(pilot_message(tick.pilot.info, v, math.degrees(w))), type=message)
+            except msgspec.ValidationError as e:
+                problems.append(f"at {mission.time:.1f} s of a mission: its /pilot message breaks its schema: {e}")
+
+    for perception in ("oracle", "vision"):
+        try:
+            spec = RunSpec.build(sc, perception=perception, time_limit=CHECK_SECONDS,
+                                 pilot=c.name if c.kind == "pilot" else None,
+                                 navigation=c.name if c.kind == "policy" else None)
+            advance(Mission(spec, snapshots=False), [check_tick])
+        except NavcliError as e:
+            problems.append(f"a {CHECK_SECONDS:g} s mission in {CHECK_SCENARIO} ({perception}): {e}")
+    return problems
+
+
+def check(kind: Kind, name: str) -> list[str]:
+    """Everything the plugin ``name`` of ``kind`` gets wrong against navcli's contract (see the
+    module docstring); empty when it passes. Raises :class:`~navcli.plugins.UnknownPlugin` for a
+    name that is not found."""
+    from .registry import PluginError
+
+    try:
+        c = locate(kind, name)
+    except PluginError as e:
+        return [str(e)]
+    if c.builtin:
+        return []
+    problems = contract_problems(c)
+    if problems:
+        return problems
+    problems = _pilot_problems(c) if kind == "pilot" else _policy_problems(c)
+    return problems or _mission_problems(c)
