@@ -55,6 +55,8 @@ compare_app = typer.Typer(help="Rerun missions with many seeds and compare, from
 PilotName = Enum("PilotName", {n.replace("-", "_"): n for n in PILOT_NAMES}, type=str)  # type: ignore[misc]
 PerceptionName = Enum("PerceptionName", {n: n for n in PERCEPTIONS}, type=str)  # type: ignore[misc]
 
+SCENARIO_HELP = "A scenario YAML file, or a bundled scenario's name (`navcli scenarios` lists them; a file wins)"
+SCENARIOS_HELP = "Scenario YAML files, or bundled scenarios' names (`navcli scenarios` lists them; a file wins)"
 MAX_SEED = 2 ** 64 - 1
 """The largest seed (numpy's SeedSequence takes any; the log stores an unsigned 64-bit one)."""
 MAX_JOBS = 256

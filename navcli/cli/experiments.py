@@ -12,8 +12,9 @@ import typer
 
 from ..analysis.files import without_mark
 from ..params import PILOT_NAMES
-from .common import (MAX_JOBS, MAX_SEED, JobsOption, ParamOption, PerceptionName, SchedulerOption, app, build_spec,
-                     choice, compare_app, executor_for, finite, out_file, out_folder, progress_bar, require_extra)
+from .common import (MAX_JOBS, MAX_SEED, SCENARIO_HELP, SCENARIOS_HELP, JobsOption, ParamOption, PerceptionName,
+                     SchedulerOption, app, build_spec, choice, compare_app, executor_for, finite, out_file, out_folder,
+                     progress_bar, require_extra)
 from .errors import EXIT_INTERNAL, about, on_stop, refuse, say
 from .views import write_tables
 
@@ -22,7 +23,7 @@ app.add_typer(compare_app, name="compare")
 
 @compare_app.command("pilots")
 def compare_pilots(
-    scenarios: Annotated[list[Path], typer.Argument(metavar="SCENARIOS", help="Scenario YAML files.")],
+    scenarios: Annotated[list[Path], typer.Argument(metavar="SCENARIOS", help=SCENARIOS_HELP + ".")],
     reruns: Annotated[int, typer.Option(min=1, max=10_000, help="Reruns per scenario and pilot (the paper: 45).")] = 45,
     pilots: Annotated[str, typer.Option(help="Comma-separated pilots; the last is the baseline.")] =
         "potential-field,geometric",
@@ -87,7 +88,7 @@ def compare_pilots(
 
 @compare_app.command("policies")
 def compare_policies(
-    scenario: Annotated[Path, typer.Argument(metavar="SCENARIO", help="Scenario YAML file (the paper's setting: scenarios/landmarks-12.yaml).")],
+    scenario: Annotated[Path, typer.Argument(metavar="SCENARIO", help=SCENARIO_HELP + " (the paper's setting: landmarks-12).")],
     policy: Annotated[Optional[list[str]], typer.Option(
         "--policy", metavar="POLICY", help="learned (the bundled model), learned:FILE (a model of `navcli train`, Prioritized Sweeping "
                          "or Q-learning), hand-coded, agents, or a baseline of one action in every state (all-MB, all-MLL, all-MOT, "
@@ -145,7 +146,7 @@ def compare_policies(
 
 @app.command()
 def sweep(
-    plan: Annotated[Path, typer.Argument(metavar="PLAN", help="Plan file (YAML): scenarios, seeds, a grid or a random sample of "
+    plan: Annotated[Path, typer.Argument(metavar="PLAN", help="Plan file (YAML): scenarios (files or bundled names), seeds, a grid or a random sample of "
                                               "--param values; see the README.")],
     out: Annotated[Optional[Path], typer.Option(
         help="Folder for the results table (results.parquet) and the logs (default: logs/sweep/<plan name>); "
@@ -185,7 +186,7 @@ def sweep(
 
 @app.command()
 def tune(
-    scenarios: Annotated[list[Path], typer.Argument(metavar="SCENARIOS", help="Scenario YAML files; every trial runs each of them.")],
+    scenarios: Annotated[list[Path], typer.Argument(metavar="SCENARIOS", help=SCENARIOS_HELP + "; every trial runs each of them.")],
     param: Annotated[list[str], typer.Option(
         "--param", metavar="NAME=LOW:HIGH",
         help="A parameter to tune in [LOW, HIGH] (NAME alone: [0, 5]); NAME=VALUE fixes it for every trial. "

@@ -24,8 +24,9 @@ from pathlib import Path
 from typing import Any, Callable
 
 from .. import __version__
+from ..scenario import bundled
 
-SCENARIOS = Path(__file__).resolve().parent.parent / "data" / "scenarios"
+SCENARIOS = bundled.FOLDER
 SECTIONS = ("pilots", "learning")
 TRAP_ROOMS = ("river-bridges", "u-trap", "door-wall", "hidden-fence", "blocked-wall")
 
