@@ -104,7 +104,8 @@ def compare_policies(
     param: ParamOption = None,
 ) -> None:
     """The learning paper's Table 1: every policy from the same starts, per run; successes, reward,
-    actions and the count of each action per trial, averaged over the runs with 95 % t-intervals.
+    actions and the count of each action per trial, with 95 % intervals (Wilson for successes, a
+    bootstrap over the starts for the rest; too few starts are said).
     Runs already done are kept (an interrupted comparison resumes)."""
     spec = build_spec(scenario, param)
     from ..training.comparison import DEFAULT_POLICIES, PolicyError, parse_policy, plan, run_all, write_table
