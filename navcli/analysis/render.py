@@ -26,7 +26,7 @@ import numpy as np
 import pandas as pd
 
 from .. import NavcliError
-from ..log.format import BIDS_TOPIC, MEMORY_SCENE_TOPIC, PILOT_TOPIC, POSE_TOPIC
+from ..log.format import BIDS_TOPIC, MEMORY_SCENE_TOPIC, MEMORY_SUPPORTS_TOPIC, PILOT_TOPIC, POSE_TOPIC
 from .files import atomic
 from .logs import LogError, read_log, scene_messages
 from .plots import draw_arena
@@ -60,12 +60,15 @@ def frame_times(start: float, end: float, speed: float, fps: float) -> np.ndarra
 
 def _memory(path: Path) -> list[tuple[float, list[tuple[str, float, float, float, float]]]]:
     """``/memory/scene`` as (time s, [(kind, x, y, r70, r0)]) in ``base_link``: the disc of a
-    70 % cut is a cylinder, the support a ring around the same centre."""
+    70 % cut is a cylinder, the support a ring around the same centre in ``/memory/supports``
+    (the entity of the same id, at the same time; logs before it kept the rings with the discs)."""
+    supports = {(log_time, e.id): [ln for ln in e.lines if len(ln.points) > 2]
+                for log_time, m in scene_messages(path, MEMORY_SUPPORTS_TOPIC) for e in m.entities}
     out = []
     for log_time, m in scene_messages(path, MEMORY_SCENE_TOPIC):
         spots = []
         for e in m.entities:
-            rings = [ln for ln in e.lines if len(ln.points) > 2]
+            rings = supports.get((log_time, e.id)) or [ln for ln in e.lines if len(ln.points) > 2]
             for i, c in enumerate(e.cylinders):
                 x, y, r70 = c.pose.position.x, c.pose.position.y, c.size.x / 2
                 r0 = r70
