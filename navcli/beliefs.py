@@ -10,6 +10,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import NamedTuple
 
+from .bidding import Look
 from .fuzzy import FuzzyPoint
 from .geometry import Point, Pose, midpoint
 
@@ -69,8 +70,9 @@ class Beliefs:
     """Everything an agent may use at one tick. Positions are egocentric, in metres.
 
     ``target_spread`` is the width (rad) of the 70 % cut of the target's fuzzy heading: 0 when
-    it is known exactly, 2 pi when it is lost. ``looked`` is the pan (rad, relative to the
-    heading) of the image the camera took during the previous tick, ``None`` if it took none;
+    it is known exactly, 2 pi when it is lost. ``looked`` is the look (pan, rad from the
+    heading, and purpose) of the image the camera took during the previous tick, ``None`` if it
+    took none;
     ``bumps`` are the bumper contacts that began during the previous tick; ``touching`` says the
     bumper was pressed during the previous tick (a contact that lasts is no new bump).
     ``landmarks`` are the remembered landmarks with their fuzzy positions; ``target_at`` is the
@@ -86,7 +88,7 @@ class Beliefs:
     target_line: tuple[Point, Point] | None  # egocentric diverting-target line, if any
     obstacles: tuple[KnownObstacle, ...]
     target_spread: float = 0.0
-    looked: float | None = None
+    looked: Look | None = None
     bumps: tuple[Bump, ...] = ()
     touching: bool = False
     landmarks: tuple[KnownLandmark, ...] = ()

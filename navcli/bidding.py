@@ -40,34 +40,72 @@ class Move(_MoveFields):
         return {"type": "move", "heading_deg": math.degrees(self.heading), "speed": self.speed}
 
 
+LookPurpose = Literal["search", "landmarks", "target", "obstacles", "scan", "everything"]
+PURPOSES: tuple[LookPurpose, ...] = ("search", "landmarks", "target", "obstacles", "scan", "everything")
+"""What a look is for, said by whoever wins the camera. The learning paper (section 5.3): "The
+vision system can either search for new landmarks or re-acquire already-detected landmarks, but
+it is not able to do both things at the same time, because different image processing routines
+are required for each." Each purpose is one routine (:mod:`navcli.vision.routines` says what
+each registers):
+
+- ``search``: search the view for new landmarks (MLL, the Risk Manager, the Rescuer's sweep and
+  exploring looks);
+- ``landmarks``: re-acquire the known landmarks in view (MVL);
+- ``target``: re-acquire the target (the Target Tracker, the Distance Estimator, MVT, MOT);
+- ``obstacles``: look for obstacles (the Pilot's look ahead, eq. 1, and its looks round a bump);
+- ``scan``: scan for the lost target (the Rescuer's scans): the target and the known landmarks;
+- ``everything``: what navcli's camera did before (``vision.routines`` 0): every image registers
+  everything in view, so it serves every purpose. No agent asks for it; the camera reports its
+  images so, and :func:`looked_at` counts such an image for whoever asked for that pan.
+"""
+
+
 class _LookFields(NamedTuple):
     pan: float
+    purpose: LookPurpose
 
 
 class Look(_LookFields):
-    """A camera action: pan to ``pan`` (rad, relative to the robot's heading) and take a look.
-    (A NamedTuple: see :class:`Move`.)"""
+    """A camera action: pan to ``pan`` (rad, relative to the robot's heading) and take a look for
+    ``purpose`` (one of :data:`PURPOSES`). (A NamedTuple: see :class:`Move`.)
+
+    >>> Look(0.5, "search")
+    Look(pan=0.5, purpose='search')
+    >>> Look(0.0, "anything")
+    Traceback (most recent call last):
+    ...
+    ValueError: a look's purpose is one of search, landmarks, target, obstacles, scan, everything; got 'anything'
+    """
 
     __slots__ = ()
 
-    def __new__(cls, pan: float) -> Look:
+    def __new__(cls, pan: float, purpose: LookPurpose) -> Look:
         if not math.isfinite(pan):
             raise ValueError(f"a look needs a finite pan, got {pan}")
-        return tuple.__new__(cls, (pan,))
+        if purpose not in PURPOSES:
+            raise ValueError(f"a look's purpose is one of {', '.join(PURPOSES)}; got {purpose!r}")
+        return tuple.__new__(cls, (pan, purpose))
 
     def as_json(self) -> dict:
-        return {"type": "look", "pan_deg": math.degrees(self.pan)}
+        return {"type": "look", "pan_deg": math.degrees(self.pan), "purpose": self.purpose}
 
 
 LOOK_MATCH = math.radians(5.0)  # our design: a reported look within this of the pan asked for is that look
 
 
-def looked_at(looked: float | None, pan: float) -> bool:
-    """Did the camera's report of a look at ``looked`` (rad, None: no look) carry out a request for
-    ``pan``? An agent counts only the images it asked for, not a look another agent won."""
-    if looked is None:
+def looked_at(looked: Look | None, want: Look) -> bool:
+    """Did the camera's report of an image (``looked``: the look it carried out, None: no image)
+    carry out the request ``want``: the same purpose, at a pan within :data:`LOOK_MATCH`? An
+    agent counts only the images it asked for, not a look another agent won.
+
+    >>> looked_at(Look(0.01, "scan"), Look(0.0, "scan")), looked_at(Look(0.0, "search"), Look(0.0, "scan"))
+    (True, False)
+    >>> looked_at(Look(0.0, "everything"), Look(0.0, "scan"))  # the old camera's image served everyone
+    True
+    """
+    if looked is None or looked.purpose not in (want.purpose, "everything"):
         return False
-    return abs(wrap_angle(looked - pan)) < LOOK_MATCH
+    return abs(wrap_angle(looked.pan - want.pan)) < LOOK_MATCH
 
 
 Action = Move | Look

@@ -20,7 +20,7 @@ from typing import Any, Mapping
 
 from . import NavcliError
 from . import __version__
-from .params import CONTROL_DT, NAVIGATIONS, PERCEPTIONS, PHYSICS_DT, PILOT_NAMES, Params
+from .params import CONTROL_DT, NAVIGATIONS, PERCEPTIONS, PHYSICS_DT, PILOT_NAMES, ParamError, Params
 from .scenario import RANGES, Scenario, parse_scenario
 
 LOG_ROOT = Path("logs")
@@ -124,3 +124,37 @@ class RunSpec:
                 "seed": str(self.seed), "pilot": self.pilot, "perception": self.perception,
                 "time_limit_s": repr(self.time_limit), "navigation": self.navigation, "navcli_version": __version__,
                 "control_dt_s": repr(CONTROL_DT), "physics_dt_s": repr(PHYSICS_DT)}
+
+
+def parse_override(item: str) -> tuple[str, float | list[float] | str]:
+    """``"pilot.K=30"`` -> ``("pilot.K", 30.0)``; a list-valued parameter takes its numbers in
+    brackets, comma-separated (``[]`` for none); a word is kept as it is (a parameter that names
+    a choice, ``vision.walls=known``). The value is checked by :meth:`Params.override`.
+
+    >>> parse_override("navigation.kappa1=0.5")
+    ('navigation.kappa1', 0.5)
+    >>> parse_override("pilot.reflex_look_pans_deg=[-60, 0, 60]")
+    ('pilot.reflex_look_pans_deg', [-60.0, 0.0, 60.0])
+    >>> parse_override("vision.walls=known")
+    ('vision.walls', 'known')
+    """
+    name, sep, value = item.partition("=")
+    name, value = name.strip(), value.strip()
+    if not sep or not name:
+        raise ParamError(f"{item!r}: expected NAME=VALUE, e.g. pilot.K=30")
+    if len(value) > 1000:
+        raise ParamError(f"{name}: a value of {len(value)} characters is not a parameter's")
+    listed = value.startswith("[") and value.endswith("]")
+    parts = [v.strip() for v in value[1:-1].split(",")] if listed else [value]
+    if listed and parts == [""]:
+        return name, []
+    numbers = []
+    for v in parts:
+        try:
+            numbers.append(float(v))
+        except ValueError:
+            if not listed and v.replace("-", "").replace("_", "").isalnum():
+                return name, v  # a word: a choice (the parameter's check says which words it takes)
+            raise ParamError(f"{item!r}: {v!r} is not a number" + ("" if listed else
+                             " (a list parameter takes [a, b, ...])" if "," in value else "")) from None
+    return name, numbers if listed else numbers[0]

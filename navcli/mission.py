@@ -80,7 +80,7 @@ class Tick:
     winners: dict[Resource, Bid | None]
     pilot: PilotOutput
     events: tuple[Event, ...]
-    camera: tuple[float, str]  # pan (rad, relative to the heading) and state: idle | panning | processing
+    camera: tuple[float, str, str | None]  # pan (rad, from the heading), state (idle | panning | processing), purpose
     detections: tuple[Detection, ...] | None  # what the image taken this tick showed, if one was
     memory: tuple[Remembered, ...] | None = None  # the visual memory, every vision.draw_every ticks and at the end
     navigation: NavigationOutput | None = None  # what the Navigation system decided, and why

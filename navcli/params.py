@@ -36,6 +36,7 @@ PHYSICS_SUBSTEPS = 5
 """Physics steps per control tick: the world steps at CONTROL_DT / PHYSICS_SUBSTEPS (50 Hz)."""
 PHYSICS_DT = CONTROL_DT / PHYSICS_SUBSTEPS
 PHYSICS_DT_NS = round(PHYSICS_DT * 1e9)
+COLLISION_SLOP = 0.001  # m: how far the physics lets two bodies overlap (pymunk's default, 0.1, is in pixels)
 SCENE_REFRESH = 1.0
 """Seconds between two publications of the log's state topics (the arena, the robot's body, the
 camera's field of view): a viewer that seeks, or joins a live run late, shows them within this time."""
@@ -48,6 +49,10 @@ def _p(default: Any, *, at_least: float | None = 0.0, above: float | None = None
        at_most: float | None = None, below: float | None = None) -> Any:
     """A parameter field with the range an override must respect (checked by :meth:`Params.override`)."""
     return field(default=default, metadata={"at_least": at_least, "above": above, "at_most": at_most, "below": below})
+
+
+def _choice(default: str, choices: tuple[str, ...]) -> Any:  # a parameter that names one of choices
+    return field(default=default, metadata={"choices": choices})
 
 
 def _intervals(default: tuple[float, ...]) -> Any:
@@ -132,6 +137,9 @@ class PilotParams:
     # Section 2, eq. 1: the look-ahead camera bid (d_l / d_m) ** s
     look_d_max: float = _p(1.0, above=0.0)  # m: d_m, the longest drive without looking ahead
     look_exponent: float = _p(2.0, above=0.0)  # s
+    # eq. 1's bid never above this: 1, eq. 1 as written (d_m is "the maximum distance allowed to travel without
+    # looking ahead", so the bid reaches 1 there); 0.9 (navcli before: the cap of eq. 9's motion bid)
+    look_cap: float = _p(1.0, at_most=1.0)
     look_ahead_cone: float = _p(math.radians(30.0))  # rad: a look this close to straight ahead resets d_l
     # 1: the Pilot bids for the camera (eq. 1's look-ahead, a reflex's looks around); 0: never (the learning
     # paper's task: the camera is the Learning Agent's; the Pilot still avoids what the memory holds)
@@ -213,6 +221,11 @@ class VisionParams:
 
     noise_bound: float = _p(NOISE_BOUND, above=0.0)  # sensor errors are bounded at this many standard deviations
     told_target: int = _p(1, at_most=1)  # 1: the robot is told where the target is at the start; 0: it must see it
+    # 1: a look registers only what the routine of its purpose finds (vision/routines.py), no look no image;
+    routines: int = _p(1, at_most=1)  # 0: every image registers all in view (navcli before)
+    # 1: a fence or wall is one object, its ends fused end by end (vision/visual_memory.py);
+    line_objects: int = _p(1, at_most=1)  # 0: view-cut pieces re-joined by geometry (navcli before)
+    walls: str = _choice("seen", ("seen", "known", "felt"))  # how the robot knows the room's walls (vision/perception.py)
     heading_floor: float = _p(math.radians(0.5))  # rad: the fuzzy heading's least half-spread (a pixel or so)
     distance_floor: float = _p(0.02)  # m: the fuzzy distance's least half-spread
     walk_bound: float = _p(4.0)  # the per-tick odometry errors' random walk is bounded at this many deviations
@@ -382,6 +395,11 @@ MAX_LIST = 64
 
 def _checked(name: str, f: dataclasses.Field, value: Any) -> Any:
     """``value`` converted to the field's type and checked against its declared range."""
+    choices = f.metadata.get("choices")
+    if choices is not None:
+        if value not in choices:
+            raise ParamError(f"{name} is one of {', '.join(choices)}, got {value!r}"[:300])
+        return value
     if isinstance(f.default, tuple):
         if (not isinstance(value, (list, tuple)) or len(value) > MAX_LIST
                 or not all(_is_number(v) and math.isfinite(v) for v in value)):
@@ -392,6 +410,8 @@ def _checked(name: str, f: dataclasses.Field, value: Any) -> Any:
             raise ParamError(f"{name} must be {n} increasing numbers (the bounds of {n + 1} intervals), "
                              f"got {list(value)}")
         return value
+    if isinstance(value, str):
+        raise ParamError(f"{name}: {value!r} is not a number")
     if not _is_number(value) or not math.isfinite(value):
         raise ParamError(f"{name} expects a finite number, got {value!r}")
     if isinstance(f.default, int):
@@ -419,32 +439,3 @@ def _suggest(name: str, known: Mapping[str, Any]) -> str:
     close = ([k for k in known if k.endswith("." + name)] or difflib.get_close_matches(name, known, n=1)
              or [k for k in known if k.lower() == name.lower()])
     return f" (did you mean {close[0]}?)" if close else " (see `navcli params` for the names)"
-
-
-def parse_override(item: str) -> tuple[str, float | list[float]]:
-    """``"pilot.K=30"`` -> ``("pilot.K", 30.0)``; a list-valued parameter takes its numbers in
-    brackets, comma-separated (``[]`` for none). The value is checked by :meth:`Params.override`.
-
-    >>> parse_override("navigation.kappa1=0.5")
-    ('navigation.kappa1', 0.5)
-    >>> parse_override("pilot.reflex_look_pans_deg=[-60, 0, 60]")
-    ('pilot.reflex_look_pans_deg', [-60.0, 0.0, 60.0])
-    """
-    name, sep, value = item.partition("=")
-    name, value = name.strip(), value.strip()
-    if not sep or not name:
-        raise ParamError(f"{item!r}: expected NAME=VALUE, e.g. pilot.K=30")
-    if len(value) > 1000:
-        raise ParamError(f"{name}: a value of {len(value)} characters is not a parameter's")
-    listed = value.startswith("[") and value.endswith("]")
-    parts = [v.strip() for v in value[1:-1].split(",")] if listed else [value]
-    if listed and parts == [""]:
-        return name, []
-    numbers = []
-    for v in parts:
-        try:
-            numbers.append(float(v))
-        except ValueError:
-            raise ParamError(f"{item!r}: {v!r} is not a number" + ("" if listed else
-                             " (a list parameter takes [a, b, ...])" if "," in value else "")) from None
-    return name, numbers if listed else numbers[0]

@@ -25,7 +25,7 @@ import pymunk
 from .beliefs import Bump
 from .geometry import Pose, motion_between, wrap_angle
 from .noise import bounded_normals
-from .params import NOISE_BOUND, PHYSICS_DT, PHYSICS_DT_NS, PHYSICS_SUBSTEPS, RobotParams
+from .params import COLLISION_SLOP, NOISE_BOUND, PHYSICS_DT, PHYSICS_DT_NS, PHYSICS_SUBSTEPS, RobotParams
 from .scenario import Scenario
 
 WALL_THICKNESS = 0.10  # m; walls sit outside the arena, their inner face on the border
@@ -96,7 +96,7 @@ class World:
         self.touching = False  # the bumper was pressed during the last tick
 
         space = pymunk.Space()
-        space.collision_slop = 0.001  # m: pymunk's default (0.1) is in pixels
+        space.collision_slop = COLLISION_SLOP
         self.space = space
         self._names: dict[pymunk.Shape, str] = {}
         self._add_walls()

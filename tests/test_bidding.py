@@ -9,7 +9,7 @@ from navcli.bidding import Bid, Look, Move, arbitrate
 
 def test_highest_bid_wins_each_resource():
     bids = [Bid("pilot", "motion", Move(0.5, 0.2), 0.3), Bid("navigation", "motion", Move(0.0, 0.3), 0.6),
-            Bid("pilot", "camera", Look(0.0), 0.7), Bid("navigation", "camera", Look(1.0), 0.2)]
+            Bid("pilot", "camera", Look(0.0, "obstacles"), 0.7), Bid("navigation", "camera", Look(1.0, "target"), 0.2)]
     w = arbitrate(bids)
     assert w["motion"].bidder == "navigation" and w["camera"].bidder == "pilot"
 
@@ -33,7 +33,7 @@ def test_bids_outside_unit_interval_are_refused(value):
 @pytest.mark.parametrize("bad", [float("nan"), float("inf"), -float("inf")])
 def test_non_finite_moves_and_looks_are_refused(bad):
     """A NaN heading must never reach the wheels (it would make the world's pose NaN a tick later)."""
-    for make in (lambda: Move(bad, 0.3), lambda: Move(0.0, bad), lambda: Look(bad)):
+    for make in (lambda: Move(bad, 0.3), lambda: Move(0.0, bad), lambda: Look(bad, "search")):
         with pytest.raises(ValueError, match="finite"):
             make()
 

@@ -190,6 +190,13 @@ def test_params_shows_each_range_as_the_overrides_enforce_it():
     for line in r.output.splitlines()[1:]:
         m = re.fullmatch(r"(\S+)\s+(\S.*?)\s+(?:whole number in )?([\[(])(\S+), (\S+)([\])])", line)
         if m is None:
+            choice = re.fullmatch(r"(\S+)\s+(\S+)\s+one of (.+)", line)
+            if choice is not None:  # a parameter that names a choice: its default among them, another word refused
+                name, value, options = choice.groups()
+                assert value in options.split(", ")
+                with pytest.raises(ParamError):
+                    Params().override({name: value + "x"})
+                continue
             assert "numbers" in line, line  # the list-valued ones
             continue
         name, value, lo_open, lo, hi, hi_open = m.groups()

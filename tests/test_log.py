@@ -160,19 +160,34 @@ def test_time_limit_ends_the_run_as_timeout(tmp_path):
     assert res.summary["ticks"] == 20
 
 
-def test_vision_topic_reports_images_with_fuzzy_detections(open_run):
+def test_vision_topic_reports_images_with_fuzzy_detections(open_run, tmp_path):
     _, res, log = open_run
     v = log["/vision"]
     assert len(v) == res.summary["ticks"]
     images = v[v["image"]]
     assert len(images) == res.summary["camera_looks"] > 0
-    seen = images["detections.target.points"].dropna()
-    assert len(seen) > 0, "the target marker is seen in the open room"
-    h = seen.iloc[0][0]["heading_deg"]
-    d = seen.iloc[0][0]["distance_m"]
-    for cut in (h, d):
-        assert cut["lo0"] <= cut["lo70"] <= cut["core"] <= cut["hi70"] <= cut["hi0"]
-    assert 0 < d["lo0"] < d["hi0"] < 6.0
+    from navcli.bidding import PURPOSES
+
+    assert set(images["purpose"]) <= set(PURPOSES) and images["purpose"].notna().all()  # every image says what it was for
+    assert v.loc[v["state"] == "idle", "purpose"].isna().all()
+    # the open room has no landmark: the Risk Manager searches (bid at R = 1) and finds nothing, for
+    # a search registers landmarks only; the Pilot's looks ahead (its bid reaches 1 after d_m) find the walls
+    assert set(images["purpose"]) == {"search", "obstacles"}
+    found = images[[c for c in images.columns if c.endswith(".kind")]]
+    assert found[images["purpose"] == "search"].isna().all().all()
+    assert set(found[images["purpose"] == "obstacles"].stack()) == {"wall"}
+    sc = load_scenario(SCENARIOS / "landmarks-12.yaml")  # a room with landmarks: searches find them
+    run_mission(RunSpec.build(sc, seed=3, time_limit=20.0), out=tmp_path / "l12.mcap")
+    images = read_log(tmp_path / "l12.mcap")["/vision"].query("image")
+    columns = [c for c in images.columns if c.startswith("detections.") and c.endswith(".points")]
+    seen = [p for c in columns for p in images[c].dropna()]
+    assert len(seen) > 0, "landmarks are seen"
+    for points in seen:
+        for p in points:
+            h, d = p["heading_deg"], p["distance_m"]
+            for cut in (h, d):
+                assert cut["lo0"] <= cut["lo70"] <= cut["core"] <= cut["hi70"] <= cut["hi0"]
+            assert 0 <= d["lo0"] < d["hi0"] and d["lo0"] <= 6.0  # the support holds the true distance, within range
 
 
 def test_the_pilots_decorations_are_drawn_every_draw_period_and_its_forces_logged_every_tick(open_run):

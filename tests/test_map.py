@@ -8,6 +8,7 @@ import pytest
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
+from navcli.bidding import Look
 from navcli.fuzzy import FuzzyPoint
 from navcli.navigation.beta_map import BetaNetwork, collinearity, encode, recall
 from navcli.navigation.regions import first_crossing, triangulate
@@ -277,7 +278,7 @@ def test_what_a_fence_was_seen_to_block_between_landmarks_stays_known_when_the_m
     rel = {k: shift(p) for k, p in marks.items()}
     landmarks = tuple(KnownLandmark(k, point(*p), 0.0) for k, p in rel.items())
     fence = KnownObstacle(across.key, shift(across.a), shift(across.b), across.radius)
-    seen = Beliefs(0.0, Pose(0, 0, 0), shift(target), None, (fence,), looked=0.0, landmarks=landmarks)
+    seen = Beliefs(0.0, Pose(0, 0, 0), shift(target), None, (fence,), looked=Look(0.0, "obstacles"), landmarks=landmarks)
     forgot = Beliefs(0.1, Pose(0, 0, 0), shift(target), None, (), landmarks=landmarks)
     expected = set(crossed_pairs(rel, [(fence.key, fence.a, fence.b)]))
     assert expected == {frozenset(p) for p in ("AC", "BD", "AE", "BE")}  # the pairs from below to above

@@ -140,11 +140,11 @@ def test_the_communicators_ties_go_to_this_ticks_first_bidder_even_after_its_bid
     """The Rescuer is heard first and wins ties, also when it bids again after its earlier bids
     expired and another agent's tied bid has been held all along."""
     c = Communicator(window=0.2)
-    c.forward([Bid("rescuer", "camera", Look(0.5), 1.0)], 0.0)
+    c.forward([Bid("rescuer", "camera", Look(0.5, "scan"), 1.0)], 0.0)
     for t in (0.1, 0.2, 0.3, 0.4):  # the rescuer falls silent; the risk manager keeps bidding 1.0
-        c.forward([Bid("risk-manager", "camera", Look(0.0), 1.0)], t)
-    out = c.forward([Bid("rescuer", "camera", Look(0.7), 1.0), Bid("risk-manager", "camera", Look(0.0), 1.0)], 0.5)
-    assert [b.action for b in out] == [Look(0.7)]
+        c.forward([Bid("risk-manager", "camera", Look(0.0, "search"), 1.0)], t)
+    out = c.forward([Bid("rescuer", "camera", Look(0.7, "scan"), 1.0), Bid("risk-manager", "camera", Look(0.0, "search"), 1.0)], 0.5)
+    assert [b.action for b in out] == [Look(0.7, "scan")]
 
 
 def test_the_communicator_keeps_each_agents_latest_bid_within_its_window():
@@ -154,7 +154,7 @@ def test_the_communicator_keeps_each_agents_latest_bid_within_its_window():
     assert [(b.resource, b.value, b.action) for b in out] == [("motion", 0.5, stop)]
     out = c.forward([Bid("rescuer", "motion", stop, 0.1)], 0.1)  # a later bid replaces the rescuer's 0.5
     assert [(b.value, b.action) for b in out] == [(0.3, go)]  # the tracker's, still within the window
-    out = c.forward([Bid("risk", "camera", Look(1.0), 0.2)], 0.3)  # 0.3 s on: the first bids have expired
+    out = c.forward([Bid("risk", "camera", Look(1.0, "search"), 0.2)], 0.3)  # 0.3 s on: the first bids have expired
     assert {b.resource: b.value for b in out} == {"motion": 0.1, "camera": 0.2}
     assert {b.bidder for b in out} == {"navigation"}
 
@@ -169,7 +169,7 @@ def _sweep(r: Rescuer):
             return t
         look = next(b for b in out.bids if b.resource == "camera")
         assert next(b for b in out.bids if b.resource == "motion").action == Move(0.0, 0.0)  # stopped
-        looked, t = look.action.pan, t + 0.1
+        looked, t = look.action, t + 0.1
     raise AssertionError("the sweep never ended")
 
 
@@ -224,7 +224,7 @@ def _bumped_until_given_up(r: Rescuer, t: float, answers, limit: float = 1000.0)
             bumps, bumps_at = (Bump(t, "obstacle 0", (0.0, 0.0), 0.0),), t
         # the camera reports each look asked for, and a turn asked for is made at once
         out = r.decide(situation(time=t, bumps=bumps, looked=looked, odometry=Pose(0.0, 0.0, r._turn_to or 0.0)), ask)
-        looked = next((b.action.pan for b in out.bids if b.resource == "camera"), None)
+        looked = next((b.action for b in out.bids if b.resource == "camera"), None)
         events += [m for _, m in out.events]
         give_up = out.give_up
     return t, give_up, events, failed_edges
@@ -278,7 +278,7 @@ def test_a_target_found_again_starts_the_next_loss_with_fresh_scans():
         t += 0.1
         out = r.decide(situation(time=t, I_a=I_a, looked=looked, odometry=Pose(0.0, 0.0, r._turn_to or 0.0)),
                        lambda f: asked.append(f) or CROSSINGS[0])
-        looked = next((b.action.pan for b in out.bids if b.resource == "camera"), None)
+        looked = next((b.action for b in out.bids if b.resource == "camera"), None)
         return out
 
     scans = 0
@@ -316,7 +316,7 @@ def test_bumped_out_of_a_diverting_target_the_robot_drives_out_before_the_map_is
     while len(failed) < 2 and t < 400.0:  # it drives out, looks around, and is blocked again
         t += 0.1
         out = r.decide(situation(time=t, looked=looked, odometry=Pose(0.0, 0.0, r._turn_to or 0.0)), ask)
-        looked = next((b.action.pan for b in out.bids if b.resource == "camera"), None)
+        looked = next((b.action for b in out.bids if b.resource == "camera"), None)
     assert failed == [None, frozenset("AB")] and out.diverting is not None  # told with the next request
 
 
@@ -345,7 +345,7 @@ def test_rescuer_stops_and_scans_when_the_target_is_lost_then_turns():
             break
         look = next(b for b in out.bids if b.resource == "camera")
         pans.append(round(math.degrees(look.action.pan)))
-        looked = look.action.pan
+        looked = look.action
     assert sorted(set(pans)) == sorted(NAVIGATION.scan_pans_deg) and r.state == "turn"
     out = r.decide(situation(time=10.0, I_a=0.9), lambda f: None)
     (turn,) = out.bids
@@ -433,7 +433,7 @@ def test_a_request_the_map_cannot_answer_leads_to_exploring_not_to_a_failure():
     for _ in range(400):
         t += 0.1
         out = r.decide(situation(time=t, looked=looked, odometry=Pose(0.0, 0.0, r._turn_to or 0.0)), lambda f: None)
-        looked = next((b.action.pan for b in out.bids if b.resource == "camera"), None)
+        looked = next((b.action for b in out.bids if b.resource == "camera"), None)
         if r.state == "normal":
             break
     assert r.state == "normal" and r.failures == 0 and any("looked around" in m for _, m in out.events)
@@ -549,7 +549,7 @@ def test_the_rescuer_gives_up_only_when_the_map_still_shows_no_way_out_after_exp
             break
         t += 0.1
         out = r.decide(situation(time=t, looked=looked, odometry=Pose(0.0, 0.0, r._turn_to or 0.0)), lambda f: None)
-        looked = next((b.action.pan for b in out.bids if b.resource == "camera"), None)
+        looked = next((b.action for b in out.bids if b.resource == "camera"), None)
     assert r.state == "normal"
     t, out, _ = _blocked_until_asked(r, t, trapped, limit=t + 200.0)
     assert out.give_up == "no way out: every edge out is blocked" and r.failures == 0
@@ -573,7 +573,7 @@ def test_looking_around_is_bounded_by_the_count_of_failures_when_there_is_one():
     while give_up is None and t < 2000.0:
         t += 0.1
         out = r.decide(situation(time=t, looked=looked, odometry=Pose(0.0, 0.0, r._turn_to or 0.0)), ask)
-        looked = next((b.action.pan for b in out.bids if b.resource == "camera"), None)
+        looked = next((b.action for b in out.bids if b.resource == "camera"), None)
         give_up = out.give_up
     assert asked == 3 + 1 and r.failures == 0
     assert give_up.startswith("the map gives no diverting target after 3 looks around")
@@ -581,7 +581,7 @@ def test_looking_around_is_bounded_by_the_count_of_failures_when_there_is_one():
     while t < 2000.0:
         t += 0.1
         out = r.decide(situation(time=t, looked=looked, odometry=Pose(0.0, 0.0, r._turn_to or 0.0)), ask)
-        looked = next((b.action.pan for b in out.bids if b.resource == "camera"), None)
+        looked = next((b.action for b in out.bids if b.resource == "camera"), None)
         assert out.give_up is None
     assert asked > 3 * 3  # far more looks around than the count would allow
 
@@ -603,7 +603,7 @@ def test_a_target_no_scan_finds_sends_the_robot_the_maps_way_and_counts_no_failu
             out = r.decide(situation(time=t, I_a=0.9, looked=looked, odometry=Pose(0.0, 0.0, theta)),
                            lambda f: asked.append(f) or answer)
             scans += sum("still lost after a scan" in m for _, m in out.events)
-            looked = next((b.action.pan for b in out.bids if b.resource == "camera"), None)
+            looked = next((b.action for b in out.bids if b.resource == "camera"), None)
             assert out.give_up is None
         assert asked == [None] and scans == LOST_SCANS - 1 and r.failures == 0
         if isinstance(answer, Crossing):

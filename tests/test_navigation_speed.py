@@ -84,7 +84,7 @@ def test_the_communicator_forwards_what_the_plain_rule_forwards():
 def test_bids_moves_and_looks_are_immutable_values_with_the_dataclass_repr():
     b = Bid("pilot", "motion", Move(0.0, 0.3), 0.9)
     assert repr(b) == "Bid(bidder='pilot', resource='motion', action=Move(heading=0.0, speed=0.3), value=0.9)"
-    assert repr(Look(0.5)) == "Look(pan=0.5)"
+    assert repr(Look(0.5, "search")) == "Look(pan=0.5, purpose='search')"
     assert b == Bid("pilot", "motion", Move(0.0, 0.3), 0.9) and hash(b) == hash(Bid("pilot", "motion", Move(0.0, 0.3), 0.9))
     assert pickle.loads(pickle.dumps(b)) == b
     with pytest.raises(AttributeError):

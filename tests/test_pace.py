@@ -121,7 +121,7 @@ def test_a_reflex_backs_up_its_distance_at_any_speed(speed):
     out = p.decide(beliefs(odom=_pose(x)))
     for _ in range(2000):
         if out.info.get("phase") == "look":
-            p._looked(next(b.action.pan for b in out.bids if b.resource == "camera"))
+            p._looked(next(b.action for b in out.bids if b.resource == "camera"))
         motion = next((b for b in out.bids if b.resource == "motion"), None)
         v, _ = p.execute(motion)
         if out.info.get("phase") == "backup":

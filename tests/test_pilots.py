@@ -11,7 +11,7 @@ import pytest
 
 from navcli.analysis import read_log
 from navcli.config import RunSpec
-from navcli.bidding import Bid, Move
+from navcli.bidding import Bid, Look, Move
 from navcli.pilot.geometric import GeometricPilot, blocked_interval
 from navcli.geometry import Pose
 from navcli.mission import Mission
@@ -173,12 +173,17 @@ def test_eq1_look_bid_grows_with_distance_since_the_last_look_ahead():
     p.since_look = 0.5
     assert p.look_bid() == pytest.approx((0.5 / PILOT.look_d_max) ** PILOT.look_exponent)
     p.since_look = 5.0
-    assert p.look_bid() == pytest.approx(0.9)  # capped like every Pilot bid
+    assert p.look_bid() == 1.0  # past d_m, "the maximum distance allowed to travel without looking ahead"
+    capped = PotentialFieldPilot(replace(PILOT, look_cap=0.9), ROBOT)
+    capped.since_look = 5.0
+    assert capped.look_bid() == pytest.approx(0.9)  # navcli before: capped like the motion bid (eq. 9)
     out = p.decide(beliefs())
-    assert any(b.resource == "camera" and b.value == pytest.approx(0.9) for b in out.bids)
-    p.decide(beliefs(looked=math.radians(60)))  # Vision reports the image it took
-    assert p.look_bid() == pytest.approx(0.9)  # a look to the side is not a look ahead
-    p.decide(beliefs(looked=0.0))
+    assert any(b.resource == "camera" and b.value == 1.0 for b in out.bids)
+    p.decide(beliefs(looked=Look(math.radians(60), "obstacles")))  # Vision reports the image it took
+    assert p.look_bid() == 1.0  # a look to the side is not a look ahead
+    p.decide(beliefs(looked=Look(0.0, "target")))
+    assert p.look_bid() == 1.0  # nor a look ahead for another purpose (obstacles not looked for)
+    p.decide(beliefs(looked=Look(0.0, "obstacles")))
     assert p.look_bid() == 0.0
 
 
@@ -208,7 +213,8 @@ def test_reflex_stops_looks_around_backs_up_then_avoids_again():
             looks.append(round(math.degrees(look.action.pan)))
             # Vision carries the look out, the pilot hears of it next tick; the first time, another
             # system's image (at 30 degrees) comes first: it is not the reflex's look
-            looked = look.action.pan if looks.count(looks[-1]) > 1 or looks[-1] != looks[0] else math.radians(30)
+            looked = look.action if looks.count(looks[-1]) > 1 or looks[-1] != looks[0] \
+                else Look(math.radians(30), "obstacles")
     order = [ph for i, ph in enumerate(phases) if i == 0 or phases[i - 1] != ph]
     assert order == ["stop", "look", "backup"]
     assert phases.count("stop") == round(PILOT.reflex_stop_s / CONTROL_DT)
@@ -416,7 +422,7 @@ def test_a_robot_pinned_against_a_wall_notices_and_backs_away(make_scenario):
     for _ in range(round(8.0 / CONTROL_DT)):
         out = pilot.decide(Beliefs(world.time, world.odometry.pose, None, None, (), 0.0, looked, (), world.touching))
         events += out.events
-        looked = next((b.action.pan for b in out.bids if b.resource == "camera"), None)  # an instant camera
+        looked = next((b.action for b in out.bids if b.resource == "camera"), None)  # an instant camera
         winner = next((b for b in out.bids if b.resource == "motion"), into_the_wall)
         world.step(*pilot.execute(winner))
         xs.append(world.pose.x)
@@ -436,7 +442,7 @@ def test_stall_watch_escapes_opposite_to_the_way_the_robot_was_pushing():
         out = p.decide(beliefs())
     assert out.info["mode"] == "reflex" and any("stalled" in e for e in out.events)
     while out.info.get("phase") != "backup":
-        p._looked(0.0)
+        p._looked(Look(0.0, "obstacles"))
         out = p.decide(beliefs())
     assert next(b for b in out.bids if b.resource == "motion").action.speed > 0  # forwards, away from it
 

@@ -258,7 +258,8 @@ def test_a_list_valued_parameter_is_a_grid_axis_and_a_column(tmp_path):
 
 
 def test_param_takes_a_list(tmp_path):
-    from navcli.params import ParamError, parse_override
+    from navcli.config import parse_override
+    from navcli.params import ParamError
 
     assert parse_override("pilot.reflex_look_pans_deg=[]") == ("pilot.reflex_look_pans_deg", [])
     assert parse_override("pilot.reflex_look_pans_deg=[ -1.5 ,2]") == ("pilot.reflex_look_pans_deg", [-1.5, 2.0])

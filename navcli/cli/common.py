@@ -109,7 +109,8 @@ def build_spec(path: Path, params: list[str] | None = None, **choices: Any) -> R
     """The run configuration of a scenario file with the command line's choices (``seed``,
     ``pilot``, ``perception``, ``time_limit``; None keeps the scenario's) and ``--param`` overrides."""
     from ..config import RunSpec
-    from ..params import ParamError, parse_override
+    from ..config import parse_override
+    from ..params import ParamError
 
     sc = load(path)
     with about("--param", ParamError):

@@ -219,7 +219,8 @@ def params(
     Without a scenario, the defaults; with one, its values after its blocks and any --param."""
     import dataclasses
 
-    from ..params import Params, parse_override
+    from ..config import parse_override
+    from ..params import Params
 
     if scenario is not None:
         values = build_spec(scenario, param).params
@@ -235,6 +236,8 @@ def params(
 def _range(f) -> str:
     """A parameter's declared range in interval notation (``[0, 1]``, ``(0, inf)``), as checked
     by ``Params.override``; a list's, by its count."""
+    if f.metadata.get("choices"):
+        return "one of " + ", ".join(f.metadata["choices"])
     if isinstance(f.default, tuple):
         n = len(f.default)
         return f"{n} increasing numbers" if f.metadata.get("intervals") else "a list of numbers"

@@ -19,9 +19,11 @@ MVT   toward the target                            at the target                
 
 Reaching the target gives 0 (it ends the trial). "Toward the target" is the centre of the target's
 fuzzy heading; when the target is lost the paper takes the centre of [0, 2 pi], pi: the robot
-turns back ("paces"). Our camera returns every object in view whatever the look is for, so "look
-for new landmarks" and "re-acquire known ones" differ here by where they point and what they
-cost, not by the image processing (our design). Looks are clipped to the pan unit's limit; a
+turns back ("paces"). Each look runs the routine its purpose names (section 5.3: "The vision system can either search
+for new landmarks or re-acquire already-detected landmarks, but it is not able to do both things
+at the same time"; :mod:`navcli.vision.routines`): MLL a search (new landmarks only), MVL a
+re-acquisition of the known landmarks (not the target), MVT and MOT a re-acquisition of the
+target (nothing else); MB takes no image. Looks are clipped to the pan unit's limit; a
 sector the camera cannot reach (behind) is not chosen by MLL and MVL.
 """
 
@@ -30,7 +32,7 @@ from __future__ import annotations
 import math
 from typing import Sequence
 
-from ..bidding import Bid, Look, Move
+from ..bidding import Bid, Look, LookPurpose, Move
 from ..geometry import orthogonal
 from ..navigation.risk_manager import SECTORS
 from ..navigation.situation import Situation
@@ -81,20 +83,21 @@ def action_bids(action: int, s: Situation, *, bidder: str, value: float, speed: 
     bearing = target_bearing(s)
     heading = bearing
     look: float | None = None
+    purpose: LookPurpose = "target"
     if action == MOT:
         heading = math.remainder(bearing + side * math.pi / 2, 2 * math.pi)
         look = bearing
     elif action == MVT:
         look = bearing
     elif action == MLL:
-        look = least_known_sector(s, pan_limit, target_key)
+        look, purpose = least_known_sector(s, pan_limit, target_key), "search"
     elif action == MVL:
-        look = most_imprecise_sector(s, pan_limit, target_key)
+        look, purpose = most_imprecise_sector(s, pan_limit, target_key), "landmarks"
     elif action != MB:
         raise ValueError(f"unknown action {action}")
     bids = [Bid(bidder, "motion", Move(heading, speed), value)]
     if look is not None:
-        bids.append(Bid(bidder, "camera", Look(max(-pan_limit, min(pan_limit, look))), value))
+        bids.append(Bid(bidder, "camera", Look(max(-pan_limit, min(pan_limit, look)), purpose), value))
     return bids
 
 

@@ -26,6 +26,8 @@ from typing import Annotated, Any, Literal
 import msgspec
 from msgspec import UNSET, Meta, Struct, UnsetType
 
+from ..bidding import LookPurpose
+
 # The topics of the log: each name is written here once, and every writer and reader uses these.
 TF_TOPIC = "/tf"  # foxglove.FrameTransforms: world -> base_link (the true pose), base_link -> camera (the pan)
 POSE_TOPIC = "/robot/pose"  # foxglove.PoseInFrame: the true pose
@@ -128,6 +130,7 @@ class Action(_Msg):
     heading_deg: DEG | UnsetType = UNSET
     speed: Annotated[float, Meta(description="m/s, negative backwards")] | UnsetType = UNSET
     pan_deg: Annotated[float, Meta(description="camera pan, degrees from the heading, positive to the left")] | UnsetType = UNSET
+    purpose: Annotated[LookPurpose, Meta(description="a look's purpose: the image-processing routine it asks for")] | UnsetType = UNSET
 
 
 class ResourceBids(_Msg):
@@ -167,10 +170,14 @@ class Sighting(_Msg):
 
 
 class DetectionMsg(_Msg):
-    """What one image showed of one object: one point, or both ends of a linear stretch."""
+    """What one image showed of one object: one point, or the two extremities of a linear
+    obstacle in view."""
 
     kind: Literal["landmark", "target", "obstacle", "wall"]
     points: list[Sighting]
+    ends: Annotated[list[bool], Meta(description=(
+        "an identified linear obstacle: per end (a, b), whether the point seen toward it is the end itself "
+        "(false: where the view cut the obstacle, which goes on past it)"))] | UnsetType = UNSET
 
 
 class Vision(_Msg):
@@ -180,7 +187,10 @@ class Vision(_Msg):
     state: Literal["idle", "panning", "processing"]
     image: Annotated[bool, Meta(description="an image was taken this tick")]
     detections: Annotated[dict[str, DetectionMsg], Meta(
-        description="by landmark id, target marker, or obstacle<i> for an unidentified obstacle")]
+        description="by landmark id, target marker, segment:<key> or wall:<key> for an identified linear obstacle, "
+                    "or obstacle<i> for an unidentified obstacle")]
+    purpose: Annotated[LookPurpose, Meta(description=(
+        "what the look being carried out is for, the image-processing routine it runs (absent: idle)"))] | UnsetType = UNSET
 
 
 # --- /mission/summary -------------------------------------------------------------------------

@@ -232,7 +232,7 @@ class Recorder:
 
     def tick(self, t: Tick) -> None:
         ns = t.time_ns
-        pan, state = t.camera
+        pan, state, purpose = t.camera
         self._pose_msgs(t.pose, t.odometry, ns, pan)
         if self.server is not None:
             self.server.broadcast_time(ns)
@@ -244,8 +244,11 @@ class Recorder:
         if ns - self._state_ns >= SCENE_NS:
             self._state(ns)
         dets = t.detections
-        self.vision.log(encode({"pan_deg": math.degrees(pan), "state": state, "image": dets is not None, "detections":
-                                {d.key or f"obstacle{i}": d.as_json() for i, d in enumerate(dets)} if dets else {}}), ns)
+        vision = {"pan_deg": math.degrees(pan), "state": state, "image": dets is not None, "detections":
+                  {d.key or f"obstacle{i}": d.as_json() for i, d in enumerate(dets)} if dets else {}}
+        if purpose is not None:
+            vision["purpose"] = purpose
+        self.vision.log(encode(vision), ns)
         if t.memory is not None:
             self._redraw(self.memory_scene, memory_entities(t.memory, ns), ns)
             self._redraw(self.memory_supports, support_entities(t.memory, ns), ns)

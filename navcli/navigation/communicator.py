@@ -31,7 +31,7 @@ class Communicator:
         >>> from navcli.bidding import Look, Move
         >>> c = Communicator(window=0.2)
         >>> bids = [Bid("a", "motion", Move(0.0, 0.3), 0.2), Bid("b", "motion", Move(1.0, 0.3), 0.4),
-        ...         Bid("a", "camera", Look(0.5), 0.1)]
+        ...         Bid("a", "camera", Look(0.5, "search"), 0.1)]
         >>> [(b.bidder, b.resource, b.value) for b in c.forward(bids, 0.0)]
         [('navigation', 'motion', 0.4), ('navigation', 'camera', 0.1)]
         >>> c.forwarded_by

@@ -175,13 +175,13 @@ class Rescuer:
             if (driven < self.params.explore_m and not b.bumps
                     and len(s.landmarks) <= self._drive_known and b.pilot_blocked is None
                     and s.time - self._drive_since < self.drive_s):
-                pans = self.params.scan_pans_deg  # looking around on the way, a pan an image
-                if looked_at(b.looked, math.radians(pans[self._scan % len(pans)])):
+                pans = self.params.scan_pans_deg  # looking around on the way for landmarks, a pan an image
+                if looked_at(b.looked, Look(math.radians(pans[self._scan % len(pans)]), "search")):
                     self._scan += 1
                 v = self.params.rescuer_bid
                 bids: tuple[Bid, ...] = (Bid(self.name, "motion", Move(wrap_angle(start.theta - o.theta), self.speed), v),)
                 if self.params.rescuer_looks:
-                    bids += (Bid(self.name, "camera", Look(math.radians(pans[self._scan % len(pans)])), v),)
+                    bids += (Bid(self.name, "camera", Look(math.radians(pans[self._scan % len(pans)]), "search"), v),)
                 return Rescue(bids, events=tuple(events))
             events.append(("info", f"explored {driven:.1f} m away from the target"))
             self._enter("explore" if self.params.rescuer_looks else "normal", s)
@@ -334,17 +334,22 @@ class Rescuer:
         return Rescue(events=tuple(events), give_up=why)
 
     # -- scans and turns
-    def _scan_bids(self) -> tuple[Bid, ...]:
+    def _scan_look(self) -> Look:
+        """The look of the scan's current pan: a scan for the lost target (the target and the
+        known landmarks) when the target is lost; a search for new landmarks otherwise (the
+        initial sweep, and looking around to explore)."""
         pan = math.radians(self.params.scan_pans_deg[self._scan])
-        v = self.params.rescuer_bid
-        return (Bid(self.name, "motion", STOP, v), Bid(self.name, "camera", Look(pan), v))
+        return Look(pan, "scan" if self.state == "lost" else "search")
 
-    def _scanned(self, looked: float | None) -> bool:
+    def _scan_bids(self) -> tuple[Bid, ...]:
+        v = self.params.rescuer_bid
+        return (Bid(self.name, "motion", STOP, v), Bid(self.name, "camera", self._scan_look(), v))
+
+    def _scanned(self, looked: Look | None) -> bool:
         """Advance the scan when the camera reports the look asked for; True when all are done."""
-        pans = self.params.scan_pans_deg
-        if self._scan < len(pans) and looked_at(looked, math.radians(pans[self._scan])):
+        if self._scan < len(self.params.scan_pans_deg) and looked_at(looked, self._scan_look()):
             self._scan += 1
-        return self._scan >= len(pans)
+        return self._scan >= len(self.params.scan_pans_deg)
 
     def _start_turn(self, odo: Pose, events: list, why: str, away: Point | None = None) -> None:
         """Turn by a random angle of up to ``random_turn_deg``; exploring (``away``: the target,

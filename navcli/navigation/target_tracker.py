@@ -60,5 +60,5 @@ class TargetTracker:
         if move > 0.0:
             bids.append(Bid(self.name, "motion", Move(heading, self.max_speed), move))
         if look > 0.0:
-            bids.append(Bid(self.name, "camera", Look(heading), look))
+            bids.append(Bid(self.name, "camera", Look(heading, "target"), look))
         return bids

@@ -19,7 +19,14 @@ Navigation system's. This module holds what every pilot shares:
   the visual memory now holds); the same reflex when the robot stalls, pushing without moving
   (over the time it takes to drive ``stall_window_m`` at full speed, so a slow robot is not
   taken for a stalled one);
-- the **look-ahead camera bid** (eq. 1): ``(d_l / d_m) ** s``, capped at 0.9 like every Pilot bid.
+- the **look-ahead camera bid** (eq. 1): ``(d_l / d_m) ** s``, at most ``look_cap`` (1: eq. 1 as
+  written). ``d_m`` is "the maximum distance allowed to travel without looking ahead", so the bid
+  reaches 1 there and the Pilot's look wins the camera (ties go to the Pilot). The 0.9 of eq. 9
+  caps the Pilot's motion bid, so that another system may overrule its driving; capping the look
+  with it too (``look_cap`` 0.9, navcli before) let the Risk Manager's looks, bid above 0.9
+  whenever the risk passes ``R_bar``, keep the Pilot from ever looking ahead, which mattered once
+  only a look for obstacles finds obstacles (:mod:`navcli.vision.routines`): on paper-8x8 the
+  geometric pilot then took 480 s where it takes 270 s (10 seeds).
 
 The avoidance strategies subclass :class:`Pilot` and implement :meth:`Pilot.avoid`:
 :mod:`navcli.pilot.potential_field` (the paper's pilot) and :mod:`navcli.pilot.geometric` (the
@@ -71,7 +78,7 @@ class PilotOutput:
 
 SAFE_STEP = math.radians(15.0)  # rad between the headings :meth:`Pilot._nearest_safe` tries
 SAFE_STEPS = 12  # each way: up to a half turn
-LOOK_AHEAD = Look(0.0)  # the look-ahead of eq. 1 (a value: one serves every tick)
+LOOK_AHEAD = Look(0.0, "obstacles")  # the look-ahead of eq. 1 (a value: one serves every tick)
 MAX_STALL_WINDOW_S = 30.0  # s: the stall watch's longest window (0.6 m takes 60 s at 1 cm/s)
 
 
@@ -167,20 +174,21 @@ class Pilot:
         return None
 
     def look_bid(self) -> float:
-        """Eq. 1: ``(d_l / d_m) ** s``, never above the Pilot's cap of 0.9; 0 without ``looks``."""
+        """Eq. 1: ``(d_l / d_m) ** s``, never above ``look_cap``; 0 without ``looks``."""
         p = self.params
         if not p.looks:
             return 0.0
-        return min(p.bid_cap, (self.since_look / p.look_d_max) ** p.look_exponent)
+        return min(p.look_cap, (self.since_look / p.look_d_max) ** p.look_exponent)
 
-    def _looked(self, pan: float) -> None:
-        """Vision carried out a look at ``pan`` (rad); a look ahead resets d_l of eq. 1."""
-        if abs(pan) < self.params.look_ahead_cone:
+    def _looked(self, look: Look) -> None:
+        """Vision carried out ``look``; a look for obstacles near ahead resets d_l of eq. 1 (a look
+        another agent won for another purpose did not look for obstacles)."""
+        if look.purpose in ("obstacles", "everything") and abs(look.pan) < self.params.look_ahead_cone:
             self.since_look = 0.0
         if self._reflex and self._reflex[0][0] == "look":
             pans = self.params.reflex_look_pans_deg
-            want = math.radians(pans[min(int(self._reflex_progress), len(pans) - 1)])
-            if looked_at(pan, want):  # an image someone else asked for is not its look
+            want = Look(math.radians(pans[min(int(self._reflex_progress), len(pans) - 1)]), "obstacles")
+            if looked_at(look, want):  # an image someone else asked for is not its look
                 self._reflex_progress += 1
 
     def _track(self, odom: Pose) -> None:
@@ -265,7 +273,7 @@ class Pilot:
         bids = [Bid(self.name, "motion", Move(0.0, speed), p.bid_cap)]
         if phase == "look":
             pan = math.radians(p.reflex_look_pans_deg[int(self._reflex_progress)])
-            bids.append(Bid(self.name, "camera", Look(pan), p.bid_cap))
+            bids.append(Bid(self.name, "camera", Look(pan, "obstacles"), p.bid_cap))
         elif look > 0:
             bids.append(Bid(self.name, "camera", LOOK_AHEAD, look))
         return PilotOutput(bids, {"mode": "reflex", "phase": phase, "bid": p.bid_cap, "look_bid": look}, [], events,

@@ -16,6 +16,8 @@ from .yaml_reader import MAX_SCALAR
 def _param_schema(f: dataclasses.Field) -> dict[str, Any]:
     """A parameter's JSON Schema from its declared range (:func:`navcli.params._p`)."""
     m = f.metadata
+    if m.get("choices"):
+        return {"enum": list(m["choices"]), "default": f.default}
     d: dict[str, Any] = {"type": "integer" if isinstance(f.default, int) else "number", "default": f.default}
     if m.get("above") is not None:
         d["exclusiveMinimum"] = m["above"]

@@ -2,32 +2,44 @@
 
 Vision does not bid; it carries out the winning look. A look pans the camera (finite pan speed,
 limited pan range), takes an image when the pan arrives, and then processes it for
-``look_time`` seconds, busy meanwhile. The image shows an object when it lies inside the field of
-view, within range, and no other object or wall blocks the line of sight to it.
+``look_time`` seconds, busy meanwhile, with the routine of the look's purpose
+(:mod:`.routines`): what that routine finds is all the image registers. While the camera pans it
+serves the look that wins the camera at each tick: a look asked for elsewhere turns it there, and
+when no look is asked for any more (a move without a look, the learning paper's MB) the pan is
+cancelled where it got to, without an image. The image shows an object when it lies inside the
+field of view, within range, and no other object or wall blocks the line of sight to it.
 
 What comes out are :class:`Detection` s, egocentric, with heading and distance as fuzzy numbers:
 the measured values carry the scenario's noise (bounded at ``noise_bound`` standard deviations,
 as a physical sensor's errors are), and the fuzzy support is exactly that bound, so the true
 value always lies in the 0 % cut; the distance's spread grows with the distance. Landmarks and
-the target markers are identified by id; plain obstacles are only "an obstacle": a circle as a
-point, a segment by the end points of each stretch of it in view (a linear obstacle; a point if
-only a sliver shows). A stretch of the room's walls is reported as a ``wall`` (our design: a wall
-is told apart from the obstacles in the room by its size, and the Pilot treats it as such).
+the target markers are identified by id; a point obstacle is only "an obstacle". **A linear
+obstacle is one object** (``vision.line_objects`` 1): the camera recognises a fence, or one of
+the room's walls, as that object (key ``segment:<key>``, ``wall:<key>``) and measures its two
+extremities in the image, toward its ends ``a`` and ``b``: each is either that end itself, in
+view (:attr:`Detection.ends` says so), or where the view cuts the obstacle (the field of view's
+edge, the range, something in front), a point of it beyond which it goes on. The memory fuses
+them end by end (:mod:`.visual_memory`). With ``vision.line_objects`` 0 (navcli before) a linear
+obstacle is reported, unidentified, by the end points of each stretch of it in view (a point if
+only a sliver shows), and the memory re-joins the pieces by geometry. A wall is reported as a
+``wall`` (a wall is told apart from the obstacles in the room by its size, and the Pilot treats
+it as such); with ``vision.walls`` ``felt`` the camera registers no wall at all.
 """
 
 from __future__ import annotations
 
 import math
-from typing import Callable, NamedTuple
+from typing import Callable, Container, NamedTuple
 
 import numpy as np
 
-from ..bidding import Look
+from ..bidding import Look, LookPurpose, looked_at
 from ..fuzzy import TWO_PI, Fuzzy, FuzzyAngle
 from ..geometry import Point, Pose, distance_to_segment, wrap_angle
 from ..noise import bounded_normals
 from ..params import VISION, VisionParams
 from ..scenario import ArenaObject, Scenario
+from .routines import EVERYTHING, registers
 
 
 SEGMENT_STEP = 0.2  # m between the samples of a linear obstacle tested for visibility
@@ -54,8 +66,12 @@ class Detection(NamedTuple):
     """What one image showed of one object.
 
     ``key`` is the landmark id, ``target``/``target-a``/``target-b`` for the target's markers,
-    and ``""`` for a plain obstacle (not identifiable). ``points`` holds one sighting (a point
-    obstacle, a landmark, a single end of a linear obstacle) or two (both ends of one).
+    ``segment:<key>``/``wall:<key>`` for an identified linear obstacle, and ``""`` for a plain
+    obstacle (not identified). ``points`` holds one sighting (a point obstacle, a landmark, a
+    single sample of a linear obstacle) or two (the extremities of a linear obstacle in view,
+    toward its end ``a`` first for an identified one). ``ends`` says, for an identified linear
+    obstacle, which of those extremities are the obstacle's own ends (the others are where the
+    view cut it); one flag per end ``a``, ``b`` (a single sample stands for both).
     A NamedTuple, as :class:`Sighting` (several per image).
     """
 
@@ -63,14 +79,18 @@ class Detection(NamedTuple):
     kind: str  # "landmark" | "target" | "obstacle" | "wall" (a stretch of the room's wall: big, flat, told apart)
     points: tuple[Sighting, ...]
     radius: float
+    ends: tuple[bool, ...] = ()
 
     def as_json(self) -> dict:
         def f(x: Fuzzy, k: float = 1.0) -> dict:
             c = [tuple(v * k for v in cut) for cut in x.cuts]
             return {"lo0": c[0][0], "lo70": c[2][0], "core": (c[3][0] + c[3][1]) / 2, "hi70": c[2][1], "hi0": c[0][1]}
 
-        return {"kind": self.kind, "points": [{"heading_deg": f(p.heading.value, 180 / math.pi),
-                                               "distance_m": f(p.distance)} for p in self.points]}
+        out: dict[str, object] = {"kind": self.kind, "points": [{"heading_deg": f(p.heading.value, 180 / math.pi),
+                                              "distance_m": f(p.distance)} for p in self.points]}
+        if self.ends:
+            out["ends"] = list(self.ends)
+        return out
 
 
 class Camera:
@@ -84,10 +104,14 @@ class Camera:
         self.pan = 0.0  # rad, relative to the robot's heading
         self.state = "idle"  # idle | panning | processing
         self.goal = 0.0
+        self.request: Look | None = None  # the look being carried out (panning or processing)
+        self.looked: Look | None = None  # the look of the image taken at the last step, None if none
         self._capture_at = 0.0
         self._free_at = 0.0
         objs = scenario.objects  # landmarks, obstacles, target markers, walls: the draw order of the noise
         self.objects = objs
+        t = scenario.target
+        self.target_keys = frozenset(({t.landmark} if t.landmark else set()) | {"target", "target-a", "target-b"})
         # what may block a line of sight: every physical object (target markers are not)
         self._points = [(o.key, o.a, o.radius) for o in objs if o.kind in ("landmark", "circle")]
         self._lines = [(o.key, o.a, o.b) for o in objs if o.kind in ("segment", "wall")]
@@ -153,15 +177,30 @@ class Camera:
         return sees
 
     # -- the pan unit
-    def step(self, time: float, pose: Pose, request: Look | None, dt: float) -> list[Detection] | None:
+    def step(self, time: float, pose: Pose, request: Look | None, dt: float,
+             known: Container[str] = ()) -> list[Detection] | None:
         """Advance the camera by one control tick at ``time``; return detections when an image is taken.
 
-        ``request`` is the winning look (ignored while the camera is busy); ``pose`` the true pose.
+        ``request`` is the winning look (ignored while the camera processes an image); ``pose``
+        the true pose; ``known`` the keys the visual memory holds (the routines ask: :mod:`.routines`).
+        While panning, the camera follows the winning look, and cancels the pan without an image
+        when there is none (module docstring); with ``vision.routines`` 0 a pan, once begun,
+        ends in an image whatever wins meanwhile, as navcli's camera did.
         """
+        self.looked = None
         if self.state == "processing" and time >= self._free_at - 1e-9:
             self.state = "idle"
+        lim = self.spec.pan_limit
+        if self.state == "panning" and self.params.routines:
+            assert self.request is not None  # set when the pan began
+            if request is None:
+                self.state, self.request = "idle", None  # no look asked for: cancelled, no image
+            elif not looked_at(Look(self.goal, self.request.purpose), request):
+                self.request = request  # another look wins: the camera turns to it from where it is
+                self.goal = max(-lim, min(lim, wrap_angle(request.pan)))
+                self._capture_at = time + abs(self.goal - self.pan) / self.spec.pan_speed
         if self.state == "idle" and request is not None:
-            lim = self.spec.pan_limit
+            self.request = request
             self.goal = max(-lim, min(lim, wrap_angle(request.pan)))
             self._capture_at = time + abs(self.goal - self.pan) / self.spec.pan_speed
             self.state = "panning"
@@ -170,26 +209,70 @@ class Camera:
                 self.pan = self.goal
                 self.state = "processing"
                 self._free_at = time + self.spec.look_time
-                return self.capture(pose)
+                assert self.request is not None  # set when the pan began
+                purpose = self.request.purpose if self.params.routines else EVERYTHING
+                self.looked = Look(self.pan, purpose)
+                return self.capture(pose, purpose, known)
             step = self.spec.pan_speed * dt
             self.pan += max(-step, min(step, self.goal - self.pan))
         return None
 
     # -- the image
-    def capture(self, pose: Pose) -> list[Detection]:
-        """The objects in the image taken now from ``pose``, measured with noise."""
+    def capture(self, pose: Pose, purpose: LookPurpose = EVERYTHING,
+                known: Container[str] = ()) -> list[Detection]:
+        """The objects the routine of ``purpose`` registers in the image taken now from ``pose``
+        (:func:`.routines.registers`; ``EVERYTHING``: all in view), measured with noise."""
         sees = self.sight(pose)
         out = []
+        walls = self.params.walls != "felt"
+        lines = self.params.line_objects
+        target = self.target_keys
         for o in self.objects:
+            how = registers(purpose, o.kind, o.key, known, target)
+            if how is None:
+                continue
             if o.kind in ("segment", "wall"):
+                kind = "wall" if o.kind == "wall" else "obstacle"  # a lone sample of a wall is still a wall
+                if kind == "wall" and not walls:
+                    continue
+                if lines:
+                    det = self.line_of(pose, o, sees, f"{o.kind}:{o.key}", kind)
+                    if det is not None:
+                        out.append(det)
+                    continue
                 for run in self.visible_runs(pose, o, sees):
-                    kind = "wall" if o.kind == "wall" else "obstacle"  # a lone sample of a wall is still a wall
                     out.append(Detection("", kind, tuple(self.measure(pose, p) for p in run), o.radius))
             elif sees(o.a[0], o.a[1], o.key):
-                key = "" if o.kind == "circle" else o.key
-                kind = "obstacle" if o.kind == "circle" else o.kind
-                out.append(Detection(key, kind, (self.measure(pose, o.a),), o.radius))
+                if how == "as-obstacle":
+                    out.append(Detection("", "obstacle", (self.measure(pose, o.a),), o.radius))
+                else:
+                    out.append(Detection(o.key, o.kind, (self.measure(pose, o.a),), o.radius))
         return out
+
+    def line_of(self, pose: Pose, o: ArenaObject, sees: Callable[[float, float, str], bool], key: str,
+                kind: str) -> Detection | None:
+        """A linear obstacle in the image as one identified object: its extremities in view
+        toward ``a`` and toward ``b`` (the first and last of its samples that ``sees`` passes,
+        :meth:`visible_runs`' sampling), each flagged as the obstacle's own end or not; one
+        sample alone is one point, for both ends; None if none is in view."""
+        (ax, ay), (bx, by) = o.a, o.b
+        if distance_to_segment((pose.x, pose.y), o.a, o.b) > self.spec.range:
+            return None
+        n = segment_steps(o.a, o.b)
+        first = last = -1
+        for k in self.in_view(pose, o.a, o.b, n):
+            if sees(ax + (bx - ax) * k / n, ay + (by - ay) * k / n, o.key):
+                if first < 0:
+                    first = k
+                last = k
+        if first < 0:
+            return None
+        ends = (first == 0, last == n)
+        pa = self.measure(pose, (ax + (bx - ax) * first / n, ay + (by - ay) * first / n))
+        if first == last:
+            return Detection(key, kind, (pa,), o.radius, ends)
+        pb = self.measure(pose, (ax + (bx - ax) * last / n, ay + (by - ay) * last / n))
+        return Detection(key, kind, (pa, pb), o.radius, ends)
 
     def visible_runs(self, pose: Pose, o: ArenaObject, sees: Callable[[float, float, str], bool]
                      ) -> list[tuple[Point, ...]]:

@@ -17,17 +17,18 @@ what the agents hear of the last tick: the pan of the image taken, the bumps fel
 from __future__ import annotations
 
 import math
+from typing import Container
 
 import numpy as np
 
 from ..beliefs import Beliefs, Bump, KnownLandmark, KnownObstacle
 from ..fuzzy import ALPHAS, FuzzyPoint
 from ..bidding import Look
-from ..geometry import Pose, midpoint, motion_between
-from ..params import CONTROL_DT, ROBOT, VISION, Params, RobotParams, VisionParams
+from ..geometry import Point, Pose, midpoint, motion_between
+from ..params import COLLISION_SLOP, CONTROL_DT, PHYSICS_DT, ROBOT, VISION, Params, RobotParams, VisionParams
 from ..scenario import Scenario
 from .camera import Camera, Detection
-from .visual_memory import Remembered, Spot, VisualMemory
+from .visual_memory import Memory, Remembered, Spot, VisualMemory
 
 
 _CRISP = (0.0,) * len(ALPHAS)  # what the oracle knows, it knows exactly
@@ -41,7 +42,7 @@ class _Senses:
         self.scenario = scenario
         self.params = params
         self.camera = Camera(scenario, rng, params)
-        self._looked: float | None = None
+        self._looked: Look | None = None
         self._bumps: tuple[Bump, ...] = ()
         self._touching = False
 
@@ -52,15 +53,22 @@ class _Senses:
                        self._touching, landmarks, target_at, target_seen)
 
     @property
-    def camera_state(self) -> tuple[float, str]:
-        """The camera's pan (rad, from the heading) and state: idle, panning or processing."""
-        return self.camera.pan, self.camera.state
+    def camera_state(self) -> tuple[float, str, str | None]:
+        """The camera's pan (rad, from the heading), its state (idle, panning or processing) and
+        the purpose of the look it carries out (None when idle)."""
+        cam = self.camera
+        return cam.pan, cam.state, cam.request.purpose if cam.state != "idle" and cam.request is not None else None
 
     def look(self, time: float, truth: Pose, request: Look | None) -> list[Detection] | None:
         """Carry out the winning look; the detections if an image was taken."""
-        dets = self.camera.step(time, truth, request, CONTROL_DT)
-        self._looked = self.camera.pan if dets is not None else None
+        dets = self.camera.step(time, truth, request, CONTROL_DT, self.known())
+        self._looked = self.camera.looked
         return dets
+
+    def known(self) -> Container[str]:
+        """The keys of what the robot remembers (the routines ask whether a landmark is new):
+        nothing, without a memory."""
+        return ()
 
     def moved(self, before: Pose, after: Pose, bumps: tuple[Bump, ...], touching: bool = False,
               slip: float = 0.0) -> None:
@@ -118,6 +126,11 @@ class VisionPerception(_Senses):
             else:
                 self.memory.add("target", "target", [start.to_local(t.point)], 0.0, told, prior=True)
         self._target_key = t.landmark if t.kind == "landmark" else "target"
+        if params.walls == "known":  # told of the room at the start, as of the target: never forgotten
+            for key, a, b in scenario.walls:
+                m = self.memory.add(f"wall:{key}", "wall", [start.to_local(a), start.to_local(b)], 0.0, told, prior=True)
+                m.exact = (True, True)
+        self._anchors = anchors(scenario)
         self._ticks = 0
 
     def observe(self, time: float, truth: Pose, odometry: Pose) -> Beliefs:
@@ -141,6 +154,8 @@ class VisionPerception(_Senses):
                 obstacles.append(KnownObstacle(f"L{m.key}", a, b, m.radius, False))
                 landmarks.append(KnownLandmark(m.key, s0.point(), m.seen))
             else:
+                if m.key in self._anchors:
+                    a, b = self._anchored(m, a, b)
                 obstacles.append(KnownObstacle(m.key, a, b, m.radius, kind == "wall"))
         line, target_at, seen = None, None, 0.0
         if self.scenario.target.kind == "line":
@@ -156,6 +171,22 @@ class VisionPerception(_Senses):
                 target_at, seen = told_of.spots[0].point(), told_of.seen
                 target, spread = (target_at.x, target_at.y), target_at.heading_width()
         return self._beliefs(time, odometry, target, line, obstacles, spread, tuple(landmarks), target_at, seen)
+
+    def known(self) -> Container[str]:
+        return self.memory.items
+
+    def _anchored(self, m: Memory, a: Point, b: Point) -> tuple[Point, Point]:
+        """The ends of a fence that stands between landmarks (:func:`anchors`): an end at a
+        landmark the memory holds is that landmark's position, unless the fence's own end was
+        seen and is the sharper of the two."""
+        ends = [a, b]
+        for i, lm in enumerate(self._anchors[m.key]):
+            held = self.memory.items.get(lm) if lm is not None else None
+            if held is not None and len(m.spots) == 2:
+                own, at = m.spots[i], held.spots[0]
+                if not (m.exact and m.exact[i]) or at.r0 < own.r0:
+                    ends[i] = (at.x, at.y)
+        return ends[0], ends[1]
 
     def look(self, time: float, truth: Pose, request: Look | None) -> list[Detection] | None:
         """Carry out the winning look; fold an image's detections into the memory."""
@@ -179,12 +210,40 @@ class VisionPerception(_Senses):
             mem.shove(slip)
         if bumps:
             r = self.robot.radius + self.params.bump_radius
+            # the support reaches back past the rim by how far the body may have driven into what it
+            # hit in the physics step that felt it, and the overlap the physics allows
+            depth = self.robot.max_speed * PHYSICS_DT + COLLISION_SLOP
             for b in bumps:
-                mem.add_bump(Spot(r * math.cos(b.bearing), r * math.sin(b.bearing), self.params.bump_radius, 0.0),
-                             self.params.bump_radius / 2)
+                mem.add_bump(Spot(r * math.cos(b.bearing), r * math.sin(b.bearing), self.params.bump_radius + depth,
+                                  0.0), self.params.bump_radius / 2)
         self._ticks += 1
         if self._ticks % self.params.forget_every == 0:  # imprecision creeps: twice a second is enough
             mem.forget()
+
+
+ANCHOR_GAP = 0.05
+"""m: a fence whose end is this close to a landmark's body (beyond the fence's half-width) ends
+at that landmark (:func:`anchors`)."""
+
+
+def anchors(scenario: Scenario) -> dict[str, tuple[str | None, str | None]]:
+    """The fences that stand between landmarks, by their memory key (``segment:<key>``): for each
+    end, the landmark it ends at, or None.
+
+    The thesis' linear obstacles run between landmarks ("landmark-to-landmark line obstacles", the
+    Pilot grows them into rounded rectangles), so the robot knows such a fence by its two
+    landmarks, and its ends are where it holds them to be (:meth:`VisionPerception._anchored`).
+    Where the room gives no landmark at a fence's end (all the bundled rooms), the end is the
+    fence's own, measured by the camera like a landmark (:mod:`.camera`, :mod:`.visual_memory`)."""
+    out: dict[str, tuple[str | None, str | None]] = {}
+    for o in scenario.objects:
+        if o.kind != "segment":
+            continue
+        ends = tuple(next((lm.id for lm in scenario.landmarks
+                           if math.dist(p, lm.at) <= lm.radius + o.radius + ANCHOR_GAP), None) for p in (o.a, o.b))
+        if ends != (None, None):
+            out[f"segment:{o.key}"] = (ends[0], ends[1])
+    return out
 
 
 Perception = OraclePerception | VisionPerception

@@ -29,13 +29,11 @@ from dataclasses import dataclass, field
 
 from ..fuzzy import ALPHAS, CUT, FuzzyAngle, FuzzyPoint
 from ..params import VISION, VisionParams
+from . import line_pieces
+from .line_pieces import END_TIE
 from .camera import Detection, Sighting
 
 Disc = tuple[float, float, float]  # x, y, radius
-END_TIE = 0.10  # m: ends this close along a linear obstacle count as the same extent; the sharper is kept
-JOIN_ANGLE = math.radians(30.0)
-"""Stretches whose crisp directions differ by more than this are never one line (ours: a far
-sighting's supports let a piece of the next wall, round a corner, lie "on" a wall)."""
 STILL = (0.0,) * 10  # a Spot's drift when just seen: jx, jy, kx, ky, vt, vs, run, hx, hy, vh
 
 
@@ -92,14 +90,17 @@ class Remembered:
 @dataclass(slots=True)
 class Memory:
     """One remembered object: a landmark, an obstacle (one spot, or two for a linear one, the
-    walls among them), something the bumpers found, or the target."""
+    walls among them), something the bumpers found, or the target. ``exact`` is, for an
+    identified linear obstacle, whether each end (``a``, ``b``) is the obstacle's own end as seen
+    (or told), rather than the farthest point of it seen so far: empty for everything else."""
 
     key: str
-    kind: str  # landmark | obstacle | bump | target
+    kind: str  # landmark | obstacle | bump | target | wall
     spots: list[Spot]
     radius: float  # physical half-width, m
     prior: bool = False  # told at the start: never forgotten
     seen: float = 0.0  # simulated time of the last sighting
+    exact: tuple[bool, ...] = ()
 
     def imprecision(self) -> float:
         """I(l) of the object's worst-known point (section 5.1 of the learning-agent paper)."""
@@ -297,149 +298,118 @@ class VisualMemory:
         return gone
 
     def observe(self, detections: list[Detection], time: float) -> None:
-        """Fold one image's detections in: identified objects by id, plain obstacles by overlap."""
+        """Fold one image's detections in: identified objects by id (a linear one end by end,
+        :meth:`_observe_line`), plain obstacles by overlap."""
         for det in detections:
             spots = [_sighting_spot(s) for s in det.points]
-            if det.key:
+            if det.ends:
+                self._observe_line(det.key, det.kind, spots, det.ends, det.radius, time)
+            elif det.key:
                 m = self.items.get(det.key)
                 if m is None:
                     self.items[det.key] = Memory(det.key, det.kind, spots, det.radius, det.kind == "target", time)
+                    if det.kind == "landmark":
+                        self._drop_points_at(spots[0])
                 else:
                     m.spots = [fuse(a, b) for a, b in zip(m.spots, spots)]
                     m.seen = time
-                continue
-            self._observe_obstacle(spots, det.radius, time, det.kind)
+            else:
+                self._observe_obstacle(spots, det.radius, time, det.kind)
+
+    def _drop_points_at(self, s: Spot) -> None:
+        """A landmark newly identified at ``s``: the plain point obstacles that may be it
+        (:func:`_same_point`) were that landmark seen by the obstacle routine, which does not
+        identify landmarks (:mod:`.routines`); they are dropped."""
+        for k in [k for k, m in self.items.items() if m.kind in ("obstacle", "bump") and len(m.spots) == 1
+                  and _same_point(m.spots[0], s)]:
+            del self.items[k]
+
+    def _observe_line(self, key: str, kind: str, spots: list[Spot], ends: tuple[bool, ...], radius: float,
+                      time: float) -> None:
+        """Fold a sighting of the identified linear obstacle ``key`` in, end by end, like landmarks.
+
+        ``spots`` are the extremities seen toward its ends ``a`` and ``b`` (one spot: one sample,
+        for both); ``ends`` whether each is that end itself. For each end: a sighting of the end
+        itself is fused with a remembered sighting of it (the fuzzy intersection, as a landmark's),
+        or replaces a remembered point that was only where a view cut the obstacle; a cut point
+        is no measurement of the end (the obstacle goes on past it), so it never moves a
+        remembered end, and of two cut points the one farther out along the obstacle is kept
+        (both are honest points of it; the farther is the better bound of its extent). So the
+        remembered line is the stretch between two honest points of the obstacle, never a join
+        of pieces, and no more certain than its ends. Points and bumps that lie on a new line are
+        dropped: they were it."""
+        if len(spots) == 1:
+            spots = [spots[0], _copy(spots[0])]  # two spots: each end is moved on its own
+        m = self.items.get(key)
+        if m is None:
+            self._drop_points_on(spots)
+            self.items[key] = Memory(key, kind, spots, radius, False, time, ends)
+            return
+        a, b = m.spots if len(m.spots) == 2 else (m.spots[0], _copy(m.spots[0]))
+        ea, eb = m.exact if len(m.exact) == 2 else (False, False)
+        ux, uy = a.x - b.x, a.y - b.y  # the direction of the obstacle, from end b toward end a
+        if math.hypot(ux, uy) < 1e-9:
+            ux, uy = spots[0].x - spots[1].x, spots[0].y - spots[1].y
+        ends_now = [_end(a, ea, spots[0], ends[0], ux, uy, b), _end(b, eb, spots[1], ends[1], -ux, -uy, a)]
+        if ends_now[0] is ends_now[1]:
+            ends_now[1] = _copy(ends_now[1])
+        m.spots = ends_now
+        m.exact = (ea or ends[0], eb or ends[1])
+        m.seen, m.radius = time, radius
 
     def _observe_obstacle(self, spots: list[Spot], radius: float, time: float, kind: str = "obstacle") -> None:
         """Associate a plain obstacle's (or a wall's) sighting with what is remembered, or remember it.
 
-        A linear sighting joins the remembered line of its kind (a fence or a wall) it lies along
-        (:func:`_same_line`), which then spans both; a point sighting is absorbed by a linear
-        obstacle it lies on (:func:`_near_line`), or fused with the remembered point whose support
-        it meets (nearest first); a lone sample of a wall joins a wall or is dropped."""
-        gap = self.params.line_join_gap
-        lines = [m for m in self.items.values() if len(m.spots) == 2 and m.kind == kind]
-        if len(spots) == 1:
-            for m in lines:
-                if _near_line(spots[0], m.spots, gap):  # a sliver of a linear obstacle already known
-                    _extend(m, spots)
-                    m.radius, m.seen = radius, time
-                    return
-            if kind == "wall":  # a lone sample of a wall on no wall known: too little to remember
-                return
-        else:
-            same = [m for m in lines if _same_line(m.spots, spots, gap)]
-            if same:  # the stretch seen extends what is known, and may join two known stretches
-                keep = same[0]
-                _extend(keep, spots)
-                for other in same[1:]:  # (not two fences that a stretch at their corner meets)
-                    if len(keep.spots) != 2:
-                        break  # it shrank to a point: nothing to join
-                    if _same_line(keep.spots, other.spots, gap):
-                        _extend(keep, other.spots)
-                        del self.items[other.key]
-                keep.radius, keep.seen = radius, time
-                return
+        A point sighting is fused with the nearest remembered point that may be the same thing
+        (:func:`_same_point`); a new point is remembered under a fresh key. A stretch of a linear obstacle
+        (``vision.line_objects`` 0: the camera does not identify it) is joined with the pieces
+        remembered of it by geometry (:mod:`.line_pieces`, navcli before)."""
+        if line_pieces.join(self, spots, radius, time, kind):
+            return
         if len(spots) == 1:
             s = spots[0]
             points = [m for m in self.items.values()
-                      if m.kind in ("obstacle", "bump") and len(m.spots) == 1 and _meets(m.spots[0], s)]
+                      if m.kind in ("obstacle", "bump") and len(m.spots) == 1 and _same_point(m.spots[0], s)]
             if points:
                 m = min(points, key=lambda m: math.hypot(m.spots[0].x - s.x, m.spots[0].y - s.y))
                 m.spots[0] = fuse(m.spots[0], s)
                 m.kind, m.radius, m.seen = "obstacle", radius, time
                 return
         else:  # a new linear obstacle swallows the points and bumps that lie on it
-            for k in [k for k, m in self.items.items() if m.kind in ("obstacle", "bump") and len(m.spots) == 1
-                      and _near_line(m.spots[0], spots, 0.0)]:  # on it, between its ends
-                del self.items[k]
+            self._drop_points_on(spots)
         self.add_found(kind, spots, radius, time)
 
+    def _drop_points_on(self, ends: list[Spot]) -> None:
+        """The points and bumps that lie on a new linear obstacle between ``ends`` were it: dropped."""
+        for k in [k for k, m in self.items.items() if m.kind in ("obstacle", "bump") and len(m.spots) == 1
+                  and line_pieces.near_line(m.spots[0], ends, 0.0)]:  # on it, between its ends
+            del self.items[k]
 
-def _meets(a: Spot, b: Spot) -> bool:
-    return math.hypot(a.x - b.x, a.y - b.y) <= a.r0 + b.r0
-
-
-def _same_line(ends: list[Spot], spots: list[Spot], gap: float) -> bool:
-    """Is the sighted stretch ``spots`` part of the remembered line ``ends`` (a fence or wall)?
-    It runs along it (:data:`JOIN_ANGLE`), its ends lie on its line (:func:`_plausible`), and the
-    two overlap or leave at most ``gap`` m between their crisp ends (``vision.line_join_gap``; ours:
-    views of one fence meet where a view was cut; joins across wider gaps drew walls through open
-    rooms)."""
-    a, b = ends
-    ux, uy = b.x - a.x, b.y - a.y
-    L = math.hypot(ux, uy)
-    if L < 1e-9:
-        return False
-    ux, uy = ux / L, uy / L
-    p, q = spots
-    vx, vy = q.x - p.x, q.y - p.y
-    lv = math.hypot(vx, vy)
-    if lv > p.radius(CUT) + q.radius(CUT) and abs(ux * vy - uy * vx) > math.sin(JOIN_ANGLE) * lv:
-        return False  # across the line, not along it (a stretch shorter than its 70 % cuts has no direction)
-    along = []
-    for s in spots:
-        rx, ry = s.x - a.x, s.y - a.y
-        if abs(rx * uy - ry * ux) > _plausible(s, ends, L, gap):  # off the line
-            return False
-        along.append(rx * ux + ry * uy)
-    return min(along) <= L + gap and max(along) >= -gap
+def _copy(s: Spot) -> Spot:
+    """A spot of its own at the same place (:meth:`VisualMemory.move` moves every spot it holds
+    once: one spot held twice would be moved twice)."""
+    return Spot(s.x, s.y, s.base, s.r1, s.drift, s.r0)
 
 
-def _near_line(s: Spot, ends: list[Spot], gap: float) -> bool:
-    """Does spot ``s`` lie on the segment between ``ends``: off its line by no more than their 70 %
-    cuts (``gap`` if it has no direction), and along it between the ends or at most ``gap`` beyond
-    one (see :func:`_same_line`)?"""
-    a, b = ends
-    ux, uy = b.x - a.x, b.y - a.y
-    L = math.hypot(ux, uy)
-    if L < 1e-9:  # a point: as near as its cuts
-        return math.hypot(s.x - a.x, s.y - a.y) <= _plausible(s, ends, L, math.inf)
-    tol = _plausible(s, ends, L, gap)
-    rx, ry = s.x - a.x, s.y - a.y
-    t = (rx * ux + ry * uy) / L
-    return -gap <= t <= L + gap and abs(rx * uy - ry * ux) / L <= tol
+def _end(mem: Spot, mem_exact: bool, obs: Spot, obs_exact: bool, ux: float, uy: float, origin: Spot) -> Spot:
+    """One end of an identified linear obstacle after a sighting (see
+    :meth:`VisualMemory._observe_line`): ``mem`` remembered, ``obs`` seen, each flagged as the
+    end itself or not; ``(ux, uy)`` the outward direction of this end, from ``origin`` (the
+    other end)."""
+    if obs_exact:
+        return fuse(mem, obs) if mem_exact else obs
+    if mem_exact:
+        return mem
+    tm = (mem.x - origin.x) * ux + (mem.y - origin.y) * uy
+    to = (obs.x - origin.x) * ux + (obs.y - origin.y) * uy
+    if abs(tm - to) <= END_TIE * math.hypot(ux, uy):
+        return obs if obs.r0 < mem.r0 else mem  # as far out: the sharper
+    return obs if to > tm else mem
 
 
-def _plausible(s: Spot, ends: list[Spot], length: float, gap: float) -> float:
-    """How far off a remembered line's ``ends`` (``length`` m apart) the spot ``s`` may lie and
-    plausibly be on it: their 70 % cuts, not their supports, which at the camera's range are a
-    metre wide; at most ``gap`` for a line too blurred to have a direction, its ends' cuts together
-    wider than ``tan(JOIN_ANGLE)`` of its length (ours: such cuts let a wall take in the next wall
-    round a corner, a U's base its arm)."""
-    a, b = (e.radius(CUT) for e in ends)
-    tol = s.radius(CUT) + max(a, b)
-    return min(tol, gap) if a + b > length * math.tan(JOIN_ANGLE) else tol
-
-
-def _extend(m: Memory, spots: list[Spot]) -> None:
-    """Grow the remembered linear obstacle ``m`` to span the sighted ``spots`` too.
-
-    A linear sighting sharper than the memory and longer than its supports re-anchors the line:
-    the remembered ends are moved onto the sighted line (their supports grown by the move, so they
-    stay honest); a shorter one has no direction to give (ours: a U's arm seen by its corner
-    turned the base onto it). The two spots farthest apart along the obstacle become its ends
-    (of nearly equal extent, the sharper)."""
-    a, b = m.spots
-    if len(spots) == 2 and spots[0].r0 + spots[1].r0 < a.r0 + b.r0:
-        p, q = spots
-        ux, uy = q.x - p.x, q.y - p.y
-        L = math.hypot(ux, uy)
-        if L > p.r0 + q.r0:
-            ux, uy = ux / L, uy / L
-            moved = []
-            for e in (a, b):
-                t = (e.x - p.x) * ux + (e.y - p.y) * uy
-                nx, ny = p.x + t * ux, p.y + t * uy
-                moved.append(Spot(nx, ny, e.r0 + math.hypot(e.x - nx, e.y - ny), e.r1))
-            a, b = moved
-    ux, uy = b.x - a.x, b.y - a.y
-    L = math.hypot(ux, uy) or 1.0
-    ux, uy = ux / L, uy / L
-    # The ends of a stretch are wherever it left the view, not fixed points of the obstacle, so
-    # they are never fused (that would mix two points); each kept end is one honest spot.
-    along = [((s.x - a.x) * ux + (s.y - a.y) * uy, s) for s in (a, b, *spots)]
-    lo, hi = min(t for t, _ in along), max(t for t, _ in along)
-    first = min((s for t, s in along if t <= lo + END_TIE), key=lambda s: s.r0)
-    last = min((s for t, s in along if t >= hi - END_TIE), key=lambda s: s.r0)
-    m.spots = [first, last] if first is not last else [first]  # all at one extent: a point now
+def _same_point(a: Spot, b: Spot) -> bool:
+    """May the unidentified points ``a`` and ``b`` be one thing: each centre inside the other's
+    support? (Not merely overlapping supports: a point blurred by metres met every sighting near
+    it, and the fusion of two things, each honest, can hold neither: an obstacle's remembered point
+    lay outside its support in 9 of 24 paper-8x8 runs.)"""
+    return math.hypot(a.x - b.x, a.y - b.y) <= min(a.r0, b.r0)
