@@ -26,7 +26,7 @@ RESAMPLES = 10_000
 MIN_SAMPLE = 10
 """Fewer observations than this and a 95 % interval is too uncertain to trust (our design): a
 percentile bootstrap of fewer than 10 covers the true mean markedly less often than 95 % of the
-time, and a Wilson interval of a rate is wider than +-20 points."""
+time, and the Wilson interval of a rate spans some 30 points or more."""
 
 
 def wilson_interval(successes: int, n: int, z: float = 1.96) -> tuple[float, float]:

@@ -36,10 +36,9 @@ import pandas as pd
 from ..log.format import POSE_TOPIC
 from .files import write_csv, write_markdown
 from .logs import LogError, config_columns, path_length, read_log
-from .stats import MIN_SAMPLE, small_sample, wilson_interval
+from .stats import MIN_SAMPLE, RESAMPLES, small_sample, wilson_interval
 
 METRICS = {"time_s": "time (s)", "path_cm": "path length (cm)"}
-RESAMPLES = 10_000
 EXACT_UP_TO = 12  # pairs: up to 2^12 sign assignments the permutation test is enumerated, exact
 PATH_TOLERANCE = 0.01  # the summary's path length must match the poses' within 1 %
 

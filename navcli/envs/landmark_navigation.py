@@ -146,10 +146,12 @@ class _Trace:
             for m in mission.perception.snapshot() or ():
                 spots += [(m.kind, *pose.to_world((x, y)), r70, r0) for x, y, r70, r0 in m.spots]
 
-        def get(name: str) -> float | None:
+        def get(name: str) -> float | None:  # a /pilot field by its dotted name, from the pilot's explanation
             head, _, field = name.partition(".")
             value = self.pilot.get(head)
-            return value.get(field) if field and isinstance(value, dict) else None if field else value
+            if not field:
+                return value
+            return value.get(field) if isinstance(value, dict) else None
 
         figure.draw(t, self.x, self.y, self.theta[-1], spots, force_vectors(get))
         return figure.rgb()

@@ -345,7 +345,8 @@ def markdown(table, scenario: str = "") -> str:
                   "bootstrap 95 % interval that resamples the starts; n/a: the policy chooses no actions.", ""]
     lines += [f"- {r.policy}: {r.about}" for r in table.itertuples() if r.about] + [""]
     remarks = notes(table, scenario)
-    lines += ["Notes:", ""] + [f"- {n}" for n in remarks] + [""] if remarks else []
+    if remarks:
+        lines += ["Notes:", ""] + [f"- {n}" for n in remarks] + [""]
     return "\n".join(lines)
 
 
