@@ -71,11 +71,23 @@ def test_a_random_plan_is_a_seeded_sample_within_its_ranges(tmp_path):
     assert other != a
 
 
+def test_a_plan_of_points_gives_each_point_whole_with_the_defaults_filling_in(tmp_path):
+    body = "seeds: 1\npoints:\n  - {}\n  - {vision.routines: 0}\n  - {vision.walls: felt, pilot.look_cap: 0.9}\n"
+    points = sweep.load_plan(_plan(tmp_path, body)).points
+    assert points == ({"vision.routines": 1, "vision.walls": "seen", "pilot.look_cap": 1.0},
+                      {"vision.routines": 0, "vision.walls": "seen", "pilot.look_cap": 1.0},
+                      {"vision.routines": 1, "vision.walls": "felt", "pilot.look_cap": 0.9})
+
+
 @pytest.mark.parametrize("body, where, message", [
+    ("seeds: 1\npoints:\n  - {}\n  - {vision.routines: 1}\n", ":6: points[1]", "the point of points[0] again"),
+    ("seeds: 1\npoints:\n  - {vision.walls: seen-ish}\n", ":5: points[0].vision.walls",
+     "vision.walls is one of seen, known, felt"),
+    ("seeds: 1\ngrid: {pilot.K: [1]}\npoints: [{}]\n", ":5: points", "not more than one"),
     ("seeds: 1\ngrid:\n  pilot.k: [1, 2]\n", ":5: grid.pilot.k", "unknown parameter 'pilot.k' (did you mean pilot.K?)"),
     ("seeds: 1\ngrid:\n  pilot.R_min: [0.3, 0]\n", ":5: grid.pilot.R_min[1]", "pilot.R_min must be at least 0.01, got 0"),
     ("seeds: 1\ngrid: {pilot.K: [1]}\nrandom: {samples: 2, ranges: {pilot.K: [1, 2]}}\n", ":5: random",
-     "a grid or a random sample, not both"),
+     "a grid, a random sample or a list of points, not more than one"),
     ("seeds: 1\nrandom: {samples: 2, ranges: {pilot.K: [3, 2]}}\n", ":4: random.ranges.pilot.K", "low 3 is above high 2"),
     ("seeds: two\n", ":3: seeds", "expected a whole number"),
     ("seeds: 1\nseed: 3\n", ":4: seed", "unknown field 'seed'"),
@@ -268,3 +280,13 @@ def test_param_takes_a_list(tmp_path):
             parse_override(bad)
     r = CliRunner().invoke(app, ["params", "--param", "pilot.reflex_look_pans_deg=[-45, 45]"])
     assert r.exit_code == 0 and "-45" in r.output, r.output
+
+
+def test_the_bundled_plans_load():
+    """Every plan in plans/ (the README's and reproduce's sensitivity plans) is a valid plan."""
+    from conftest import ROOT
+
+    plans = sorted((ROOT / "plans").glob("*.yaml"))
+    assert len(plans) >= 2
+    for p in plans:
+        assert sweep.load_plan(p).size > 0

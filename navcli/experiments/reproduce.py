@@ -34,6 +34,7 @@ from typing import Any, Callable, Sequence
 from .. import __version__
 from ..analysis.stats import MIN_SAMPLE, bootstrap_mean, small_sample, wilson_interval
 from ..scenario import bundled
+from .document import Report
 
 SCENARIOS = bundled.FOLDER
 SECTIONS = ("pilots", "learning")
@@ -74,71 +75,6 @@ FULL = Settings()
 QUICK = Settings(reruns=3, sensitivity_seeds=3, sensitivity_speeds=(0.05, 0.3), sensitivity_rooms=("paper-8x8",),
                  trap_seeds=2, policy_runs=2, policy_starts=10, train_trials=20, eval_every=10, eval_starts=10,
                  quick=True)
-
-
-class Report:
-    """The report as blocks, written once as Markdown and once as HTML (no converter needed)."""
-
-    def __init__(self) -> None:
-        self.blocks: list[tuple[str, Any]] = []
-
-    def heading(self, text: str, level: int = 2) -> None:
-        self.blocks.append(("h", (level, text)))
-
-    def text(self, text: str) -> None:
-        self.blocks.append(("p", text))
-
-    def table(self, header: list[str], rows: list[list[Any]]) -> None:
-        self.blocks.append(("table", (header, [[str(c) for c in r] for r in rows])))
-
-    def image(self, path: str, caption: str) -> None:
-        self.blocks.append(("img", (path, caption)))
-
-    def bullets(self, items: list[str]) -> None:
-        self.blocks.append(("ul", items))
-
-    def markdown(self) -> str:
-        out = []
-        for kind, b in self.blocks:
-            if kind == "h":
-                out.append(f"{'#' * b[0]} {b[1]}")
-            elif kind == "p":
-                out.append(b)
-            elif kind == "table":
-                header, rows = b
-                out += ["| " + " | ".join(header) + " |", "| " + " | ".join("---" for _ in header) + " |"]
-                out += ["| " + " | ".join(r) + " |" for r in rows]
-            elif kind == "ul":
-                out += [f"- {item}" for item in b]
-            else:
-                out.append(f"![{b[1]}]({b[0]})")
-            out.append("")
-        return "\n".join(out)
-
-    def html(self) -> str:
-        import html
-
-        e = html.escape
-        from ..analysis.files import MARK
-
-        out = [f"<!doctype html>{MARK}<html><head><meta charset='utf-8'><title>navcli reproduce</title><style>"
-               "body{font-family:sans-serif;max-width:70em;margin:2em auto}table{border-collapse:collapse}"
-               "td,th{border:1px solid #bbb;padding:2px 6px;text-align:right}img{max-width:100%}</style></head><body>"]
-        for kind, b in self.blocks:
-            if kind == "h":
-                out.append(f"<h{b[0]}>{e(b[1])}</h{b[0]}>")
-            elif kind == "p":
-                out.append(f"<p>{e(b)}</p>")
-            elif kind == "table":
-                header, rows = b
-                out.append("<table><tr>" + "".join(f"<th>{e(h)}</th>" for h in header) + "</tr>"
-                           + "".join("<tr>" + "".join(f"<td>{e(c)}</td>" for c in r) + "</tr>" for r in rows)
-                           + "</table>")
-            elif kind == "ul":
-                out.append("<ul>" + "".join(f"<li>{e(item)}</li>" for item in b) + "</ul>")
-            else:
-                out.append(f"<figure><img src='{e(b[0])}' alt='{e(b[1])}'><figcaption>{e(b[1])}</figcaption></figure>")
-        return "\n".join(out + ["</body></html>\n"])
 
 
 def verdict(navcli: tuple[float, float], paper: tuple[float, float], n: int, unit: str = "runs") -> str:
@@ -278,32 +214,50 @@ def _write_runs(runs, path: Path) -> None:
     write_csv(path, runs.drop(columns=["xy"], errors="ignore"))
 
 
+VISION_CHOICES = ("{}", "{vision.routines: 0}", "{vision.line_objects: 0}", "{vision.walls: known}",
+                  "{vision.walls: felt}", "{pilot.look_cap: 0.9}",
+                  "{vision.routines: 0, vision.line_objects: 0, pilot.look_cap: 0.9}")
+"""navcli's choices where the papers are silent on what the robot senses, one at a time from the
+defaults (a plan's points), with vision: every look sees all, lines joined by geometry, the
+walls known or felt, eq. 1's look capped at 0.9, and all three old choices together (navcli
+before issue 35)."""
+
+
 def sensitivity(report: Report, s: Settings, out: Path, ex) -> None:
-    """Table 1's dependence on the unstated: speed and how a turn is executed, both perceptions."""
+    """Table 1's dependence on the unstated: speed and how a turn is executed (both perceptions),
+    and what the robot senses (:data:`VISION_CHOICES`, with vision)."""
     from ..analysis.tables import improvements, load_sweep
     from .sweep import load_plan, plan_runs, run_sweep
 
     out.mkdir(parents=True, exist_ok=True)
-    plan_file = out / "plan.yaml"
     rooms = ", ".join(json.dumps(str(SCENARIOS / f"{r}.yaml")) for r in s.sensitivity_rooms)  # quoted: any path
-    plan_file.write_text(f"# navcli reproduce: the sensitivity's plan\nversion: 1\nscenarios: [{rooms}]\n"
-                         f"seeds: {s.sensitivity_seeds}\n"
-                         "pilots: [potential-field, geometric]\nperception: [vision, oracle]\ngrid:\n"
-                         f"  robot.max_speed: [{', '.join(map(str, s.sensitivity_speeds))}]\n"
-                         "  pilot.drive_while_turning: [1, 0]\n")
-    table = out / "results.parquet"
-    planned = plan_runs(load_plan(plan_file), None)
-    run_sweep(planned, table, ex)
-    runs = load_sweep(table)
-    runs = runs[runs["run_id"].isin({r.spec.run_id for r in planned})]  # the table keeps other plans' rows
-    imps = improvements(runs, "geometric")
+    head = (f"# navcli reproduce: the sensitivity's plan\nversion: 1\nscenarios: [{rooms}]\n"
+            f"seeds: {s.sensitivity_seeds}\npilots: [potential-field, geometric]\n")
+    plans = {"plan.yaml": head + "perception: [vision, oracle]\ngrid:\n"
+                              f"  robot.max_speed: [{', '.join(map(str, s.sensitivity_speeds))}]\n"
+                              "  pilot.drive_while_turning: [1, 0]\n",
+             "vision-choices.yaml": head + "perception: vision\npoints:\n"
+                                   + "".join(f"  - {c}\n" for c in VISION_CHOICES)}
     report.heading("Pilot paper, Table 1's sensitivity (the paper states one condition)")
-    report.text(f"{s.sensitivity_seeds} seed(s) a point; the plan: {plan_file}; every run: {table}. The paper has "
-                "no numbers here: the column says how the potential field's gain moves with what it leaves unstated.")
-    rows = [[r["condition"], r["metric"], _interval(r["improvement_pct"], r["ci95_low"], r["ci95_high"], sign=True),
-             int(r["pairs"])] for _, r in imps.iterrows()]  # no verdict: the paper has no number for these conditions
-    report.table(["condition", "metric", "PF gain % [95 % CI]", "pairs"], rows)
-    _notes(report, [small_sample("every condition", int(imps["pairs"].min()), "pairs at the fewest")] if len(imps) else [])
+    report.text(f"{s.sensitivity_seeds} seed(s) a point; the plans: {', '.join(str(out / f) for f in plans)}. The "
+                "paper has no numbers here: the column says how the potential field's gain moves with what it leaves "
+                "unstated: the robot's pace and how a turn is executed (both perceptions), then what the robot senses "
+                "(vision; each choice alone from the defaults, and navcli's three old choices together).")
+    for name, text in plans.items():
+        plan_file = out / name
+        plan_file.write_text(text)
+        table = out / (name.removesuffix(".yaml").replace("plan", "results") + ".parquet")
+        planned = plan_runs(load_plan(plan_file), None)
+        run_sweep(planned, table, ex)
+        runs = load_sweep(table)
+        runs = runs[runs["run_id"].isin({r.spec.run_id for r in planned})]  # the table keeps other plans' rows
+        imps = improvements(runs, "geometric")
+        rows = [[r["condition"], r["metric"], _interval(r["improvement_pct"], r["ci95_low"], r["ci95_high"], sign=True),
+                 int(r["pairs"])] for _, r in imps.iterrows()]  # no verdict: the paper has no number for these conditions
+        report.text(f"Every run: {table}.")
+        report.table(["condition", "metric", "PF gain % [95 % CI]", "pairs"], rows)
+        _notes(report, [small_sample("every condition", int(imps["pairs"].min()), "pairs at the fewest")]
+               if len(imps) else [])
 
 
 def traps(report: Report, s: Settings, out: Path, ex) -> None:

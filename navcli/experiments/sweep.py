@@ -12,10 +12,17 @@ A plan file (format version 1; paths relative to the plan file, or a bundled sce
     grid:                         # every combination of these values ...
       pilot.K: [10, 18, 30]
       pilot.A_t: [30, 50]
-    random:                       # ... or (not both) a seeded uniform sample of points
+    random:                       # ... or a seeded uniform sample of points
       samples: 20
       seed: 1
       ranges: {pilot.K: [0, 50], navigation.kappa1: [0.1, 0.9]}
+    points:                       # ... or a list of points (one choice at a time: {} is the defaults)
+      - {}
+      - {vision.routines: 0}
+      - {vision.walls: known, pilot.look_cap: 0.9}
+
+A plan has at most one of ``grid``, ``random`` and ``points``. A point of ``points`` gives every
+parameter any point names, the defaults filling in, so each row says its whole point.
 
 Parameters are named as ``--param`` names them, and every value is checked by
 :meth:`~navcli.params.Params.override`; a refusal names the plan file, the line and the field, as
@@ -117,9 +124,10 @@ class PlanReader(Reader):
     def plan(self, d: Any, root: Path) -> Plan:
         try:
             top = self.mapping(d, (), ("version", "scenarios", "seeds"),
-                               ("pilots", "perception", "time_limit", "params", "grid", "random"))
-            if "grid" in top and "random" in top:
-                raise self.fail(("random",), "a plan has a grid or a random sample, not both")
+                               ("pilots", "perception", "time_limit", "params", "grid", "random", "points"))
+            ways = [k for k in ("grid", "random", "points") if k in top]
+            if len(ways) > 1:
+                raise self.fail((ways[1],), "a plan has a grid, a random sample or a list of points, not more than one")
         except Invalid:
             raise PlanError(self.problems) from None
         g = self.guard
@@ -136,6 +144,8 @@ class PlanReader(Reader):
             points = g(self.grid, top["grid"], default=[{}])
         elif "random" in top:
             points = g(self.random, top["random"], default=[{}])
+        elif "points" in top:
+            points = g(self.points, top["points"], default=[{}])
         else:
             points = [{}]
         scenarios = g(self.scenarios, top["scenarios"], root, default=[])
@@ -143,7 +153,7 @@ class PlanReader(Reader):
             raise PlanError(self.problems)
         both = sorted(set(fixed) & set(points[0]))
         if both:  # a grid's or sample's value would silently replace the plan's
-            self.fail(("params",), f"{', '.join(both)} set here and in {'grid' if 'grid' in top else 'random'}; "
+            self.fail(("params",), f"{', '.join(both)} set here and in {next(k for k in ('grid', 'random', 'points') if k in top)}; "
                                    "give each parameter in one place")
             raise PlanError(self.problems)
         points = [fixed | pt for pt in points]
@@ -208,6 +218,23 @@ class PlanReader(Reader):
                 raise self.fail(P, f"more than {MAX_RUNS} points; split the plan")
             axes[name] = [self.param(name, x, P + (name, i)) for i, x in enumerate(values)]
         return [dict(zip(axes, combo)) for combo in itertools.product(*axes.values())]
+
+    def points(self, v: Any) -> list[dict[str, Any]]:
+        """A list of parameter points, each a mapping (``{}``: the defaults); every point gives each
+        parameter that any point names (the defaults filling in); the same point twice is refused."""
+        P = ("points",)
+        if not isinstance(v, list) or not v:
+            raise self.fail(P, "expected a non-empty list of parameter points ({} for the defaults)")
+        if len(v) > MAX_RUNS:
+            raise self.fail(P, f"more than {MAX_RUNS} points; split the plan")
+        given = [self.overrides(x, P + (i,)) for i, x in enumerate(v)]
+        names = list(dict.fromkeys(n for pt in given for n in pt))
+        defaults = Params().flat()
+        points = [{n: pt.get(n, defaults[n]) for n in names} for pt in given]
+        for i, pt in enumerate(points):
+            if pt in points[:i]:
+                raise self.fail(P + (i,), f"the point of points[{points.index(pt)}] again (the same runs twice)")
+        return points
 
     def random(self, v: Any) -> list[dict[str, float]]:
         import numpy as np

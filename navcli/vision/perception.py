@@ -3,15 +3,24 @@
 The agents never see the world; they see :class:`Beliefs`, made each tick by a perception:
 
 - :class:`VisionPerception` (the default): the camera (:mod:`navcli.vision.camera`) and the visual
-  memory (:mod:`navcli.vision.visual_memory`). The robot knows what it has seen (the walls too, as linear
-  obstacles), where its memory and odometry put it, and what it was told at the start: where the
-  target is (with ``vision.told_target`` 0, as in the learning paper's task, nothing: the
-  target is known once the camera has seen it).
+  memory (:mod:`navcli.vision.visual_memory`). The robot knows what it has seen, where its
+  memory and odometry put it, and what it was told at the start: where the target is (with
+  ``vision.told_target`` 0, as in the learning paper's task, nothing: the target is known once
+  the camera has seen it).
+
+  **The walls are a stated condition** (``vision.walls``; the papers say nothing of how the
+  robot knows the room's walls): ``seen`` (the default), found by the camera's looks for
+  obstacles as fences are, each wall one object; ``known``, told at the start as the target is
+  (to within ``distance_floor``, carried by odometry, never forgotten, sharpened when seen);
+  ``felt``, found by the bumpers only (the camera registers no wall). The default is ``seen``
+  because nothing in the papers tells the robot of the room, and the Vision system "is
+  responsible for ... detecting obstacles to support obstacle avoidance"; the sensitivity table
+  reports the other two.
 - :class:`OraclePerception` (``--perception oracle``): ground truth of every obstacle, landmark,
   wall and the target; for experiments that isolate the pilot from vision. Never the default.
 
 Both own the camera, so looks are arbitrated, timed and counted the same way, and both pass on
-what the agents hear of the last tick: the pan of the image taken, the bumps felt.
+what the agents hear of the last tick: the look of the image taken (pan and purpose), the bumps felt.
 """
 
 from __future__ import annotations
