@@ -116,6 +116,7 @@ OPTION_CASES = {
     "sweep": (["sweep", "plan.yaml"], [["--jobs", "0"], ["--jobs", "257"], ["--scheduler", "junk"],
                                        ["--scheduler", "tcp://127.0.0.1:99999"]]),
     "layout": (["layout"], [["--format", "xml"]]),
+    "scenarios": (["scenarios"], [["paper-8x9"], ["no-such-room"], ["../paper-8x8"]]),
     "reproduce": (["reproduce"], [["everything"], ["--jobs", "0"], ["--scheduler", "junk"], ["--quick", "x"],
                                   ["--pilot", "sonar"], ["--pilot", "geometric"]]),
 }

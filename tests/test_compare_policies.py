@@ -5,13 +5,12 @@ from __future__ import annotations
 
 import csv
 import json
-import math
 
-import numpy as np
 import pytest
 from typer.testing import CliRunner
 
 from conftest import SCENARIOS
+from navcli.analysis.stats import wilson_interval
 from navcli.cli import app
 from navcli.config import RunSpec
 from navcli.learning import model_file
@@ -24,7 +23,16 @@ from navcli.scenario import load_scenario
 
 ROOM = SCENARIOS / "landmarks-12.yaml"
 SHORT = ["--param", "learning.max_actions=4"]  # trials of at most 4 actions (4 s)
-T_975_1 = 12.706204736  # Student's t, 97.5 % quantile, 1 degree of freedom (two runs)
+
+
+def few_starts_interval(per_start: dict) -> tuple[float, float]:
+    """The bootstrap 95 % interval that resamples the starts, for 2 or 3 starts of equal trials: a
+    resample is every start's mean once or one start's k times, the lowest (or highest) alone with
+    probability 1/k^k (1/4 or 1/27), above 2.5 %, so the interval runs from the lowest start mean to
+    the highest."""
+    means = [sum(v) / len(v) for v in per_start.values()]
+    assert 2 <= len(means) <= 3
+    return min(means), max(means)
 
 
 @pytest.fixture(scope="module")
@@ -76,19 +84,16 @@ def test_the_table_is_the_mean_over_runs_of_the_per_trial_records(compared, alwa
     assert list(table) == [f"learned:{always_mvt}", "learned", f"learned:{parity}"]
     for policy, row in table.items():
         assert row["runs"] == "2" and row["starts"] == "3"
-        per_run = {"successes": [], "reward": [], "actions": [], **{a: [] for a in ACTIONS}}
-        for run in (0, 1):
-            trials = recs[policy, run]
-            per_run["successes"].append(sum(t["outcome"] == "reached" for t in trials))
-            for m in ("reward", "actions", *ACTIONS):
-                per_run[m].append(sum(t[m] for t in trials) / 3)
-        for m, (a, b) in per_run.items():
-            mean, half = (a + b) / 2, T_975_1 * abs(a - b) / 2  # s = |a - b| / sqrt 2, s / sqrt 2 = |a - b| / 2
-            assert float(row[m]) == pytest.approx(mean, abs=1e-9), (policy, m)
-            assert float(row[f"{m}_lo"]) == pytest.approx(mean - half, abs=1e-6), (policy, m)
-            assert float(row[f"{m}_hi"]) == pytest.approx(mean + half, abs=1e-6), (policy, m)
-            # the interval has a width exactly when the two runs differ
-            assert (float(row[f"{m}_hi"]) - float(row[f"{m}_lo"]) > 1e-9) == (abs(a - b) > 1e-9), (policy, m)
+        trials = recs[policy, 0] + recs[policy, 1]
+        reached = sum(t["outcome"] == "reached" for t in trials)
+        lo, hi = wilson_interval(reached, 6)  # successes: the rate over all 6 trials, in starts (of 3)
+        assert (float(row["successes"]), float(row["successes_lo"]), float(row["successes_hi"])) == \
+            pytest.approx((reached / 2, 3 * lo, 3 * hi)), policy
+        for m in ("reward", "actions", *ACTIONS):
+            per_start = {i: [t[m] for t in trials if t["start"] == i] for i in range(3)}
+            assert float(row[m]) == pytest.approx(sum(t[m] for t in trials) / 6, abs=1e-9), (policy, m)
+            assert (float(row[f"{m}_lo"]), float(row[f"{m}_hi"])) == pytest.approx(few_starts_interval(per_start)), \
+                (policy, m)
     # the always-MVT model: every action is MVT, each costing 5
     for run in (0, 1):
         for t in recs[f"learned:{always_mvt}", run]:
@@ -137,11 +142,7 @@ def test_a_comparison_resumes_and_reruns_only_what_is_missing_or_changed(compare
         j.key for j in comparison.plan(other, [hc], 2, 3, out))
 
 
-def test_t_interval_and_the_agents_row(tmp_path):
-    m, lo, hi = comparison.t_interval([1.0, 3.0])
-    assert (m, lo, hi) == pytest.approx((2.0, 2.0 - T_975_1, 2.0 + T_975_1))
-    assert comparison.t_interval([4.0, 4.0, 4.0]) == (4.0, 4.0, 4.0)
-    assert math.isnan(comparison.t_interval([5.0])[1]) and math.isnan(comparison.t_interval([1.0, np.nan])[0])
+def test_the_agents_row(tmp_path):
     spec = RunSpec.build(load_scenario(ROOM), overrides={"learning.max_actions": 3})
     job = comparison.plan(spec, [comparison.parse_policy("agents")], 1, 1, tmp_path)[0]
     (t,) = comparison.run_trials(job)
@@ -154,9 +155,11 @@ def test_t_interval_and_the_agents_row(tmp_path):
     assert "| agents | " in comparison.markdown(table) and "n/a" in comparison.markdown(table)
 
 
-def test_the_tables_interval_over_two_runs_that_differ(tmp_path):
-    """Hand-made records of two runs that differ (the runs of real trials may or may not): each
-    metric's interval is mean +- t(0.975, 1) |a - b| / 2, and none where the runs agree."""
+def test_the_tables_intervals_stay_in_range_and_warn_of_few_starts(tmp_path):
+    """Hand-made records of 2 runs of 2 starts: successes 1 of 4 trials, their interval the Wilson
+    interval of 1/4 in starts (of 2), never below 0 as a t-interval over two runs (0 and 1
+    successes) would go; a mean per trial runs from the lower start's mean to the higher's; with 2
+    starts the notes say the intervals are too uncertain."""
     spec = RunSpec.build(load_scenario(ROOM), overrides={"learning.max_actions": 4})
     hc = comparison.parse_policy("hand-coded")
     jobs = comparison.plan(spec, [hc], 2, 2, tmp_path)
@@ -168,14 +171,20 @@ def test_the_tables_interval_over_two_runs_that_differ(tmp_path):
                                      tuple(n if k == MVT else 0 for k in range(len(ACTIONS))))
                   for i, (st, (n, outcome)) in enumerate(zip(j.starts, counts[j.run]))]
         results.append(comparison.Result(j, trials, ran=True))
-    (row,) = comparison.policy_table(comparison.trials_frame(results)).itertuples()
-    a, b = (sum(n for n, _ in counts[r]) / 2 for r in (0, 1))  # actions per trial: 3 and 2.5
-    for m, (x, y) in {"actions": (a, b), "MVT": (a, b), "reward": (REWARDS[MVT] * a, REWARDS[MVT] * b),
-                      "time_s": (2 * a, 2 * b), "successes": (0, 1), "MB": (0, 0)}.items():
-        mean, half = (x + y) / 2, T_975_1 * abs(x - y) / 2
-        assert getattr(row, m) == pytest.approx(mean), m
-        assert (getattr(row, f"{m}_lo"), getattr(row, f"{m}_hi")) == pytest.approx((mean - half, mean + half)), m
-    assert row.actions_hi - row.actions_lo == pytest.approx(T_975_1 * 0.5) and row.MB_lo == row.MB_hi == 0.0
+    table = comparison.policy_table(comparison.trials_frame(results))
+    (row,) = table.itertuples()
+    lo, hi = wilson_interval(1, 4)
+    assert (row.successes, row.successes_lo, row.successes_hi) == pytest.approx((0.5, 2 * lo, 2 * hi))
+    assert row.successes_lo >= 0.0 and row.successes_hi <= 2.0
+    start0, start1 = (2 + 1) / 2, (4 + 4) / 2  # actions per trial of each start over the two runs
+    for m, scale in {"actions": 1.0, "MVT": 1.0, "reward": REWARDS[MVT], "time_s": 2.0}.items():
+        assert getattr(row, m) == pytest.approx(scale * 11 / 4), m
+        assert sorted((getattr(row, f"{m}_lo"), getattr(row, f"{m}_hi"))) == \
+            pytest.approx(sorted((scale * start0, scale * start1))), m
+    assert row.MB == row.MB_lo == row.MB_hi == 0.0
+    md = comparison.markdown(table, "landmarks-12")
+    assert "the policies on landmarks-12: only 2 starts; with fewer than 10 its 95 % intervals are too uncertain " \
+           "to trust" in md
 
 
 @pytest.mark.parametrize("bad, message", [

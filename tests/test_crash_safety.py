@@ -162,6 +162,26 @@ def killed_partial(tmp_path_factory):
     return copy.read_bytes()
 
 
+def _inside_a_chunk(data: bytes, k: int) -> int:
+    """The offset of a byte in the middle of the ``k``-th chunk record of the MCAP bytes ``data``."""
+    import io
+
+    from mcap.records import Chunk
+    from mcap.stream_reader import StreamReader
+
+    f = io.BytesIO(data)
+    records = StreamReader(f, emit_chunks=True).records
+    seen, start = 0, f.tell()
+    for r in records:
+        end = f.tell()
+        if isinstance(r, Chunk):
+            if seen == k:
+                return (start + end) // 2
+            seen += 1
+        start = end
+    raise AssertionError("too few chunks")
+
+
 def _recover(path, *extra):
     return CliRunner().invoke(app, ["recover", str(path), *extra])
 
@@ -175,7 +195,7 @@ def test_recover_says_when_a_partial_is_damaged_before_its_end(tmp_path, killed_
     assert ticks >= 50
     damaged = tmp_path / "damaged.mcap.partial"
     b = bytearray(killed_partial)
-    b[len(b) // 3] ^= 0xFF  # inside an early chunk: its CRC fails, the chunks after it are lost
+    b[_inside_a_chunk(killed_partial, 1)] ^= 0xFF  # inside an early chunk: its CRC fails, the chunks after it are lost
     damaged.write_bytes(bytes(b))
     r = _recover(damaged)
     assert r.exit_code == 0 and "damaged before its end" in r.output and "Traceback" not in r.output, r.output

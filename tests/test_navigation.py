@@ -376,8 +376,8 @@ def test_blocked_wall_is_passed_round_a_fence_end_and_every_diverting_target_is_
     # the log's last map names every diverting line the Rescuer ended, by how it ended
     from navcli.analysis.mapplot import last_map
 
-    _, scene = last_map(res.log)
-    labels = [t.text for e in scene.entities for t in e.texts]
+    _, entities = last_map(res.log)
+    labels = [t.text for e in entities for t in e.texts]
     crossed = events["message"].str.contains("diverting target crossed").sum()
     assert crossed >= 1 and labels.count("crossed") + labels.count("crossed, led nowhere") == crossed
 

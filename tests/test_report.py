@@ -10,6 +10,7 @@ import pytest
 import yaml
 from typer.testing import CliRunner
 
+from navcli.analysis.stats import MIN_SAMPLE
 from navcli.analysis.tables import MIN_PAIRS, load_runs, pilot_table
 from conftest import scenario_dict
 from navcli.cli import app
@@ -49,7 +50,8 @@ def test_a_small_sample_is_reported_with_a_warning(three_pairs, tmp_path):
     r = report(three_pairs, "--out", tmp_path)
     assert r.exit_code == 0, r.output
     assert "| potential-field | 3/3 |" in r.output and "| geometric | 3/3 |" in r.output
-    assert f"only 3 pairs; with fewer than {MIN_PAIRS}" in r.output and "2/2^3 = 0.25" in r.output
+    assert f"only 3 pairs; with fewer than {MIN_SAMPLE} its 95 % intervals are too uncertain to trust" in r.output
+    assert 3 < MIN_PAIRS and "the paired test cannot reach p < 0.05 (its least p is 2/2^3 = 0.25)" in r.output
 
 
 def test_the_same_runs_twice_are_refused(three_pairs, tmp_path):

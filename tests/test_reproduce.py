@@ -147,3 +147,51 @@ def test_a_users_pilot_runs_beside_the_papers_two_without_the_papers_numbers(don
     assert [r[0] for r in gains] == ["vision", "vision", "oracle", "oracle"] and all(r[3] == "-" for r in gains)
     r = CliRunner().invoke(app, ["reproduce", "pilots", "--pilot", "geometric"])
     assert r.exit_code == 2 and "one of the paper's two pilots" in r.output
+RANGES = {"time_s": (0.0, float("inf")), "path_cm": (0.0, float("inf")), "successes": (0.0, 99.0),
+          "reward": (-float("inf"), 0.0), "actions": (0.0, float("inf")), "contacts per run": (0.0, float("inf"))}
+"""Where each quantity of the report lives: times, paths, actions and contacts are not negative,
+rewards not positive (every action costs), successes of 99 starts between 0 and 99."""
+
+
+def _bounds(cell: str) -> tuple[float, float]:
+    lo, hi = re.search(r"\[([-+\d.]+)%?, ([-+\d.]+)%?\]", cell).groups()
+    return float(lo), float(hi)
+
+
+def test_no_interval_leaves_its_range_and_no_verdict_stands_without_a_paper_number(done):
+    _, md = done
+    checked = 0
+    for heading, quantity, paper, navcli, agreement in (("Pilot paper, Table 1:", 2, 3, 4, 6),
+                                                        ("Trap rooms", 1, 2, 3, 4),
+                                                        ("Learning paper, Table 1", 1, 2, 3, 4)):
+        for row in _rows(md, heading):
+            q = row[quantity]
+            if row[paper] == "-":  # the paper has no number: no verdict
+                assert row[agreement] == "", row
+            else:
+                assert row[agreement], row
+            if "[" not in row[navcli]:
+                continue
+            lo, hi = _bounds(row[navcli])
+            if row[navcli].endswith("%]") or "/" in row[navcli]:
+                low, high = 0.0, 100.0  # a rate, in %
+            elif "gain" in row[1]:
+                low, high = -float("inf"), 100.0  # a gain in % is at most 100 (the time or path gone)
+            else:
+                low, high = RANGES[q]
+            assert low <= lo <= hi <= high, row
+            checked += 1
+    assert checked >= 20
+    for row in _rows(md, "Pilot paper, Table 1's sensitivity"):
+        assert len(row) == 4  # condition, metric, gain, pairs: the paper has no numbers here, so no verdict
+
+
+def test_too_few_runs_give_no_verdict_and_the_notes_say_so(done):
+    """TINY has 2 reruns, 2 pairs, 3 starts: every verdict of Table 1 and of the policies says too few."""
+    from navcli.analysis.stats import MIN_SAMPLE
+
+    _, md = done
+    for heading, agreement in (("Pilot paper, Table 1:", 6), ("Learning paper, Table 1", 4)):
+        verdicts = {r[agreement] for r in _rows(md, heading) if r[agreement]}
+        assert verdicts and all(v.startswith("too few ") and f"{MIN_SAMPLE} needed" in v for v in verdicts)
+    assert "the policies: only 3 starts; with fewer than 10 its 95 % intervals are too uncertain to trust" in md

@@ -1,9 +1,9 @@
 """``navcli plot map LOG``: the Map Manager's final map over the true arena, from a log alone.
 
 The log's ``/map/scene`` holds the map as the robot knew it, in ``base_link`` (egocentric): each
-mapped landmark's estimate (a disc the size of its 70 % cut, named ``A'``), the regions' triangles,
-the beta-units, blocked edges, the diverting line, and the diverting lines ended so far, each
-named by how it ended. The last message is placed in the arena with
+mapped landmark's estimate (a disc the size of its 70 % cut, named ``A'``), blocked edges, the
+diverting line, and the diverting lines ended so far, each named by how it ended; ``/map/regions``
+its regions' triangles and beta-units. The last message is placed in the arena with
 the robot's true pose at that time, so the drawing shows belief (purple) over truth (blue), and
 how far the map had drifted. Reads logs only; never imports the simulator.
 """
@@ -14,7 +14,7 @@ import math
 from collections import deque
 from pathlib import Path
 
-from ..log.format import MAP_SCENE_TOPIC, POSE_TOPIC
+from ..log.format import MAP_REGIONS_TOPIC, MAP_SCENE_TOPIC, POSE_TOPIC
 from .logs import LogError, read_log, scene_messages
 from .plots import draw_arena, save_figure
 
@@ -22,12 +22,22 @@ LOOP, LIST = 1, 2  # foxglove.LinePrimitive's types (0 is a strip)
 
 
 def last_map(path: Path):
-    """(log time ns, decoded SceneUpdate) of the last ``/map/scene`` message (only it decoded), or None."""
+    """(log time ns, entities) of the last ``/map/scene`` message, with those of the last
+    ``/map/regions`` (the regions and beta-units, a topic of their own) at or before it (only
+    those two decoded), or None."""
     last = next(iter(deque(scene_messages(path, MAP_SCENE_TOPIC, decode=False), maxlen=1)), None)
     if last is None:
         return None
     ns, (decode, data) = last
-    return ns, decode(data)
+    entities = list(decode(data).entities)
+    regions = None
+    for at, found in scene_messages(path, MAP_REGIONS_TOPIC, decode=False):
+        if at <= ns:
+            regions = found
+    if regions is not None:
+        decode_regions, raw = regions
+        entities += decode_regions(raw).entities
+    return ns, entities
 
 
 def plot_map(log_path: str | Path, out: str | Path) -> Path:
@@ -43,7 +53,7 @@ def plot_map(log_path: str | Path, out: str | Path) -> Path:
     found = last_map(path)
     if found is None:
         raise LogError(f"{path}: no /map/scene in this log (written by navcli runs with the Navigation system)")
-    ns, scene = found
+    ns, entities = found
     poses = log[POSE_TOPIC]
     at = poses[poses["log_time_ns"] <= ns].iloc[-1]
     c, s = math.cos(at["theta"]), math.sin(at["theta"])
@@ -53,7 +63,7 @@ def plot_map(log_path: str | Path, out: str | Path) -> Path:
 
     fig, ax = plt.subplots(figsize=(7, 7))
     ax.plot(poses["x"], poses["y"], lw=0.8, color="0.5", label="path")
-    for e in scene.entities:
+    for e in entities:
         for ln in e.lines:
             pts = [world(p) for p in ln.points]
             if ln.type == LOOP:  # a region

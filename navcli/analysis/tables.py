@@ -9,7 +9,8 @@ Statistics, chosen to need nothing beyond numpy:
   mean_baseline`` (positive: the pilot takes less time / a shorter path), over the seeds both
   pilots completed (the comparison is paired: the same seeds for every pilot);
 - its 95 % confidence interval is a paired bootstrap (seeds resampled with replacement, 10 000
-  resamples, percentile interval);
+  resamples, percentile interval); with fewer than :data:`~navcli.analysis.stats.MIN_SAMPLE`
+  pairs the notes say it is too uncertain to trust, in the words of every comparison;
 - its p-value is a paired sign-flip permutation test of the mean difference (two-sided, 10 000
   random sign assignments, with the observed one counted), exact in the limit and free of the
   normality a t-test assumes.
@@ -35,9 +36,9 @@ import pandas as pd
 from ..log.format import POSE_TOPIC
 from .files import write_csv, write_markdown
 from .logs import LogError, config_columns, path_length, read_log
+from .stats import MIN_SAMPLE, RESAMPLES, small_sample, wilson_interval
 
 METRICS = {"time_s": "time (s)", "path_cm": "path length (cm)"}
-RESAMPLES = 10_000
 EXACT_UP_TO = 12  # pairs: up to 2^12 sign assignments the permutation test is enumerated, exact
 PATH_TOLERANCE = 0.01  # the summary's path length must match the poses' within 1 %
 
@@ -147,21 +148,6 @@ def _run_row(path: Path) -> dict:
             "collisions": s["collisions"], "camera_looks": s["camera_looks"], "ticks": s["ticks"],
             "diverting_targets": s.get("diverting_targets", 0),
             "poses_path_m": walked, "xy": poses[["x", "y"]].to_numpy()} | config_columns(config)
-
-
-def wilson_interval(successes: int, n: int, z: float = 1.96) -> tuple[float, float]:
-    """The Wilson score 95 % interval of a success rate (sound at 0/n and n/n, unlike the normal
-    approximation).
-
-    >>> [round(x, 3) for x in wilson_interval(45, 45)]
-    [0.921, 1.0]
-    """
-    if n == 0:
-        return math.nan, math.nan
-    p = successes / n
-    centre = (p + z * z / (2 * n)) / (1 + z * z / n)
-    half = z / (1 + z * z / n) * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n))
-    return max(0.0, centre - half), min(1.0, centre + half)
 
 
 CONFIG = ["scenario", "scenario_sha256", "perception", "time_limit_s"]
@@ -277,10 +263,12 @@ def notes(runs: pd.DataFrame, table: pd.DataFrame, imps: pd.DataFrame, baseline:
         if pairs < 2:
             out.append(f"{condition}, {pilot} vs {baseline}: {pairs} pair(s) where both reached the target; "
                        "at least 2 are needed for an improvement with an interval")
-        elif pairs < MIN_PAIRS:
-            out.append(f"{condition}, {pilot} vs {baseline}: only {pairs} pairs; with fewer than {MIN_PAIRS} the "
-                       f"paired test cannot reach p < 0.05 (its least p is 2/2^{pairs} = {2 / 2 ** pairs:.3g}) "
-                       "and the bootstrap interval is too narrow to trust")
+        elif pairs < MIN_SAMPLE:
+            note = f"{small_sample(f'{condition}, {pilot} vs {baseline}', pairs, 'pairs')}"
+            if pairs < MIN_PAIRS:
+                note += (f", and the paired test cannot reach p < 0.05 (its least p is 2/2^{pairs} = "
+                         f"{2 / 2 ** pairs:.3g})")
+            out.append(note)
     return out
 
 

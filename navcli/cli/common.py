@@ -33,11 +33,29 @@ app = typer.Typer(
     pretty_exceptions_enable=False,
     rich_markup_mode=None,  # plain help: rich's help renderer alone takes ~0.15 s to import
 )
+
+
+def _print_version(value: bool) -> None:
+    if value:
+        from .. import __version__
+
+        typer.echo(f"navcli {__version__}")
+        raise typer.Exit()
+
+
+@app.callback()
+def _options(version: Annotated[bool, typer.Option(
+        "--version", callback=_print_version, is_eager=True, help="Print navcli's version and exit.")] = False) -> None:
+    pass
+
+
 plot_app = typer.Typer(help="Figures of the pilot paper for a scenario, as PNG files.", no_args_is_help=True)
 compare_app = typer.Typer(help="Rerun missions with many seeds and compare, from the logs.", no_args_is_help=True)
 
 PerceptionName = Enum("PerceptionName", {n: n for n in PERCEPTIONS}, type=str)  # type: ignore[misc]
 
+SCENARIO_HELP = "A scenario YAML file, or a bundled scenario's name (`navcli scenarios` lists them; a file wins)"
+SCENARIOS_HELP = "Scenario YAML files, or bundled scenarios' names (`navcli scenarios` lists them; a file wins)"
 MAX_SEED = 2 ** 64 - 1
 """The largest seed (numpy's SeedSequence takes any; the log stores an unsigned 64-bit one)."""
 MAX_JOBS = 256

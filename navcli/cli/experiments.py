@@ -11,9 +11,9 @@ from typing import Annotated, Optional
 import typer
 
 from ..analysis.files import without_mark
-from .common import (MAX_JOBS, MAX_SEED, JobsOption, ParamOption, PerceptionName, PilotOption, SchedulerOption, app,
-                     build_spec, choice, compare_app, executor_for, finite, out_file, out_folder, progress_bar,
-                     require_extra)
+from .common import (MAX_JOBS, MAX_SEED, SCENARIO_HELP, SCENARIOS_HELP, JobsOption, ParamOption, PerceptionName,
+                     PilotOption, SchedulerOption, app, build_spec, choice, compare_app, executor_for, finite, out_file,
+                     out_folder, progress_bar, require_extra)
 from .errors import EXIT_INTERNAL, about, on_stop, refuse, say
 from .views import write_tables
 
@@ -22,7 +22,7 @@ app.add_typer(compare_app, name="compare")
 
 @compare_app.command("pilots")
 def compare_pilots(
-    scenarios: Annotated[list[Path], typer.Argument(metavar="SCENARIOS", help="Scenario YAML files.")],
+    scenarios: Annotated[list[Path], typer.Argument(metavar="SCENARIOS", help=SCENARIOS_HELP + ".")],
     reruns: Annotated[int, typer.Option(min=1, max=10_000, help="Reruns per scenario and pilot (the paper: 45).")] = 45,
     pilots: Annotated[str, typer.Option(help="Comma-separated pilots, the last the baseline: navcli's (potential-field, "
                                              "geometric), installed plugins' names, or module:Class.")] =
@@ -91,7 +91,7 @@ def compare_pilots(
 
 @compare_app.command("policies")
 def compare_policies(
-    scenario: Annotated[Path, typer.Argument(metavar="SCENARIO", help="Scenario YAML file (the paper's setting: scenarios/landmarks-12.yaml).")],
+    scenario: Annotated[Path, typer.Argument(metavar="SCENARIO", help=SCENARIO_HELP + " (the paper's setting: landmarks-12).")],
     policy: Annotated[Optional[list[str]], typer.Option(
         "--policy", metavar="POLICY", help="learned (the bundled model), learned:FILE (a model of `navcli train`, Prioritized Sweeping "
                          "or Q-learning), hand-coded, agents, a baseline of one action in every state (all-MB, all-MLL, all-MOT, "
@@ -108,7 +108,8 @@ def compare_policies(
     param: ParamOption = None,
 ) -> None:
     """The learning paper's Table 1: every policy from the same starts, per run; successes, reward,
-    actions and the count of each action per trial, averaged over the runs with 95 % t-intervals.
+    actions and the count of each action per trial, with 95 % intervals (Wilson for successes, a
+    bootstrap over the starts for the rest; too few starts are said).
     Runs already done are kept (an interrupted comparison resumes)."""
     spec = build_spec(scenario, param)
     from ..training.comparison import DEFAULT_POLICIES, PolicyError, parse_policy, plan, run_all, write_table
@@ -150,7 +151,7 @@ def compare_policies(
 
 @app.command()
 def sweep(
-    plan: Annotated[Path, typer.Argument(metavar="PLAN", help="Plan file (YAML): scenarios, seeds, a grid or a random sample of "
+    plan: Annotated[Path, typer.Argument(metavar="PLAN", help="Plan file (YAML): scenarios (files or bundled names), seeds, a grid or a random sample of "
                                               "--param values; see the README.")],
     out: Annotated[Optional[Path], typer.Option(
         help="Folder for the results table (results.parquet) and the logs (default: logs/sweep/<plan name>); "
@@ -190,7 +191,7 @@ def sweep(
 
 @app.command()
 def tune(
-    scenarios: Annotated[list[Path], typer.Argument(metavar="SCENARIOS", help="Scenario YAML files; every trial runs each of them.")],
+    scenarios: Annotated[list[Path], typer.Argument(metavar="SCENARIOS", help=SCENARIOS_HELP + "; every trial runs each of them.")],
     param: Annotated[list[str], typer.Option(
         "--param", metavar="NAME=LOW:HIGH",
         help="A parameter to tune in [LOW, HIGH] (NAME alone: [0, 5]); NAME=VALUE fixes it for every trial. "

@@ -9,13 +9,13 @@ from typing import Annotated, Optional
 import typer
 
 from ..signals import exit_code, stopped_by
-from .common import MAX_JOBS, MAX_SEED, ParamOption, app, build_spec, progress_bar
+from .common import MAX_JOBS, MAX_SEED, SCENARIO_HELP, ParamOption, app, build_spec, progress_bar
 from .errors import about, refuse, say
 
 
 @app.command()
 def train(
-    scenario: Annotated[Path, typer.Argument(metavar="SCENARIO", help="Scenario YAML file (the paper's setting: scenarios/landmarks-12.yaml).")],
+    scenario: Annotated[Path, typer.Argument(metavar="SCENARIO", help=SCENARIO_HELP + " (the paper's setting: landmarks-12).")],
     trials: Annotated[int, typer.Option(min=1, max=1_000_000, help="Training trials in all (the paper: 2000); with "
                                                                    "--resume, the total to reach.")] = 2000,
     eval_every: Annotated[int, typer.Option(min=1, max=1_000_000, help="Evaluate the greedy policy every this many trials.")] = 100,

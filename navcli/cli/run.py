@@ -7,14 +7,14 @@ from typing import Annotated, Optional
 
 import typer
 
-from .common import (MAX_SEED, NAVIGATION_HELP, ParamOption, PerceptionName, PilotOption, app, build_spec, check_model,
-                     choice, finite)
+from .common import (MAX_SEED, NAVIGATION_HELP, SCENARIO_HELP, ParamOption, PerceptionName, PilotOption, app, build_spec,
+                     check_model, choice, finite)
 from .errors import EXIT_BAD_INPUT, EXIT_FAILED_MISSION, about, refuse, say
 
 
 @app.command()
 def run(
-    scenario: Annotated[Path, typer.Argument(metavar="SCENARIO", help="Scenario YAML file (see scenarios/).")],
+    scenario: Annotated[Path, typer.Argument(metavar="SCENARIO", help=SCENARIO_HELP + ".")],
     seed: Annotated[Optional[int], typer.Option(min=0, max=MAX_SEED, help="Random seed (default: the scenario's mission.seed).")] = None,
     pilot: PilotOption = None,
     out: Annotated[Optional[Path], typer.Option(
@@ -127,8 +127,36 @@ def validate(files: Annotated[list[Path], typer.Argument(metavar="FILES", help="
 
 
 @app.command()
+def scenarios(
+    name: Annotated[Optional[str], typer.Argument(metavar="[NAME]", help=(
+        "Print this bundled scenario's YAML instead, to start a room of your own from it "
+        "(navcli scenarios paper-8x8 > my-room.yaml)."))] = None,
+) -> None:
+    """List the scenarios bundled with navcli, with their descriptions: every command takes them by
+    name, from any folder (navcli run paper-8x8); a file of that name in the folder wins."""
+    from ..scenario import bundled, load_scenario
+
+    if name is not None:
+        found = bundled.name_of(name)
+        if found is None:
+            raise refuse(f"{name!r} is not a bundled scenario ({bundled.suggestion(name)})")
+        typer.echo(bundled.path(found).read_text(encoding="utf-8"), nl=False)
+        return
+    import shutil
+    import textwrap
+
+    names = bundled.names()
+    pad = max(map(len, names)) + 2
+    width = max(shutil.get_terminal_size((100, 24)).columns, pad + 40)
+    for n in names:
+        about_it = " ".join(load_scenario(bundled.path(n)).description.split()) or "-"
+        typer.echo(textwrap.fill(about_it, width, initial_indent=n.ljust(pad), subsequent_indent=" " * pad))
+    typer.echo(f"\n{len(names)} scenarios, in {bundled.FOLDER}; `navcli scenarios NAME` prints one.")
+
+
+@app.command()
 def bench(
-    scenario: Annotated[Path, typer.Argument(metavar="SCENARIO", help="Scenario to time.")] = Path("scenarios/paper-8x8.yaml"),
+    scenario: Annotated[Path, typer.Argument(metavar="SCENARIO", help=SCENARIO_HELP + ", to time.")] = Path("paper-8x8"),
     repeat: Annotated[int, typer.Option(min=1, max=1000, help="Runs per configuration; the median is reported.")] = 5,
     pilot: PilotOption = None,
     seed: Annotated[Optional[int], typer.Option(min=0, max=MAX_SEED)] = None,
@@ -180,7 +208,7 @@ def recover(
 
 @app.command()
 def params(
-    scenario: Annotated[Optional[Path], typer.Argument(metavar="SCENARIO", help="Show the values this scenario resolves to.")] = None,
+    scenario: Annotated[Optional[Path], typer.Argument(metavar="SCENARIO", help=SCENARIO_HELP + ": show the values it resolves to.")] = None,
     param: ParamOption = None,
     pilot: PilotOption = None,
     navigation: Annotated[Optional[str], typer.Option(metavar="POLICY", help="A Navigation policy whose parameters to "

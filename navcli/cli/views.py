@@ -11,7 +11,7 @@ from typing import Annotated, Optional
 import typer
 
 from ..analysis.files import without_mark
-from .common import ParamOption, app, build_spec, finite, out_file, out_folder, plot_app, progress_bar
+from .common import SCENARIO_HELP, ParamOption, app, build_spec, finite, out_file, out_folder, plot_app, progress_bar
 from .errors import about, refuse, say
 
 app.add_typer(plot_app, name="plot")
@@ -36,7 +36,7 @@ def _plot(kind: str, scenario: Path, out: Optional[Path], step: Optional[float],
 
 @plot_app.command("field")
 def plot_field(
-    scenario: Annotated[Path, typer.Argument(metavar="SCENARIO", help="Scenario YAML file.")],
+    scenario: Annotated[Path, typer.Argument(metavar="SCENARIO", help=SCENARIO_HELP + ".")],
     out: Annotated[Optional[Path], typer.Option(help="PNG file (default: logs/<scenario>/field.png).")] = None,
     step: Annotated[Optional[float], typer.Option(min=0.02, callback=finite, help="Grid spacing in metres (default 0.2).")] = None,
     param: ParamOption = None,
@@ -48,7 +48,7 @@ def plot_field(
 
 @plot_app.command("bids")
 def plot_bids(
-    scenario: Annotated[Path, typer.Argument(metavar="SCENARIO", help="Scenario YAML file.")],
+    scenario: Annotated[Path, typer.Argument(metavar="SCENARIO", help=SCENARIO_HELP + ".")],
     out: Annotated[Optional[Path], typer.Option(help="PNG file (default: logs/<scenario>/bids.png).")] = None,
     step: Annotated[Optional[float], typer.Option(min=0.02, callback=finite, help="Grid spacing in metres (default 0.05).")] = None,
     param: ParamOption = None,

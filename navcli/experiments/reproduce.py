@@ -8,10 +8,18 @@ Sections (each resumes from what an earlier run of the same command left in its 
   trap rooms' diverting targets beside the thesis' real-robot figures (:func:`traps`);
 - ``learning``: the learning paper's Table 1 (:func:`policies`) and Figure 3 (:func:`figure3`).
 
-Agreement is decided one way throughout (our design): a paper's number *agrees* when it lies in
-navcli's 95 % interval of the same quantity, else it *does not agree*, and the report says which
-side it lies on. ``--quick`` runs every section with few reruns (:data:`QUICK`) to check the
-machinery in minutes; its intervals are wide and the report says so at the top.
+Agreement is decided one way throughout (our design, :func:`verdict`): a paper's number *agrees*
+when navcli's 95 % interval of the same quantity meets the paper's own range of it, else it *does
+not agree*, and the report says on which side the paper's lies. The paper's range is its spread
+where it gives one, not the zero-width point a deterministic run would be held to: the mean +- 1
+SD of its runs (the pilot paper's Table 1), the 95 % interval its Table 1 gives a gain (its means'
+standard errors over its 45 runs a pilot, :func:`paper_gain_interval`), the Wilson interval of a
+count (successes of 99); the number itself where the paper gives nothing more. navcli's intervals
+stay in their quantity's range (:mod:`navcli.analysis.stats`: Wilson for rates, a bootstrap for
+means). Where the paper has no number there is no verdict; where navcli has fewer than
+:data:`~navcli.analysis.stats.MIN_SAMPLE` runs (pairs, starts), the verdict says it has too few to
+judge. ``--quick`` runs every section with few reruns (:data:`QUICK`) to check the machinery in
+minutes; its intervals are wide and the report says so at the top.
 """
 
 from __future__ import annotations
@@ -21,11 +29,14 @@ import math
 import time
 from dataclasses import asdict, dataclass
 from pathlib import Path
-from typing import Any, Callable
+from typing import Any, Callable, Sequence
 
 from .. import __version__
+from ..analysis.stats import MIN_SAMPLE, bootstrap_mean, small_sample, wilson_interval
+from ..scenario import bundled
+from .document import Report
 
-SCENARIOS = Path(__file__).resolve().parent.parent / "data" / "scenarios"
+SCENARIOS = bundled.FOLDER
 SECTIONS = ("pilots", "learning")
 TRAP_ROOMS = ("river-bridges", "u-trap", "door-wall", "hidden-fence", "blocked-wall")
 
@@ -36,6 +47,8 @@ PAPER_TABLE1: dict[str, dict[str, tuple[float, float]]] = {
 PAPER_PILOTS = ("potential-field", "geometric")
 """The pilot paper's two pilots (``--pilot`` adds a user's beside them)."""
 PAPER_GAINS = {"time_s": 18.1, "path_cm": 22.0}  # %: the potential field against the geometric pilot
+PAPER_RUNS = 45  # runs per pilot behind the pilot paper's Table 1
+PAPER_STARTS = 99  # the learning paper's test starts
 PAPER_POLICIES: dict[str, dict[str, float]] = {"learned": {"successes": 84, "reward": -336, "actions": 49.95},
                   "hand-coded": {"successes": 24, "reward": -858, "actions": 153.33}}
 THESIS_TRAPS = {"reached": 0.85, "diverting_1": 0.58, "diverting_2": 0.18}
@@ -66,80 +79,63 @@ QUICK = Settings(reruns=3, sensitivity_seeds=3, sensitivity_speeds=(0.05, 0.3), 
                  quick=True)
 
 
-class Report:
-    """The report as blocks, written once as Markdown and once as HTML (no converter needed)."""
+def verdict(navcli: tuple[float, float], paper: tuple[float, float], n: int, unit: str = "runs") -> str:
+    """The report's one rule (module docstring): does navcli's 95 % interval ``navcli`` (low, high),
+    from ``n`` ``unit``, meet the paper's range ``paper`` (low, high; a point when they are equal)?
 
-    def __init__(self) -> None:
-        self.blocks: list[tuple[str, Any]] = []
-
-    def heading(self, text: str, level: int = 2) -> None:
-        self.blocks.append(("h", (level, text)))
-
-    def text(self, text: str) -> None:
-        self.blocks.append(("p", text))
-
-    def table(self, header: list[str], rows: list[list[Any]]) -> None:
-        self.blocks.append(("table", (header, [[str(c) for c in r] for r in rows])))
-
-    def image(self, path: str, caption: str) -> None:
-        self.blocks.append(("img", (path, caption)))
-
-    def markdown(self) -> str:
-        out = []
-        for kind, b in self.blocks:
-            if kind == "h":
-                out.append(f"{'#' * b[0]} {b[1]}")
-            elif kind == "p":
-                out.append(b)
-            elif kind == "table":
-                header, rows = b
-                out += ["| " + " | ".join(header) + " |", "| " + " | ".join("---" for _ in header) + " |"]
-                out += ["| " + " | ".join(r) + " |" for r in rows]
-            else:
-                out.append(f"![{b[1]}]({b[0]})")
-            out.append("")
-        return "\n".join(out)
-
-    def html(self) -> str:
-        import html
-
-        e = html.escape
-        from ..analysis.files import MARK
-
-        out = [f"<!doctype html>{MARK}<html><head><meta charset='utf-8'><title>navcli reproduce</title><style>"
-               "body{font-family:sans-serif;max-width:70em;margin:2em auto}table{border-collapse:collapse}"
-               "td,th{border:1px solid #bbb;padding:2px 6px;text-align:right}img{max-width:100%}</style></head><body>"]
-        for kind, b in self.blocks:
-            if kind == "h":
-                out.append(f"<h{b[0]}>{e(b[1])}</h{b[0]}>")
-            elif kind == "p":
-                out.append(f"<p>{e(b)}</p>")
-            elif kind == "table":
-                header, rows = b
-                out.append("<table><tr>" + "".join(f"<th>{e(h)}</th>" for h in header) + "</tr>"
-                           + "".join("<tr>" + "".join(f"<td>{e(c)}</td>" for c in r) + "</tr>" for r in rows)
-                           + "</table>")
-            else:
-                out.append(f"<figure><img src='{e(b[0])}' alt='{e(b[1])}'><figcaption>{e(b[1])}</figcaption></figure>")
-        return "\n".join(out + ["</body></html>\n"])
-
-
-def verdict(paper: float, lo: float, hi: float) -> str:
-    """Does the paper's number lie in navcli's 95 % interval ``[lo, hi]``?"""
+    >>> verdict((250.1, 250.4), (297.3 - 81.9, 297.3 + 81.9), 45)  # deterministic runs, within the spread
+    'agrees'
+    >>> verdict((140.0, 150.0), (215.4, 379.2), 45)
+    "does not agree (the paper's is above)"
+    >>> verdict((140.0, 150.0), (215.4, 379.2), 3)
+    'too few runs to judge (3; 10 needed)'
+    """
+    lo, hi = navcli
+    if n < MIN_SAMPLE:
+        return f"too few {unit} to judge ({n}; {MIN_SAMPLE} needed)"
     if not (math.isfinite(lo) and math.isfinite(hi)):
-        return "no interval (too few runs)"
-    if lo <= paper <= hi:
-        return "agrees"
-    return f"does not agree (the paper's is {'above' if paper > hi else 'below'})"
+        return "no interval"
+    if hi < paper[0]:
+        return "does not agree (the paper's is above)"
+    if lo > paper[1]:
+        return "does not agree (the paper's is below)"
+    return "agrees"
 
 
-def t_mean(values: list[float]) -> tuple[float, float, float]:
-    """Mean and its 95 % Student-t interval (NaNs for none; a point for one value)."""
-    from ..training.comparison import t_interval
+def paper_gain_interval(metric: str) -> tuple[float, float]:
+    """The 95 % interval of the potential field's gain over the geometric pilot (%) that the pilot
+    paper's Table 1 itself allows: its two means with their standard errors over
+    :data:`PAPER_RUNS` runs each (SD / sqrt(45)), carried to the gain 100 (1 - pf / geo) by the delta
+    method, the pilots' runs taken as independent (the paper does not say they were paired).
 
-    import numpy as np
+    >>> [round(x, 1) for x in paper_gain_interval("time_s")], [round(x, 1) for x in paper_gain_interval("path_cm")]
+    ([6.4, 29.9], [14.6, 29.4])
+    """
+    (g, sd_g), (p, sd_p) = PAPER_TABLE1["geometric"][metric], PAPER_TABLE1["potential-field"][metric]
+    se_g, se_p = sd_g / math.sqrt(PAPER_RUNS), sd_p / math.sqrt(PAPER_RUNS)
+    gain = 100 * (1 - p / g)
+    se = 100 * math.hypot(se_p / g, p * se_g / g ** 2)
+    return gain - 1.96 * se, gain + 1.96 * se
 
-    return t_interval(np.asarray(values, dtype=float))
+
+def _notes(report: Report, notes: Sequence[str | None]) -> None:
+    """What a section's table cannot say (a small sample, in the words of every comparison), if anything."""
+    said = [n for n in notes if n]
+    if said:
+        report.text("Notes:")
+        report.bullets(said)
+
+
+def _interval(m: float, lo: float, hi: float, sign: bool = False) -> str:
+    """``m [lo, hi]``, with one decimal (and a sign for a gain); ``m (no interval)`` without bounds.
+
+    >>> _interval(2.0, 1.0, 3.25), _interval(-4.0, -9.0, 1.0, sign=True), _interval(5.0, float("nan"), float("nan"))
+    ('2.0 [1.0, 3.2]', '-4.0 [-9.0, +1.0]', '5.0 (no interval)')
+    """
+    f = "{:+.1f}" if sign else "{:.1f}"
+    if not (math.isfinite(lo) and math.isfinite(hi)):
+        return f.format(m) + " (no interval)"
+    return f"{f.format(m)} [{f.format(lo)}, {f.format(hi)}]"
 
 
 def _conditions(report: Report, out: Path, specs: list) -> None:
@@ -175,15 +171,18 @@ def _compare(names: tuple[str, ...], reruns: int, out: Path, ex, perception: str
 def table1(report: Report, s: Settings, out: Path, ex, pilots: tuple[str, ...] = ()) -> None:
     """The pilot paper's Table 1, with vision and with ground truth (and ``pilots`` beside the
     paper's two, which the paper has no numbers for)."""
-    from ..analysis.tables import improvements, pilot_table
+    from ..analysis.tables import improvements, notes, pilot_table
 
     report.heading("Pilot paper, Table 1: the potential-field pilot against the geometric one")
     report.text(f"paper-8x8 (our room in the paper's spirit; its coordinates are not given), {s.reruns} reruns per "
                 "pilot and perception, the same seeds for both pilots; the paper's pace (5 cm/s, the scenario's "
-                "robot.max_speed). Means over the reached runs with 95 % t-intervals; gains paired over the seeds "
-                "both reached, with bootstrap 95 % intervals. Logs: " + str(out))
+                "robot.max_speed). Means over the reached runs with bootstrap 95 % intervals, against the paper's "
+                "mean ± 1 SD (the spread of its runs); gains paired over the seeds both reached, with bootstrap 95 % "
+                f"intervals, against the 95 % interval the paper's Table 1 gives its gain ({PAPER_RUNS} runs a pilot). "
+                "Logs: " + str(out))
     rows: list[list[Any]] = []
     bases: list = []
+    remarks: list[str | None] = []
     for perception in ("vision", "oracle"):
         runs, specs = _compare(("paper-8x8",), s.reruns, out / perception, ex, perception, pilots=pilots)
         _write_runs(runs, out / perception / "runs.csv")
@@ -193,25 +192,30 @@ def table1(report: Report, s: Settings, out: Path, ex, pilots: tuple[str, ...] =
         for pilot in ("geometric", "potential-field") + pilots:
             ok = runs[(runs["pilot"] == pilot) & (runs["outcome"] == "reached")]
             for metric in ("time_s", "path_cm"):
-                m, lo, hi = t_mean(list(ok[metric]))
-                paper, sd = PAPER_TABLE1.get(pilot, {}).get(metric, (math.nan, math.nan))
-                known = not math.isnan(paper)  # a user's pilot: the paper has no number for it
-                rows.append([perception, pilot, metric, f"{paper:g} ± {sd:g}" if known else "-",
-                             f"{m:.1f} [{lo:.1f}, {hi:.1f}]",
+                m, lo, hi = bootstrap_mean(ok[metric].to_numpy(dtype=float))
+                if pilot not in PAPER_TABLE1:  # a user's pilot: the paper has no number for it
+                    rows.append([perception, pilot, metric, "-", _interval(m, lo, hi),
+                                 f"{int(table.loc[pilot, 'reached'])}/{int(table.loc[pilot, 'runs'])}", ""])
+                    continue
+                paper, sd = PAPER_TABLE1[pilot][metric]
+                rows.append([perception, pilot, metric, f"{paper:g} ± {sd:g} (SD)", _interval(m, lo, hi),
                              f"{int(table.loc[pilot, 'reached'])}/{int(table.loc[pilot, 'runs'])}",
-                             verdict(paper, lo, hi) if known else "", ("yes" if abs(m - paper) <= sd else "no") if known
-                             else ""])
+                             verdict((lo, hi), (paper - sd, paper + sd), len(ok), "reached runs")])
+            remarks.append(small_sample(f"{perception}, {pilot}", len(ok), "reached runs"))
         for pilot in ("potential-field",) + pilots:
             for metric in ("time_s", "path_cm"):
                 g = imps[imps["pilot"] == pilot].loc[metric]
-                paper = PAPER_GAINS[metric] if pilot == "potential-field" else math.nan
-                rows.append([perception, "PF gain %" if pilot == "potential-field" else f"{pilot} gain %", metric,
-                             f"+{paper:g}" if not math.isnan(paper) else "-",
-                             f"{g['improvement_pct']:+.1f} [{g['ci95_low']:+.1f}, {g['ci95_high']:+.1f}] "
-                             f"({int(g['pairs'])} pairs)", "",
-                             verdict(paper, g["ci95_low"], g["ci95_high"]) if not math.isnan(paper) else "", ""])
-    report.table(["perception", "pilot", "quantity", "the paper", "navcli [95 % CI]", "reached", "agreement",
-                  "navcli's mean within the paper's ± 1 SD"], rows)
+                cells = _interval(g["improvement_pct"], g["ci95_low"], g["ci95_high"], sign=True) \
+                    + f" ({int(g['pairs'])} pairs)"
+                if pilot != "potential-field":
+                    rows.append([perception, f"{pilot} gain %", metric, "-", cells, "", ""])
+                    continue
+                p_lo, p_hi = paper_gain_interval(metric)
+                rows.append([perception, "PF gain %", metric, f"+{PAPER_GAINS[metric]:g} [{p_lo:+.1f}, {p_hi:+.1f}]",
+                             cells, "", verdict((g["ci95_low"], g["ci95_high"]), (p_lo, p_hi), int(g["pairs"]), "pairs")])
+        remarks += notes(runs, table.reset_index(), imps.reset_index(), "geometric")
+    report.table(["perception", "pilot", "quantity", "the paper", "navcli [95 % CI]", "reached", "agreement"], rows)
+    _notes(report, remarks)
     report.text("Run ids and every run's numbers: " + ", ".join(str(out / p / "runs.csv") for p in ("vision", "oracle")))
     _conditions(report, out, bases)
 
@@ -260,24 +264,25 @@ def sensitivity(report: Report, s: Settings, out: Path, ex) -> None:
         runs = load_sweep(table)
         runs = runs[runs["run_id"].isin({r.spec.run_id for r in planned})]  # the table keeps other plans' rows
         imps = improvements(runs, "geometric")
-        rows = [[r["condition"], r["metric"], f"{r['improvement_pct']:+.1f} [{r['ci95_low']:+.1f}, {r['ci95_high']:+.1f}]",
-                 int(r["pairs"]), verdict(PAPER_GAINS[r["metric"]], r["ci95_low"], r["ci95_high"])]
-                for _, r in imps.iterrows()]
+        rows = [[r["condition"], r["metric"], _interval(r["improvement_pct"], r["ci95_low"], r["ci95_high"], sign=True),
+                 int(r["pairs"])] for _, r in imps.iterrows()]  # no verdict: the paper has no number for these conditions
         report.text(f"Every run: {table}.")
-        report.table(["condition", "metric", "PF gain % [95 % CI]", "pairs", "the paper's gain"], rows)
+        report.table(["condition", "metric", "PF gain % [95 % CI]", "pairs"], rows)
+        _notes(report, [small_sample("every condition", int(imps["pairs"].min()), "pairs at the fewest")]
+               if len(imps) else [])
 
 
 def traps(report: Report, s: Settings, out: Path, ex, pilots: tuple[str, ...] = ()) -> None:
     """The trap rooms: how often each pilot gets out, with how many diverting targets."""
-    from ..analysis.tables import wilson_interval
-
     runs, specs = _compare(s.trap_rooms, s.trap_seeds, out, ex, pilots=pilots)
     _write_runs(runs, out / "runs.csv")
     report.heading("Trap rooms: diverting targets (the thesis' real robot beside them)")
     report.text(f"{s.trap_seeds} seed(s) per room and pilot; every run: {out / 'runs.csv'}. The thesis' figures "
                 "(its real robot, its rooms): 85 % reached; of runs past long obstacles 58 % needed one diverting "
-                "target and 18 % two. Rates with Wilson 95 % intervals.")
+                "target and 18 % two, given without a count of runs (so each is taken as the number itself). Rates with "
+                "Wilson 95 % intervals, contacts with a bootstrap 95 % interval.")
     rows = []
+    remarks: list[str | None] = []
     for pilot in PAPER_PILOTS + pilots:
         g = runs[(runs["pilot"] == pilot) & runs["outcome"].isin(("reached", "blocked", "timeout"))]  # not interrupted
         n = len(g)
@@ -286,17 +291,19 @@ def traps(report: Report, s: Settings, out: Path, ex, pilots: tuple[str, ...] = 
                                THESIS_TRAPS["diverting_1"]),
                               ("needed 2", int((g["diverting_targets"] == 2).sum()), THESIS_TRAPS["diverting_2"])):
             lo, hi = wilson_interval(k, n)
-            rows.append([pilot, key, f"{paper:.0%}", f"{k}/{n} [{lo:.0%}, {hi:.0%}]", verdict(paper, lo, hi)])
-        m, lo, hi = t_mean(list(g["collisions"]))
-        rows.append([pilot, "contacts per run", "-", f"{m:.1f} [{lo:.1f}, {hi:.1f}]", ""])
+            rows.append([pilot, key, f"{paper:.0%}", f"{k}/{n} [{lo:.0%}, {hi:.0%}]", verdict((lo, hi), (paper, paper), n)])
+        m, lo, hi = bootstrap_mean(g["collisions"].to_numpy(dtype=float))
+        rows.append([pilot, "contacts per run", "-", _interval(m, lo, hi), ""])  # the thesis gives no number
+        remarks.append(small_sample(pilot, n, "runs"))
     report.table(["pilot", "quantity", "the thesis", "navcli", "agreement"], rows)
+    _notes(report, remarks)
     _conditions(report, out, specs)
 
 
 def policies(report: Report, s: Settings, out: Path, ex) -> None:
     """The learning paper's Table 1: the bundled model, the hand-coded policy, the bidding agents."""
     from ..config import RunSpec
-    from ..training.comparison import parse_policy, plan, policy_table, run_all, trials_frame
+    from ..training.comparison import notes, parse_policy, plan, policy_table, run_all, trials_frame
 
     spec = RunSpec.build(_scenario("landmarks-12"))
     chosen = [parse_policy(p) for p in ("learned", "hand-coded", "agents")]
@@ -307,19 +314,29 @@ def policies(report: Report, s: Settings, out: Path, ex) -> None:
     table = policy_table(trials).set_index("policy")
     report.heading("Learning paper, Table 1: policies on the paper's task")
     report.text(f"landmarks-12, {s.policy_runs} run(s) of {s.policy_starts} fixed starts (the paper: 99); learned = "
-                "the model bundled with navcli (2,000 trials of Prioritized Sweeping). Means over the runs with 95 % "
-                f"t-intervals; successes scaled to 99 starts. Every trial: {out / 'trials.csv'}")
+                "the model bundled with navcli (2,000 trials of Prioritized Sweeping). Successes scaled to 99 starts, "
+                "with the Wilson 95 % interval of the rate over every trial, against the Wilson interval of the "
+                "paper's count of 99; reward and actions: means per trial with a bootstrap 95 % interval that "
+                "resamples the starts, against the paper's number (it gives no spread). Every trial: "
+                f"{out / 'trials.csv'}")
     rows = []
     for policy in ("learned", "hand-coded", "agents"):
         if policy not in table.index:  # every run of it failed: said, not hidden
             rows.append([policy, "-", "-", "no trial finished (see the runs' errors)", ""])
             continue
         for metric, paper in (PAPER_POLICIES.get(policy) or {"successes": math.nan}).items():
-            scale = 99 / s.policy_starts if metric == "successes" else 1.0
+            scale = PAPER_STARTS / s.policy_starts if metric == "successes" else 1.0
             m, lo, hi = (table.loc[policy, k] * scale for k in (metric, f"{metric}_lo", f"{metric}_hi"))
-            rows.append([policy, metric, "-" if math.isnan(paper) else f"{paper:g}", f"{m:.1f} [{lo:.1f}, {hi:.1f}]",
-                         "" if math.isnan(paper) else verdict(paper, lo, hi)])
+            if math.isnan(paper):  # no number in the paper: no verdict
+                rows.append([policy, metric, "-", _interval(m, lo, hi), ""])
+                continue
+            p_lo, p_hi = ((PAPER_STARTS * x for x in wilson_interval(round(paper), PAPER_STARTS))
+                          if metric == "successes" else (paper, paper))
+            shown = f"{paper:g} of {PAPER_STARTS} [{p_lo:.1f}, {p_hi:.1f}]" if metric == "successes" else f"{paper:g}"
+            rows.append([policy, metric, shown, _interval(m, lo, hi),
+                         verdict((lo, hi), (p_lo, p_hi), s.policy_starts, "starts")])
     report.table(["policy", "quantity", "the paper", "navcli [95 % CI]", "agreement"], rows)
+    _notes(report, notes(table.reset_index()))
     _conditions(report, out, [spec])
 
 
@@ -366,8 +383,11 @@ def reproduce(which: str, out: Path, *, settings: Settings = FULL, jobs: int = 2
     if settings.quick:
         report.text("QUICK RUN (--quick): few reruns, to check the machinery; the intervals are wide and the "
                     "verdicts are not the reproduction's. Run without --quick for the papers' sizes.")
-    report.text(f"navcli {__version__}; settings: {json.dumps(asdict(settings))}. A paper's number agrees when it "
-                "lies in navcli's 95 % interval of the same quantity.")
+    report.text(f"navcli {__version__}; settings: {json.dumps(asdict(settings))}. A paper's number agrees when "
+                "navcli's 95 % interval of the same quantity meets the paper's own range of it: the mean ± 1 SD of "
+                "its runs where it gives an SD, the 95 % interval its Table 1 gives a gain, the Wilson interval of a "
+                "count, else the number itself. No verdict where the paper has no number; none either from fewer "
+                f"than {MIN_SAMPLE} runs (pairs, starts): too few to judge.")
     durations = []
     t_all = time.perf_counter()
     with executor(jobs, scheduler) as ex:

@@ -1,6 +1,6 @@
 """``navcli sweep PLAN.yaml``: many runs over parameter values, one row of a results table each.
 
-A plan file (format version 1; paths relative to the plan file)::
+A plan file (format version 1; paths relative to the plan file, or a bundled scenario's name)::
 
     version: 1
     scenarios: [../scenarios/open-arena.yaml, ../scenarios/paper-fig9.yaml]
@@ -52,7 +52,7 @@ from ..outputs import atomic
 from .. import NavcliError
 from ..params import PERCEPTIONS, Params, ParamError
 from ..plugins import registry
-from ..scenario import ScenarioError, load_scenario
+from ..scenario import ScenarioError, bundled, load_scenario
 from ..scenario.yaml_reader import Invalid, Reader, parse_yaml, read_bounded
 from .compare import reruns
 
@@ -296,13 +296,14 @@ class PlanReader(Reader):
     def scenarios(self, v: Any, root: Path) -> list:
         P = ("scenarios",)
         if not isinstance(v, list) or not v:
-            raise self.fail(P, "expected a non-empty list of scenario files (relative to the plan file)")
+            raise self.fail(P, "expected a non-empty list of scenario files (relative to the plan file) or bundled "
+                               "scenarios' names")
         out: list = []
         seen: dict[str, int] = {}
         for i, f in enumerate(v):
             name = self.text(f, P + (i,))
             try:
-                sc = load_scenario(root / name)
+                sc = load_scenario(bundled.resolve(name, root))  # a bundled one by its name too
             except ScenarioError as e:
                 self.fail(P + (i,), f"scenario {name} refused")
                 self.problems += e.problems

@@ -1,8 +1,9 @@
 """The Foxglove layout that comes with navcli (``navcli layout``).
 
 Built once with the SDK's layout builder (:mod:`foxglove.layouts`): a 3D panel in the 2D top-down
-view on frame ``world`` with the scene topics, a Plot of the bids per resource, a Plot of the
-pilot's forces and turn, the events Log and the raw summary. Two forms are written:
+view on frame ``world`` with the scene topics (:data:`SHOWN` on; the :data:`LAYERS` listed, off), a
+Plot of the bids per resource, a Plot of the pilot's forces and turn, the events Log and the raw
+summary. Two forms are written:
 
 - ``sdk``: the SDK's own JSON (``Layout.to_json``), for Foxglove's notebook widget and tools that
   read that schema;
@@ -20,11 +21,18 @@ from __future__ import annotations
 import json
 from typing import Any
 
-from .format import (BIDS_TOPIC, CAMERA_SCENE_TOPIC, EVENTS_TOPIC, MAP_SCENE_TOPIC, MEMORY_SCENE_TOPIC, PILOT_TOPIC,
-                     ROBOT_BODY_TOPIC, ROBOT_SCENE_TOPIC, SUMMARY_TOPIC, WORLD_SCENE_TOPIC)
+from .format import (BIDS_TOPIC, CAMERA_SCENE_TOPIC, EVENTS_TOPIC, MAP_REGIONS_TOPIC, MAP_SCENE_TOPIC,
+                     MEMORY_SCENE_TOPIC, MEMORY_SUPPORTS_TOPIC, PILOT_TOPIC, ROBOT_BODY_TOPIC, ROBOT_PATH_TOPIC,
+                     ROBOT_SCENE_TOPIC, SUMMARY_TOPIC, WORLD_SCENE_TOPIC)
 
-SCENE_TOPICS = (WORLD_SCENE_TOPIC, ROBOT_BODY_TOPIC, CAMERA_SCENE_TOPIC, ROBOT_SCENE_TOPIC, MEMORY_SCENE_TOPIC,
-                MAP_SCENE_TOPIC)
+SHOWN = (WORLD_SCENE_TOPIC, ROBOT_PATH_TOPIC, ROBOT_BODY_TOPIC, CAMERA_SCENE_TOPIC, MEMORY_SCENE_TOPIC, MAP_SCENE_TOPIC)
+"""The default view, legible at any time of a long run: the truth (the arena), the robot, its path and
+its beliefs (the memory's and the map's 70 % cuts)."""
+LAYERS = (MEMORY_SUPPORTS_TOPIC, MAP_REGIONS_TOPIC, ROBOT_SCENE_TOPIC)
+"""Listed in the 3D panel, off until a user switches them on: the memory's supports, the map's
+regions and beta-units, the pilot's forces and grown obstacles. Drawn filled or wide, after a few
+minutes they cover the whole room."""
+SCENE_TOPICS = SHOWN + LAYERS
 BID_PATHS = tuple(f"{BIDS_TOPIC}.{r}.{s}" for r in ("motion", "camera") for s in ("pilot", "navigation"))
 FORCE_PATHS = tuple(f"{PILOT_TOPIC}.{f}" for f in ("net.x", "net.y", "repulsive.x", "target.x", "turn_deg"))
 _APP_PANEL = {"ThreeDee": "3D", "Log": "RosOut"}  # SDK panel type -> the app's
@@ -39,7 +47,7 @@ def build(arena: tuple[float, float] = (8.0, 8.0)):
         follow_tf="world", follow_mode="follow-none",
         camera_state=fl.ThreeDeeCameraState(perspective=False, distance=1.5 * max(w, h), phi=0.0, theta_offset=0.0,
                                             target_offset=(w / 2, h / 2, 0.0)),
-        topics={t: {"visible": True} for t in SCENE_TOPICS}))  # type: ignore[misc]  # the SDK takes the JSON form
+        topics={t: {"visible": t in SHOWN} for t in SCENE_TOPICS}))  # type: ignore[misc]  # the SDK takes the JSON form
 
     def plot(title: str, paths: tuple[str, ...]):
         return fl.PlotPanel(title=title, config=fl.PlotConfig(
@@ -75,8 +83,11 @@ def app_json(arena: tuple[float, float] = (8.0, 8.0)) -> dict[str, Any]:
             kind = _APP_PANEL.get(n["panelType"], n["panelType"])
             key = f"{kind}!{len(config_by_id) + 1}"
             config = n.get("config", {})
-            if kind == "3D":  # seeking: the transforms preloaded, so beliefs in base_link are drawn where they were
-                config = config | {"scene": config.get("scene", {}) | {"transforms": {"enablePreloading": True}}}
+            if kind == "3D":  # seeking: the transforms preloaded, so beliefs in base_link are drawn where they were;
+                # no frame names over the robot (world, base_link and camera written across it), no line from the
+                # world's origin to the robot
+                config = config | {"scene": config.get("scene", {}) | {"transforms": {
+                    "enablePreloading": True, "showLabel": False, "lineWidth": 0}}}
             # Foxglove reads foxglovePanelTitle, Lichtblick lichtblickPanelTitle: both, so each shows the title
             titles = {"foxglovePanelTitle": n["title"], "lichtblickPanelTitle": n["title"]} if n.get("title") else {}
             config_by_id[key] = config | titles

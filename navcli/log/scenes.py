@@ -24,6 +24,8 @@ from foxglove.messages import (
     Vector3,
 )
 
+from ..params import SCENE_REFRESH
+
 if TYPE_CHECKING:
     from ..geometry import Pose
     from ..navigation.map_manager import MapSnapshot
@@ -39,7 +41,9 @@ _GROWN = Color(r=0.95, g=0.5, b=0.1, a=0.25)
 FOV = Color(r=0.3, g=0.8, b=0.95, a=0.8)
 _MEMORY_RGB = {"landmark": (0.2, 0.45, 0.9), "obstacle": (0.85, 0.3, 0.25), "bump": (1.0, 0.1, 0.1),
                "target": (0.2, 0.75, 0.3)}
-_MEMORY = {k: (Color(r=r, g=g, b=b, a=0.45), Color(r=r, g=g, b=b, a=0.3)) for k, (r, g, b) in _MEMORY_RGB.items()}
+# a belief's disc faint (a viewer outlines it), so that the wide ones of a long run, overlapping, leave the truth,
+# the robot and its path legible; its support's ring fainter still
+_MEMORY = {k: (Color(r=r, g=g, b=b, a=0.15), Color(r=r, g=g, b=b, a=0.3)) for k, (r, g, b) in _MEMORY_RGB.items()}
 _RING = [(math.cos(2 * math.pi * k / 16), math.sin(2 * math.pi * k / 16)) for k in range(16)]  # a support ring's vertices
 NO_TURN = Quaternion(x=0.0, y=0.0, z=0.0, w=1.0)  # the yaw of 0, built once: most primitives are not turned
 _ARROW_BASE = Vector3(x=0.0, y=0.0, z=0.35)  # m: where the force arrows start, in base_link
@@ -92,31 +96,34 @@ def fan(fov: float, rng: float) -> list[Point3]:
 
 
 _MAP = Color(r=0.55, g=0.3, b=0.85, a=0.9)
+_MAP_CUT = Color(r=0.55, g=0.3, b=0.85, a=0.25)  # a mapped landmark's 70 % cut: faint, as the memory's
 _MAP_FAINT = Color(r=0.55, g=0.3, b=0.85, a=0.35)
 _BLOCKED = Color(r=0.9, g=0.2, b=0.7, a=0.9)  # pink: apart from the true obstacles (red) in a plot
 _DIVERTING = Color(r=0.1, g=0.8, b=0.3, a=1.0)
 _DIVERTING_ENDED = Color(r=0.1, g=0.55, b=0.25, a=0.8)  # a diverting line the Rescuer is done with
 
 
+_MAP_Z = 0.06  # m: the map's height, above the memory's discs
+
+
+def _at_map(xy) -> Point3:
+    return Point3(x=xy[0], y=xy[1], z=_MAP_Z)
+
+
 def map_entities(m: MapSnapshot, diverting, ns: int) -> list[SceneEntity]:
-    """The Map Manager's map in ``base_link``: each mapped landmark with the disc of its 70 % cut
-    and its name, the regions' triangles (faint), the beta-units as lines from the encoded landmark
-    to its three basis landmarks, blocked edges in red, and the diverting line in green. Not
-    frame-locked: drawn every few seconds, a viewer keeps it where the robot was when it was drawn."""
+    """The Map Manager's map in ``base_link`` (``/map/scene``, shown by default): each mapped
+    landmark with the disc of its 70 % cut and its name, blocked edges in pink, the diverting
+    line in green and those ended, named. Its regions and beta-units are a layer of their own
+    (:func:`region_entities`). Not frame-locked: drawn every few seconds, a viewer keeps it where
+    the robot was when it was drawn."""
     ts = stamp(ns)
-    z = 0.06
-    P = lambda xy: Point3(x=xy[0], y=xy[1], z=z)  # noqa: E731
+    z = _MAP_Z
+    P = _at_map
     marks = {k: (p.x, p.y) for k, p in m.landmarks.items()}
-    cyl = [cylinder(p.x, p.y, max(p.radius(0.7), 0.05), z - 0.01, 0.02, _MAP) for p in m.landmarks.values()]
+    cyl = [cylinder(p.x, p.y, max(p.radius(0.7), 0.05), z - 0.01, 0.02, _MAP_CUT) for p in m.landmarks.values()]
     texts = [TextPrimitive(pose=place(p.x, p.y, z=0.7), billboard=True, font_size=12.0, scale_invariant=True,
                            color=_MAP, text=f"{k}'") for k, p in m.landmarks.items()]
-    lines = [LinePrimitive(type=LinePrimitiveLineType.LineLoop, thickness=0.01, color=_MAP_FAINT,
-                           points=[P(v) for v in tri]) for tri in m.regions]
-    for a, b, c, d in m.units:
-        if d in marks and all(k in marks for k in (a, b, c)):
-            lines.append(LinePrimitive(type=LinePrimitiveLineType.LineList, thickness=0.008, color=_MAP_FAINT,
-                                       points=[P(marks[d]), P(marks[a]), P(marks[d]), P(marks[b]),
-                                               P(marks[d]), P(marks[c])]))
+    lines = []
     at = marks | m.vertices  # a blocked edge may end at an obstacle's point or a virtual landmark
     for u, v in m.blocked:
         if u in at and v in at:
@@ -135,21 +142,35 @@ def map_entities(m: MapSnapshot, diverting, ns: int) -> list[SceneEntity]:
                         texts=texts, lines=lines)]
 
 
+def region_entities(m: MapSnapshot, ns: int) -> list[SceneEntity]:
+    """The map's regions (``/map/regions``, a layer a user switches on): each triangle of
+    landmarks, faint, and each beta-unit as lines from the encoded landmark to its three basis
+    landmarks; drawn with :func:`map_entities`, in ``base_link``, not frame-locked."""
+    P = _at_map
+    marks = {k: (p.x, p.y) for k, p in m.landmarks.items()}
+    lines = [LinePrimitive(type=LinePrimitiveLineType.LineLoop, thickness=0.01, color=_MAP_FAINT,
+                           points=[P(v) for v in tri]) for tri in m.regions]
+    for a, b, c, d in m.units:
+        if d in marks and all(k in marks for k in (a, b, c)):
+            lines.append(LinePrimitive(type=LinePrimitiveLineType.LineList, thickness=0.008, color=_MAP_FAINT,
+                                       points=[P(marks[d]), P(marks[a]), P(marks[d]), P(marks[b]),
+                                               P(marks[d]), P(marks[c])]))
+    return [SceneEntity(timestamp=stamp(ns), frame_id="base_link", id="regions", frame_locked=False, lines=lines)]
+
+
 def memory_entities(memory: tuple[Remembered, ...], ns: int) -> list[SceneEntity]:
-    """The visual memory in ``base_link``: per remembered point a disc the size of its 70 % cut
-    (the visible belief) and a faint thin ring for its support, which is often 1-2 m wide and would
-    hide the arena if filled, so Foxglove shows belief (here) next to truth (/world/scene). Not
+    """The visual memory in ``base_link`` (``/memory/scene``, shown by default): per remembered
+    point a disc the size of its 70 % cut (the belief), beside the truth of ``/world/scene``; the
+    supports, often 1-2 m wide, are a layer of their own (:func:`support_entities`). Not
     frame-locked: drawn every few seconds, a viewer keeps it where the robot was when it was drawn
     (frame-locked, it would drift along with the robot until the next drawing)."""
     ents = []
     ts = stamp(ns)
     for m in memory:
         cyl, lines = [], []
-        color, faint = _MEMORY.get(m.kind, _MEMORY["obstacle"])
-        for x, y, r70, r0 in m.spots:
+        color, _ = _MEMORY.get(m.kind, _MEMORY["obstacle"])
+        for x, y, r70, _r0 in m.spots:
             cyl.append(cylinder(x, y, max(r70, 0.03), 0.015, 0.03, color))
-            lines.append(LinePrimitive(type=LinePrimitiveLineType.LineLoop, thickness=0.01, color=faint, points=[
-                Point3(x=x + r0 * c, y=y + r0 * s, z=0.01) for c, s in _RING]))
         if len(m.spots) == 2:
             (ax, ay, *_), (bx, by, *_) = m.spots
             lines.append(LinePrimitive(type=LinePrimitiveLineType.LineStrip, thickness=0.03, color=color,
@@ -157,6 +178,62 @@ def memory_entities(memory: tuple[Remembered, ...], ns: int) -> list[SceneEntity
         ents.append(SceneEntity(timestamp=ts, frame_id="base_link", id=f"memory-{m.key}", frame_locked=False,
                                 cylinders=cyl, lines=lines))
     return ents
+
+
+def support_entities(memory: tuple[Remembered, ...], ns: int) -> list[SceneEntity]:
+    """The supports of the visual memory (``/memory/supports``, a layer a user switches on): per
+    remembered point a faint thin ring of its support's radius, in an entity of the same id as
+    its disc in ``/memory/scene`` (``memory-KEY``, its rings in the order of the discs)."""
+    ts = stamp(ns)
+    return [SceneEntity(timestamp=ts, frame_id="base_link", id=f"memory-{m.key}", frame_locked=False, lines=[
+        LinePrimitive(type=LinePrimitiveLineType.LineLoop, thickness=0.01, color=_MEMORY.get(m.kind, _MEMORY["obstacle"])[1],
+                      points=[Point3(x=x + r0 * c, y=y + r0 * s, z=0.01) for c, s in _RING])
+        for x, y, _r70, r0 in m.spots]) for m in memory]
+
+
+PATH_STEP = 0.1
+"""m: the drawn path keeps a pose when the robot has moved this far from the last one kept (and
+the last pose always): 10 points a metre, a few kilobytes for a room's mission, whatever its time."""
+_PATH = Color(r=0.05, g=0.05, b=0.05, a=1.0)
+PATH_PIXELS = 4.0  # the path's width on screen, whatever the zoom: wider than the 1-pixel outlines a viewer draws
+
+
+PATH_EVERY_NS = 10 * round(SCENE_REFRESH * 1e9)
+"""The path is drawn again when it has a new point, else at least this often (for a live viewer
+that joins while the robot stands still): drawn every second whatever it held, the path of a long
+run was the largest drawing of its log (3.6 kB a simulated second in trap-box)."""
+
+
+def path_entity(points: list[tuple[float, float]], ns: int) -> SceneEntity:
+    """The path driven so far (``/robot/path``, in ``world``), whole in every message, so a viewer
+    that seeks finds all of it in the latest."""
+    return SceneEntity(timestamp=stamp(ns), frame_id="world", id="path", lines=[LinePrimitive(
+        type=LinePrimitiveLineType.LineStrip, thickness=PATH_PIXELS, scale_invariant=True, color=_PATH,
+        points=[Point3(x=x, y=y, z=0.005) for x, y in points])])
+
+
+class PathDrawing:
+    """The path for ``/robot/path``: told of every true position (:meth:`moved`), it keeps one
+    :data:`PATH_STEP` from the last kept; :meth:`due` gives the drawing (to the last position) when
+    a point was kept since the last, or :data:`PATH_EVERY_NS` has passed, else None."""
+
+    def __init__(self, x: float, y: float):
+        self.points = [(x, y)]
+        self.last = (x, y)
+        self._drawn = (0, -PATH_EVERY_NS)  # the points kept when it was last drawn, and when
+
+    def moved(self, x: float, y: float) -> None:
+        self.last = (x, y)
+        kx, ky = self.points[-1]
+        if (x - kx) ** 2 + (y - ky) ** 2 >= PATH_STEP * PATH_STEP:
+            self.points.append((x, y))
+
+    def due(self, ns: int) -> SceneEntity | None:
+        kept, at = self._drawn
+        if len(self.points) == kept and ns - at < PATH_EVERY_NS:
+            return None
+        self._drawn = (len(self.points), ns)
+        return path_entity(self.points if self.last == self.points[-1] else self.points + [self.last], ns)
 
 
 def grown(obstacles, pose: Pose, R: float, ns: int) -> SceneEntity:

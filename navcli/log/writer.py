@@ -25,7 +25,6 @@ advertises the time capability and broadcasts simulation time every tick.
 
 from __future__ import annotations
 
-import fcntl
 import functools
 import json
 import math
@@ -57,13 +56,13 @@ from foxglove.messages import (
     Vector3,
 )
 
-from .. import NavcliError
 from ..params import DRAW_PERIOD, SCENE_REFRESH
 from . import format as fmt
+from .files import Lock, LogPathError, aside_name, check_log_path
 from .format import Bids, MissionSummary, Navigation, Pilot, Vision, encode, json_schema, pilot_message
 from .records import bids_record, navigation_record, vision_record
-from .scenes import CAMERA_AT, FOV, NO_TURN, ROBOT, arena_shapes, cylinder, fan, force_arrows, grown, map_entities, \
-    memory_entities, place, stamp, yaw
+from .scenes import CAMERA_AT, FOV, NO_TURN, ROBOT, PathDrawing, arena_shapes, cylinder, fan, force_arrows, grown, \
+    map_entities, memory_entities, place, region_entities, stamp, support_entities, yaw
 
 if TYPE_CHECKING:
     from foxglove._foxglove_py import BaseChannel
@@ -80,10 +79,10 @@ beyond the compression its bytes need anyway (message indexes, chunk record, wri
 tick at one a second, under 3 % of logging. Flushing every 5 s would save 11 k a tick and risk 5 s;
 never flushing (a chunk then closes at 1 MiB, some 20 simulated seconds here) would save 13 k and
 risk those 20 s. Kept at a second: the rest of logging is far larger (about 0.45 M a tick)."""
-WRITE_OPTIONS = MCAPWriteOptions(compression=MCAPCompression.Lz4, compression_threads=0)
-"""LZ4, in this thread (our design, by measurement): zstd's chunk of a simulated second cost about
-1.1 ms to finish, a tenth of a tick's budget; LZ4 is several times cheaper for logs about half
-again as large, and every MCAP reader (the mcap library, Foxglove) reads it."""
+WRITE_OPTIONS = MCAPWriteOptions(compression=MCAPCompression.Zstd, compression_level=1, compression_threads=0)
+"""zstd at level 1, in this thread (our design, measured in docs/log-format.md, "How large a log is"):
+a quarter to a third fewer bytes than LZ4 for some 0.3 ms more CPU a simulated second (3 % of a
+logged run); levels 3 and 6 save 0-3 % more at 30-40 % more time. Every MCAP reader reads it."""
 SCENE_NS = round(SCENE_REFRESH * 1e9)  # the state topics are republished at least this often
 DRAW_NS = round(DRAW_PERIOD * 1e9)  # the Pilot's decorations in /robot/scene are drawn at most this often
 _LEVEL = {"info": LogLevel.Info, "warning": LogLevel.Warning, "error": LogLevel.Error}
@@ -126,85 +125,6 @@ def schema_of(cls: type) -> foxglove.Schema:
     return foxglove.Schema(name=schema["title"], encoding="jsonschema", data=json.dumps(schema).encode())
 
 
-class LogPathError(NavcliError):
-    """A log path that cannot be written (a folder, not ``.mcap``, being written by another run)."""
-
-
-def check_log_path(path: Path, protect: tuple[str, ...] = ()) -> Path:
-    """``path`` as a log file name, or :class:`LogPathError` saying why not: it must end in
-    ``.mcap``, not be a folder, not be one of ``protect`` (the scenario file), not be an existing
-    file other than a log navcli wrote (a device, a pipe, a user's file: never replaced), and its
-    folder must be creatable and writable. Checked before a mission starts, so a bad ``--out`` costs
-    nothing."""
-    if str(path) in ("", ".") or path.name in ("", ".", ".."):
-        raise LogPathError(f"{str(path)!r} is not a file name")
-    if path.is_dir():
-        raise LogPathError(f"{path} is a folder; give a file name ending in .mcap")
-    if path.suffix != ".mcap":
-        raise LogPathError(f"{path}: a log file name ends in .mcap")
-    for other in protect:
-        if other and path.exists() and Path(other).exists() and path.samefile(other):
-            raise LogPathError(f"{path} is the scenario file itself")
-    if path.exists() or path.is_symlink():  # replaced only if it is a log of navcli's (a regular file)
-        from ..outputs import OutputError, check_file
-
-        try:
-            check_file(path, (".mcap",), "log")
-        except OutputError as e:
-            raise LogPathError(str(e)) from None
-    try:
-        path.parent.mkdir(parents=True, exist_ok=True)
-    except OSError as e:
-        raise LogPathError(f"cannot create the folder {path.parent}: {e.strerror or e}") from None
-    if not os.access(path.parent, os.W_OK | os.X_OK):
-        raise LogPathError(f"cannot write in the folder {path.parent} (permission denied)")
-    if path.exists() and not os.access(path, os.W_OK):
-        raise LogPathError(f"cannot overwrite {path} (permission denied)")
-    return path
-
-
-class Lock:
-    """An exclusive, non-blocking ``flock`` on ``<log>.lock`` for the life of a run; the file is
-    removed on release (re-checked by inode, so a run never holds a lock on a removed file)."""
-
-    def __init__(self, path: Path):
-        self.path = path
-        while True:
-            try:
-                fd = os.open(path, os.O_RDWR | os.O_CREAT, 0o644)
-            except OSError as e:  # a folder the permission bits allow but the file system refuses (/proc)
-                raise LogPathError(f"cannot write the log {path.with_suffix('')}: {e.strerror or e}") from None
-            try:
-                fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-            except OSError:
-                os.close(fd)
-                raise LogPathError(f"{path.with_suffix('')} is being written by another run") from None
-            try:
-                same = os.fstat(fd).st_ino == os.stat(path).st_ino
-            except FileNotFoundError:
-                same = False
-            if same:
-                self.fd: int | None = fd
-                return
-            os.close(fd)  # the file was removed by the run that held it: take the new one
-
-    def release(self) -> None:
-        if self.fd is not None:
-            try:
-                os.unlink(self.path)
-            finally:
-                os.close(self.fd)
-                self.fd = None
-
-
-def _aside(partial: Path) -> Path:
-    """The first free ``<partial>-<n>``: where the ``.partial`` of a killed run is kept."""
-    n = 1
-    while partial.with_name(f"{partial.name}-{n}").exists():
-        n += 1
-    return partial.with_name(f"{partial.name}-{n}")
-
-
 class Recorder:
     """Writes one run to ``path`` (see module docstring). Use :meth:`start`, :meth:`tick` per
     control tick, then :meth:`finish` exactly once, also after an interruption. ``pilot_message``
@@ -219,7 +139,7 @@ class Recorder:
         self.kept_aside: Path | None = None  # where a killed run's .partial was moved
         try:
             if self.partial.exists():
-                self.kept_aside = _aside(self.partial)
+                self.kept_aside = aside_name(self.partial)
                 os.replace(self.partial, self.kept_aside)
             ctx = foxglove.Context()
             self.ctx = ctx  # held for the run: the channels stop logging once their context is collected
@@ -248,8 +168,12 @@ class Recorder:
         self.summary = _json_channel(fmt.SUMMARY_TOPIC, MissionSummary, ctx)
         self.vision = _json_channel(fmt.VISION_TOPIC, Vision, ctx)
         self.memory_scene = SceneUpdateChannel(fmt.MEMORY_SCENE_TOPIC, context=ctx)
+        self.memory_supports = SceneUpdateChannel(fmt.MEMORY_SUPPORTS_TOPIC, context=ctx)
         self.navigation = _json_channel(fmt.NAVIGATION_TOPIC, Navigation, ctx)
         self.map_scene = SceneUpdateChannel(fmt.MAP_SCENE_TOPIC, context=ctx)
+        self.map_regions = SceneUpdateChannel(fmt.MAP_REGIONS_TOPIC, context=ctx)
+        self.robot_path = SceneUpdateChannel(fmt.ROBOT_PATH_TOPIC, context=ctx)
+        self._path = PathDrawing(0.0, 0.0)  # the path driven, begun again at start
         self._closed = False
         self._drawn_ns = -DRAW_NS  # when the Pilot's decorations were last drawn: the first tick draws them
         self._R_min = 0.0
@@ -280,13 +204,15 @@ class Recorder:
         self._body = {"cylinders": [cylinder(0.0, 0.0, r, 0.0, 0.3, ROBOT)],
                       "arrows": [ArrowPrimitive(pose=place(0, 0, z=0.32), shaft_length=r, shaft_diameter=0.04,
                                                 head_length=0.1, head_diameter=0.1, color=ROBOT)]}
+        self._path = PathDrawing(pose.x, pose.y)
         self._state(0)
         self._pose_msgs(pose, odometry, 0, 0.0)
 
     def _state(self, ns: int) -> None:
         """The state a viewer needs at any time, each on a topic of its own and complete in every
-        message: the arena (``/world/scene``), the robot's body (``/robot/body``) and the camera's
-        field of view (``/robot/camera``, in the frame ``camera`` that /tf turns by the pan).
+        message: the arena (``/world/scene``), the robot's body (``/robot/body``), the camera's
+        field of view (``/robot/camera``, in the frame ``camera`` that /tf turns by the pan) and
+        the path driven so far (``/robot/path``, when :class:`~.scenes.PathDrawing` says so).
         Published at the start and every ``SCENE_REFRESH`` s, so a viewer that seeks or joins late
         finds them (a viewer restores the latest message of each topic)."""
         ts = stamp(ns)
@@ -297,6 +223,8 @@ class Recorder:
         self.camera_scene.log(SceneUpdate(entities=[SceneEntity(timestamp=ts, frame_id="camera", id="camera",
                                                                 frame_locked=True, lines=[self._fov] if self._fov else [])]),
                                log_time=ns)
+        if (path := self._path.due(ns)) is not None:
+            self.robot_path.log(SceneUpdate(entities=[path]), log_time=ns)
         self._state_ns = ns
 
     def _pose_msgs(self, truth: Pose, odom: Pose, ns: int, pan: float) -> None:
@@ -316,6 +244,7 @@ class Recorder:
             FrameTransform(timestamp=ts, parent_frame_id="base_link", child_frame_id="camera", translation=CAMERA_AT,
                            rotation=yaw(pan) if pan else NO_TURN)]), log_time=ns)
         self._pan = pan
+        self._path.moved(truth.x, truth.y)
         half = odom.theta / 2
         self.odom.log(PoseInFrame(timestamp=ts, frame_id="world", pose=FxPose(
             position=Vector3(x=odom.x, y=odom.y, z=0.0),
@@ -339,24 +268,28 @@ class Recorder:
             self._state(ns)
         self.vision.log(encode(vision_record(t)), ns)
         if t.memory is not None:
-            self.memory_scene.log(SceneUpdate(deletions=[SceneEntityDeletion(timestamp=stamp(ns), type=SceneEntityDeletionType.All)],
-                                              entities=memory_entities(t.memory, ns)), log_time=ns)
+            self._redraw(self.memory_scene, memory_entities(t.memory, ns), ns)
+            self._redraw(self.memory_supports, support_entities(t.memory, ns), ns)
         if t.navigation is not None:
             self.navigation.log(encode(navigation_record(t)), ns)
             if t.map is not None or t.navigation.diverting != self._diverting_drawn:
                 self._diverting_drawn = t.navigation.diverting
                 if t.map is not None:
                     self._map = t.map
+                    self._redraw(self.map_regions, region_entities(t.map, ns), ns)
                 if self._map is not None:
-                    self.map_scene.log(SceneUpdate(
-                        deletions=[SceneEntityDeletion(timestamp=stamp(ns), type=SceneEntityDeletionType.All)],
-                        entities=map_entities(self._map, t.navigation.target_line if t.navigation.diverting else None,
-                                               ns)), log_time=ns)
+                    self._redraw(self.map_scene, map_entities(
+                        self._map, t.navigation.target_line if t.navigation.diverting else None, ns), ns)
         for e in t.events:
             self.event(e, ns)
         if ns - self._flushed_ns >= FLUSH_EVERY_NS:
             self.writer.flush()
             self._flushed_ns = ns
+
+    def _redraw(self, channel: SceneUpdateChannel, entities: list[SceneEntity], ns: int) -> None:
+        """``entities`` on ``channel``, in place of all it drew before."""
+        deleted = [SceneEntityDeletion(timestamp=stamp(ns), type=SceneEntityDeletionType.All)]
+        channel.log(SceneUpdate(deletions=deleted, entities=entities), log_time=ns)
 
     def _pilot_scene(self, t: Tick, ns: int) -> None:
         """``/robot/scene`` every :data:`DRAW_NS`: the Pilot's force arrows and its grown obstacles

@@ -20,12 +20,17 @@ from ..params import CLUSTERS, NavigationParams, ParamError, Params
 from ..plugins import registry
 from .model import (FIELDS, MAX_ID, MAX_ITEMS, NAME_RE, SUPPORTED_VERSIONS, Arena, CameraSpec, Circle, Landmark,
                     MissionSpec, Noise, Obstacle, RobotSpec, Scenario, Segment, Target)
-from .yaml_reader import MAX_BYTES, Invalid, Reader, ScenarioError, parse_yaml, read_bounded, type_name
+from . import bundled
+from .yaml_reader import MAX_BYTES, Invalid, Problem, Reader, ScenarioError, parse_yaml, read_bounded, type_name
 
 
 def load_scenario(path: str | Path) -> Scenario:
-    """Read and validate a scenario file; raise :class:`ScenarioError` on any refusal."""
-    return parse_scenario(read_bounded(path, MAX_BYTES, "a scenario file", ScenarioError), str(path))
+    """Read and validate a scenario file, or the bundled scenario of that name (a file wins over a
+    name: :mod:`~navcli.scenario.bundled`); raise :class:`ScenarioError` on any refusal."""
+    file = bundled.resolve(path)
+    if not (file.exists() or file.is_symlink()):
+        raise ScenarioError([Problem(str(path), None, "", bundled.not_found(path))])
+    return parse_scenario(read_bounded(file, MAX_BYTES, "a scenario file", ScenarioError), str(file))
 
 
 def parse_scenario(text: str, source: str = "<string>") -> Scenario:

@@ -25,9 +25,11 @@ of everything that decides those trials (the run configuration's ``run_id`` with
 kind, the policy's action table, the run, the starts with their seeds), so a comparison resumes
 where it stopped and never reuses the trials of another configuration.
 
-The table: per run, the successes out of the starts and the means per trial of reward, actions,
-each action and simulated time; per policy, their mean over the runs with a 95 % Student-t
-interval over the runs (mean +- t(0.975, runs - 1) s / sqrt(runs); none with one run).
+The table: per policy, the successes out of the starts (the mean over the runs) with the Wilson
+95 % interval of the success rate over every trial, and the means per trial of reward, actions,
+each action and simulated time with a percentile bootstrap 95 % interval that resamples the
+starts (:func:`policy_table`); with fewer than :data:`~navcli.analysis.stats.MIN_SAMPLE` starts,
+a note says the intervals are too uncertain to trust.
 """
 
 from __future__ import annotations
@@ -280,22 +282,6 @@ def trials_frame(results: list[Result]):
     return pd.DataFrame(rows, columns=cols)
 
 
-def t_interval(values) -> tuple[float, float, float]:
-    """Mean and 95 % Student-t interval of ``values`` (one per run): mean +- t(0.975, n - 1) s /
-    sqrt(n), s the sample standard deviation; the interval is NaN for fewer than two values, and
-    everything is NaN when a value is (a metric the policy does not have)."""
-    from scipy import stats
-
-    x = np.asarray(values, dtype=float)
-    if x.size == 0 or np.isnan(x).any():
-        return math.nan, math.nan, math.nan
-    m = float(x.mean())
-    if x.size < 2:
-        return m, math.nan, math.nan
-    h = float(stats.t.ppf(0.975, x.size - 1) * x.std(ddof=1) / math.sqrt(x.size))
-    return m, m - h, m + h
-
-
 def per_run(trials):
     """One row per (policy, run): successes and the means per trial of the other metrics."""
     t = trials.copy()
@@ -309,19 +295,38 @@ def per_run(trials):
 
 
 def policy_table(trials, about: dict[str, str] | None = None):
-    """Table 1: per policy (in order of appearance), each of :data:`METRICS` as its mean over the
-    runs with a 95 % t-interval (``_lo``, ``_hi``), the runs and the starts."""
+    """Table 1: per policy (in order of appearance), each of :data:`METRICS` with its 95 % interval
+    (``_lo``, ``_hi``), the runs and the starts. ``successes``: per run (the mean over the runs), its
+    interval the Wilson interval of the success rate over every trial, scaled to the starts; the
+    others: means per trial, their intervals a percentile bootstrap that resamples the starts (a
+    start's trials over the runs share it; :mod:`navcli.analysis.stats`). Each stays in its range."""
     import pandas as pd
+
+    from ..analysis.stats import bootstrap_mean, wilson_interval
 
     runs = per_run(trials)
     rows = []
     for policy, g in runs.groupby("policy", sort=False):
+        t = trials[trials["policy"] == policy]
+        starts = int(g["starts"].iloc[0])
         row: dict[str, Any] = {"policy": policy, "about": (about or {}).get(policy, ""), "runs": len(g),
-                               "starts": int(g["starts"].iloc[0])}
-        for m in METRICS:
-            row[m], row[f"{m}_lo"], row[f"{m}_hi"] = t_interval(g[m].to_numpy(dtype=float))
+                               "starts": starts}
+        k, n = int(t["success"].sum()), len(t)
+        lo, hi = wilson_interval(k, n)
+        row["successes"], row["successes_lo"], row["successes_hi"] = (starts * x for x in (k / n, lo, hi))
+        for m in METRICS[1:]:
+            row[m], row[f"{m}_lo"], row[f"{m}_hi"] = bootstrap_mean(t[m].to_numpy(dtype=float), t["start"].to_numpy())
         rows.append(row)
     return pd.DataFrame(rows)
+
+
+def notes(table, scenario: str = "") -> list[str]:
+    """What the table cannot say: too few starts for its intervals (the words of every comparison)."""
+    from ..analysis.stats import small_sample
+
+    starts = int(table["starts"].min()) if len(table) else 0
+    note = small_sample(f"the policies{' on ' + scenario if scenario else ''}", starts, "starts")
+    return [note] if note else []
 
 
 _DIGITS = {"successes": 1, "reward": 1, "actions": 2, "time_s": 1} | {a: 2 for a in ACTIONS}
@@ -344,11 +349,14 @@ def markdown(table, scenario: str = "") -> str:
              "| " + " | ".join(head) + " |", "| --- |" + " ---: |" * (len(head) - 1)]
     for r in table.itertuples():
         lines.append(f"| {r.policy} | " + " | ".join(_cell(r, m) for m in METRICS) + " |")
-    lines += ["", f"Means over {runs} run(s) of the same {starts} starts (a run changes the missions' seeds); "
-                  "in brackets the 95 % Student-t interval over the runs"
-                  + (" (none with one run)" if runs < 2 else "") + ". Reward, actions and the count of each "
-                  "action are per trial, failures included; n/a: the policy chooses no actions.", ""]
+    lines += ["", f"{runs} run(s) of the same {starts} starts (a run changes the missions' seeds). Successes per run, "
+                  "in brackets the Wilson 95 % interval of the success rate over every trial, in starts; reward, "
+                  "actions, the count of each action and time are means per trial, failures included, in brackets a "
+                  "bootstrap 95 % interval that resamples the starts; n/a: the policy chooses no actions.", ""]
     lines += [f"- {r.policy}: {r.about}" for r in table.itertuples() if r.about] + [""]
+    remarks = notes(table, scenario)
+    if remarks:
+        lines += ["Notes:", ""] + [f"- {n}" for n in remarks] + [""]
     return "\n".join(lines)
 
 

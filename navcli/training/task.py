@@ -117,6 +117,7 @@ class NavigationTask:
         self.params = base.params.learning
         self.mission: Mission | None = None
         self.recorder = None  # the trial's log, when reset was given one
+        self.observers: list[Observer] = []  # told of every tick of every trial, after the log (the env's drawing)
         self.actions = 0
         self.outcome: str | None = None
         self.terminal = False  # the last step ended the trial in an end state (the target, or blocked in the paper's task)
@@ -140,7 +141,7 @@ class NavigationTask:
         return agent.state if agent.state is not None else 0
 
     def _observers(self) -> tuple[Observer, ...]:
-        return (recording(self.recorder),) if self.recorder is not None else ()
+        return ((recording(self.recorder),) if self.recorder is not None else ()) + tuple(self.observers)
 
     def close(self, outcome: str = "interrupted", reason: str = "stopped") -> None:
         """Close the trial's log, if one is open, ending its mission as ``outcome`` if it runs on."""
