@@ -85,19 +85,23 @@ class RunSpec:
     def build(cls, scenario: Scenario, *, seed: int | None = None, pilot: str | None = None,
               perception: str | None = None, time_limit: float | None = None,
               overrides: Mapping[str, Any] | None = None, navigation: str | None = None,
-              also: Iterable[str] = ()) -> RunSpec:
+              also: Iterable[str] = (), preset: Mapping[str, Any] | None = None) -> RunSpec:
         """The scenario's own choices, with any of them replaced, and ``overrides`` (dotted
         parameter names, ``{"pilot.K": 30}``) applied on top of the scenario's parameters. A
         plugin's parameters (``vfh.threshold``) may be overridden when the run uses it, or when it
-        is one of the pilots named in ``also`` (a comparison's other pilots)."""
+        is one of the pilots named in ``also`` (a comparison's other pilots). A ``preset`` (parameter
+        values a named condition sets, the learning paper's task) lies under both: it sets what
+        neither the scenario file (:attr:`~navcli.scenario.Scenario.given`) nor ``overrides`` gives,
+        so the user's word is heard whatever its value."""
         m = scenario.mission
         pilot = pilot or m.pilot
         navigation = navigation or BUILTIN_POLICIES[0]
         params = registry.with_params(scenario.params, (registry.pilot(pilot),) + registry.navigation(navigation)
                                       + tuple(map(registry.pilot, also)))
+        under = {k: v for k, v in (preset or {}).items() if k not in scenario.given and k not in (overrides or {})}
         return cls(scenario, m.seed if seed is None else seed, pilot, perception or m.perception,
-                   float(m.time_limit if time_limit is None else time_limit), params.override(overrides or {}),
-                   navigation)
+                   float(m.time_limit if time_limit is None else time_limit),
+                   params.override(under).override(overrides or {}), navigation)
 
     def replace(self, **changes: Any) -> RunSpec:
         """A copy with some fields changed (``seed=2``, ``pilot="geometric"``)."""

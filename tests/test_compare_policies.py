@@ -12,12 +12,11 @@ from typer.testing import CliRunner
 from conftest import SCENARIOS
 from navcli.analysis.stats import wilson_interval
 from navcli.cli import app
-from navcli.config import RunSpec
 from navcli.learning import model_file
 from navcli.training import comparison
 from navcli.learning.actions import ACTIONS, MB, MLL, MVT, REWARDS
 from navcli.learning.q_learning import QLearning
-from navcli.training.task import NavigationTask, random_starts
+from navcli.training.task import NavigationTask, random_starts, task_spec
 from navcli.training.trainer import EVAL_SEED, evaluate
 from navcli.scenario import load_scenario
 
@@ -109,8 +108,8 @@ def test_the_table_is_the_mean_over_runs_of_the_per_trial_records(compared, alwa
 def test_every_policy_runs_the_evaluation_starts_and_run_0_is_the_evaluation(compared):
     out, _, _ = compared
     recs = records(out)
-    spec = RunSpec.build(load_scenario(ROOM), overrides={"learning.max_actions": 4})
-    starts = random_starts(spec.scenario, 3, EVAL_SEED, spec.params.robot.radius)
+    spec = task_spec(load_scenario(ROOM), {"learning.max_actions": 4})
+    starts = random_starts(spec, 3, EVAL_SEED)
     place = lambda trials: [(t["x"], t["y"], t["heading"]) for t in trials]  # noqa: E731
     seeds = lambda trials: [t["seed"] for t in trials]  # noqa: E731
     for trials in recs.values():
@@ -135,7 +134,7 @@ def test_a_comparison_resumes_and_reruns_only_what_is_missing_or_changed(compare
     assert r.exit_code == 0 and "(1 run now, 5 kept)" in r.output
     assert (out / "policies.csv").read_text() == before  # the same configuration gives the same trials
     # another parameter is another configuration: new keys, nothing reused
-    spec = RunSpec.build(load_scenario(ROOM), overrides={"learning.max_actions": 4})
+    spec = task_spec(load_scenario(ROOM), {"learning.max_actions": 4})
     other = spec.replace(params=spec.params.override({"learning.max_actions": 5}))
     hc = comparison.parse_policy("hand-coded")
     assert {j.key for j in comparison.plan(spec, [hc], 2, 3, out)}.isdisjoint(
@@ -143,7 +142,7 @@ def test_a_comparison_resumes_and_reruns_only_what_is_missing_or_changed(compare
 
 
 def test_the_agents_row(tmp_path):
-    spec = RunSpec.build(load_scenario(ROOM), overrides={"learning.max_actions": 3})
+    spec = task_spec(load_scenario(ROOM), {"learning.max_actions": 3})
     job = comparison.plan(spec, [comparison.parse_policy("agents")], 1, 1, tmp_path)[0]
     (t,) = comparison.run_trials(job)
     task = NavigationTask(spec)
@@ -160,7 +159,7 @@ def test_the_tables_intervals_stay_in_range_and_warn_of_few_starts(tmp_path):
     interval of 1/4 in starts (of 2), never below 0 as a t-interval over two runs (0 and 1
     successes) would go; a mean per trial runs from the lower start's mean to the higher's; with 2
     starts the notes say the intervals are too uncertain."""
-    spec = RunSpec.build(load_scenario(ROOM), overrides={"learning.max_actions": 4})
+    spec = task_spec(load_scenario(ROOM), {"learning.max_actions": 4})
     hc = comparison.parse_policy("hand-coded")
     jobs = comparison.plan(spec, [hc], 2, 2, tmp_path)
     assert [j.run for j in jobs] == [0, 1]

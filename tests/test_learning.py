@@ -352,13 +352,13 @@ def test_training_records_each_trial_and_resumes_where_the_model_was_saved(tmp_p
     import csv
 
     from navcli.analysis import read_log
-    from navcli import RunSpec, load_scenario
+    from navcli import load_scenario
     from navcli.learning.actions import ACTIONS, reward_of
-    from navcli.training.task import random_starts
+    from navcli.training.task import random_starts, task_spec
     from navcli.training.trainer import train, trials_paths
 
     sc = load_scenario(SCENARIOS / "landmarks-12.yaml")
-    spec = RunSpec.build(sc, overrides={"learning.max_actions": 4})  # short trials: most end at 4 actions
+    spec = task_spec(sc, {"learning.max_actions": 4})  # short trials: most end at 4 actions
     out = tmp_path / "m.npz"
     first = train(spec, trials=3, eval_every=2, eval_starts=2, seed=7, out=out, workers=1, log="full")
     csv_path, logs = trials_paths(out)
@@ -375,7 +375,7 @@ def test_training_records_each_trial_and_resumes_where_the_model_was_saved(tmp_p
         s = log.summary
         assert s["outcome"] == r["outcome"] and s["navigation"] == "learned" and s["learning.actions"] == int(r["actions"])
         assert len(log["/robot/pose"]) == s["ticks"] + 1
-    start = random_starts(sc, 1, np.random.SeedSequence([7, 1]).generate_state(1)[0], spec.params.robot.radius)[0]
+    start = random_starts(spec, 1, np.random.SeedSequence([7, 1]).generate_state(1)[0])[0]
     assert (float(rows[1]["x"]), float(rows[1]["y"]), int(rows[1]["seed"])) == (round(start.x, 3), round(start.y, 3),
                                                                                start.seed)
     again = train(spec, trials=5, eval_every=2, eval_starts=2, out=out, resume=out, workers=1)  # 5 in all

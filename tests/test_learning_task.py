@@ -16,7 +16,7 @@ from navcli.fuzzy import ALPHAS, FuzzyPoint
 from navcli.geometry import Pose
 from navcli.training.comparison import PolicyError, parse_policy
 from navcli.learning.features import N_STATES
-from navcli.training.task import PAPER_TASK, NavigationTask, Start, task_spec
+from navcli.training.task import PAPER_TASK, NavigationTask, Start, random_starts, task_spec
 from navcli.mission import Mission
 from navcli.navigation.rescuer import Rescuer
 from navcli.navigation.situation import Situation
@@ -35,18 +35,30 @@ def landmark_room(make_scenario, **over):
 
 
 # -- the preset --------------------------------------------------------------------------------
-def test_the_paper_task_sets_its_conditions_unless_given_others():
-    spec = RunSpec.build(load_scenario(ROOM))
-    task = task_spec(spec)
+def test_the_paper_task_is_a_preset_under_the_users_word(write_scenario):
+    """The paper's conditions lie under the scenario's values and the command line's: each is set
+    unless the user gives that parameter, whatever the value given (a default value included:
+    before, --param vision.told_target=1 was silently replaced by the task's 0)."""
+    sc = load_scenario(ROOM)
+    task = task_spec(sc)
     flat = task.params.flat()
     assert all(flat[k] == v for k, v in PAPER_TASK.items())
-    assert spec.params.flat()["vision.told_target"] == 1  # the spec itself is left alone
-    mine = task_spec(RunSpec.build(load_scenario(ROOM), overrides={"pilot.looks": 1, "vision.told_target": 1}))
-    assert mine.params.vision.told_target == 0  # 1 is the default: the task sets it all the same
-    strict = task_spec(RunSpec.build(load_scenario(ROOM), overrides={"navigation.reach_imprecision": 0.04}))
-    assert strict.params.navigation.reach_imprecision == 0.04 and strict.params.navigation.reach_confident == 1
-    first = RunSpec.build(load_scenario(ROOM), overrides={"learning.paper_task": 0})
-    assert task_spec(first) is first  # navcli's first task: nothing set
+    assert RunSpec.build(sc).params.vision.told_target  # a plain run: no preset
+    for name, default in (("vision.told_target", True), ("navigation.reach_confident", False), ("pilot.looks", True)):
+        mine = task_spec(sc, {name: default})  # the user's value, navcli's default: heard
+        assert mine.params.flat()[name] == default
+        assert all(mine.params.flat()[k] == v for k, v in PAPER_TASK.items() if k != name)  # the others still set
+    strict = task_spec(sc, {"navigation.reach_imprecision": 0.04})
+    assert strict.params.navigation.reach_imprecision == 0.04 and strict.params.navigation.reach_confident
+    first = task_spec(sc, {"learning.paper_task": False})
+    assert first.params == RunSpec.build(sc).params.override({"learning.paper_task": False})  # navcli's first task
+    # a scenario file's own value is the user's word too
+    import yaml
+
+    d = yaml.safe_load(ROOM.read_text())
+    d["navigation"] = {"blocked_ends": False}
+    from_file = task_spec(load_scenario(write_scenario(d)))
+    assert not from_file.params.navigation.blocked_ends and not from_file.params.vision.told_target
     assert Params().learning.gamma == 1.0  # the paper's objective: the total reward
 
 
@@ -120,6 +132,69 @@ def test_with_blocked_ends_the_first_blocked_situation_ends_the_mission():
     assert out.give_up is None and asked == [None]
 
 
+def test_in_the_paper_task_bumps_end_a_trial_even_while_the_target_is_lost():
+    """ "The robot can be blocked by the landmarks or by the wall": with the target lost (no aim),
+    blocked_bumps bumps within the window end the paper's trial; before, blocked needed a known
+    target. The control (the full system) never calls a robot blocked without an aim."""
+    def run(params):
+        r = Rescuer(params, np.random.default_rng(0))
+        for k in range(params.blocked_bumps):
+            b = Beliefs(k * 1.0, Pose(0, 0, 0), None, None, (), 2 * math.pi, None, (Bump(k * 1.0, "wall", (0.3, 0.0), 0.0),))
+            out = r.decide(Situation(b, None, None, "memory", 1.0), lambda f: None)
+        return out
+
+    assert run(replace(NAVIGATION, initial_sweep=0, rescuer_looks=0, blocked_ends=1)).give_up == "3 bumps"
+    assert run(replace(NAVIGATION, initial_sweep=0, rescuer_looks=0)).give_up is None
+
+
+# -- where trials start, and what the robot is given ---------------------------------------------
+def test_the_paper_tasks_starts_see_the_target_and_navclis_first_task_starts_anywhere():
+    """ "The target is visible from the robot's initial location": in range, nothing in the way.
+    In landmarks-hall (a hall whose landmarks hide the target from much of the floor) navcli's
+    first task starts where the target is hidden too."""
+    from navcli.training.task import target_in_view
+
+    sc = load_scenario(SCENARIOS / "landmarks-hall.yaml")
+    paper = random_starts(task_spec(sc), 60, 1)
+    assert all(target_in_view(sc, (st.x, st.y)) for st in paper)
+    first = random_starts(task_spec(sc, {"learning.paper_task": False}), 60, 1)
+    assert not all(target_in_view(sc, (st.x, st.y)) for st in first)
+    far = (sc.target.point[0] + sc.camera.range + 0.5, sc.target.point[1])
+    assert not target_in_view(sc, far) or far[0] > sc.arena.width  # beyond the camera's range: never in view
+
+
+@pytest.mark.parametrize("given", [False, True])
+def test_the_first_sighting_is_given_only_when_said(given):
+    sc = load_scenario(ROOM)
+    spec = task_spec(sc, {"learning.first_sighting": given})
+    start = random_starts(spec, 1, 4)[0]
+    task = NavigationTask(spec)
+    task.reset(start)
+    assert (sc.target.landmark in task.mission.perception.memory.items) == given
+
+
+def test_a_told_target_is_told_under_the_paper_task_when_the_user_says_so():
+    """--param vision.told_target=1 under the paper's task: the robot is told the target (before,
+    the task set it back to 0, the value differing from navcli's default of 1 being the test)."""
+    sc = load_scenario(ROOM)
+    task = NavigationTask(task_spec(sc, {"vision.told_target": True}))
+    task.reset(random_starts(task.base, 1, 4)[0])
+    assert task.mission.perception.memory.items["target"].prior  # told: never forgotten
+    untold = NavigationTask(task_spec(sc))
+    untold.reset(random_starts(untold.base, 1, 4)[0])
+    assert "target" not in untold.mission.perception.memory.items
+
+
+def test_the_random_policy_is_seeded_by_each_trials_start():
+    from navcli.training.trainer import random_policy
+
+    a, b, c = (random_policy(Start(1.0, 1.0, 0.0, seed)) for seed in (5, 5, 6))
+    draws = [[f(0) for _ in range(30)] for f in (a, b, c)]
+    assert draws[0] == draws[1] != draws[2] and set(draws[0]) == set(range(5))
+    p = parse_policy("random")
+    assert p.kind == "random" and p.table is None
+
+
 # -- success only when confident -----------------------------------------------------------------
 def test_reached_only_when_the_belief_too_is_within_reach(make_scenario):
     """Landmark T's reach is 0.3 + 0.15 + 0.25 = 0.7 m. The body at 0.6 m: a belief 0.5 m away
@@ -138,20 +213,21 @@ def test_reached_only_when_the_belief_too_is_within_reach(make_scenario):
     assert not strict._confident(near)
 
 
-def test_a_trial_that_ends_blocked_is_terminal_in_the_paper_task_only(make_scenario):
-    """The paper's trial "terminates ... if the robot is blocked": the learner hears a terminal
-    step (value 0, as the target's); in navcli's first task the same ending is a cut, not
-    terminal. (The mission is ended blocked by hand here; the Rescuer's own ending is tested
-    above.)"""
+def test_a_blocked_ending_ends_the_trial_and_is_a_cut_for_the_learner_unless_said_otherwise(make_scenario):
+    """The paper's trial "terminates ... if the robot is blocked"; what that ending is worth to the
+    learner the paper does not say: reaching the target is the only end state of value 0, and a
+    blocked ending is a cut (the learner hears no terminal step), as at the 500-action limit;
+    ``learning.blocked_terminal`` makes it an end state of value 0 (navcli before). (The mission is
+    ended blocked by hand here; the Rescuer's own ending is tested above.)"""
     sc = landmark_room(make_scenario)
-    for paper in (1, 0):
-        task = NavigationTask(RunSpec.build(sc, overrides={"learning.paper_task": paper}))
+    for terminal in (False, True):
+        task = NavigationTask(task_spec(sc, {"learning.blocked_terminal": terminal}))
         task.reset(Start(1.0, 1.0, 0.0, 3))
         task.step(0)
         assert task.outcome is None and task.terminal is False
         task.mission._end("blocked", "blocked after 2.0 s: no progress toward the target")
         _, _, reached, ended = task.step(0)
-        assert not reached and ended and task.outcome == "blocked" and task.terminal is bool(paper)
+        assert not reached and ended and task.outcome == "blocked" and task.terminal is terminal
 
 
 # -- baselines -----------------------------------------------------------------------------------

@@ -26,9 +26,10 @@ SHORT = {"learning.max_actions": 4}  # short trials (each well under 0.1 s)
 
 @pytest.fixture(scope="module")
 def spec():
-    from navcli import RunSpec, load_scenario
+    from navcli import load_scenario
+    from navcli.training.task import task_spec
 
-    return RunSpec.build(load_scenario(SCENARIOS / "landmarks-12.yaml"), overrides=SHORT)
+    return task_spec(load_scenario(SCENARIOS / "landmarks-12.yaml"), SHORT)
 
 
 def _train(spec, out: Path, **kw):
@@ -231,10 +232,11 @@ def test_the_command_stops_cleanly_on_sigterm_and_ctrl_c_and_resumes(tmp_path, h
                        text=True, env=env, timeout=120)
     assert r.returncode == 0, r.stderr
     ref = tmp_path / "ref.npz"  # the same training uninterrupted, in this process
-    from navcli import RunSpec, load_scenario
+    from navcli import load_scenario
+    from navcli.training.task import task_spec
     from navcli.training.trainer import train
 
-    train(RunSpec.build(load_scenario(SCENARIOS / "landmarks-12.yaml"), overrides={"learning.max_actions": 40}),
+    train(task_spec(load_scenario(SCENARIOS / "landmarks-12.yaml"), {"learning.max_actions": 40}),
           trials=CLI_TRIALS,
           eval_every=CLI_EVERY, eval_starts=STARTS, seed=SEED, out=ref, workers=1)
     a, meta = _model(out)

@@ -112,10 +112,11 @@ def load(path: Path) -> Scenario:
     return load_scenario(path)
 
 
-def build_spec(path: Path, params: list[str] | None = None, **choices: Any) -> RunSpec:
+def build_spec(path: Path, params: list[str] | None = None, task: bool = False, **choices: Any) -> RunSpec:
     """The run configuration of a scenario file with the command line's choices (``seed``,
     ``pilot``, ``perception``, ``time_limit``, ``navigation``; None keeps the scenario's; ``also``,
-    other pilots whose parameters ``--param`` may set) and ``--param`` overrides."""
+    other pilots whose parameters ``--param`` may set) and ``--param`` overrides; ``task``: a run
+    of the Learning Agent's task, whose conditions lie under them (``training.task.task_spec``)."""
     from ..config import RunSpec
     from ..params import ParamError, parse_override
 
@@ -127,6 +128,10 @@ def build_spec(path: Path, params: list[str] | None = None, **choices: Any) -> R
         if twice:
             raise ParamError(f"{', '.join(twice)} given twice: which value is meant?")
         overrides = dict(pairs)
+        if task:
+            from ..training.task import task_spec
+
+            return task_spec(sc, overrides, **choices)
         return RunSpec.build(sc, overrides=overrides, **choices)
 
 

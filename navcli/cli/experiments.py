@@ -94,9 +94,9 @@ def compare_policies(
     scenario: Annotated[Path, typer.Argument(metavar="SCENARIO", help=SCENARIO_HELP + " (the paper's setting: landmarks-12).")],
     policy: Annotated[Optional[list[str]], typer.Option(
         "--policy", metavar="POLICY", help="learned (the bundled model), learned:FILE (a model of `navcli train`, Prioritized Sweeping "
-                         "or Q-learning), hand-coded, agents, a baseline of one action in every state (all-MB, all-MLL, all-MOT, "
-                         "all-MVL, all-MVT), or a Navigation policy plugin (its name, module:Class, or agents+NAME: run as "
-                         "agents is); repeatable (default: learned, hand-coded, agents). Every policy runs the "
+                         "or Q-learning), hand-coded, agents, random (a uniform random action at every choice, seeded), a baseline "
+                         "of one action in every state (all-MB, all-MLL, all-MOT, all-MVL, all-MVT), or a Navigation policy plugin (its name, module:Class, or agents+NAME: run as "
+                         "agents is); repeatable (default: learned, hand-coded, random, agents). Every policy runs the "
                          "learning paper's task (learning.paper_task=0: navcli's first one).")] = None,
     runs: Annotated[int, typer.Option(min=1, max=1000, help="Runs (seeds of the missions' noise) per policy.")] = 5,
     starts: Annotated[int, typer.Option(min=1, max=10_000, help="Fixed random starts per run, those `navcli train` evaluates on "
@@ -111,7 +111,7 @@ def compare_policies(
     actions and the count of each action per trial, with 95 % intervals (Wilson for successes, a
     bootstrap over the starts for the rest; too few starts are said).
     Runs already done are kept (an interrupted comparison resumes)."""
-    spec = build_spec(scenario, param)
+    spec = build_spec(scenario, param, task=True)
     from ..training.comparison import DEFAULT_POLICIES, PolicyError, parse_policy, plan, run_all, write_table
     from ..learning.features import check_bounds
 

@@ -46,7 +46,7 @@ def train(
         raise refuse(f"--algorithm: unknown {algorithm!r} (expected one of: {', '.join(ALGORITHMS)})")
     if log not in LOGS:
         raise refuse(f"--log: unknown {log!r} (expected one of: {', '.join(LOGS)})")
-    spec = build_spec(scenario, param)
+    spec = build_spec(scenario, param, task=True)
     from ..learning.features import check_bounds
     from ..learning.model_file import check_out, curve_paths, load, trials_paths
     from ..training.trainer import train as run_training
@@ -87,7 +87,7 @@ def train(
     typer.echo("trials  successes/{}  reward/trial  actions/trial".format(eval_starts))
     for p in res.curve:
         typer.echo(f"{p.trials:6d}  {p.successes:12d}  {p.reward:12.1f}  {p.actions:13.1f}")
-    typer.echo(f"hand-coded policy: {res.hand_coded}/{eval_starts}")
+    typer.echo(f"hand-coded policy: {res.hand_coded}/{eval_starts}; uniform random policy: {res.random}/{eval_starts}")
     trials_csv, trial_logs = trials_paths(out)
     curve_csv, curve_png = curve_paths(out)
     typer.echo(f"wrote {out}, {out.with_suffix('.json')}, {curve_csv}, {curve_png}, {trials_csv}"

@@ -26,7 +26,7 @@ from ..config import RunSpec
 from ..learning.actions import ACTIONS
 from ..learning.features import N_STATES
 from ..scenario import bundled
-from ..training.task import NavigationTask, random_starts
+from ..training.task import NavigationTask, random_starts, task_spec
 
 DEFAULT_SCENARIO = bundled.path("landmarks-12")
 """The paper's room, shipped inside the package (``scenarios/`` of the repository links there)."""
@@ -51,7 +51,7 @@ class LandmarkNavigationEnv(gym.Env):
         else:
             from ..scenario import load_scenario
 
-            spec = RunSpec.build(load_scenario(scenario or DEFAULT_SCENARIO), overrides=overrides)
+            spec = task_spec(load_scenario(scenario or DEFAULT_SCENARIO), overrides)
         self.run_spec = spec
         self.task = NavigationTask(spec)
         self.observation_space = gym.spaces.Discrete(N_STATES)
@@ -65,8 +65,7 @@ class LandmarkNavigationEnv(gym.Env):
 
     def reset(self, *, seed: int | None = None, options: dict | None = None):
         super().reset(seed=seed)
-        start = random_starts(self.run_spec.scenario, 1, int(self.np_random.integers(2 ** 31)),
-                              self.run_spec.params.robot.radius)[0]
+        start = random_starts(self.run_spec, 1, int(self.np_random.integers(2 ** 31)))[0]
         if self.render_mode is not None:
             self._close_figure()
             self._trace = _Trace(start.x, start.y, start.heading)

@@ -302,10 +302,10 @@ def traps(report: Report, s: Settings, out: Path, ex, pilots: tuple[str, ...] = 
 
 def policies(report: Report, s: Settings, out: Path, ex) -> None:
     """The learning paper's Table 1: the bundled model, the hand-coded policy, the bidding agents."""
-    from ..config import RunSpec
+    from ..training.task import task_spec
     from ..training.comparison import notes, parse_policy, plan, policy_table, run_all, trials_frame
 
-    spec = RunSpec.build(_scenario("landmarks-12"))
+    spec = task_spec(_scenario("landmarks-12"))
     chosen = [parse_policy(p) for p in ("learned", "hand-coded", "agents")]
     (out / "runs").mkdir(parents=True, exist_ok=True)
     results = run_all(plan(spec, chosen, s.policy_runs, s.policy_starts, out), ex)
@@ -342,13 +342,13 @@ def policies(report: Report, s: Settings, out: Path, ex) -> None:
 
 def figure3(report: Report, s: Settings, out: Path, jobs: int) -> None:
     """The learning paper's Figure 3: a training's learning curve."""
-    from ..config import RunSpec
+    from ..training.task import task_spec
     from ..learning import model_file
     from ..learning.model_file import curve_paths
     from ..training.trainer import train
 
     model = out / f"model-{s.train_trials}-every{s.eval_every}-on{s.eval_starts}.npz"  # one per size: resumed only by it
-    spec = RunSpec.build(_scenario("landmarks-12"))
+    spec = task_spec(_scenario("landmarks-12"))
     have = int(model_file.load(model)[1].get("trials", 0)) if model.exists() else 0
     if have < s.train_trials:
         res = train(spec, trials=s.train_trials, eval_every=s.eval_every, eval_starts=s.eval_starts, out=model,

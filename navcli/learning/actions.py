@@ -23,8 +23,8 @@ turns back ("paces"). Each look runs the routine its purpose names (section 5.3:
 for new landmarks or re-acquire already-detected landmarks, but it is not able to do both things
 at the same time"; :mod:`navcli.vision.routines`): MLL a search (new landmarks only), MVL a
 re-acquisition of the known landmarks (not the target), MVT and MOT a re-acquisition of the
-target (nothing else); MB takes no image. Looks are clipped to the pan unit's limit; a
-sector the camera cannot reach (behind) is not chosen by MLL and MVL.
+target (nothing else); MB takes no image. Looks are clipped to the pan unit's limit; MLL and MVL choose among the sectors the camera can see
+any of (:func:`reachable`): with the 100 degree pan limit, the five but the one behind.
 """
 
 from __future__ import annotations
@@ -59,18 +59,36 @@ def target_bearing(s: Situation) -> float:
     return math.pi if b is None else b
 
 
+SECTOR_HALF = math.pi / 6  # a sector is 60 degrees wide, the camera's field of view (section 5.2)
+
+
+def reachable(pan_limit: float) -> list[int]:
+    """The sectors the camera can see any of: those whose near edge lies within the view at the pan
+    limit, ``pan_limit`` plus half the view (60 degrees, one sector). With the pan unit's 100
+    degrees, five of six: the sectors at +-120 degrees only in part (the view reaches 130), the
+    one behind not at all.
+
+    >>> [round(math.degrees(SECTORS[i])) for i in reachable(math.radians(100))]
+    [0, 60, -60, 120, -120]
+    """
+    return [i for i, c in enumerate(SECTORS) if abs(c) - SECTOR_HALF < pan_limit + SECTOR_HALF - 1e-9]
+
+
 def least_known_sector(s: Situation, pan_limit: float, target_key: str | None = None) -> float:
-    """The centre (rad) of the reachable sector with the fewest known landmarks (nearest ahead on a tie)."""
+    """The centre (rad) of the sector the camera can see (:func:`reachable`) with the fewest known
+    landmarks (nearest ahead on a tie); a look there is clipped at the pan limit."""
     per = sectors(landmarks_of(s, target_key))
-    reach = [i for i, c in enumerate(SECTORS) if abs(c) <= pan_limit + 1e-9]
+    reach = reachable(pan_limit)
     return SECTORS[min(reach, key=lambda i: (min(BEST, len(per[i])), abs(SECTORS[i])))]
 
 
 def most_imprecise_sector(s: Situation, pan_limit: float, target_key: str | None = None) -> float:
-    """The centre (rad) of the reachable sector, among those with known landmarks, whose I-bar(s)
-    is highest; straight ahead when none is known there."""
+    """The centre (rad) of the sector the camera can see (:func:`reachable`), among those with known
+    landmarks, whose I-bar(s) is highest ("the sector with the maximum imprecision": a sector with
+    no known landmark has none to re-acquire); straight ahead when no such sector holds one (our
+    choice: an MVL then re-acquires nothing, and pays its cost)."""
     per = sectors(landmarks_of(s, target_key))
-    reach = [i for i, c in enumerate(SECTORS) if abs(c) <= pan_limit + 1e-9 and per[i]]
+    reach = [i for i in reachable(pan_limit) if per[i]]
     if not reach:
         return 0.0
     return SECTORS[max(reach, key=lambda i: (sector_imprecision(per[i]), -abs(SECTORS[i])))]

@@ -424,17 +424,26 @@ class Rescuer:
         it, or a diverting target held too long."""
         p = self.params
         aim = s.aim if line is None else midpoint(*line)
-        if aim is None:
-            return None
+        if aim is None:  # the learning paper's task: "blocked by the landmarks or by the wall", known target or not
+            return self._stuck(s) if p.blocked_ends else None
         d = math.hypot(*aim)
         if d < self._progress_best - p.blocked_progress:
             self._progress_best, self._progress_since = d, s.time
-        if s.beliefs.pilot_blocked is not None:
-            return f"the Pilot reports {s.beliefs.pilot_blocked} ahead, which it cannot easily avoid"
+        held = self._stuck(s)
+        if held is not None and s.beliefs.pilot_blocked is not None:
+            return held  # (the Pilot's report first, then the windows, then the bumps)
         if self._crossing is not None and s.time - self._crossing_since > self.timeout_s:
             return "the diverting target was not crossed in time"
         if s.time - self._progress_since > self.window_s:
             return "no progress toward the target"
-        if len(self._bumps) >= p.blocked_bumps:
+        return held
+
+    def _stuck(self, s: Situation) -> str | None:
+        """Why the robot is held where it is, whatever its target: the Pilot reports a long
+        obstacle ahead it cannot easily avoid, or it hit something ``blocked_bumps`` times within
+        the blocked window."""
+        if s.beliefs.pilot_blocked is not None:
+            return f"the Pilot reports {s.beliefs.pilot_blocked} ahead, which it cannot easily avoid"
+        if len(self._bumps) >= self.params.blocked_bumps:
             return f"{len(self._bumps)} bumps"
         return None

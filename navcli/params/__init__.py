@@ -327,6 +327,10 @@ class LearningParams(ParamSet):
     q_epsilon: float = param(0.1, "", "Q-learning's exploration rate", at_most=1.0)
     paper_task: bool = param(True, "", "train, compare policies and the env run the paper's task (training/task.py); "
                                        "off: navcli's first task")
+    first_sighting: bool = param(False, "", "the paper's task: the robot starts with the image of the target a look "
+                                            "from its start would give; off: it knows nothing (section 5.1)")
+    blocked_terminal: bool = param(False, "", "a blocked ending is an end state of value 0 for the learner (navcli "
+                                              "before); off: a cut, as at max_actions (training/task.py)")
 
 
 ROBOT = RobotParams()

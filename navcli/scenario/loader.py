@@ -43,6 +43,8 @@ def parse_scenario(text: str, source: str = "<string>") -> Scenario:
 class ScenarioReader(Reader):
     """The typed reader of a scenario: the generic getters, and one method per block of the format."""
 
+    named_navigation: frozenset[str] = frozenset()  # the navigation parameters the file names (not through a cluster)
+
     def ident(self, v: Any, path: tuple) -> str:
         """A landmark id: text or a whole number, printable, at most MAX_ID characters."""
         if isinstance(v, bool) or not isinstance(v, (str, int)):
@@ -103,13 +105,16 @@ class ScenarioReader(Reader):
         if self.problems:
             raise ScenarioError(self.problems)
         params = Params().override(robot_params | pilot_params | nav_params)
+        defaults = Params().flat()  # a cluster sets every bidding parameter: those it leaves at navcli's are not the file's
+        named = set(robot_params) | set(pilot_params) | self.named_navigation
+        given = frozenset(k for k, v in (robot_params | pilot_params | nav_params).items() if k in named or defaults[k] != v)
         sc = Scenario(version, name, description, arena, robot, target, obstacles, landmarks,
                       mission, noise, camera, params)
         self.placement(sc)
         if self.problems:
             raise ScenarioError(self.problems)
         return Scenario(version, name, description, arena, robot, target, obstacles, landmarks,
-                        mission, noise, camera, params, source=self.source, text=text)
+                        mission, noise, camera, params, source=self.source, text=text, given=given)
 
     def version(self, v: Any) -> int:
         if isinstance(v, bool) or not isinstance(v, int):
@@ -246,6 +251,7 @@ class ScenarioReader(Reader):
         P = ("navigation",)
         decls = {k: d for k, d, _ in NavigationParams.declarations() if d.kind not in ("numbers", "intervals")}
         m = self.mapping(v, P, (), ("cluster",) + tuple(decls))
+        self.named_navigation = frozenset(f"navigation.{k}" for k in decls if k in m)
         out: dict[str, Any] = {}
         if "cluster" in m:
             c = self.text(m["cluster"], P + ("cluster",))

@@ -273,6 +273,7 @@ class Scenario:
     camera: CameraSpec
     params: Params  # the defaults with the file's robot (radius, max_speed) and pilot blocks applied
     source: str = ""  # the file it came from
+    given: frozenset[str] = frozenset()  # the parameters the file sets itself (its blocks; a cluster's differences)
     text: str = field(default="", repr=False)  # the YAML itself, attached to every log
 
     @property

@@ -48,11 +48,11 @@ from .. import NavcliError
 from ..analysis.files import file_name, write_csv, write_markdown
 from ..config import RunSpec
 from ..learning.actions import ACTIONS
-from .task import Start, random_starts, spec_at, task_spec
+from .task import Start, random_starts, spec_at
 
 CONSTANT = tuple(f"all-{a}" for a in ACTIONS)  # one action in every state: the baselines all-MB, all-MLL ...
 POLICY_KINDS = ("learned", "hand-coded", "agents", "plugin") + CONSTANT
-DEFAULT_POLICIES = ("learned", "hand-coded", "agents")
+DEFAULT_POLICIES = ("learned", "hand-coded", "random", "agents")
 METRICS = ("successes", "reward", "actions") + ACTIONS + ("time_s",)
 """The table's columns: successes out of the starts, then means per trial."""
 
@@ -87,6 +87,8 @@ def parse_policy(text: str) -> Policy:
     plugin (or ``agents+NAME``) runs as ``agents`` does: missions, no actions."""
     from ..plugins import UnknownPlugin, navigation
 
+    if text == "random":
+        return Policy(text, "random", None, "a uniform random action at every choice (seeded by each trial's start)")
     if text in CONSTANT:
         from ..learning.features import N_STATES
 
@@ -95,7 +97,7 @@ def parse_policy(text: str) -> Policy:
     try:
         found = navigation(text)
     except UnknownPlugin as e:
-        raise PolicyError(f"unknown policy {text!r} (expected learned, learned:FILE, hand-coded, agents, one action "
+        raise PolicyError(f"unknown policy {text!r} (expected learned, learned:FILE, hand-coded, agents, random, one action "
                           f"everywhere: {', '.join(CONSTANT)}, or a Navigation policy plugin: {e})") from None
     if any(not c.builtin for c in found):
         return Policy(text, "plugin", None, " and ".join(c.label for c in found if not c.builtin)
@@ -139,7 +141,12 @@ def run_starts(starts: list[Start], run: int) -> tuple[Start, ...]:
 def job_key(spec: RunSpec, policy: Policy, run: int, starts: tuple[Start, ...]) -> str:
     """sha256 (hex) of what decides a job's trials (see the module docstring)."""
     table = hashlib.sha256(policy.table).hexdigest() if policy.table is not None else None
-    nav = "learned" if policy.kind in CONSTANT else policy.label if policy.kind == "plugin" else policy.kind
+    if policy.kind == "random":  # the Learning Agent told each action, as a table's, and the draws' stream
+        from .trainer import RANDOM_STREAM
+
+        nav, table = "learned", f"random {RANDOM_STREAM}"
+    else:
+        nav = "learned" if policy.kind in CONSTANT else policy.label if policy.kind == "plugin" else policy.kind
     # (a constant table is a table like a learned one's, in the key too; a plugin's identity is in the run id)
     blob = json.dumps([spec.replace(navigation=nav).run_id, table, run,
                        [dataclasses.asdict(s) for s in starts]], sort_keys=True)
@@ -151,7 +158,7 @@ def plan(spec: RunSpec, policies: list[Policy], runs: int, starts: int, out: Pat
     whole runs of every policy)."""
     from .trainer import EVAL_SEED
 
-    base = random_starts(spec.scenario, starts, EVAL_SEED, spec.params.robot.radius)
+    base = random_starts(spec, starts, EVAL_SEED)
     jobs = []
     for r in range(runs):
         st = run_starts(base, r)
@@ -184,12 +191,12 @@ def run_trials(job: Job) -> list[dict]:
     """The trials of ``job``, one record per start (in this process)."""
     spec, p = job.spec, job.spec.params.learning
     out = []
-    if job.policy.table is None:  # the bidding agents, or a plugin's: missions
+    if job.policy.table is None and job.policy.kind != "random":  # the bidding agents, or a plugin's: missions
         from ..mission import Mission
         from ..runner import advance
 
         nav = job.policy.label if job.policy.kind == "plugin" else "agents"
-        base = task_spec(spec).replace(navigation=nav)  # the same task as the policies' (task.py)
+        base = spec.replace(navigation=nav)  # the same task as the policies' (task.py)
         for i, st in enumerate(job.starts):
             m = Mission(spec_at(base, st), snapshots=False)
             advance(m, until=lambda m: m.ticks > 0 and not m.navigation.sweeping)  # as NavigationTask.reset
@@ -199,11 +206,12 @@ def run_trials(job: Job) -> list[dict]:
         return out
     from .task import NavigationTask
     from ..learning.learning_agent import table_policy
-    from .trainer import run_trial
+    from .trainer import random_policy, run_trial
 
-    task, choose = NavigationTask(spec), table_policy(job.policy.actions())
+    task = NavigationTask(spec)
+    table = None if job.policy.kind == "random" else table_policy(job.policy.actions())
     for i, st in enumerate(job.starts):
-        r = run_trial(task, st, choose)
+        r = run_trial(task, st, table or random_policy(st))
         assert task.mission is not None  # the trial's
         out.append(_record(i, st, r.outcome, task.mission.time, r.actions, r.reward, r.counts))
     return out

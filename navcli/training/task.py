@@ -7,30 +7,47 @@ system's Learning Agent told each action by the caller (:meth:`NavigationTask.st
 reports the belief state after it, the action's reward and whether the trial ended: what both
 learners and the Gymnasium environment (:mod:`navcli.envs`) step through.
 
-**The paper's task** (``learning.paper_task`` 1, the default; :data:`PAPER_TASK`), its conditions
+**The paper's task** (``learning.paper_task`` on, the default; :data:`PAPER_TASK`), its conditions
 as the paper states them:
 
-- the robot "knows nothing" at the start: the target is one of the landmarks, visible, but its
-  position is not given (``vision.told_target`` 0); the robot knows it when it sees it;
+- "The target is visible from the robot's initial location" (introduction): a trial starts where
+  the target lies within the camera's range with nothing in the way (:func:`random_starts`); its
+  heading is random, so the target may be behind, where the pan unit cannot look;
+- the robot "knows nothing" at the start (section 5.1: "a starting belief state in which it
+  knows nothing"): the target is one of the landmarks, visible, but its position is not given
+  (``vision.told_target`` off), nor is a first image of it (``learning.first_sighting`` off; on,
+  the robot starts with the sighting a look from its start would give); it knows the target once
+  a look finds it (a search, or a look for the target: :mod:`navcli.vision.routines`);
 - the camera is the Learning Agent's: the Pilot still avoids what the memory holds, but bids for
-  no look (``pilot.looks`` 0: neither eq. 1's look-ahead nor a reflex's looks), and the Rescuer
-  neither sweeps nor scans (``navigation.rescuer_looks`` 0);
+  no look (``pilot.looks`` off: neither eq. 1's look-ahead nor a reflex's looks), and the Rescuer
+  neither sweeps nor scans (``navigation.rescuer_looks`` off);
 - a trial succeeds when the robot "reaches the target (and is confident that it has reached the
   target)": the body within reach of the landmark (as a mission's), and the robot sure of it,
   every place its belief of the target allows at the papers' 70 % cut within that reach
-  (``navigation.reach_confident`` 1; our reading of "confident", in the papers' own terms, the
-  cut that defines I(l)); ``navigation.reach_imprecision`` adds a bound on I(t) itself, for the
-  README's sensitivity;
-- it terminates when the robot is blocked (``navigation.blocked_ends`` 1: the Rescuer's first
-  blocked situation ends it, no diverting target), a terminal state of value 0 for the learner,
-  as reaching the target is; after 500 actions (``max_actions``) it is cut, not terminal;
-- the objective is the total reward, undiscounted (``learning.gamma`` 1).
+  (``navigation.reach_confident`` on; our reading of "confident", in the papers' own terms, the
+  cut that defines I(l)); ``navigation.reach_imprecision`` adds a bound on I(t) itself;
+- it terminates "if the robot is blocked" (``navigation.blocked_ends`` on: the Rescuer's first
+  blocked situation ends it): "the robot can be blocked by the landmarks or by the wall", so
+  ``navigation.blocked_bumps`` bumps within the blocked window, or the Pilot's report of an
+  obstacle it cannot easily avoid, end it whether or not the target is known, and no progress
+  toward a known target within the window does too (:class:`~navcli.navigation.rescuer.Rescuer`);
+  after 500 actions (``max_actions``) it is cut;
+- the objective is the total reward of the actions taken, undiscounted (``learning.gamma`` 1),
+  "to minimize the total cost of the actions taken to reach the target". **What a blocked ending
+  is worth to the learner** (the paper does not say; ours): not 0. Reaching the target is the
+  only end state of value 0; a blocked trial has not reached it, and what reaching it would still
+  have cost is unknown, so the learner takes the blocked ending as it takes the 500-action cut:
+  the trial stops, and the value of the state it stopped in stands for the rest
+  (``learning.blocked_terminal`` off). On, blocked is an end state of value 0 (navcli before), and
+  a learner is paid for getting blocked cheaply.
 
-Each condition is set by the task unless the configuration gives it a value of its own (so
-``--param navigation.reach_imprecision=0.07`` is heard); ``learning.paper_task=0`` gives navcli's
-first task: the target told at the start (+-2 cm, never forgotten), the camera free to all,
-success by the body alone, blocked not terminal, with ``--param learning.gamma=0.99`` as it was.
-The initial sweep, where the Rescuer makes one, comes before the first action and is not counted.
+**Presets lie under the user's word**: the task's conditions are a preset applied under the
+scenario's own values and the command line's (:func:`task_spec`, ``RunSpec.build(preset=...)``),
+so any ``--param`` given is heard, whatever its value (``--param vision.told_target=1`` gives a
+told target). ``learning.paper_task=0`` gives navcli's first task: the target told at the start
+(+-2 cm, never forgotten), the camera free to all, starts anywhere 1.5 m from the target,
+success by the body alone, blocked not terminal. The initial sweep, where the Rescuer makes one,
+comes before the first action and is not counted.
 """
 
 from __future__ import annotations
@@ -39,20 +56,21 @@ import dataclasses
 import math
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any, Mapping
 
 import numpy as np
 
 from ..config import RunSpec
-from ..geometry import Point, distance_to_segment
+from ..geometry import Point, Pose, distance_to_segment
 from ..mission import Mission
-from ..params import Params
 from ..runner import Observer, advance, close_log, open_log, recording
 from ..scenario import Scenario
 from ..learning.actions import REWARDS
 
-PAPER_TASK = {"vision.told_target": 0, "pilot.looks": 0, "navigation.rescuer_looks": 0,
-              "navigation.blocked_ends": 1, "navigation.reach_confident": 1}
-"""The conditions of the paper's task (module docstring), by parameter."""
+PAPER_TASK = {"vision.told_target": False, "pilot.looks": False, "navigation.rescuer_looks": False,
+              "navigation.blocked_ends": True, "navigation.reach_confident": True}
+"""The conditions of the paper's task (module docstring), by parameter: a preset, under the
+scenario's and the command line's values (:func:`task_spec`)."""
 START_CLEARANCE = 0.3  # m between the robot's body and any wall, landmark or obstacle at a start
 START_MIN_DISTANCE = 1.5  # m from the target at least: a trial that starts at the target teaches nothing
 
@@ -67,19 +85,38 @@ class Start:
     seed: int
 
 
-def random_starts(scenario: Scenario, n: int, seed: int, robot_radius: float) -> list[Start]:
-    """``n`` starts drawn uniformly over the free floor of ``scenario`` (clear of walls, landmarks
-    and obstacles by :data:`START_CLEARANCE`, at least :data:`START_MIN_DISTANCE` from the
-    target), with headings uniform and seeds, all from ``seed``."""
+def random_starts(spec: RunSpec, n: int, seed: int) -> list[Start]:
+    """``n`` starts drawn uniformly over the free floor of ``spec``'s room (clear of walls,
+    landmarks and obstacles by :data:`START_CLEARANCE`, at least :data:`START_MIN_DISTANCE` from
+    the target), with headings uniform and seeds, all from ``seed``. Under the paper's task the
+    target is also visible from each (:func:`target_in_view`)."""
+    scenario = spec.scenario
     rng = np.random.default_rng(seed)
-    a, r = scenario.arena, robot_radius + START_CLEARANCE
+    a, r = scenario.arena, spec.params.robot.radius + START_CLEARANCE
+    in_view = spec.params.learning.paper_task
     out: list[Start] = []
     while len(out) < n:
         x, y = rng.uniform(r, a.width - r), rng.uniform(r, a.height - r)
         if math.dist((x, y), scenario.target.point) < START_MIN_DISTANCE or not _clear(scenario, (x, y), r):
             continue
-        out.append(Start(float(x), float(y), float(rng.uniform(-math.pi, math.pi)), int(rng.integers(2 ** 31))))
+        heading, trial_seed = float(rng.uniform(-math.pi, math.pi)), int(rng.integers(2 ** 31))
+        if in_view and not target_in_view(scenario, (float(x), float(y))):
+            continue
+        out.append(Start(float(x), float(y), heading, trial_seed))
     return out
+
+
+def target_in_view(scenario: Scenario, p: Point) -> bool:
+    """Is the target visible from ``p`` (the paper's "the target is visible from the robot's
+    initial location"): within the camera's range, and no landmark, obstacle or wall in the line
+    of sight (the camera's own test, :meth:`~navcli.vision.camera.Camera.sight`, for a look
+    straight at it; whether the pan unit can turn that way depends on the heading)?"""
+    from ..vision.camera import Camera
+
+    t = scenario.target
+    key = t.landmark or "target"
+    facing = Pose(p[0], p[1], math.atan2(t.point[1] - p[1], t.point[0] - p[0]))
+    return Camera(scenario, np.random.default_rng(0)).sight(facing)(t.point[0], t.point[1], key)
 
 
 def _clear(scenario: Scenario, p: Point, r: float) -> bool:
@@ -91,14 +128,13 @@ def _clear(scenario: Scenario, p: Point, r: float) -> bool:
     return True
 
 
-def task_spec(spec: RunSpec) -> RunSpec:
-    """``spec`` under the paper's task (:data:`PAPER_TASK`) when ``learning.paper_task`` is 1: each
-    condition set unless the configuration gives that parameter a value other than navcli's default."""
-    if not spec.params.learning.paper_task:
-        return spec
-    mine, defaults = spec.params.flat(), Params().flat()
-    changes = {k: v for k, v in PAPER_TASK.items() if mine[k] == defaults[k]}
-    return spec.replace(params=spec.params.override(changes)) if changes else spec
+def task_spec(scenario: Scenario, overrides: Mapping[str, Any] | None = None, **choices: Any) -> RunSpec:
+    """The run configuration of a learning-task run in ``scenario``: with ``learning.paper_task``
+    on (the scenario's or ``overrides``'), the paper's conditions (:data:`PAPER_TASK`) as a preset
+    under the scenario's and ``overrides``' values, so every value the user gives is heard; off,
+    navcli's first task. ``choices`` as :meth:`RunSpec.build`'s."""
+    paper = scenario.params.override(overrides or {}).learning.paper_task
+    return RunSpec.build(scenario, overrides=overrides, preset=PAPER_TASK if paper else None, **choices)
 
 
 def spec_at(base: RunSpec, start: Start) -> RunSpec:
@@ -113,7 +149,7 @@ class NavigationTask:
     starts given to :meth:`reset`."""
 
     def __init__(self, base: RunSpec):
-        self.base = base = task_spec(base)
+        self.base = base  # (built by task_spec for the paper's task: its conditions lie under the user's values)
         self.params = base.params.learning
         self.mission: Mission | None = None
         self.recorder = None  # the trial's log, when reset was given one
@@ -134,6 +170,8 @@ class NavigationTask:
         agent = LearningAgent(None, p.learning, max_speed=p.robot.max_speed, pan_limit=spec.scenario.camera.pan_limit,
                               target_key=spec.scenario.target.landmark)
         m = Mission(spec, policy_agent=agent, snapshots=log is not None)
+        if p.learning.first_sighting and p.learning.paper_task:
+            m.perception.glimpse_target(m.world.pose)
         self.mission, self.agent, self.actions, self.outcome = m, agent, 0, None
         if log is not None:
             self.recorder = open_log(spec, m, log)
@@ -165,7 +203,8 @@ class NavigationTask:
         reward = REWARDS[action]  # the action is paid for; reaching the target adds AT_TARGET (0)
         reached = m.outcome == "reached"
         ended = not reached and (m.outcome is not None or self.actions >= self.params.max_actions)
-        self.terminal = reached or (m.outcome == "blocked" and bool(self.base.params.navigation.blocked_ends))
+        blocked = m.outcome == "blocked" and self.base.params.navigation.blocked_ends
+        self.terminal = reached or (blocked and self.params.blocked_terminal)  # a blocked ending is a cut (module docstring)
         if reached or ended:
             self.outcome = m.outcome or "timeout"
             self.close("timeout", f"{self.actions} actions without reaching the target")

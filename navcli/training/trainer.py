@@ -89,9 +89,22 @@ def run_trial(task: NavigationTask, start: Start, choose: Callable[[int], int],
     return TrialResult(task.outcome or m.outcome or "interrupted", task.actions, tuple(counts))
 
 
-def evaluate(spec: RunSpec, policy: np.ndarray, starts: list[Start]) -> list[TrialResult]:
-    """The policy (an action per state) from each start, in this process."""
-    task, choose = NavigationTask(spec), table_policy(policy)
+RANDOM_STREAM = 7  # the random policy's generator of a trial: [the start's seed, this]
+
+
+def random_policy(start: Start) -> Callable[[int], int]:
+    """The uniform random policy of a trial from ``start``: an action drawn uniformly at each
+    choice, from a generator seeded by the start's seed (the same trial, the same draws)."""
+    rng = np.random.default_rng([start.seed, RANDOM_STREAM])
+    return lambda state: int(rng.integers(len(ACTIONS)))
+
+
+def evaluate(spec: RunSpec, policy: np.ndarray | None, starts: list[Start]) -> list[TrialResult]:
+    """The policy (an action per state; None: the uniform random policy) from each start, in this process."""
+    task = NavigationTask(spec)
+    if policy is None:
+        return [run_trial(task, st, random_policy(st)) for st in starts]
+    choose = table_policy(policy)
     return [run_trial(task, st, choose) for st in starts]
 
 
@@ -133,6 +146,8 @@ class Training:
     curve: list[Point] = field(default_factory=list)
     hand_coded: int | None = None  # the hand-coded policy's successes of the test starts
     hand_coded_reward: float | None = None  # and its mean reward per trial
+    random: int | None = None  # the uniform random policy's successes of the test starts
+    random_reward: float | None = None  # and its mean reward per trial
     train_s: float = 0.0  # wall time in training trials (this process)
     eval_s: float = 0.0  # summed wall time of the evaluations (worker processes beside training; this one if workers=1)
     wall_s: float = 0.0
@@ -143,7 +158,7 @@ class Training:
     saved_in: Path | None = None  # that file
 
 
-def _eval_job(spec: RunSpec, policy: np.ndarray, starts: list[Start]) -> tuple[list[TrialResult], float]:
+def _eval_job(spec: RunSpec, policy: np.ndarray | None, starts: list[Start]) -> tuple[list[TrialResult], float]:
     t0 = time.perf_counter()
     return evaluate(spec, policy, starts), time.perf_counter() - t0
 
@@ -231,8 +246,9 @@ def train(spec: RunSpec, *, trials: int = 2000, eval_every: int = 100, eval_star
         result.curve = [Point(**p) for p in meta.get("curve", [])]
         result.hand_coded = meta.get("hand_coded")
         result.hand_coded_reward = meta.get("hand_coded_reward")
+        result.random, result.random_reward = meta.get("random"), meta.get("random_reward")
         result.outcomes = dict(meta.get("outcomes", {}))
-    test = random_starts(spec.scenario, eval_starts, EVAL_SEED, spec.params.robot.radius)
+    test = random_starts(spec, eval_starts, EVAL_SEED)
     task = NavigationTask(spec.replace(navigation="learned"))  # what a trial log's summary says drove it
     t_start = time.perf_counter()
 
@@ -241,8 +257,9 @@ def train(spec: RunSpec, *, trials: int = 2000, eval_every: int = 100, eval_star
     chunks = max(1, workers)
     pending: list[tuple[int, np.ndarray, list[Future]]] = []  # evaluations running: trials, policy, chunks
     hand: list[Future] = []
+    rand: list[Future] = []
 
-    def submit(pool, policy: np.ndarray) -> list[Future]:
+    def submit(pool, policy: np.ndarray | None) -> list[Future]:
         return [pool.submit(_eval_job, spec, policy, test[i::chunks]) for i in range(chunks)]
 
     def collect(futures: list[Future]) -> list[TrialResult]:
@@ -264,6 +281,11 @@ def train(spec: RunSpec, *, trials: int = 2000, eval_every: int = 100, eval_star
             result.hand_coded = sum(r.success for r in hs)
             result.hand_coded_reward = float(np.mean([r.reward for r in hs]))
             hand.clear()
+        if rand and (block or all(f.done() for f in rand)):
+            rs = collect(rand)
+            result.random = sum(r.success for r in rs)
+            result.random_reward = float(np.mean([r.reward for r in rs]))
+            rand.clear()
 
     def evaluate_later(pool, n: int, policy: np.ndarray) -> None:
         pending.append((n, policy, submit(pool, policy)))
@@ -274,6 +296,7 @@ def train(spec: RunSpec, *, trials: int = 2000, eval_every: int = 100, eval_star
                 "seed": seed, "trials": result.trials, "eval_every": eval_every, "eval_starts": eval_starts,
                 "eval_seed": EVAL_SEED, "params": spec.params.to_json(), "curve": [asdict(p) for p in result.curve],
                 "hand_coded": result.hand_coded, "hand_coded_reward": result.hand_coded_reward,
+                "random": result.random, "random_reward": result.random_reward,
                 "outcomes": result.outcomes, "learner_rng": learner.rng.bit_generator.state,
                 "pending_evaluations": [{"trials": n, "policy": p.tolist()} for n, p, _ in pending]}
         with deferred():
@@ -286,6 +309,8 @@ def train(spec: RunSpec, *, trials: int = 2000, eval_every: int = 100, eval_star
             with executor(workers) as pool:  # stopped cleanly on Ctrl-C or SIGTERM, like compare's
                 if result.hand_coded is None:
                     hand = submit(pool, hand_coded_table())
+                if result.random is None:
+                    rand = submit(pool, None)
                 if result.trials == 0:  # the untrained policy: the curve's first point
                     evaluate_later(pool, 0, learner.greedy_policy())
                 for n, policy in resumed:  # before anything new: the curve in the order of an uninterrupted run
@@ -300,8 +325,7 @@ def train(spec: RunSpec, *, trials: int = 2000, eval_every: int = 100, eval_star
                 with rows:
                     while result.trials < end:
                         i = result.trials
-                        start = random_starts(spec.scenario, 1, np.random.SeedSequence([seed, i]).generate_state(1)[0],
-                                              spec.params.robot.radius)[0]
+                        start = random_starts(spec, 1, np.random.SeedSequence([seed, i]).generate_state(1)[0])[0]
                         t0 = time.perf_counter()
                         try:
                             r = run_trial(task, start, learner.act, learner.observe,
@@ -338,10 +362,12 @@ def write_curve(result: Training, out: Path) -> None:
     with atomic(csv_path) as tmp, tmp.open("w", newline="") as f:
         w = csv.writer(f)
         w.writerow(["trials", "successes", "reward_per_trial", "actions_per_trial", "hand_coded_successes",
-                    "hand_coded_reward_per_trial"])
+                    "hand_coded_reward_per_trial", "random_successes", "random_reward_per_trial"])
         hc_reward = "" if result.hand_coded_reward is None else f"{result.hand_coded_reward:.2f}"
+        r_reward = "" if result.random_reward is None else f"{result.random_reward:.2f}"
         for p in result.curve:
-            w.writerow([p.trials, p.successes, f"{p.reward:.2f}", f"{p.actions:.2f}", result.hand_coded, hc_reward])
+            w.writerow([p.trials, p.successes, f"{p.reward:.2f}", f"{p.actions:.2f}", result.hand_coded, hc_reward,
+                        result.random, r_reward])
     import matplotlib
 
     matplotlib.use("Agg")
@@ -353,10 +379,10 @@ def write_curve(result: Training, out: Path) -> None:
     # shows where the two meet (they often do: 95 against 97 of 99)
     ax.plot(trials, [p.successes for p in result.curve], "o-", color="tab:blue", zorder=2,
             label=f"learned ({result.algorithm})")
-    if result.hand_coded is not None:
-        ax.axhline(result.hand_coded, color="tab:orange", ls="--", lw=2, zorder=3,
-                   label=f"hand-coded ({result.hand_coded})")
-    top = max([p.successes for p in result.curve] + [result.hand_coded or 0, 1])
+    for level, colour, name in ((result.hand_coded, "tab:orange", "hand-coded"), (result.random, "tab:gray", "random")):
+        if level is not None:
+            ax.axhline(level, color=colour, ls="--", lw=2, zorder=3, label=f"{name} ({level})")
+    top = max([p.successes for p in result.curve] + [result.hand_coded or 0, result.random or 0, 1])
     ax.set_xlabel("training trials")
     ax.set_ylabel("successful test trials")
     ax.set_ylim(0, top * 1.1 + 1)
@@ -365,9 +391,10 @@ def write_curve(result: Training, out: Path) -> None:
     # where successes do not separate the policies, their cost does: reward per test trial
     ax2.plot(trials, [p.reward for p in result.curve], "o-", color="tab:blue", zorder=2,
              label=f"learned ({result.algorithm})")
-    if result.hand_coded_reward is not None:
-        ax2.axhline(result.hand_coded_reward, color="tab:orange", ls="--", lw=2, zorder=3,
-                    label=f"hand-coded ({result.hand_coded_reward:.0f})")
+    for reward, colour, name in ((result.hand_coded_reward, "tab:orange", "hand-coded"),
+                                 (result.random_reward, "tab:gray", "random")):
+        if reward is not None:
+            ax2.axhline(reward, color=colour, ls="--", lw=2, zorder=3, label=f"{name} ({reward:.0f})")
     ax2.set_xlabel("training trials")
     ax2.set_ylabel("reward per test trial (higher is cheaper)")
     ax2.set_title("Reward per trial of the test starts")

@@ -90,6 +90,9 @@ class _Senses:
         """What is remembered, as values for the log (nothing, without a memory)."""
         return None
 
+    def glimpse_target(self, truth: Pose) -> None:
+        """The learning task's first sighting of the target: nothing to add without a memory."""
+
 
 class OraclePerception(_Senses):
     """Ground truth for the agents (see the module docstring)."""
@@ -183,6 +186,18 @@ class VisionPerception(_Senses):
 
     def known(self) -> Container[str]:
         return self.memory.items
+
+    def glimpse_target(self, truth: Pose) -> None:
+        """Remember the target as a look straight at it from ``truth`` measures it, if it is in
+        range with nothing in the way (the learning task's first sighting, when it is given)."""
+        cam = self.camera
+        t = self.scenario.target
+        key = t.landmark or "target"
+        kind = "landmark" if t.landmark else "target"
+        facing = Pose(truth.x, truth.y, math.atan2(t.point[1] - truth.y, t.point[0] - truth.x))
+        if cam.sight(Pose(facing.x, facing.y, facing.theta - cam.pan))(t.point[0], t.point[1], key):
+            radius = next((lm.radius for lm in self.scenario.landmarks if lm.id == key), 0.0)
+            self.memory.observe([Detection(key, kind, (cam.measure(truth, t.point),), radius)], 0.0)
 
     def _anchored(self, m: Memory, a: Point, b: Point) -> tuple[Point, Point]:
         """The ends of a fence that stands between landmarks (:func:`anchors`): an end at a
