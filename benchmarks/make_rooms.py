@@ -1,13 +1,17 @@
-"""How the held-out rooms ``scattered-8x8`` and ``crossed-8x8`` were made: drawn at random, once,
-from fixed seeds, before any run in them, and never reshaped (issue 35: "check every result on a
-room you did not design the feature on").
+"""How the held-out rooms ``scattered-8x8``, ``crossed-8x8`` and ``landmarks-drawn`` were made:
+drawn at random, once, from fixed seeds, before any run in them, and never reshaped ("check every
+result on a room you did not design the feature on").
+
+``landmarks-drawn`` (the learning paper's kind of room, for its Table 1 on a room training never
+saw): 9 m x 7 m, walled, 12 landmarks and nothing else, each at least 1.2 m from the others, the
+target one of them drawn at random.
 
 Each is 8 m x 8 m at the paper's pace (5 cm/s), start and target in opposite corners (the other
 diagonal from paper-8x8's), six point obstacles, two fences of 2-3 m at random angles whose
 middles lie near the diagonal, six landmarks; every object keeps 0.6 m from the start, the target
 and each other (the robot's body fits between any two).
 
-    python benchmarks/make_rooms.py   # rewrites scenarios/scattered-8x8.yaml and crossed-8x8.yaml
+    python benchmarks/make_rooms.py   # rewrites the three rooms' files in scenarios/
 """
 
 from __future__ import annotations
@@ -77,8 +81,31 @@ def write(name: str, seed: int, description: str) -> None:
     (ROOT / f"{name}.yaml").write_text("\n".join(lines) + "\n")
 
 
+def landmarks(name: str, seed: int) -> None:
+    rng = np.random.default_rng(seed)
+    W, H = 9.0, 7.0
+    pts: list[tuple[float, float]] = []
+    while len(pts) < 12:
+        p = (float(rng.uniform(0.8, W - 0.8)), float(rng.uniform(0.8, H - 0.8)))
+        if all(math.dist(p, q) >= 1.2 for q in pts):
+            pts.append(p)
+    target = int(rng.integers(12))
+    ids = [chr(65 + i) if i != target else "T" for i in range(12)]
+    f = lambda v: f"{v:.2f}"  # noqa: E731
+    lines = [f"# A held-out landmarks room, drawn at random (benchmarks/make_rooms.py, seed {seed}) before any run",
+             "# in it, and never reshaped: the learning paper's Table 1 on a room training never saw.",
+             "version: 1", f"name: {name}", "description: >",
+             f"  Held-out walled {W:g} m x {H:g} m area with 12 landmarks drawn at random (seed {seed}) and nothing",
+             "  else; the target is landmark T.", f"arena: {{width: {W}, height: {H}}}", "robot:",
+             "  start: [0.6, 0.6]", "  heading_deg: 45", "target:", "  landmark: T", "  tolerance: 0.3", "landmarks:"]
+    lines += [f"  - {{id: {i}, at: [{f(x)}, {f(y)}]}}" for i, (x, y) in zip(ids, pts)]
+    lines += ["noise:", "  odometry_drift_deg_per_m: 0.9", "mission:", "  time_limit: 600", "  seed: 1"]
+    (ROOT / f"{name}.yaml").write_text("\n".join(lines) + "\n")
+
+
 if __name__ == "__main__":
     write("scattered-8x8", 35, "Held-out pilot comparison room (random, seed 35): opposite corners, six point obstacles, "
           "two fences at random angles near the diagonal, six landmarks, the paper's pace.")
     write("crossed-8x8", 3535, "Held-out pilot comparison room (random, seed 3535): opposite corners, six point "
           "obstacles, two fences at random angles near the diagonal, six landmarks, the paper's pace.")
+    landmarks("landmarks-drawn", 36)

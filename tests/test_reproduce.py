@@ -17,6 +17,7 @@ from navcli.analysis import read_log
 from navcli.analysis.files import MARK
 from navcli.cli import app
 from navcli.experiments.reproduce import QUICK, reproduce
+from navcli.learning.actions import ACTIONS
 
 TINY = replace(QUICK, reruns=2, sensitivity_seeds=2, trap_seeds=1, trap_rooms=("blocked-wall",), policy_runs=2,
                policy_starts=3, train_trials=4, eval_every=2, eval_starts=3)
@@ -87,10 +88,10 @@ def test_the_trap_table_counts_the_logs_outcomes_and_diverting_targets(done):
 
 def test_the_policy_table_is_the_trials_it_names(done):
     out, md = done
-    rows = _rows(md, "Learning paper, Table 1")
-    with (out / "policies" / "trials.csv").open() as f:
+    rows = _rows(md, "Learning paper, Table 1 on landmarks-12")
+    with (out / "policies" / "landmarks-12" / "trials.csv").open() as f:
         trials = list(csv.DictReader(f))
-    for policy in ("learned", "hand-coded"):
+    for policy in ("learned", "hand-coded", "random"):
         mine = [t for t in trials if t["policy"] == policy]
         runs = sorted({t["run"] for t in mine})
         per_run = [sum(t["success"] == "True" for t in mine if t["run"] == r) * 99 / TINY.policy_starts for r in runs]
@@ -148,9 +149,10 @@ def test_a_users_pilot_runs_beside_the_papers_two_without_the_papers_numbers(don
     r = CliRunner().invoke(app, ["reproduce", "pilots", "--pilot", "geometric"])
     assert r.exit_code == 2 and "one of the paper's two pilots" in r.output
 RANGES = {"time_s": (0.0, float("inf")), "path_cm": (0.0, float("inf")), "successes": (0.0, 99.0),
-          "reward": (-float("inf"), 0.0), "actions": (0.0, float("inf")), "contacts per run": (0.0, float("inf"))}
-"""Where each quantity of the report lives: times, paths, actions and contacts are not negative,
-rewards not positive (every action costs), successes of 99 starts between 0 and 99."""
+          "reward": (-float("inf"), 0.0), "actions": (0.0, float("inf")), "contacts per run": (0.0, float("inf")),
+          **{a: (0.0, float("inf")) for a in ACTIONS}}
+"""Where each quantity of the report lives: times, paths, actions (and each action's count) and contacts
+are not negative, rewards not positive (every action costs), successes of 99 starts between 0 and 99."""
 
 
 def _bounds(cell: str) -> tuple[float, float]:
@@ -194,4 +196,4 @@ def test_too_few_runs_give_no_verdict_and_the_notes_say_so(done):
     for heading, agreement in (("Pilot paper, Table 1:", 6), ("Learning paper, Table 1", 4)):
         verdicts = {r[agreement] for r in _rows(md, heading) if r[agreement]}
         assert verdicts and all(v.startswith("too few ") and f"{MIN_SAMPLE} needed" in v for v in verdicts)
-    assert "the policies: only 3 starts; with fewer than 10 its 95 % intervals are too uncertain to trust" in md
+    assert "the policies on landmarks-12: only 3 starts; with fewer than 10 its 95 % intervals are too uncertain to trust" in md

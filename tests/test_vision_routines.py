@@ -18,7 +18,7 @@ from navcli.learning.actions import MB, MVL
 from navcli.mission import Mission
 from navcli.params import CONTROL_DT, VISION
 from navcli.scenario import load_scenario
-from navcli.training.task import NavigationTask, Start
+from navcli.training.task import NavigationTask, Start, task_spec
 from navcli.vision.camera import Camera
 from navcli.vision.perception import VisionPerception
 from navcli.vision.visual_memory import VisualMemory
@@ -119,8 +119,8 @@ def test_another_look_that_wins_turns_the_camera_and_sets_the_routine(make_scena
 def test_move_blind_gets_no_image_in_the_learning_task(params):
     """MVL and MB in turn (the paper's task: the camera is the Learning Agent's alone): an MB
     action takes no image, even when MVL's pan is still in flight as it begins."""
-    base = RunSpec.build(load_scenario(SCENARIOS / "landmarks-12.yaml"),
-                         overrides={f"vision.{f}": getattr(params, f) for f in ("routines", "line_objects")})
+    base = task_spec(load_scenario(SCENARIOS / "landmarks-12.yaml"),
+                     {f"vision.{f}": getattr(params, f) for f in ("routines", "line_objects")})
     task = NavigationTask(base)
     task.reset(Start(2.0, 2.0, 0.3, 5))
     blind = 0

@@ -4,7 +4,8 @@ converter between them."""
 
 from __future__ import annotations
 
-from typing import Any
+import math
+from typing import Any, Sequence
 
 
 class Report:
@@ -18,6 +19,13 @@ class Report:
 
     def text(self, text: str) -> None:
         self.blocks.append(("p", text))
+
+    def notes(self, notes: Sequence[str | None]) -> None:
+        """What a section's table cannot say (a small sample, in the words of every comparison), if anything."""
+        said = [n for n in notes if n]
+        if said:
+            self.text("Notes:")
+            self.bullets(said)
 
     def table(self, header: list[str], rows: list[list[Any]]) -> None:
         self.blocks.append(("table", (header, [[str(c) for c in r] for r in rows])))
@@ -70,3 +78,20 @@ class Report:
             else:
                 out.append(f"<figure><img src='{e(b[0])}' alt='{e(b[1])}'><figcaption>{e(b[1])}</figcaption></figure>")
         return "\n".join(out + ["</body></html>\n"])
+
+
+def interval_text(m: float, lo: float, hi: float, sign: bool = False) -> str:
+    """``m [lo, hi]``, with one decimal (and a sign for a gain); ``m (no interval)`` without bounds;
+    ``-`` for no value at all (no pair, no run).
+
+    >>> interval_text(2.0, 1.0, 3.25), interval_text(-4.0, -9.0, 1.0, sign=True), interval_text(5.0, float("nan"), float("nan"))
+    ('2.0 [1.0, 3.2]', '-4.0 [-9.0, +1.0]', '5.0 (no interval)')
+    >>> interval_text(float("nan"), float("nan"), float("nan"), sign=True)
+    '- (no value)'
+    """
+    f = "{:+.1f}" if sign else "{:.1f}"
+    if not math.isfinite(m):
+        return "- (no value)"
+    if not (math.isfinite(lo) and math.isfinite(hi)):
+        return f.format(m) + " (no interval)"
+    return f"{f.format(m)} [{f.format(lo)}, {f.format(hi)}]"

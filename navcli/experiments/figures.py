@@ -143,3 +143,38 @@ def plot_bids(spec: RunSpec, out: Path, step: float = 0.05, walls: bool = False,
     _arena(ax, sc, p.R_min)
     ax.set_title(f"{sc.name}: the pilot's bid 0.9 G_max / F_max")
     return save_figure(fig, out, dpi=110)
+
+
+def learning_curves(metas: list[dict], out: str | Path) -> Path:
+    """The learning paper's Figure 3 over several trainings, as a PNG: from each training's model
+    metadata (``curve``: trials, successes, reward per trial at each evaluation; ``hand_coded``,
+    ``random`` and their rewards), each training's curve (thin), their mean (thick) and range
+    (shaded), with the hand-coded and random policies' levels (dashed); successes on the left,
+    reward per trial on the right."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    trials = [p["trials"] for p in metas[0]["curve"]]
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.2))
+    for ax, key, level_keys, label in ((axes[0], "successes", ("hand_coded", "random"), "successful test trials"),
+                                       (axes[1], "reward", ("hand_coded_reward", "random_reward"),
+                                        "reward per test trial (higher is cheaper)")):
+        values = np.array([[p[key] for p in m["curve"]] for m in metas], dtype=float)
+        for row in values:
+            ax.plot(trials, row, "-", color="tab:blue", lw=0.8, alpha=0.45)
+        ax.fill_between(trials, values.min(axis=0), values.max(axis=0), color="tab:blue", alpha=0.15,
+                        label=f"range of {len(metas)} trainings")
+        ax.plot(trials, values.mean(axis=0), "o-", color="tab:blue", lw=2.2, label="mean")
+        for k, colour, name in zip(level_keys, ("tab:orange", "tab:gray"), ("hand-coded", "random")):
+            level = metas[0].get(k)
+            if level is not None:
+                ax.axhline(level, color=colour, ls="--", lw=2, label=f"{name} ({level:.0f})")
+        ax.set_xlabel("training trials")
+        ax.set_ylabel(label)
+        ax.legend(loc="lower right", fontsize=8)
+    axes[0].set_title("Successes of the test starts (Figure 3)")
+    axes[1].set_title("Reward per trial of the test starts")
+    fig.tight_layout()
+    return save_figure(fig, Path(out), dpi=100)

@@ -29,12 +29,13 @@ import math
 import time
 from dataclasses import asdict, dataclass
 from pathlib import Path
-from typing import Any, Callable, Sequence
+from typing import Any, Callable
 
 from .. import __version__
 from ..analysis.stats import MIN_SAMPLE, bootstrap_mean, small_sample, wilson_interval
 from ..scenario import bundled
-from .document import Report
+from . import learning_paper
+from .document import Report, interval_text
 
 SCENARIOS = bundled.FOLDER
 SECTIONS = ("pilots", "learning")
@@ -48,11 +49,7 @@ PAPER_PILOTS = ("potential-field", "geometric")
 """The pilot paper's two pilots (``--pilot`` adds a user's beside them)."""
 PAPER_GAINS = {"time_s": 18.1, "path_cm": 22.0}  # %: the potential field against the geometric pilot
 PAPER_RUNS = 45  # runs per pilot behind the pilot paper's Table 1
-PAPER_STARTS = 99  # the learning paper's test starts
-PAPER_POLICIES: dict[str, dict[str, float]] = {"learned": {"successes": 84, "reward": -336, "actions": 49.95},
-                  "hand-coded": {"successes": 24, "reward": -858, "actions": 153.33}}
 THESIS_TRAPS = {"reached": 0.85, "diverting_1": 0.58, "diverting_2": 0.18}
-PAPER_FIGURE3 = "the learned policy ahead of the hand-coded one from 99 trials on; 84 of 99 after 2,000"
 
 
 @dataclass(frozen=True)
@@ -67,6 +64,8 @@ class Settings:
     trap_rooms: tuple[str, ...] = TRAP_ROOMS
     policy_runs: int = 5
     policy_starts: int = 99
+    policy_rooms: tuple[str, ...] = learning_paper.POLICY_ROOMS
+    train_seeds: int = 5
     train_trials: int = 2000
     eval_every: int = 100
     eval_starts: int = 99
@@ -75,7 +74,8 @@ class Settings:
 
 FULL = Settings()
 QUICK = Settings(reruns=3, sensitivity_seeds=3, sensitivity_speeds=(0.05, 0.3), sensitivity_rooms=("paper-8x8",),
-                 trap_seeds=2, policy_runs=2, policy_starts=10, train_trials=20, eval_every=10, eval_starts=10,
+                 trap_seeds=2, policy_runs=2, policy_starts=10, policy_rooms=("landmarks-12",), train_seeds=2,
+                 train_trials=20, eval_every=10, eval_starts=10,
                  quick=True)
 
 
@@ -116,26 +116,6 @@ def paper_gain_interval(metric: str) -> tuple[float, float]:
     gain = 100 * (1 - p / g)
     se = 100 * math.hypot(se_p / g, p * se_g / g ** 2)
     return gain - 1.96 * se, gain + 1.96 * se
-
-
-def _notes(report: Report, notes: Sequence[str | None]) -> None:
-    """What a section's table cannot say (a small sample, in the words of every comparison), if anything."""
-    said = [n for n in notes if n]
-    if said:
-        report.text("Notes:")
-        report.bullets(said)
-
-
-def _interval(m: float, lo: float, hi: float, sign: bool = False) -> str:
-    """``m [lo, hi]``, with one decimal (and a sign for a gain); ``m (no interval)`` without bounds.
-
-    >>> _interval(2.0, 1.0, 3.25), _interval(-4.0, -9.0, 1.0, sign=True), _interval(5.0, float("nan"), float("nan"))
-    ('2.0 [1.0, 3.2]', '-4.0 [-9.0, +1.0]', '5.0 (no interval)')
-    """
-    f = "{:+.1f}" if sign else "{:.1f}"
-    if not (math.isfinite(lo) and math.isfinite(hi)):
-        return f.format(m) + " (no interval)"
-    return f"{f.format(m)} [{f.format(lo)}, {f.format(hi)}]"
 
 
 def _conditions(report: Report, out: Path, specs: list) -> None:
@@ -194,18 +174,18 @@ def table1(report: Report, s: Settings, out: Path, ex, pilots: tuple[str, ...] =
             for metric in ("time_s", "path_cm"):
                 m, lo, hi = bootstrap_mean(ok[metric].to_numpy(dtype=float))
                 if pilot not in PAPER_TABLE1:  # a user's pilot: the paper has no number for it
-                    rows.append([perception, pilot, metric, "-", _interval(m, lo, hi),
+                    rows.append([perception, pilot, metric, "-", interval_text(m, lo, hi),
                                  f"{int(table.loc[pilot, 'reached'])}/{int(table.loc[pilot, 'runs'])}", ""])
                     continue
                 paper, sd = PAPER_TABLE1[pilot][metric]
-                rows.append([perception, pilot, metric, f"{paper:g} ± {sd:g} (SD)", _interval(m, lo, hi),
+                rows.append([perception, pilot, metric, f"{paper:g} ± {sd:g} (SD)", interval_text(m, lo, hi),
                              f"{int(table.loc[pilot, 'reached'])}/{int(table.loc[pilot, 'runs'])}",
                              verdict((lo, hi), (paper - sd, paper + sd), len(ok), "reached runs")])
             remarks.append(small_sample(f"{perception}, {pilot}", len(ok), "reached runs"))
         for pilot in ("potential-field",) + pilots:
             for metric in ("time_s", "path_cm"):
                 g = imps[imps["pilot"] == pilot].loc[metric]
-                cells = _interval(g["improvement_pct"], g["ci95_low"], g["ci95_high"], sign=True) \
+                cells = interval_text(g["improvement_pct"], g["ci95_low"], g["ci95_high"], sign=True) \
                     + f" ({int(g['pairs'])} pairs)"
                 if pilot != "potential-field":
                     rows.append([perception, f"{pilot} gain %", metric, "-", cells, "", ""])
@@ -215,7 +195,7 @@ def table1(report: Report, s: Settings, out: Path, ex, pilots: tuple[str, ...] =
                              cells, "", verdict((g["ci95_low"], g["ci95_high"]), (p_lo, p_hi), int(g["pairs"]), "pairs")])
         remarks += notes(runs, table.reset_index(), imps.reset_index(), "geometric")
     report.table(["perception", "pilot", "quantity", "the paper", "navcli [95 % CI]", "reached", "agreement"], rows)
-    _notes(report, remarks)
+    report.notes(remarks)
     report.text("Run ids and every run's numbers: " + ", ".join(str(out / p / "runs.csv") for p in ("vision", "oracle")))
     _conditions(report, out, bases)
 
@@ -264,11 +244,11 @@ def sensitivity(report: Report, s: Settings, out: Path, ex) -> None:
         runs = load_sweep(table)
         runs = runs[runs["run_id"].isin({r.spec.run_id for r in planned})]  # the table keeps other plans' rows
         imps = improvements(runs, "geometric")
-        rows = [[r["condition"], r["metric"], _interval(r["improvement_pct"], r["ci95_low"], r["ci95_high"], sign=True),
+        rows = [[r["condition"], r["metric"], interval_text(r["improvement_pct"], r["ci95_low"], r["ci95_high"], sign=True),
                  int(r["pairs"])] for _, r in imps.iterrows()]  # no verdict: the paper has no number for these conditions
         report.text(f"Every run: {table}.")
         report.table(["condition", "metric", "PF gain % [95 % CI]", "pairs"], rows)
-        _notes(report, [small_sample("every condition", int(imps["pairs"].min()), "pairs at the fewest")]
+        report.notes([small_sample("every condition", int(imps["pairs"].min()), "pairs at the fewest")]
                if len(imps) else [])
 
 
@@ -293,80 +273,11 @@ def traps(report: Report, s: Settings, out: Path, ex, pilots: tuple[str, ...] = 
             lo, hi = wilson_interval(k, n)
             rows.append([pilot, key, f"{paper:.0%}", f"{k}/{n} [{lo:.0%}, {hi:.0%}]", verdict((lo, hi), (paper, paper), n)])
         m, lo, hi = bootstrap_mean(g["collisions"].to_numpy(dtype=float))
-        rows.append([pilot, "contacts per run", "-", _interval(m, lo, hi), ""])  # the thesis gives no number
+        rows.append([pilot, "contacts per run", "-", interval_text(m, lo, hi), ""])  # the thesis gives no number
         remarks.append(small_sample(pilot, n, "runs"))
     report.table(["pilot", "quantity", "the thesis", "navcli", "agreement"], rows)
-    _notes(report, remarks)
+    report.notes(remarks)
     _conditions(report, out, specs)
-
-
-def policies(report: Report, s: Settings, out: Path, ex) -> None:
-    """The learning paper's Table 1: the bundled model, the hand-coded policy, the bidding agents."""
-    from ..training.task import task_spec
-    from ..training.comparison import notes, parse_policy, plan, policy_table, run_all, trials_frame
-
-    spec = task_spec(_scenario("landmarks-12"))
-    chosen = [parse_policy(p) for p in ("learned", "hand-coded", "agents")]
-    (out / "runs").mkdir(parents=True, exist_ok=True)
-    results = run_all(plan(spec, chosen, s.policy_runs, s.policy_starts, out), ex)
-    trials = trials_frame([r for r in results if r.trials is not None])
-    _write_runs(trials, out / "trials.csv")
-    table = policy_table(trials).set_index("policy")
-    report.heading("Learning paper, Table 1: policies on the paper's task")
-    report.text(f"landmarks-12, {s.policy_runs} run(s) of {s.policy_starts} fixed starts (the paper: 99); learned = "
-                "the model bundled with navcli (2,000 trials of Prioritized Sweeping). Successes scaled to 99 starts, "
-                "with the Wilson 95 % interval of the rate over every trial, against the Wilson interval of the "
-                "paper's count of 99; reward and actions: means per trial with a bootstrap 95 % interval that "
-                "resamples the starts, against the paper's number (it gives no spread). Every trial: "
-                f"{out / 'trials.csv'}")
-    rows = []
-    for policy in ("learned", "hand-coded", "agents"):
-        if policy not in table.index:  # every run of it failed: said, not hidden
-            rows.append([policy, "-", "-", "no trial finished (see the runs' errors)", ""])
-            continue
-        for metric, paper in (PAPER_POLICIES.get(policy) or {"successes": math.nan}).items():
-            scale = PAPER_STARTS / s.policy_starts if metric == "successes" else 1.0
-            m, lo, hi = (table.loc[policy, k] * scale for k in (metric, f"{metric}_lo", f"{metric}_hi"))
-            if math.isnan(paper):  # no number in the paper: no verdict
-                rows.append([policy, metric, "-", _interval(m, lo, hi), ""])
-                continue
-            p_lo, p_hi = ((PAPER_STARTS * x for x in wilson_interval(round(paper), PAPER_STARTS))
-                          if metric == "successes" else (paper, paper))
-            shown = f"{paper:g} of {PAPER_STARTS} [{p_lo:.1f}, {p_hi:.1f}]" if metric == "successes" else f"{paper:g}"
-            rows.append([policy, metric, shown, _interval(m, lo, hi),
-                         verdict((lo, hi), (p_lo, p_hi), s.policy_starts, "starts")])
-    report.table(["policy", "quantity", "the paper", "navcli [95 % CI]", "agreement"], rows)
-    _notes(report, notes(table.reset_index()))
-    _conditions(report, out, [spec])
-
-
-def figure3(report: Report, s: Settings, out: Path, jobs: int) -> None:
-    """The learning paper's Figure 3: a training's learning curve."""
-    from ..training.task import task_spec
-    from ..learning import model_file
-    from ..learning.model_file import curve_paths
-    from ..training.trainer import train
-
-    model = out / f"model-{s.train_trials}-every{s.eval_every}-on{s.eval_starts}.npz"  # one per size: resumed only by it
-    spec = task_spec(_scenario("landmarks-12"))
-    have = int(model_file.load(model)[1].get("trials", 0)) if model.exists() else 0
-    if have < s.train_trials:
-        res = train(spec, trials=s.train_trials, eval_every=s.eval_every, eval_starts=s.eval_starts, out=model,
-                    resume=model if have else None, workers=max(1, jobs))
-        curve, hand = [(p.trials, p.successes) for p in res.curve], res.hand_coded
-    else:
-        meta = model_file.load(model)[1]
-        curve, hand = [(p["trials"], p["successes"]) for p in meta["curve"]], meta["hand_coded"]
-    ahead = next((n for n, k in curve if hand is not None and k > hand), None)
-    report.heading("Learning paper, Figure 3: the learning curve")
-    report.text(f"{s.train_trials} training trials on landmarks-12, the greedy policy evaluated every {s.eval_every} "
-                f"on {s.eval_starts} fixed starts. The paper: {PAPER_FIGURE3}. navcli: {curve[-1][1]} of "
-                f"{s.eval_starts} after {curve[-1][0]}, the hand-coded policy {hand}; the learned policy "
-                + (f"first ahead of it at {ahead} trials." if ahead is not None else "never ahead of it."))
-    _conditions(report, out, [spec])
-    png = curve_paths(model)[1]
-    report.image(str(png.relative_to(out.parent)), "successes of the test starts against training trials")
-    report.text(f"The model, its curve and every training trial: {model}, {curve_paths(model)[0]}.")
 
 
 def reproduce(which: str, out: Path, *, settings: Settings = FULL, jobs: int = 2, scheduler: str | None = None,
@@ -397,8 +308,10 @@ def reproduce(which: str, out: Path, *, settings: Settings = FULL, jobs: int = 2
                       ("sensitivity", lambda: sensitivity(report, settings, out / "sensitivity", ex)),
                       ("trap rooms", lambda: traps(report, settings, out / "traps", ex, pilots))]
         if which in ("learning", "all"):
-            steps += [("Table 1 (policies)", lambda: policies(report, settings, out / "policies", ex)),
-                      ("Figure 3", lambda: figure3(report, settings, out / "figure3", jobs))]
+            steps += [("Table 1 (policies)", lambda: learning_paper.policies(report, settings, out / "policies", ex,
+                                                                             verdict, _scenario, _conditions)),
+                      ("Figure 3", lambda: learning_paper.figure3(report, settings, out / "figure3", ex, _scenario,
+                                                                  _conditions))]
         for name, step in steps:
             t0 = time.perf_counter()
             echo(f"reproduce: {name} ...")
