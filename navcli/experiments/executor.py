@@ -35,7 +35,7 @@ import threading
 import time
 from concurrent.futures import Executor, Future, ProcessPoolExecutor, as_completed
 from concurrent.futures.process import BrokenProcessPool
-from typing import Any, Callable, Iterable, Iterator, Sequence
+from typing import Any, Callable, Iterable, Iterator, NoReturn, Sequence
 
 from .. import NavcliError
 from ..signals import Terminated, in_physics_callback, raising
@@ -270,34 +270,71 @@ def _signal_of(e: BaseException) -> int:
     return signal.SIGINT if isinstance(e, KeyboardInterrupt) and not isinstance(e, Terminated) else signal.SIGTERM
 
 
-def run_each(fn: Callable[[Any], Any], items: Sequence[Any], ex: Executor,
-             on_done: Callable[[int, Future], None]) -> None:
-    """Submit ``fn(item)`` for every item and call ``on_done(index, future)`` as each finishes
-    (in the order they finish; the future holds the result or the exception).
+def submit_all(fn: Callable[[Any], Any], items: Sequence[Any], ex: Executor,
+               cost: Callable[[Any], float] | None = None) -> dict[Future, int]:
+    """Submit ``fn(item)`` for every item, the costliest first when ``cost`` (an item's expected
+    length, in any unit) is given: longest-processing-time-first list scheduling, so that a long
+    run does not start last and hold the pool's tail alone. Returns each future's item index.
+    (A :class:`SerialExecutor` runs each at its submission.)
+
+    >>> order = []
+    >>> _ = submit_all(order.append, ["a", "bbb", "cc"], SerialExecutor(), cost=len)
+    >>> order
+    ['bbb', 'cc', 'a']
+    """
+    return {ex.submit(fn, items[i]): i for i in _ranked(items, cost)}
+
+
+def collect(futures: dict[Future, int], ex: Executor, on_done: Callable[[int, Future], None]) -> None:
+    """Call ``on_done(index, future)`` for each of ``futures`` (:func:`submit_all`'s) as it finishes.
 
     On Ctrl-C or SIGTERM the runs not yet finished are cancelled (local workers stopped, see
     :meth:`LocalPool.stop`) and the interruption is re-raised."""
     with interruptible():
-        futures: dict[Future, int] = {}
         try:
-            if isinstance(ex, SerialExecutor):  # one at a time, each reported before the next starts
-                for i, item in enumerate(items):
-                    on_done(i, ex.submit(fn, item))
-                return
-            for i, item in enumerate(items):
-                futures[ex.submit(fn, item)] = i
-            for f in as_completed(futures):
+            for f in futures if isinstance(ex, SerialExecutor) else as_completed(futures):
                 on_done(futures[f], f)
         except BaseException as e:
-            cause = _as_interruption(e)
-            if isinstance(ex, LocalPool):
-                ex.stop(_signal_of(cause))
-            else:
-                for f in futures:
-                    f.cancel()
-            if cause is not e:
-                raise cause from None
-            raise
+            _stop(futures, ex, e)
+
+
+def run_each(fn: Callable[[Any], Any], items: Sequence[Any], ex: Executor,
+             on_done: Callable[[int, Future], None], cost: Callable[[Any], float] | None = None) -> None:
+    """Submit ``fn(item)`` for every item (the costliest first, :func:`submit_all`) and call
+    ``on_done(index, future)`` as each finishes (in the order they finish; the future holds the
+    result or the exception). A :class:`SerialExecutor` runs and reports each before the next.
+
+    On Ctrl-C or SIGTERM the runs not yet finished are cancelled (local workers stopped, see
+    :meth:`LocalPool.stop`) and the interruption is re-raised."""
+    with interruptible():
+        if isinstance(ex, SerialExecutor):  # one at a time, each reported before the next starts
+            for i in _ranked(items, cost):
+                on_done(i, ex.submit(fn, items[i]))
+            return
+        try:
+            futures = submit_all(fn, items, ex, cost)
+        except BaseException as e:
+            _stop({}, ex, e)
+        collect(futures, ex, on_done)
+
+
+def _ranked(items: Sequence[Any], cost: Callable[[Any], float] | None) -> list[int]:
+    """The items' indices, the costliest first (stable), or in order without ``cost``."""
+    return sorted(range(len(items)), key=lambda i: -cost(items[i])) if cost else list(range(len(items)))
+
+
+def _stop(futures: dict[Future, int], ex: Executor, e: BaseException) -> NoReturn:
+    """Stop what runs after the exception ``e`` (the local workers, or ``futures`` on a cluster) and
+    re-raise it, as the interruption it is."""
+    cause = _as_interruption(e)
+    if isinstance(ex, LocalPool):
+        ex.stop(_signal_of(cause))
+    else:
+        for f in futures:
+            f.cancel()
+    if cause is not e:
+        raise cause from None
+    raise e
 
 
 def map_ordered(fn: Callable[[Any], Any], items: Iterable[Any], ex: Executor) -> list[Any]:

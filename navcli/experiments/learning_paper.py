@@ -46,14 +46,16 @@ def policies(report: Report, s: Any, out: Path, ex, verdict, scenario, condition
     from ..training.comparison import notes, parse_policy, plan, policy_table, run_all, trials_frame
     from ..training.task import task_spec
 
-    for room in s.policy_rooms:
-        spec = task_spec(scenario(room))
-        names = POLICIES + (("agents",) if room == TRAINING_ROOM else ())
-        chosen = [parse_policy(p) for p in names]
-        where = out / room
-        (where / "runs").mkdir(parents=True, exist_ok=True)
-        results = run_all(plan(spec, chosen, s.policy_runs, s.policy_starts, where), ex)
-        trials = trials_frame([r for r in results if r.trials is not None])
+    rooms = {room: (task_spec(scenario(room)), POLICIES + (("agents",) if room == TRAINING_ROOM else ()))
+             for room in s.policy_rooms}
+    jobs = {room: plan(spec, [parse_policy(p) for p in names], s.policy_runs, s.policy_starts, out / room)
+            for room, (spec, names) in rooms.items()}
+    for room in rooms:
+        (out / room / "runs").mkdir(parents=True, exist_ok=True)
+    results = run_all([j for js in jobs.values() for j in js], ex)  # every room's runs in one pool: no room's tail waits
+    for room, (spec, names) in rooms.items():
+        where, keys = out / room, {j.key for j in jobs[room]}
+        trials = trials_frame([r for r in results if r.trials is not None and r.job.key in keys])
         write_csv(where / "trials.csv", trials)
         table = policy_table(trials).set_index("policy")
         trained = "the room it was trained on" if room == TRAINING_ROOM else "a room training never saw"
@@ -104,24 +106,36 @@ def _train_one(job: tuple) -> dict:
     return model_file.load(model)[1]
 
 
-def figure3(report: Report, s: Any, out: Path, ex, scenario, conditions) -> None:
-    """Figure 3 over ``s.train_seeds`` trainings, run in parallel on ``ex``."""
-    from ..learning import model_file
+def start_figure3(s: Any, out: Path, ex, scenario) -> tuple[list[Path], dict]:
+    """Submit Figure 3's ``s.train_seeds`` trainings to ``ex`` now (the reproduction's longest runs:
+    started before every other section's, they do not hold the pool's tail alone); their model
+    files and futures, for :func:`figure3`."""
     from ..training.task import task_spec
-    from .executor import run_each
-    from .figures import learning_curves
+    from .executor import submit_all
 
     spec = task_spec(scenario(TRAINING_ROOM))
     out.mkdir(parents=True, exist_ok=True)
     models = [out / f"model-seed{k}-{s.train_trials}-every{s.eval_every}-on{s.eval_starts}.npz"
               for k in range(1, s.train_seeds + 1)]  # one per size and seed: resumed only by it
     jobs = [(spec, k, s.train_trials, s.eval_every, s.eval_starts, m) for k, m in enumerate(models, 1)]
-    metas: list[dict] = [{}] * len(jobs)
+    return models, submit_all(_train_one, jobs, ex)
+
+
+def figure3(report: Report, s: Any, out: Path, ex, started: tuple[list[Path], dict], scenario, conditions) -> None:
+    """Figure 3 over the trainings :func:`start_figure3` started on ``ex``."""
+    from ..learning import model_file
+    from ..training.task import task_spec
+    from .executor import collect
+    from .figures import learning_curves
+
+    spec = task_spec(scenario(TRAINING_ROOM))
+    models, futures = started
+    metas: list[dict] = [{}] * len(models)
 
     def done(i: int, f) -> None:
         metas[i] = f.result()
 
-    run_each(_train_one, jobs, ex, done)
+    collect(futures, ex, done)
     png = learning_curves(metas, out / "figure3.png")
     hand, rand = metas[0].get("hand_coded"), metas[0].get("random")
     passed = [m["seed"] for m in metas if hand is not None and any(p["successes"] > hand for p in m["curve"])]

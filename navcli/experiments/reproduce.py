@@ -300,9 +300,11 @@ def reproduce(which: str, out: Path, *, settings: Settings = FULL, jobs: int = 2
                 "count, else the number itself. No verdict where the paper has no number; none either from fewer "
                 f"than {MIN_SAMPLE} runs (pairs, starts): too few to judge.")
     durations = []
-    t_all = time.perf_counter()
+    t_all, cpu_here, cpu_workers = time.perf_counter(), time.process_time(), _children_cpu()
     with executor(jobs, scheduler) as ex:
         steps: list[tuple[str, Callable[[], None]]] = []
+        if which in ("learning", "all"):  # the longest runs first: Figure 3's trainings, then the rest behind
+            trainings = learning_paper.start_figure3(settings, out / "figure3", ex, _scenario)
         if which in ("pilots", "all"):
             steps += [("Table 1 (pilots)", lambda: table1(report, settings, out / "table1", ex, pilots)),
                       ("sensitivity", lambda: sensitivity(report, settings, out / "sensitivity", ex)),
@@ -310,19 +312,38 @@ def reproduce(which: str, out: Path, *, settings: Settings = FULL, jobs: int = 2
         if which in ("learning", "all"):
             steps += [("Table 1 (policies)", lambda: learning_paper.policies(report, settings, out / "policies", ex,
                                                                              verdict, _scenario, _conditions)),
-                      ("Figure 3", lambda: learning_paper.figure3(report, settings, out / "figure3", ex, _scenario,
-                                                                  _conditions))]
+                      ("Figure 3", lambda: learning_paper.figure3(report, settings, out / "figure3", ex, trainings,
+                                                                  _scenario, _conditions))]
         for name, step in steps:
             t0 = time.perf_counter()
             echo(f"reproduce: {name} ...")
             step()
             durations.append([name, f"{time.perf_counter() - t0:.0f} s"])
+    wall = time.perf_counter() - t_all
+    here, workers = time.process_time() - cpu_here, _children_cpu() - cpu_workers
     report.heading("How long it took")
-    report.table(["section", "wall time"], durations + [["all", f"{time.perf_counter() - t_all:.0f} s"]])
+    report.text(f"{jobs} worker(s){' on ' + scheduler if scheduler else ''}. Each section from its start to its end "
+                "in this process; Figure 3's trainings, the longest runs, start before every other section and run "
+                "beside them, so its row is only what was left of them.")
+    report.table(["section", "wall time"], durations + [["all", f"{wall:.0f} s"]])
+    if workers > 0:  # local workers (a cluster's CPU is not seen from here)
+        serial = here / (here + workers)
+        report.text(f"CPU: {here:.0f} s in this process (planning, reading logs, tables, figures: the serial "
+                    f"part), {workers:.0f} s in the workers; serial share {serial:.1%}, so by Amdahl's law no "
+                    f"number of workers makes this reproduction more than {1 / serial:.0f}x faster than one.")
     files = {"markdown": out / "report.md", "html": out / "report.html"}
     write_markdown(files["markdown"], report.markdown())
     write_text(files["html"], report.html())
     return files
+
+
+def _children_cpu() -> float:
+    """CPU seconds (user + system) of this process's finished children: the local pool's workers,
+    once it is closed."""
+    import resource
+
+    r = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return r.ru_utime + r.ru_stime
 
 
 __all__ = ["FULL", "QUICK", "Settings", "reproduce"]
