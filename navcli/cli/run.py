@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated, Optional
+from typing import Annotated, Any, Optional
 
 import typer
 
@@ -236,17 +236,30 @@ def params(
         values = with_params(Params(), chosen)
         with about("--param"):
             values = values.override(dict(parse_override(i) for i in param or []))
-    rows = [(name, _shown(value), d.unit or "-", d.range_text(), d.description)
-            for name, d, value in values.declarations()]
+    rows = param_rows(values)
     if markdown:
-        typer.echo("| parameter | default | unit | range | what it is |\n| --- | --- | --- | --- | --- |")
-        for row in rows:
-            typer.echo("| " + " | ".join(c.replace("|", "\\|") for c in (f"`{row[0]}`",) + row[1:]) + " |")
+        typer.echo(params_markdown(values), nl=False)
         return
     header = ("name", "value", "unit", "range", "description")
     widths = [max(len(r[i]) for r in rows + [header]) for i in range(4)]
     for row in [header] + rows:
         typer.echo(f"{row[0]:{widths[0]}s}  {row[1]:>{widths[1]}s}  {row[2]:{widths[2]}s}  {row[3]:{widths[3]}s}  {row[4]}")
+
+
+def param_rows(values: Any) -> list[tuple[str, str, str, str, str]]:
+    """One row per parameter of ``values`` (a :class:`~navcli.params.Params`): its --param name, value,
+    unit, the range an override must lie in, and what it is."""
+    return [(name, _shown(value), d.unit or "-", d.range_text(), d.description)
+            for name, d, value in values.declarations()]
+
+
+def params_markdown(values: Any) -> str:
+    """``navcli params --markdown``: the parameter reference as a Markdown table (the docs' reference
+    page is made by this function too)."""
+    lines = ["| parameter | default | unit | range | what it is |", "| --- | --- | --- | --- | --- |"]
+    for row in param_rows(values):
+        lines.append("| " + " | ".join(c.replace("|", "\\|") for c in (f"`{row[0]}`",) + row[1:]) + " |")
+    return "\n".join(lines) + "\n"
 
 
 def _shown(value) -> str:

@@ -1,0 +1,140 @@
+"""The documentation: the site builds with warnings as errors from a clean folder, every command and
+snippet in it runs (docs/contributing.md, "The documentation", states the rules), the README's quick
+start runs, and the README stays a five-minute read."""
+
+from __future__ import annotations
+
+import os
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from conftest import ROOT
+
+DOCS = ROOT / "docs"
+FENCE = re.compile(r"^```([\w{}-]*)[^\n]*\n(.*?)^```", re.S | re.M)
+LINKED = ("scenarios", "plans", "examples", "docs")  # what a page's commands see of the repository
+MAX_NOT_RUN = 12  # ```sh blocks: few, each with its reason
+
+
+def _pages() -> list[Path]:
+    pages = sorted(p for p in DOCS.rglob("*.md") if "_build" not in p.parts and "results" not in p.parts)
+    return [ROOT / "README.md"] + [p for p in pages if p.name != "python-api.md"]  # tests/test_api.py runs that one
+
+
+def _blocks(page: Path) -> list[tuple[str, str, str]]:
+    """(language, body, the text before the block) of each fenced block of a page, in order."""
+    text = page.read_text(encoding="utf-8")
+    return [(m.group(1), m.group(2), text[:m.start()]) for m in FENCE.finditer(text)]
+
+
+def _commands(body: str) -> list[tuple[str, int]]:
+    """A console block's commands, each with the exit code its trailing comment states (0 if none)."""
+    out = []
+    for line in body.splitlines():
+        if line.startswith("$ "):
+            code = re.search(r"#\s*exits (\d+)", line)
+            out.append((line[2:], int(code.group(1)) if code else 0))
+    return out
+
+
+@pytest.fixture(scope="module")
+def built(tmp_path_factory) -> Path:
+    out = tmp_path_factory.mktemp("html")
+    r = subprocess.run([sys.executable, "-m", "sphinx", "-W", "--keep-going", "-q", "-b", "html", str(DOCS), str(out)],
+                       capture_output=True, text=True, cwd=ROOT)
+    assert r.returncode == 0, r.stderr[-3000:]
+    return out
+
+
+def test_the_site_builds_with_warnings_as_errors(built):
+    for page in ("index", "reference/cli", "reference/params", "reference/api", "results/index", "changelog",
+                 "references", "concepts/pilot", "tutorials/first-mission"):
+        assert (built / f"{page}.html").is_file(), page
+
+
+def test_the_references_are_made_from_the_code(built):
+    import typer
+
+    from navcli.cli import app
+    from navcli.params import Params
+
+    cli = (built / "reference" / "cli.html").read_text(encoding="utf-8")
+    root = typer.main.get_command(app)
+    for name, cmd in root.commands.items():
+        assert f"navcli {name}" in cli, name
+        for p in getattr(cmd, "params", []):
+            for opt in p.opts if p.param_type_name == "option" else []:
+                assert opt in cli, (name, opt)
+    params = (built / "reference" / "params.html").read_text(encoding="utf-8")
+    names = [n for n, _, _ in Params().declarations()]
+    assert len(names) > 50 and all(f"<code class=\"docutils literal notranslate\"><span class=\"pre\">{n}</span>" in params
+                                   for n in names)
+    api = (built / "reference" / "api.html").read_text(encoding="utf-8")
+    assert all(f'id="navcli.api.{f}"' in api for f in ("run", "compare", "sweep"))
+
+
+def test_every_block_is_run_or_says_why_not():
+    not_run = 0
+    for page in _pages():
+        for lang, body, before in _blocks(page):
+            if lang in ("sh", "bash", "shell"):
+                paragraph = before.rstrip().rsplit("\n\n", 1)[-1].lower()
+                is_setup = page.name == "README.md" and body.startswith("python -m pip install -e ")
+                assert is_setup or "not run by the tests" in paragraph, f"{page}: a {lang} block with no reason: {body[:60]}"
+                not_run += not is_setup
+            else:
+                assert lang in ("console", "python", "text", "yaml", "{eval-rst}", "{toctree}", "{literalinclude}",
+                                "{include}", "{navcli-cli}", "{navcli-params}", "{navcli-references}", ""), (page, lang)
+                if lang == "console":
+                    assert _commands(body), f"{page}: a console block with no $ command"
+    assert 0 < not_run <= MAX_NOT_RUN
+
+
+@pytest.mark.parametrize("page", [str(p.relative_to(ROOT)) for p in _pages()
+                                  if any(lang in ("console", "python") for lang, _, _ in _blocks(p))])
+def test_every_command_and_snippet_of_a_page_runs(page, tmp_path, monkeypatch):
+    """In an empty folder that sees the repository's scenarios, plans, examples and docs; the
+    page's blocks in order, its Python blocks sharing one namespace."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    for name in LINKED:
+        os.symlink(ROOT / name, tmp_path / name)
+    monkeypatch.chdir(tmp_path)
+    env = dict(os.environ, PATH=f"{Path(sys.executable).parent}{os.pathsep}{os.environ['PATH']}")
+    namespace: dict = {"__name__": "__docs__"}
+    for i, (lang, body, _) in enumerate(_blocks(ROOT / page)):
+        if lang == "console":
+            for command, expected in _commands(body):
+                r = subprocess.run(["bash", "-c", command], capture_output=True, text=True, env=env, cwd=tmp_path,
+                                   stdin=subprocess.DEVNULL, timeout=300)
+                assert r.returncode == expected, f"{page}: `{command}` exited {r.returncode}:\n{r.stdout[-1500:]}{r.stderr[-1500:]}"
+        elif lang == "python":
+            exec(compile(body, f"{page} block {i + 1}", "exec"), namespace)
+    for name in LINKED:  # nothing written into the repository through the links
+        assert (tmp_path / name).is_symlink()
+
+
+def test_the_readme_is_a_five_minute_read():
+    readme = (ROOT / "README.md").read_text(encoding="utf-8")
+    assert len(readme.encode()) <= 12_000
+    for link in re.findall(r"\]\((docs/[^)#]+)", readme):
+        assert (ROOT / link).exists(), link
+    picture = re.search(r"!\[[^]]*\]\((docs/[^)]+\.png)\)", readme).group(1)
+    assert (ROOT / picture).stat().st_size < 150_000
+
+
+def test_the_readmes_results_and_the_results_page_are_made_from_the_checked_in_report():
+    sys.path.insert(0, str(DOCS))
+    try:
+        import make_results
+    finally:
+        sys.path.remove(str(DOCS))
+    page, table = make_results.render()
+    assert (DOCS / "results" / "index.md").read_text(encoding="utf-8") == page
+    readme = (ROOT / "README.md").read_text(encoding="utf-8")
+    assert make_results.between_markers(readme) == table
