@@ -25,6 +25,13 @@ from typing import Any
 
 __version__ = "0.1.0"
 
+from . import _build  # noqa: E402 (before any other navcli module is imported)
+
+BUILD = _build.choose()
+"""Which code runs: ``compiled`` (the hot modules built by mypyc, see setup.py and
+:mod:`navcli._build`), ``pure`` (compiled modules installed, their ``.py`` sources run:
+``NAVCLI_PURE=1``) or ``pure-only`` (none built: the install had no C compiler)."""
+
 
 class NavcliError(ValueError):
     """The root of every refusal navcli makes (a scenario, a plan, a model file, a log, an option, an

@@ -141,7 +141,8 @@ class Fuzzy:
         o = _lift(other)
         return self._zip(o, lambda a, b: (a[0] + b[0], a[1] + b[1]))
 
-    __radd__ = __add__
+    def __radd__(self, other: Fuzzy | float) -> Fuzzy:  # a method, not an alias: mypyc compiles this module
+        return self.__add__(other)
 
     def __neg__(self) -> Fuzzy:
         return Fuzzy(tuple((-hi, -lo) for lo, hi in self.cuts))
@@ -163,7 +164,8 @@ class Fuzzy:
 
         return self._zip(other, mul)
 
-    __rmul__ = __mul__
+    def __rmul__(self, other: Fuzzy | float) -> Fuzzy:
+        return self.__mul__(other)
 
     def __truediv__(self, other: Fuzzy | float) -> Fuzzy:
         o = _lift(other)

@@ -156,7 +156,9 @@ def scenarios(
 
 @app.command()
 def bench(
-    scenario: Annotated[Path, typer.Argument(metavar="SCENARIO", help=SCENARIO_HELP + ", to time.")] = Path("paper-8x8"),
+    scenario: Annotated[Optional[Path], typer.Argument(
+        metavar="SCENARIO", help=SCENARIO_HELP + ", to time (default: paper-8x8; with --training, landmarks-12).",
+        show_default=False)] = None,
     repeat: Annotated[int, typer.Option(min=1, max=1000, help="Runs per configuration; the median is reported.")] = 5,
     pilot: PilotOption = None,
     seed: Annotated[Optional[int], typer.Option(min=0, max=MAX_SEED)] = None,
@@ -167,6 +169,13 @@ def bench(
     long: Annotated[bool, typer.Option(
         "--long", help="Instead: cost per tick in the last minute of a 20-minute run against the first "
                        "(the map must not slow a long run down; try scenarios/trap-box.yaml).")] = False,
+    training: Annotated[bool, typer.Option(
+        "--training", help="Instead: the learning task's throughput: actions per second of its Gym env's step, and "
+                           "a short training's wall time per trial, extrapolated to 2,000 trials.")] = False,
+    trials: Annotated[int, typer.Option(min=1, max=100_000, help="With --training: the short training's trials.")] = 50,
+    eval_starts: Annotated[int, typer.Option(min=1, max=10_000, help="With --training: starts of each of its "
+                                                                      "4 evaluations.")] = 10,
+    actions: Annotated[int, typer.Option(min=1, max=1_000_000, help="With --training: env.step calls timed.")] = 300,
 ) -> None:
     """Real-time factor (simulated s per wall s) of a full mission, with logging on and off."""
     if occlusion:
@@ -174,7 +183,14 @@ def bench(
 
         occlusion_benchmark(echo=typer.echo)
         return
-    spec = build_spec(scenario, param, seed=seed, pilot=pilot, perception=choice(perception))
+    if training:
+        from ..experiments.bench import training_benchmark
+
+        spec = build_spec(scenario or Path("landmarks-12"), param, task=True)
+        training_benchmark(spec, actions=actions, trials=trials, eval_starts=eval_starts, seed=seed or 1,
+                           echo=typer.echo)
+        return
+    spec = build_spec(scenario or Path("paper-8x8"), param, seed=seed, pilot=pilot, perception=choice(perception))
     from ..experiments.bench import benchmark, long_run_benchmark, objects_benchmark
 
     if long:

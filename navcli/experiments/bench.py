@@ -169,3 +169,59 @@ def long_run_benchmark(spec: RunSpec, *, minutes: float = 20.0, window_s: float 
          f"median {e:.0f} us/tick in the first minute, {lt:.0f} us/tick in the last: {lt / e:.2f}x "
          f"({len(m.navigation.map.network)} beta-units, {m.navigation.diverting_targets} diverting targets)")
     return lt / e
+
+
+def training_benchmark(spec: RunSpec, *, actions: int = 300, trials: int = 50, eval_starts: int = 10, seed: int = 1,
+                       echo: Callable[[str], None] = print) -> dict[str, float]:
+    """The learning task's throughput (issue 39): the Gymnasium environment's ``step`` (one action of
+    the Learning Agent, ``learning.action_s`` of simulated time) in actions per wall second, over
+    ``actions`` actions of a uniformly random policy (seeded; the trials' resets not counted), and a
+    short training's wall time, ``trials`` trials (``navcli train`` with one job: evaluations of
+    ``eval_starts`` starts in this process), per trial and extrapolated to the paper's 2,000: the
+    learning trials alone, and the evaluation trials a default ``navcli train`` adds (the untrained
+    and each 100th policy, the hand-coded and the random policy, on 99 starts: run in worker
+    processes beside the learning). ``spec`` is the task's run (:func:`navcli.training.task.task_spec`)."""
+    import time
+
+    import numpy as np
+
+    from ..envs.landmark_navigation import LandmarkNavigationEnv
+    from ..learning.actions import ACTIONS
+    from ..training.trainer import train
+
+    env = LandmarkNavigationEnv(spec)
+    rng = np.random.default_rng(seed)
+    env.reset(seed=seed)
+    env.step(0)  # warm-up: imports, caches
+    env.reset()
+    stepping, done, trials_seen = 0.0, 0, 1
+    while done < actions:
+        a = int(rng.integers(len(ACTIONS)))
+        t0 = time.perf_counter()
+        _, _, terminated, truncated, _ = env.step(a)
+        stepping += time.perf_counter() - t0
+        done += 1
+        if terminated or truncated:
+            env.reset()
+            trials_seen += 1
+    env.close()
+    per_s = actions / stepping
+    action_s = spec.params.learning.action_s
+    echo(f"{'env.step':12s} {per_s:8.1f} actions/s   {1e3 / per_s:7.1f} ms/action  ({action_s:g} s simulated each, "
+         f"{per_s * action_s:.0f}x real time; {actions} actions of a random policy over {trials_seen} trials, "
+         f"{spec.scenario.name})")
+    with tempfile.TemporaryDirectory() as tmp:
+        t0 = time.perf_counter()
+        r = train(spec, trials=trials, eval_every=trials, eval_starts=eval_starts, seed=seed, workers=1,
+                  out=Path(tmp) / "bench.npz")
+        wall = time.perf_counter() - t0
+    evals = 4 * eval_starts  # the untrained and the last policy, the hand-coded and the random one
+    per_trial, per_eval = r.train_s / trials, r.eval_s / evals
+    default_evals = (2000 // 100 + 1 + 2) * 99
+    echo(f"{'training':12s} {trials} trials in {wall:.1f} s (with {evals} evaluation trials): {per_trial:.2f} s a "
+         f"learning trial, {per_eval:.2f} s an evaluation trial")
+    echo(f"{'2,000 trials':12s} {2000 * per_trial / 60:8.1f} min of learning trials (extrapolated from {trials}), "
+         f"and {default_evals * per_eval / 60:.1f} min of CPU for a default training's {default_evals} evaluation "
+         f"trials (in worker processes, beside the learning)")
+    return {"actions_per_s": per_s, "trial_s": per_trial, "eval_trial_s": per_eval,
+            "training_2000_min": 2000 * per_trial / 60}
