@@ -16,7 +16,7 @@ from conftest import ROOT
 from navcli.analysis import read_log
 from navcli.analysis.files import MARK
 from navcli.cli import app
-from navcli.experiments.reproduce import QUICK, reproduce
+from navcli.experiments.reproduce import FULL, QUICK, reproduce
 from navcli.learning.actions import ACTIONS
 
 TINY = replace(QUICK, reruns=2, sensitivity_seeds=2, trap_seeds=1, trap_rooms=("blocked-wall",), policy_runs=2,
@@ -125,6 +125,28 @@ def test_a_second_run_resumes_what_the_first_left(done):
 def test_the_command_refuses_an_unknown_section():
     r = CliRunner().invoke(app, ["reproduce", "everything"])
     assert r.exit_code == 2 and "expected pilots, learning or all" in r.output
+
+
+@pytest.mark.parametrize("args, want", [(["--quick", "--train-seeds", "3"], replace(QUICK, train_seeds=3)),
+                                        (["--train-seeds", "1"], replace(FULL, train_seeds=1)), ([], FULL)])
+def test_train_seeds_sets_figure_3s_trainings_and_nothing_else(args, want, monkeypatch, tmp_path):
+    seen = []
+    monkeypatch.setattr("navcli.experiments.reproduce.reproduce",
+                        lambda which, out, settings, **kw: seen.append(settings) or _written(out))
+    r = CliRunner().invoke(app, ["reproduce", "learning", "--out", str(tmp_path / "r"), *args])
+    assert r.exit_code == 0, r.output
+    assert seen == [want]
+
+
+def _written(out: Path) -> dict[str, Path]:
+    out.mkdir(parents=True, exist_ok=True)
+    (out / "report.md").write_text("# report\n")
+    return {"markdown": out / "report.md", "html": out / "report.html"}
+
+
+def test_train_seeds_below_one_is_refused():
+    r = CliRunner().invoke(app, ["reproduce", "learning", "--train-seeds", "0"])
+    assert r.exit_code == 2 and "--train-seeds" in r.output
 
 
 def test_the_reports_own_files_are_recognised_so_the_command_can_run_again(done):

@@ -294,6 +294,9 @@ def reproduce(which: str, out: Path, *, settings: Settings = FULL, jobs: int = 2
     if settings.quick:
         report.text("QUICK RUN (--quick): few reruns, to check the machinery; the intervals are wide and the "
                     "verdicts are not the reproduction's. Run without --quick for the papers' sizes.")
+    if not settings.quick and settings.train_seeds != FULL.train_seeds:
+        report.text(f"Figure 3 from {settings.train_seeds} training(s) (--train-seeds), where the full reproduction "
+                    f"runs {FULL.train_seeds}.")
     report.text(f"navcli {__version__}; settings: {json.dumps(asdict(settings))}. A paper's number agrees when "
                 "navcli's 95 % interval of the same quantity meets the paper's own range of it: the mean ± 1 SD of "
                 "its runs where it gives an SD, the 95 % interval its Table 1 gives a gain, the Wilson interval of a "
