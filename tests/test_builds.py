@@ -70,6 +70,17 @@ def test_the_compiled_build_runs_20_missions_exactly_as_pure_python():
     assert pure == compiled
 
 
+@compiled_only
+def test_the_compiled_modules_worked_examples_hold_in_their_pure_python_sources():
+    """The doctests of the compiled modules' sources (which pytest cannot collect from a compiled
+    build: conftest.py at the root leaves them to this test), run under NAVCLI_PURE=1."""
+    files = [str(ROOT / "navcli" / (m.replace(".", "/") + ".py")) for m in _build.MODULES]
+    r = subprocess.run([sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "--doctest-modules", *files],
+                       cwd=ROOT, env=child_env(True), capture_output=True, text=True)
+    assert r.returncode == 0, r.stdout[-3000:] + r.stderr[-2000:]
+    assert " passed" in r.stdout
+
+
 def test_bench_training_gives_the_learning_tasks_throughput_and_a_trainings_time():
     r = CliRunner().invoke(app, ["bench", "--training", "--trials", "1", "--eval-starts", "1", "--actions", "5"])
     assert r.exit_code == 0, r.output
