@@ -20,8 +20,8 @@ import sys
 from setuptools import setup
 from setuptools.command.build_ext import build_ext
 
-# navcli/_build.py holds the list of the compiled modules (read here without importing navcli)
-BUILD = runpy.run_path(os.path.join(os.path.dirname(os.path.abspath(__file__)), "navcli", "_build.py"))
+# navcli/builds/__init__.py holds the list of the compiled modules (read here without importing navcli)
+BUILD = runpy.run_path(os.path.join(os.path.dirname(os.path.abspath(__file__)), "navcli", "builds", "__init__.py"))
 COMPILED = [f"navcli/{m.replace('.', '/')}.py" for m in BUILD["MODULES"]]
 
 
@@ -30,8 +30,10 @@ BUILDING = any(a in ("build", "build_ext", "bdist_wheel", "editable_wheel", "dev
 
 
 def pure(why: str) -> None:
-    print(f"navcli: {why}: installing pure Python (correct, slower; see README, 'The compiled build')",
-          file=sys.stderr)
+    print(
+        f"navcli: {why}: installing pure Python (correct, slower; see docs/howto/speed.md, 'The compiled build')",
+        file=sys.stderr,
+    )
 
 
 class OptionalBuildExt(build_ext):
@@ -43,8 +45,10 @@ class OptionalBuildExt(build_ext):
             super().run()
         except Exception as e:  # distutils' CompileError, LinkError, PlatformError, an OSError ...
             for ext in self.extensions:
-                for path in {self.get_ext_fullpath(ext.name), os.path.join(*ext.name.split(".")) + os.path.splitext(
-                        self.get_ext_filename(ext.name))[1]}:
+                for path in {
+                    self.get_ext_fullpath(ext.name),
+                    os.path.join(*ext.name.split(".")) + os.path.splitext(self.get_ext_filename(ext.name))[1],
+                }:
                     if os.path.isfile(path):
                         os.remove(path)
             first = str(e).splitlines()[0] if str(e) else ""
@@ -67,8 +71,11 @@ def extensions() -> list:
         # (GCC contracts a*b+c by default where the CPU has FMA, and the runs would differ in the last bits)
         os.environ["CFLAGS"] = (os.environ.get("CFLAGS", "") + " -ffp-contract=off").strip()
         # mypy's notes (an unchecked untyped function elsewhere) would stop mypyc: they are not errors
-        return mypycify(["--disable-error-code=annotation-unchecked", *COMPILED], opt_level="3",
-                        group_name=f"navcli.{BUILD['GROUP']}")
+        return mypycify(
+            ["--disable-error-code=annotation-unchecked", *COMPILED],
+            opt_level="3",
+            group_name=f"navcli.{BUILD['GROUP']}",
+        )
     except (Exception, SystemExit) as e:  # mypyc refused the code (it exits): still an install
         pure(f"mypyc could not compile ({type(e).__name__}: {e})")
         return []

@@ -60,9 +60,11 @@ def measure(mission: str, repeat: int, folder: Path) -> None:
     sim = res.summary["time_s"]
     write = (statistics.median(walls[True]) - statistics.median(walls[False])) / sim
     total = log.stat().st_size
-    print(f"{name} ({pilot}, {res.summary['outcome']} at {sim:.1f} s): {total:,} bytes, {total / sim:,.0f} bytes "
-          f"per simulated s; writing {write * 1e3:.2f} ms per simulated s (median of {repeat}: "
-          f"{statistics.median(walls[True]):.2f} s of CPU with the log, {statistics.median(walls[False]):.2f} s without)")
+    print(
+        f"{name} ({pilot}, {res.summary['outcome']} at {sim:.1f} s): {total:,} bytes, {total / sim:,.0f} bytes "
+        f"per simulated s; writing {write * 1e3:.2f} ms per simulated s (median of {repeat}: "
+        f"{statistics.median(walls[True]):.2f} s of CPU with the log, {statistics.median(walls[False]):.2f} s without)"
+    )
     count, size = topic_bytes(log)
     raw = sum(size.values())
     print(f"  {'topic':20s} {'messages':>9s} {'bytes (uncompressed)':>21s} {'per sim s':>10s}  share")

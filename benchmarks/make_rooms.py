@@ -44,14 +44,18 @@ def room(seed: int) -> dict:
     fences = []
     while len(fences) < 2:
         s = rng.uniform(0.25, 0.75)
-        mid = (START[0] + s * (TARGET[0] - START[0]) + rng.normal(0, 0.5),
-               START[1] + s * (TARGET[1] - START[1]) + rng.normal(0, 0.5))
+        mid = (
+            START[0] + s * (TARGET[0] - START[0]) + rng.normal(0, 0.5),
+            START[1] + s * (TARGET[1] - START[1]) + rng.normal(0, 0.5),
+        )
         length, angle = rng.uniform(2.0, 3.0), rng.uniform(0, math.pi)
         a = (mid[0] - length / 2 * math.cos(angle), mid[1] - length / 2 * math.sin(angle))
         b = (mid[0] + length / 2 * math.cos(angle), mid[1] + length / 2 * math.sin(angle))
-        if all(0.6 < c < 7.4 for c in (*a, *b)) and all(_dist_to_segment(p, a, b) > GAP for p, q in things
-                                                        if q is None) \
-                and all(min(_dist_to_segment(e, *f) for e in (a, b)) > 1.0 for f in fences):
+        if (
+            all(0.6 < c < 7.4 for c in (*a, *b))
+            and all(_dist_to_segment(p, a, b) > GAP for p, q in things if q is None)
+            and all(min(_dist_to_segment(e, *f) for e in (a, b)) > 1.0 for f in fences)
+        ):
             fences.append((a, b))
             things.append((a, b))
     points = {"circles": [], "landmarks": []}
@@ -67,17 +71,41 @@ def room(seed: int) -> dict:
 def write(name: str, seed: int, description: str) -> None:
     r = room(seed)
     f = lambda v: f"{v:.2f}"  # noqa: E731
-    lines = [f"# A held-out room, drawn at random (benchmarks/make_rooms.py, seed {seed}) before any run in it,",
-             "# and never reshaped: results here check what was designed on paper-8x8 and slanted-8x8.",
-             "version: 1", f"name: {name}", f"description: >\n  {description}",
-             "arena: {width: 8.0, height: 8.0}", "robot:", f"  start: [{START[0]}, {START[1]}]", "  heading_deg: -45",
-             "  radius: 0.25", "  max_speed: 0.05   # m/s: the paper's pace, as in paper-8x8",
-             "target:", f"  at: [{TARGET[0]}, {TARGET[1]}]", "  tolerance: 0.3", "obstacles:"]
+    lines = [
+        f"# A held-out room, drawn at random (benchmarks/make_rooms.py, seed {seed}) before any run in it,",
+        "# and never reshaped: results here check what was designed on paper-8x8 and slanted-8x8.",
+        "version: 1",
+        f"name: {name}",
+        f"description: >\n  {description}",
+        "arena: {width: 8.0, height: 8.0}",
+        "robot:",
+        f"  start: [{START[0]}, {START[1]}]",
+        "  heading_deg: -45",
+        "  radius: 0.25",
+        "  max_speed: 0.05   # m/s: the paper's pace, as in paper-8x8",
+        "target:",
+        f"  at: [{TARGET[0]}, {TARGET[1]}]",
+        "  tolerance: 0.3",
+        "obstacles:",
+    ]
     lines += [f"  - circle: {{center: [{f(x)}, {f(y)}], radius: 0.15}}" for x, y in r["circles"]]
     lines += [f"  - segment: {{from: [{f(a[0])}, {f(a[1])}], to: [{f(b[0])}, {f(b[1])}]}}" for a, b in r["fences"]]
-    lines += ["landmarks:"] + [f"  - {{id: {chr(65 + i)}, at: [{f(x)}, {f(y)}]}}" for i, (x, y) in enumerate(r["landmarks"])]
-    lines += ["mission:", "  pilot: potential-field", "  time_limit: 900", "  seed: 1", "noise:", "  odometry: 0.02",
-              "  vision_heading_deg: 2", "  vision_distance: 0.05", "camera:", "  fov_deg: 60", "  range: 6.0"]
+    lines += ["landmarks:"] + [
+        f"  - {{id: {chr(65 + i)}, at: [{f(x)}, {f(y)}]}}" for i, (x, y) in enumerate(r["landmarks"])
+    ]
+    lines += [
+        "mission:",
+        "  pilot: potential-field",
+        "  time_limit: 900",
+        "  seed: 1",
+        "noise:",
+        "  odometry: 0.02",
+        "  vision_heading_deg: 2",
+        "  vision_distance: 0.05",
+        "camera:",
+        "  fov_deg: 60",
+        "  range: 6.0",
+    ]
     (ROOT / f"{name}.yaml").write_text("\n".join(lines) + "\n")
 
 
@@ -92,20 +120,39 @@ def landmarks(name: str, seed: int) -> None:
     target = int(rng.integers(12))
     ids = [chr(65 + i) if i != target else "T" for i in range(12)]
     f = lambda v: f"{v:.2f}"  # noqa: E731
-    lines = [f"# A held-out landmarks room, drawn at random (benchmarks/make_rooms.py, seed {seed}) before any run",
-             "# in it, and never reshaped: the learning paper's Table 1 on a room training never saw.",
-             "version: 1", f"name: {name}", "description: >",
-             f"  Held-out walled {W:g} m x {H:g} m area with 12 landmarks drawn at random (seed {seed}) and nothing",
-             "  else; the target is landmark T.", f"arena: {{width: {W}, height: {H}}}", "robot:",
-             "  start: [0.6, 0.6]", "  heading_deg: 45", "target:", "  landmark: T", "  tolerance: 0.3", "landmarks:"]
+    lines = [
+        f"# A held-out landmarks room, drawn at random (benchmarks/make_rooms.py, seed {seed}) before any run",
+        "# in it, and never reshaped: the learning paper's Table 1 on a room training never saw.",
+        "version: 1",
+        f"name: {name}",
+        "description: >",
+        f"  Held-out walled {W:g} m x {H:g} m area with 12 landmarks drawn at random (seed {seed}) and nothing",
+        "  else; the target is landmark T.",
+        f"arena: {{width: {W}, height: {H}}}",
+        "robot:",
+        "  start: [0.6, 0.6]",
+        "  heading_deg: 45",
+        "target:",
+        "  landmark: T",
+        "  tolerance: 0.3",
+        "landmarks:",
+    ]
     lines += [f"  - {{id: {i}, at: [{f(x)}, {f(y)}]}}" for i, (x, y) in zip(ids, pts)]
     lines += ["noise:", "  odometry_drift_deg_per_m: 0.9", "mission:", "  time_limit: 600", "  seed: 1"]
     (ROOT / f"{name}.yaml").write_text("\n".join(lines) + "\n")
 
 
 if __name__ == "__main__":
-    write("scattered-8x8", 35, "Held-out pilot comparison room (random, seed 35): opposite corners, six point obstacles, "
-          "two fences at random angles near the diagonal, six landmarks, the paper's pace.")
-    write("crossed-8x8", 3535, "Held-out pilot comparison room (random, seed 3535): opposite corners, six point "
-          "obstacles, two fences at random angles near the diagonal, six landmarks, the paper's pace.")
+    write(
+        "scattered-8x8",
+        35,
+        "Held-out pilot comparison room (random, seed 35): opposite corners, six point obstacles, "
+        "two fences at random angles near the diagonal, six landmarks, the paper's pace.",
+    )
+    write(
+        "crossed-8x8",
+        3535,
+        "Held-out pilot comparison room (random, seed 3535): opposite corners, six point "
+        "obstacles, two fences at random angles near the diagonal, six landmarks, the paper's pace.",
+    )
     landmarks("landmarks-drawn", 36)

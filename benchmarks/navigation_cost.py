@@ -25,8 +25,12 @@ from navcli.mission import Mission  # noqa: E402
 from navcli.navigation import NavigationSystem  # noqa: E402
 from navcli.scenario import load_scenario  # noqa: E402
 
-MISSIONS = (("paper-8x8", "potential-field", 300.0), ("landmarks-12", "potential-field", 60.0),
-            ("blocked-wall", "potential-field", 120.0), ("u-trap", "geometric", 120.0))
+MISSIONS = (
+    ("paper-8x8", "potential-field", 300.0),
+    ("landmarks-12", "potential-field", 60.0),
+    ("blocked-wall", "potential-field", 120.0),
+    ("u-trap", "geometric", 120.0),
+)
 
 
 def main() -> None:
@@ -42,8 +46,9 @@ def main() -> None:
     NavigationSystem.bid = timed  # type: ignore[method-assign]
     costs = []
     for name, pilot, limit in MISSIONS:
-        m = Mission(RunSpec.build(load_scenario(f"scenarios/{name}.yaml"), pilot=pilot, time_limit=limit),
-                    snapshots=False)
+        m = Mission(
+            RunSpec.build(load_scenario(f"scenarios/{name}.yaml"), pilot=pilot, time_limit=limit), snapshots=False
+        )
         spent[0] = 0.0
         while m.outcome is None:
             m.step()

@@ -33,8 +33,16 @@ run_mission(RunSpec.build(sc, pilot=pilot, seed=int(seed), time_limit=float(limi
 
 def instructions(args: list[str]) -> int:
     with tempfile.TemporaryDirectory() as tmp:
-        cmd = ["valgrind", "--tool=callgrind", f"--callgrind-out-file={tmp}/cg.out", sys.executable, "-c", CHILD,
-               *args, str(Path(tmp) / "run.mcap")]
+        cmd = [
+            "valgrind",
+            "--tool=callgrind",
+            f"--callgrind-out-file={tmp}/cg.out",
+            sys.executable,
+            "-c",
+            CHILD,
+            *args,
+            str(Path(tmp) / "run.mcap"),
+        ]
         r = subprocess.run(cmd, capture_output=True, text=True, env=os.environ)
         m = re.search(r"Collected : (\d+)", r.stderr)
         if r.returncode != 0 or m is None:
@@ -53,8 +61,10 @@ def main() -> None:
     short = instructions([a.room, a.pilot, a.seed, str(a.short)])
     long = instructions([a.room, a.pilot, a.seed, str(a.long)])
     ticks = round((a.long - a.short) / 0.1)
-    print(f"{a.room} {a.pilot} seed {a.seed}: {(long - short) / ticks / 1e3:.0f} thousand instructions a tick "
-          f"(ticks {a.short:g}-{a.long:g} s, with the log)")
+    print(
+        f"{a.room} {a.pilot} seed {a.seed}: {(long - short) / ticks / 1e3:.0f} thousand instructions a tick "
+        f"(ticks {a.short:g}-{a.long:g} s, with the log)"
+    )
 
 
 if __name__ == "__main__":

@@ -22,8 +22,18 @@ from mcap.reader import make_reader
 from navcli import RunSpec, load_scenario, run_mission
 
 SCENARIOS = Path(__file__).resolve().parents[1] / "scenarios"
-NAMES = ("paper-8x8", "landmarks-12", "open-arena", "slanted-8x8", "blocked-wall", "door-wall", "hidden-fence",
-         "river-bridges", "u-trap", "trap-box")
+NAMES = (
+    "paper-8x8",
+    "landmarks-12",
+    "open-arena",
+    "slanted-8x8",
+    "blocked-wall",
+    "door-wall",
+    "hidden-fence",
+    "river-bridges",
+    "u-trap",
+    "trap-box",
+)
 
 
 def digest(log: Path) -> dict[str, str]:

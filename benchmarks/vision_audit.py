@@ -45,6 +45,7 @@ from navcli.experiments.compare import rerun_seed
 from navcli.fuzzy import CUT
 from navcli.geometry import distance_to_segment
 from navcli.mission import Mission
+
 try:
     from navcli.params import parse_override
 except ImportError:  # navcli before issue 35 (the benchmark is run from older checkouts too)
@@ -63,8 +64,7 @@ def audit(job: tuple[str, str, int, str, float, tuple[tuple[str, object], ...], 
     room, pilot, index, perception, limit, overrides, off, progress, folder = job
     sc = load_scenario(Path(folder) / f"{room}.yaml")
     seed = rerun_seed(sc.mission.seed, index)
-    spec = RunSpec.build(sc, pilot=pilot, seed=seed, perception=perception, time_limit=limit,
-                         overrides=dict(overrides))
+    spec = RunSpec.build(sc, pilot=pilot, seed=seed, perception=perception, time_limit=limit, overrides=dict(overrides))
     m = Mission(spec, snapshots=False)
     things = surfaces(sc)
     target = sc.target.point
@@ -96,25 +96,44 @@ def audit(job: tuple[str, str, int, str, float, tuple[tuple[str, object], ...], 
             if item.kind != "target":
                 for sp in item.spots:
                     w = pose.to_world((sp.x, sp.y))
-                    d = (math.dist(w, landmarks[item.key]) if item.kind == "landmark"
-                         else min(distance_to_segment(w, p, q) - r for p, q, r in things))
+                    d = (
+                        math.dist(w, landmarks[item.key])
+                        if item.kind == "landmark"
+                        else min(distance_to_segment(w, p, q) - r for p, q, r in things)
+                    )
                     excess = max(excess, d - sp.r0)
             if len(item.spots) != 2 or item.kind not in ("obstacle", "wall") or item.key in support:
                 continue
             a, b = item.spots
             mid = pose.to_world(((a.x + b.x) / 2, (a.y + b.y) / 2))
             gap = min(distance_to_segment(mid, p, q) - r for p, q, r in things)
-            for found, allow in ((phantoms, 0.0), (cut, (a.radius(CUT) + b.radius(CUT)) / 2), (support, (a.r0 + b.r0) / 2)):
+            for found, allow in (
+                (phantoms, 0.0),
+                (cut, (a.radius(CUT) + b.radius(CUT)) / 2),
+                (support, (a.r0 + b.r0) / 2),
+            ):
                 if gap > off + allow and item.key not in found:
                     found[item.key] = round(m.time, 1)
     if m.outcome != "reached":
         longest = max(longest, m.time - last_progress)
-    return {"room": room, "pilot": pilot, "seed": seed, "perception": perception, "outcome": m.outcome,
-            "time": round(m.time, 1), "stall_s": round(longest, 1), "still_s": round(still, 1), "phantoms": len(phantoms),
-            "phantoms_cut": len(cut), "phantoms_support": len(support), "phantom_at": sorted(cut.values()), "phantom_keys": sorted(support),
-            "honesty_excess": round(excess, 3),
-            "looks": m.camera_looks,
-            "contacts": m.world.bumps}
+    return {
+        "room": room,
+        "pilot": pilot,
+        "seed": seed,
+        "perception": perception,
+        "outcome": m.outcome,
+        "time": round(m.time, 1),
+        "stall_s": round(longest, 1),
+        "still_s": round(still, 1),
+        "phantoms": len(phantoms),
+        "phantoms_cut": len(cut),
+        "phantoms_support": len(support),
+        "phantom_at": sorted(cut.values()),
+        "phantom_keys": sorted(support),
+        "honesty_excess": round(excess, 3),
+        "looks": m.camera_looks,
+        "contacts": m.world.bumps,
+    }
 
 
 def main(argv: list[str] | None = None) -> None:
@@ -131,31 +150,46 @@ def main(argv: list[str] | None = None) -> None:
     ap.add_argument("--scenarios", default=str(SCENARIOS), help="the folder of the rooms' YAML files")
     a = ap.parse_args(argv)
     overrides = tuple(parse_override(p) for p in a.param)
-    jobs = [(room, pilot, i, a.perception, a.time_limit, overrides, a.off, a.progress, a.scenarios)
-            for room in a.rooms.split(",") for pilot in a.pilots.split(",") for i in range(a.seeds)]
+    jobs = [
+        (room, pilot, i, a.perception, a.time_limit, overrides, a.off, a.progress, a.scenarios)
+        for room in a.rooms.split(",")
+        for pilot in a.pilots.split(",")
+        for i in range(a.seeds)
+    ]
     rows = []
     with ProcessPoolExecutor(a.jobs) as pool:
         for row in pool.map(audit, jobs):
             rows.append(row)
             print(json.dumps(row), flush=True)
-    print("room pilot: runs, reached, mean time (s), phantom lines: beyond 0.3 m / beyond its 70 % cut / beyond its "
-          "support (runs with one beyond its cut), longest stall (s), runs with a stall over 60 s, longest "
-          "time still (s), runs still over 60 s", file=sys.stderr)
+    print(
+        "room pilot: runs, reached, mean time (s), phantom lines: beyond 0.3 m / beyond its 70 % cut / beyond its "
+        "support (runs with one beyond its cut), longest stall (s), runs with a stall over 60 s, longest "
+        "time still (s), runs still over 60 s",
+        file=sys.stderr,
+    )
     total = [0, 0, 0]
     for room in a.rooms.split(","):
         for pilot in a.pilots.split(","):
             rs = [r for r in rows if r["room"] == room and r["pilot"] == pilot]
             ph = [sum(r[k] for r in rs) for k in ("phantoms", "phantoms_cut", "phantoms_support")]
             total = [t + p for t, p in zip(total, ph)]
-            print(f"{room} {pilot}: {len(rs)}, {sum(r['outcome'] == 'reached' for r in rs)}, "
-                  f"{statistics.mean(r['time'] for r in rs):.1f}, {' / '.join(map(str, ph))} "
-                  f"({sum(r['phantoms_cut'] > 0 for r in rs)}), "
-                  f"{max(r['stall_s'] for r in rs):.0f}, {sum(r['stall_s'] > 60 for r in rs)}, "
-                  f"{max(r['still_s'] for r in rs):.0f}, {sum(r['still_s'] > 60 for r in rs)}", file=sys.stderr)
-    print(f"phantom lines in all (beyond 0.3 m / its cut / its support): {' / '.join(map(str, total))}", file=sys.stderr)
+            print(
+                f"{room} {pilot}: {len(rs)}, {sum(r['outcome'] == 'reached' for r in rs)}, "
+                f"{statistics.mean(r['time'] for r in rs):.1f}, {' / '.join(map(str, ph))} "
+                f"({sum(r['phantoms_cut'] > 0 for r in rs)}), "
+                f"{max(r['stall_s'] for r in rs):.0f}, {sum(r['stall_s'] > 60 for r in rs)}, "
+                f"{max(r['still_s'] for r in rs):.0f}, {sum(r['still_s'] > 60 for r in rs)}",
+                file=sys.stderr,
+            )
+    print(
+        f"phantom lines in all (beyond 0.3 m / its cut / its support): {' / '.join(map(str, total))}", file=sys.stderr
+    )
     dishonest = [r for r in rows if r["honesty_excess"] > 1e-6]
-    print(f"runs where a remembered point left its support: {len(dishonest)} of {len(rows)}"
-          + (f" (worst {max(r['honesty_excess'] for r in dishonest):.3f} m)" if dishonest else ""), file=sys.stderr)
+    print(
+        f"runs where a remembered point left its support: {len(dishonest)} of {len(rows)}"
+        + (f" (worst {max(r['honesty_excess'] for r in dishonest):.3f} m)" if dishonest else ""),
+        file=sys.stderr,
+    )
 
 
 if __name__ == "__main__":

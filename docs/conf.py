@@ -28,7 +28,9 @@ smartquotes = False  # --live stays --live, not an en dash
 
 autodoc_member_order = "bysource"
 autodoc_typehints = "description"
-autodoc_inherit_docstrings = False  # a Gymnasium method without its own docstring is not documented in Gymnasium's words
+autodoc_inherit_docstrings = (
+    False  # a Gymnasium method without its own docstring is not documented in Gymnasium's words
+)
 autodoc_default_options = {"undoc-members": False}
 
 html_theme = "alabaster"

@@ -66,20 +66,29 @@ def render() -> tuple[str, str]:
     body = [line for line in report.splitlines() if not line.startswith(("# ", "<!--"))]
     body = [re.sub(r"^!\[([^]]*)\]\([^)]*\)$", r"(Figure not kept here: \1.)", line) for line in body]
     table = summary_table(report)
-    page = "\n".join([
-        "# Results",
-        "",
-        ("This is the **quick reproduction** (`--quick`: few reruns, to check the machinery; its intervals are "
-         "wide and its verdicts are not the reproduction's). " if quick else "") +
-        f"Made by `{source['command']}` at commit `{source['commit']}` ({source['date']}), and turned into this page "
-        "by `python docs/make_results.py`; nothing here is typed by hand. How each experiment is built: "
-        "[reproducing both papers](../tutorials/reproducing.md).",
-        "",
-        "## What reproduces",
-        "",
-        table,
-        *body,
-    ]).rstrip() + "\n"
+    page = (
+        "\n".join(
+            [
+                "# Results",
+                "",
+                (
+                    "This is the **quick reproduction** (`--quick`: few reruns, to check the machinery; its intervals are "
+                    "wide and its verdicts are not the reproduction's). "
+                    if quick
+                    else ""
+                )
+                + f"Made by `{source['command']}` at commit `{source['commit']}` ({source['date']}), and turned into this page "
+                "by `python docs/make_results.py`; nothing here is typed by hand. How each experiment is built: "
+                "[reproducing both papers](../tutorials/reproducing.md).",
+                "",
+                "## What reproduces",
+                "",
+                table,
+                *body,
+            ]
+        ).rstrip()
+        + "\n"
+    )
     return page, table
 
 
@@ -93,7 +102,7 @@ def write() -> None:
     PAGE.write_text(page, encoding="utf-8")
     readme = (ROOT / "README.md").read_text(encoding="utf-8")
     head, rest = readme.split(START, 1)
-    readme = head + START + "\n" + table + rest[rest.index(END):]
+    readme = head + START + "\n" + table + rest[rest.index(END) :]
     (ROOT / "README.md").write_text(readme, encoding="utf-8")
 
 
@@ -107,13 +116,14 @@ def main() -> None:
             ap.error("--command: say which command made the report")
         KEPT.mkdir(parents=True, exist_ok=True)
         shutil.copyfile(a.dir / "report.md", KEPT / "report.md")
-        commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=ROOT, capture_output=True, text=True,
-                                check=True).stdout.strip()
-        date = subprocess.run(["git", "log", "-1", "--format=%cs"], cwd=ROOT, capture_output=True, text=True,
-                              check=True).stdout.strip()
+        commit = subprocess.run(
+            ["git", "rev-parse", "--short", "HEAD"], cwd=ROOT, capture_output=True, text=True, check=True
+        ).stdout.strip()
+        date = subprocess.run(
+            ["git", "log", "-1", "--format=%cs"], cwd=ROOT, capture_output=True, text=True, check=True
+        ).stdout.strip()
         source = {"command": a.command, "commit": commit, "date": date, "dir": str(a.dir.resolve())}
-        (KEPT / "source.json").write_text(json.dumps(source,
-                                                     indent=1) + "\n", encoding="utf-8")
+        (KEPT / "source.json").write_text(json.dumps(source, indent=1) + "\n", encoding="utf-8")
     write()
 
 

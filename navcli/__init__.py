@@ -25,11 +25,11 @@ from typing import Any
 
 __version__ = "0.1.0"
 
-from . import _build  # noqa: E402 (before any other navcli module is imported)
+from . import builds  # noqa: E402 (before any other navcli module is imported)
 
-BUILD = _build.choose()
+BUILD = builds.choose()
 """Which code runs: ``compiled`` (the hot modules built by mypyc, see setup.py and
-:mod:`navcli._build`), ``pure`` (compiled modules installed, their ``.py`` sources run:
+:mod:`navcli.builds`), ``pure`` (compiled modules installed, their ``.py`` sources run:
 ``NAVCLI_PURE=1``) or ``pure-only`` (none built: the install had no C compiler)."""
 
 
@@ -47,17 +47,41 @@ class NavcliError(ValueError):
     headline: str | None = None
     option: str | None = None
 
+
 _API = {
-    "run": "api", "compare": "api", "sweep": "api", "spec": "api", "Run": "api",
-    "Pilot": "pilot", "Avoidance": "pilot", "ParamSet": "params", "param": "params",
-    "AgentSetup": "navigation.situation", "PluginError": "plugins", "UnknownPlugin": "plugins",
-    "Agent": "navigation.situation", "Bid": "bidding", "Look": "bidding", "Move": "bidding", "arbitrate": "bidding",
-    "Beliefs": "beliefs", "Bump": "beliefs", "KnownObstacle": "beliefs",
-    "ConfigError": "config", "RunSpec": "config",
-    "Mission": "mission", "Tick": "mission", "Event": "mission",
-    "Params": "params", "ParamError": "params",
-    "RunResult": "runner", "run_mission": "runner",
-    "Scenario": "scenario", "ScenarioError": "scenario", "load_scenario": "scenario", "parse_scenario": "scenario",
+    "run": "api",
+    "compare": "api",
+    "sweep": "api",
+    "spec": "api",
+    "Run": "api",
+    "Pilot": "pilot",
+    "Avoidance": "pilot",
+    "ParamSet": "params",
+    "param": "params",
+    "AgentSetup": "navigation.situation",
+    "PluginError": "plugins",
+    "UnknownPlugin": "plugins",
+    "Agent": "navigation.situation",
+    "Bid": "bidding",
+    "Look": "bidding",
+    "Move": "bidding",
+    "arbitrate": "bidding",
+    "Beliefs": "beliefs",
+    "Bump": "beliefs",
+    "KnownObstacle": "beliefs",
+    "ConfigError": "config",
+    "RunSpec": "config",
+    "Mission": "mission",
+    "Tick": "mission",
+    "Event": "mission",
+    "Params": "params",
+    "ParamError": "params",
+    "RunResult": "runner",
+    "run_mission": "runner",
+    "Scenario": "scenario",
+    "ScenarioError": "scenario",
+    "load_scenario": "scenario",
+    "parse_scenario": "scenario",
 }
 __all__ = sorted(_API) + ["NavcliError", "__version__"]
 

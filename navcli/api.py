@@ -46,9 +46,17 @@ if TYPE_CHECKING:
 __all__ = ["Run", "compare", "run", "spec", "sweep"]
 
 
-def spec(scenario: str | Path | Scenario | RunSpec, *, seed: int | None = None, pilot: str | None = None,
-         perception: str | None = None, navigation: str | None = None, time_limit: float | None = None,
-         params: Mapping[str, Any] | None = None, also: Iterable[str] = ()) -> RunSpec:
+def spec(
+    scenario: str | Path | Scenario | RunSpec,
+    *,
+    seed: int | None = None,
+    pilot: str | None = None,
+    perception: str | None = None,
+    navigation: str | None = None,
+    time_limit: float | None = None,
+    params: Mapping[str, Any] | None = None,
+    also: Iterable[str] = (),
+) -> RunSpec:
     """A run's whole configuration (:class:`~navcli.config.RunSpec`): a scenario (its file, or one
     loaded) with any of its choices replaced and ``params`` (``{"pilot.K": 30}``, a plugin's
     ``{"vfh.tau_high": 25}``) on top; a :class:`RunSpec` given is returned with those changes.
@@ -56,14 +64,30 @@ def spec(scenario: str | Path | Scenario | RunSpec, *, seed: int | None = None, 
     if isinstance(scenario, RunSpec):
         base = scenario
         sc = base.scenario
-        changes = {k: v for k, v in dict(seed=seed, pilot=pilot, perception=perception, navigation=navigation,
-                                         time_limit=None if time_limit is None else float(time_limit)).items()
-                   if v is not None}
+        changes = {
+            k: v
+            for k, v in dict(
+                seed=seed,
+                pilot=pilot,
+                perception=perception,
+                navigation=navigation,
+                time_limit=None if time_limit is None else float(time_limit),
+            ).items()
+            if v is not None
+        }
         out = base.replace(**changes)
         return out.replace(params=out.params.override(params or {})) if params else out
     sc = scenario if isinstance(scenario, Scenario) else load_scenario(scenario)
-    return RunSpec.build(sc, seed=seed, pilot=pilot, perception=perception, time_limit=time_limit,
-                         overrides=params, navigation=navigation, also=also)
+    return RunSpec.build(
+        sc,
+        seed=seed,
+        pilot=pilot,
+        perception=perception,
+        time_limit=time_limit,
+        overrides=params,
+        navigation=navigation,
+        also=also,
+    )
 
 
 @dataclass(frozen=True)
@@ -116,10 +140,18 @@ class Run:
         return self.frames[fmt.EVENTS_TOPIC]
 
 
-def run(scenario: str | Path | Scenario | RunSpec, *, seed: int | None = None, pilot: str | None = None,
-        perception: str | None = None, navigation: str | None = None, time_limit: float | None = None,
-        params: Mapping[str, Any] | None = None, observers: Sequence[Observer] = (),
-        log: str | Path | None = None) -> Run:
+def run(
+    scenario: str | Path | Scenario | RunSpec,
+    *,
+    seed: int | None = None,
+    pilot: str | None = None,
+    perception: str | None = None,
+    navigation: str | None = None,
+    time_limit: float | None = None,
+    params: Mapping[str, Any] | None = None,
+    observers: Sequence[Observer] = (),
+    log: str | Path | None = None,
+) -> Run:
     """Run one mission (see :func:`spec` for the choices) and return its :class:`Run`, its tables
     kept in memory. ``observers`` see every tick; one that returns ``False`` stops the run
     (``interrupted``). ``log``: also write the MCAP log there (none by default). Ctrl-C stops the
@@ -127,12 +159,20 @@ def run(scenario: str | Path | Scenario | RunSpec, *, seed: int | None = None, p
     from .log.frames import FrameRecorder
     from .runner import run_mission
 
-    s = spec(scenario, seed=seed, pilot=pilot, perception=perception, navigation=navigation, time_limit=time_limit,
-             params=params)
+    s = spec(
+        scenario,
+        seed=seed,
+        pilot=pilot,
+        perception=perception,
+        navigation=navigation,
+        time_limit=time_limit,
+        params=params,
+    )
     frames = FrameRecorder()
     t0 = time.perf_counter()
-    res = run_mission(s, out=Path(log) if log is not None else None, record=log is not None,
-                      observers=[frames, *observers])
+    res = run_mission(
+        s, out=Path(log) if log is not None else None, record=log is not None, observers=[frames, *observers]
+    )
     return Run(s, res.summary, frames.frames(), res.log, time.perf_counter() - t0)
 
 
@@ -147,18 +187,39 @@ def summary_row(spec: RunSpec) -> dict[str, Any]:
     from .runner import run_mission
 
     s = run_mission(spec, record=False).summary
-    return {"run_id": spec.run_id, "scenario": s["scenario"], "pilot": s["pilot"], "seed": s["seed"],
-            "scenario_sha256": spec.scenario.sha256, "perception": spec.perception, "time_limit_s": spec.time_limit,
-            "outcome": s["outcome"], "reached": s["outcome"] == "reached", "time_s": s["time_s"],
-            "path_m": s["path_length_m"], "path_cm": 100.0 * s["path_length_m"], "collisions": s["collisions"],
-            "camera_looks": s["camera_looks"], "ticks": s["ticks"], "diverting_targets": s["diverting_targets"],
-            "navigation": s["navigation"]} | config_columns(spec.to_json())
+    return {
+        "run_id": spec.run_id,
+        "scenario": s["scenario"],
+        "pilot": s["pilot"],
+        "seed": s["seed"],
+        "scenario_sha256": spec.scenario.sha256,
+        "perception": spec.perception,
+        "time_limit_s": spec.time_limit,
+        "outcome": s["outcome"],
+        "reached": s["outcome"] == "reached",
+        "time_s": s["time_s"],
+        "path_m": s["path_length_m"],
+        "path_cm": 100.0 * s["path_length_m"],
+        "collisions": s["collisions"],
+        "camera_looks": s["camera_looks"],
+        "ticks": s["ticks"],
+        "diverting_targets": s["diverting_targets"],
+        "navigation": s["navigation"],
+    } | config_columns(spec.to_json())
 
 
-def compare(scenarios: Sequence[str | Path | Scenario], pilots: Sequence[str] = ("potential-field", "geometric"), *,
-            reruns: int = 5, perception: str | None = None, navigation: str | None = None,
-            time_limit: float | None = None, params: Mapping[str, Any] | None = None, jobs: int | None = None,
-            out: str | Path | None = None) -> pd.DataFrame:
+def compare(
+    scenarios: Sequence[str | Path | Scenario],
+    pilots: Sequence[str] = ("potential-field", "geometric"),
+    *,
+    reruns: int = 5,
+    perception: str | None = None,
+    navigation: str | None = None,
+    time_limit: float | None = None,
+    params: Mapping[str, Any] | None = None,
+    jobs: int | None = None,
+    out: str | Path | None = None,
+) -> pd.DataFrame:
     """``navcli compare pilots`` from Python: every pilot on every scenario with the same ``reruns``
     seeds, in ``jobs`` worker processes (default: every core), one row per run. With ``out``, each
     run's log is written there (and a rerun keeps the complete ones, as the command does); without,
@@ -169,8 +230,10 @@ def compare(scenarios: Sequence[str | Path | Scenario], pilots: Sequence[str] = 
     from .experiments.compare import plan, reruns as seeded, run_on
     from .experiments.executor import executor, map_ordered
 
-    bases = [spec(sc, perception=perception, navigation=navigation, time_limit=time_limit, params=params,
-                  also=pilots) for sc in scenarios]
+    bases = [
+        spec(sc, perception=perception, navigation=navigation, time_limit=time_limit, params=params, also=pilots)
+        for sc in scenarios
+    ]
     with executor(_jobs(jobs)) as ex:
         if out is None:
             specs = [s.replace(pilot=p) for base in bases for s in seeded(base, {}, reruns) for p in pilots]
@@ -182,7 +245,9 @@ def compare(scenarios: Sequence[str | Path | Scenario], pilots: Sequence[str] = 
     return load_runs(paths=[j.log for j in work]).drop(columns=["xy"])
 
 
-def sweep(plan: str | Path | Mapping[str, Any], *, jobs: int | None = None, out: str | Path | None = None) -> pd.DataFrame:
+def sweep(
+    plan: str | Path | Mapping[str, Any], *, jobs: int | None = None, out: str | Path | None = None
+) -> pd.DataFrame:
     """``navcli sweep`` from Python: every scenario x parameter point x seed of a plan (a plan file,
     or the same as a dict, its paths relative to the current folder), one row per run. With
     ``out``, the logs and ``results.parquet`` go there (and a rerun resumes, as the command does);

@@ -56,12 +56,13 @@ class RunSpec:
             object.__setattr__(self, "params", params)
         if self.perception not in PERCEPTIONS:
             raise ConfigError(f"unknown perception {self.perception!r} (expected one of: {', '.join(PERCEPTIONS)})")
-        if not (isinstance(self.seed, int) and 0 <= self.seed < 2 ** 64):
+        if not (isinstance(self.seed, int) and 0 <= self.seed < 2**64):
             raise ConfigError(f"the seed must be a whole number from 0 to 2**64 - 1, got {self.seed!r}")
         limit = RANGES["mission.time_limit"]
         if not (limit.lo <= self.time_limit <= limit.hi):
-            raise ConfigError(f"the time limit must be from {limit.lo:g} to {limit.hi:g} simulated seconds, "
-                              f"got {self.time_limit!r}")
+            raise ConfigError(
+                f"the time limit must be from {limit.lo:g} to {limit.hi:g} simulated seconds, got {self.time_limit!r}"
+            )
         if not self.params.vision.told_target and self.scenario.target.kind == "line":
             raise ConfigError("vision.told_target=0 needs a point or landmark target: a line is not seen, only told")
         bound = self.params.vision.noise_bound
@@ -82,10 +83,19 @@ class RunSpec:
         return tuple(("pilot" if i == 0 else "navigation", c) for i, c in enumerate(self.components) if not c.builtin)
 
     @classmethod
-    def build(cls, scenario: Scenario, *, seed: int | None = None, pilot: str | None = None,
-              perception: str | None = None, time_limit: float | None = None,
-              overrides: Mapping[str, Any] | None = None, navigation: str | None = None,
-              also: Iterable[str] = (), preset: Mapping[str, Any] | None = None) -> RunSpec:
+    def build(
+        cls,
+        scenario: Scenario,
+        *,
+        seed: int | None = None,
+        pilot: str | None = None,
+        perception: str | None = None,
+        time_limit: float | None = None,
+        overrides: Mapping[str, Any] | None = None,
+        navigation: str | None = None,
+        also: Iterable[str] = (),
+        preset: Mapping[str, Any] | None = None,
+    ) -> RunSpec:
         """The scenario's own choices, with any of them replaced, and ``overrides`` (dotted
         parameter names, ``{"pilot.K": 30}``) applied on top of the scenario's parameters. A
         plugin's parameters (``vfh.threshold``) may be overridden when the run uses it, or when it
@@ -96,12 +106,20 @@ class RunSpec:
         m = scenario.mission
         pilot = pilot or m.pilot
         navigation = navigation or BUILTIN_POLICIES[0]
-        params = registry.with_params(scenario.params, (registry.pilot(pilot),) + registry.navigation(navigation)
-                                      + tuple(map(registry.pilot, also)))
+        params = registry.with_params(
+            scenario.params,
+            (registry.pilot(pilot),) + registry.navigation(navigation) + tuple(map(registry.pilot, also)),
+        )
         under = {k: v for k, v in (preset or {}).items() if k not in scenario.given and k not in (overrides or {})}
-        return cls(scenario, m.seed if seed is None else seed, pilot, perception or m.perception,
-                   float(m.time_limit if time_limit is None else time_limit),
-                   params.override(under).override(overrides or {}), navigation)
+        return cls(
+            scenario,
+            m.seed if seed is None else seed,
+            pilot,
+            perception or m.perception,
+            float(m.time_limit if time_limit is None else time_limit),
+            params.override(under).override(overrides or {}),
+            navigation,
+        )
 
     def replace(self, **changes: Any) -> RunSpec:
         """A copy with some fields changed (``seed=2``, ``pilot="geometric"``)."""
@@ -112,11 +130,19 @@ class RunSpec:
         into the log as an attachment); ``plugins`` (only when the run uses one) names each plugin,
         its version and origin, with its own parameters."""
         sc = self.scenario
-        d = {"scenario": {"name": sc.name, "file": sc.source, "sha256": sc.sha256},
-             "seed": self.seed, "pilot": self.pilot, "perception": self.perception,
-             "time_limit_s": self.time_limit, "params": self.params.to_json(), "navigation": self.navigation}
-        plugins = [{"role": role, **c.identity(), "params": own.to_json() if (own := self.params.plugin(c.group)) else {}}
-                   for role, c in self.plugins]
+        d = {
+            "scenario": {"name": sc.name, "file": sc.source, "sha256": sc.sha256},
+            "seed": self.seed,
+            "pilot": self.pilot,
+            "perception": self.perception,
+            "time_limit_s": self.time_limit,
+            "params": self.params.to_json(),
+            "navigation": self.navigation,
+        }
+        plugins = [
+            {"role": role, **c.identity(), "params": own.to_json() if (own := self.params.plugin(c.group)) else {}}
+            for role, c in self.plugins
+        ]
         return d | {"plugins": plugins} if plugins else d
 
     @classmethod
@@ -133,8 +159,15 @@ class RunSpec:
                 raise ConfigError(f"the run used {p['name']} version {p['version']}; {c.label} is another")
             if c.params_class is not None:
                 params = params.with_plugin(c.group, c.params_class(**p["params"]))
-        return cls(sc, int(d["seed"]), d["pilot"], d["perception"], float(d["time_limit_s"]), params,
-                   d.get("navigation", BUILTIN_POLICIES[0]))
+        return cls(
+            sc,
+            int(d["seed"]),
+            d["pilot"],
+            d["perception"],
+            float(d["time_limit_s"]),
+            params,
+            d.get("navigation", BUILTIN_POLICIES[0]),
+        )
 
     @functools.cached_property
     def run_id(self) -> str:
@@ -159,9 +192,18 @@ class RunSpec:
         """The log's ``run`` metadata record: the configuration as JSON (``config``), its
         ``run_id``, and its main fields as plain strings for tools that only list metadata."""
         sc = self.scenario
-        return {"run_id": self.run_id, "config": json.dumps(self.to_json(), sort_keys=True),
-                "scenario": sc.name, "scenario_file": sc.source, "scenario_sha256": sc.sha256,
-                "seed": str(self.seed), "pilot": self.pilot, "perception": self.perception,
-                "time_limit_s": repr(self.time_limit), "navigation": self.navigation, "navcli_version": __version__,
-                "control_dt_s": repr(CONTROL_DT), "physics_dt_s": repr(PHYSICS_DT)} | (
-                    {"plugins": json.dumps([{"role": r, **c.identity()} for r, c in self.plugins])} if self.plugins else {})
+        return {
+            "run_id": self.run_id,
+            "config": json.dumps(self.to_json(), sort_keys=True),
+            "scenario": sc.name,
+            "scenario_file": sc.source,
+            "scenario_sha256": sc.sha256,
+            "seed": str(self.seed),
+            "pilot": self.pilot,
+            "perception": self.perception,
+            "time_limit_s": repr(self.time_limit),
+            "navigation": self.navigation,
+            "navcli_version": __version__,
+            "control_dt_s": repr(CONTROL_DT),
+            "physics_dt_s": repr(PHYSICS_DT),
+        } | ({"plugins": json.dumps([{"role": r, **c.identity()} for r, c in self.plugins])} if self.plugins else {})

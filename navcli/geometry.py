@@ -121,8 +121,12 @@ def segment_distance(p1: Point, p2: Point, q1: Point, q2: Point) -> float:
     """Shortest distance between the closed segments ``p1p2`` and ``q1q2`` (0 if they cross)."""
     if segments_intersect(p1, p2, q1, q2):
         return 0.0
-    return min(distance_to_segment(p1, q1, q2), distance_to_segment(p2, q1, q2),
-               distance_to_segment(q1, p1, p2), distance_to_segment(q2, p1, p2))
+    return min(
+        distance_to_segment(p1, q1, q2),
+        distance_to_segment(p2, q1, q2),
+        distance_to_segment(q1, p1, p2),
+        distance_to_segment(q2, p1, p2),
+    )
 
 
 def corridor_aim(a: Point, b: Point, margin: float, p: Point = (0.0, 0.0)) -> tuple[Point, bool]:

@@ -105,8 +105,11 @@ class Mission:
         pilot = registry.pilot(spec.pilot)
         policies = registry.navigation(spec.navigation)
         self.plugins = tuple(c for c in (pilot,) + policies if not c.builtin)  # whose exceptions are theirs
-        self.pilot = pilot.cls(p.pilot, p.robot) if pilot.builtin else registry.build(
-            pilot, p.pilot, p.robot, own_params=p.plugin(pilot.group), rng=rngs["plugins"])
+        self.pilot = (
+            pilot.cls(p.pilot, p.robot)
+            if pilot.builtin
+            else registry.build(pilot, p.pilot, p.robot, own_params=p.plugin(pilot.group), rng=rngs["plugins"])
+        )
         self._pilot_fields = registry.pilot_fields(pilot)  # what a plugin pilot's /pilot may hold
         t = spec.scenario.target
         pan_limit = spec.scenario.camera.pan_limit
@@ -114,16 +117,30 @@ class Mission:
         if policy_agent is None and policies[0].builtin and policies[0].name != "agents":
             from .learning import policy_agent as make_policy_agent  # the Learning Agent or the hand-coded policy
 
-            self.policy_agent = make_policy_agent(policies[0].name.partition(":")[0], policies[0].argument, p.learning,
-                                                  max_speed=p.robot.max_speed, pan_limit=pan_limit,
-                                                  target_key=t.landmark)
+            self.policy_agent = make_policy_agent(
+                policies[0].name.partition(":")[0],
+                policies[0].argument,
+                p.learning,
+                max_speed=p.robot.max_speed,
+                pan_limit=pan_limit,
+                target_key=t.landmark,
+            )
         setup = AgentSetup(p, None, pan_limit, t.landmark or "target", rngs["plugins"])
-        agents = tuple(registry.build(c, setup._replace(own_params=p.plugin(c.group))) for c in policies
-                       if not c.builtin)
-        self.navigation = NavigationSystem(p.navigation, p.robot, p.pilot, target_key=t.landmark or "target",
-                                           line_target=t.kind == "line", rng=rngs["rescuer"], pan_limit=pan_limit,
-                                           policy_agent=self.policy_agent, plugin_agents=agents,
-                                           own_agents=any(c.name == "agents" for c in policies))
+        agents = tuple(
+            registry.build(c, setup._replace(own_params=p.plugin(c.group))) for c in policies if not c.builtin
+        )
+        self.navigation = NavigationSystem(
+            p.navigation,
+            p.robot,
+            p.pilot,
+            target_key=t.landmark or "target",
+            line_target=t.kind == "line",
+            rng=rngs["rescuer"],
+            pan_limit=pan_limit,
+            policy_agent=self.policy_agent,
+            plugin_agents=agents,
+            own_agents=any(c.name == "agents" for c in policies),
+        )
         self._reach = t.tolerance  # how near the target's point counts as there (m)
         if t.kind == "landmark":
             lm = next(lm for lm in self.scenario.landmarks if lm.id == t.landmark)
@@ -137,9 +154,11 @@ class Mission:
 
     def _start_message(self) -> str:
         s, t = self.scenario.robot.start, self.scenario.target
-        goal = {"point": f"the point [{t.point[0]:g}, {t.point[1]:g}]",
-                "landmark": f"landmark {t.landmark}",
-                "line": f"crossing the line {t.line}"}[t.kind]
+        goal = {
+            "point": f"the point [{t.point[0]:g}, {t.point[1]:g}]",
+            "landmark": f"landmark {t.landmark}",
+            "line": f"crossing the line {t.line}",
+        }[t.kind]
         return f"mission {self.scenario.name} started at [{s[0]:g}, {s[1]:g}] with the {self.spec.pilot} pilot; target: {goal}"
 
     @property
@@ -166,7 +185,9 @@ class Mission:
         self._pilot_blocked = out.blocked_by
         return nav, out
 
-    def act(self, winners: dict[Resource, Bid | None], before: Pose) -> tuple[tuple[float, float], list[Detection] | None]:
+    def act(
+        self, winners: dict[Resource, Bid | None], before: Pose
+    ) -> tuple[tuple[float, float], list[Detection] | None]:
         """The Pilot turns the winning motion bid into a wheel command; Vision carries out the
         winning look (an image may be taken)."""
         command = self.pilot.execute(winners["motion"])
@@ -211,29 +232,63 @@ class Mission:
         self._check_end(before, after, nav.give_up, nav.believed)
         return self._record(command, bids, nav, winners, pilot_out, bumps, detections, beliefs)
 
-    def _record(self, command, bids, nav: NavigationOutput, winners, pilot_out: PilotOutput, bumps: list[Bump],
-                detections, beliefs: Beliefs) -> Tick:
+    def _record(
+        self,
+        command,
+        bids,
+        nav: NavigationOutput,
+        winners,
+        pilot_out: PilotOutput,
+        bumps: list[Bump],
+        detections,
+        beliefs: Beliefs,
+    ) -> Tick:
         world = self.world
         events = self.drain_events()
         events += [Event(world.time, agent, level, m) for agent, level, m in nav.events]
         events += [Event(world.time, "pilot", "info", m) for m in pilot_out.events]
         for b in bumps:
-            events.append(Event(b.time, "pilot", "warning",
-                                f"bumper contact with {b.what} at bearing {math.degrees(b.bearing):.0f} deg"))
+            events.append(
+                Event(
+                    b.time,
+                    "pilot",
+                    "warning",
+                    f"bumper contact with {b.what} at bearing {math.degrees(b.bearing):.0f} deg",
+                )
+            )
         if self.outcome is not None:
             events.append(Event(world.time, "mission", "info" if self.outcome == "reached" else "warning", self.reason))
         p = self.spec.params
         last = self.outcome is not None  # the log ends with the final memory and map, whatever their rates
-        memory = (self.perception.snapshot()
-                  if self.snapshots and (last or self.ticks % p.vision.draw_every == 0) else None)
-        map_ = (self.navigation.snapshot(beliefs)
-                if self.snapshots and (last or self.ticks % p.navigation.map_draw_every == 0) else None)
-        return Tick(self.ticks, world.time_ns, world.pose, world.odometry.pose, command, bids, nav.agent_bids,
-                    winners, pilot_out, tuple(events), self.perception.camera_state,
-                    tuple(detections) if detections is not None else None, memory, nav, map_)
+        memory = (
+            self.perception.snapshot() if self.snapshots and (last or self.ticks % p.vision.draw_every == 0) else None
+        )
+        map_ = (
+            self.navigation.snapshot(beliefs)
+            if self.snapshots and (last or self.ticks % p.navigation.map_draw_every == 0)
+            else None
+        )
+        return Tick(
+            self.ticks,
+            world.time_ns,
+            world.pose,
+            world.odometry.pose,
+            command,
+            bids,
+            nav.agent_bids,
+            winners,
+            pilot_out,
+            tuple(events),
+            self.perception.camera_state,
+            tuple(detections) if detections is not None else None,
+            memory,
+            nav,
+            map_,
+        )
 
-    def _check_end(self, before: Pose, after: Pose, give_up: str | None = None,
-                   believed: FuzzyPoint | None = None) -> None:
+    def _check_end(
+        self, before: Pose, after: Pose, give_up: str | None = None, believed: FuzzyPoint | None = None
+    ) -> None:
         if self._reached(before, after) and self._confident(believed):
             self._end("reached", f"target reached after {self.world.time:.1f} s")
         elif give_up is not None:

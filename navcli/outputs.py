@@ -32,15 +32,29 @@ from .analysis.files import MARK, atomic  # the one definition (analysis may not
 HEAD_BYTES = 4096
 """What is read of an existing file to tell whether navcli wrote it (and, at its end, of a zip or
 Parquet file, whose directory is there)."""
-CSV_COLUMNS = ({"run_id", "pilot", "outcome"}, {"condition", "pilot", "success_rate"},
-               {"condition", "baseline", "improvement_pct"}, {"policy", "successes"}, {"policy", "run", "start"},
-               {"trials", "successes", "reward_per_trial"}, {"trial", "outcome", "actions"}, {"trial", "objective"},
-               {"scenario_sha256", "point", "outcome"})
+CSV_COLUMNS = (
+    {"run_id", "pilot", "outcome"},
+    {"condition", "pilot", "success_rate"},
+    {"condition", "baseline", "improvement_pct"},
+    {"policy", "successes"},
+    {"policy", "run", "start"},
+    {"trials", "successes", "reward_per_trial"},
+    {"trial", "outcome", "actions"},
+    {"trial", "objective"},
+    {"scenario_sha256", "point", "outcome"},
+)
 """Columns that mark a CSV file navcli writes (its header holds one of these sets): runs, the
 table, improvements; policies and their trials; a learning curve; a training's trials; tune's
 history; a sweep's results."""
-JSON_KEYS = ({"configById"}, {"content", "version"}, {"algorithm", "scenario"}, {"objective", "params", "value"},
-             {"key", "generation", "population"}, {"key", "policy", "trials"}, {"navcli_version", "configurations"})
+JSON_KEYS = (
+    {"configById"},
+    {"content", "version"},
+    {"algorithm", "scenario"},
+    {"objective", "params", "value"},
+    {"key", "generation", "population"},
+    {"key", "policy", "trials"},
+    {"navcli_version", "configurations"},
+)
 """The keys that mark a JSON file navcli writes: a layout (app, SDK), a model's metadata, tune's
 best values, the GA's checkpoint, a policy comparison's run, reproduce's conditions."""
 
@@ -136,8 +150,10 @@ def check_file(path: Path, suffixes: tuple[str, ...], what: str = "file") -> Pat
         except OSError as e:
             raise OutputError(f"{path}: cannot be read ({e.strerror or e})") from None
         if not ours:
-            raise OutputError(f"{path}: exists and is not a {path.suffix.lower()} file navcli writes; "
-                              f"it is not replaced (choose another name)")
+            raise OutputError(
+                f"{path}: exists and is not a {path.suffix.lower()} file navcli writes; "
+                f"it is not replaced (choose another name)"
+            )
         if not os.access(path, os.W_OK):
             raise OutputError(f"{path}: cannot be replaced (no permission)")
     _writable_folder(path.parent, path)

@@ -40,8 +40,9 @@ def open_log(spec: RunSpec, mission: Mission, path: Path, *, live: bool = False,
 
     from .plugins import pilot
 
-    recorder = Recorder(path, live=live, port=port, protect=(spec.scenario.source,),
-                        pilot_message=pilot(spec.pilot).pilot_message())
+    recorder = Recorder(
+        path, live=live, port=port, protect=(spec.scenario.source,), pilot_message=pilot(spec.pilot).pilot_message()
+    )
     try:
         w = mission.world
         recorder.start(spec, w.pose, w.odometry.pose)
@@ -67,8 +68,9 @@ def _stop(mission: Mission, e: BaseException) -> None:
         mission.abort("error", str(e) if isinstance(e, PluginError) else f"{type(e).__name__}: {e}")
 
 
-def close_log(recorder, mission: Mission, summary: dict | None = None, *, stopped: bool = False,
-              keep_serving: bool = False) -> None:
+def close_log(
+    recorder, mission: Mission, summary: dict | None = None, *, stopped: bool = False, keep_serving: bool = False
+) -> None:
     """Write ``mission``'s summary (by default its own) and close its log, with Ctrl-C and SIGTERM
     held meanwhile; the last poses are written first if a stop inside a tick left them out.
     ``stopped``: the mission was ended by :func:`_stop`; the log's last event says why."""
@@ -78,8 +80,12 @@ def close_log(recorder, mission: Mission, summary: dict | None = None, *, stoppe
             recorder.event(e, w.time_ns)
         if stopped:
             recorder.event(Event(mission.time, "mission", "error", mission.reason), w.time_ns)
-        recorder.finish(mission.summary() if summary is None else summary, w.time_ns, (w.pose, w.odometry.pose),
-                        keep_serving=keep_serving)
+        recorder.finish(
+            mission.summary() if summary is None else summary,
+            w.time_ns,
+            (w.pose, w.odometry.pose),
+            keep_serving=keep_serving,
+        )
 
 
 Observer = Callable[[Mission, Tick], "bool | None"]
@@ -91,8 +97,11 @@ to :func:`run_mission`, one with a ``begin(mission)`` method is told of the miss
 step as well, and one with an ``end(mission)`` after its last."""
 
 
-def advance(mission: Mission, observers: tuple[Observer, ...] | list[Observer] = (),
-            until: Callable[[Mission], bool] | None = None) -> None:
+def advance(
+    mission: Mission,
+    observers: tuple[Observer, ...] | list[Observer] = (),
+    until: Callable[[Mission], bool] | None = None,
+) -> None:
     """The run loop: step ``mission`` until it ends, or until ``until(mission)`` holds (checked
     before each step), telling every observer of each tick in turn (one that returns ``False``
     stops it: see :data:`Observer`). ``navcli run``, the benchmark, training trials, the policy
@@ -101,8 +110,9 @@ def advance(mission: Mission, observers: tuple[Observer, ...] | list[Observer] =
         tick = mission.step()
         for observe in observers:
             if observe(mission, tick) is False and mission.outcome is None:
-                mission.abort("interrupted", f"stopped by {getattr(observe, '__name__', type(observe).__name__)}",
-                              say=True)
+                mission.abort(
+                    "interrupted", f"stopped by {getattr(observe, '__name__', type(observe).__name__)}", say=True
+                )
 
 
 def recording(recorder: Recorder) -> Observer:
@@ -123,10 +133,18 @@ class Pacer:
             time.sleep(lag)
 
 
-def run_mission(spec: RunSpec, *, out: Path | None = None, record: bool = True, live: bool = False,
-                port: int = 8765, on_tick: Observer | None = None,
-                on_open: Callable[[Recorder], None] | None = None, keep_serving: bool = False,
-                observers: Sequence[Observer] = ()) -> RunResult:
+def run_mission(
+    spec: RunSpec,
+    *,
+    out: Path | None = None,
+    record: bool = True,
+    live: bool = False,
+    port: int = 8765,
+    on_tick: Observer | None = None,
+    on_open: Callable[[Recorder], None] | None = None,
+    keep_serving: bool = False,
+    observers: Sequence[Observer] = (),
+) -> RunResult:
     """Run the configuration ``spec`` to its end and return its summary.
 
     The log goes to ``out``, by default :meth:`RunSpec.default_log_path`.

@@ -64,7 +64,10 @@ def deferred() -> Iterator[None]:
         yield
         return
     got: list[signal.Signals] = []
-    old = {s: signal.signal(s, lambda signum, frame: got.append(signal.Signals(signum))) for s in (signal.SIGINT, signal.SIGTERM)}
+    old = {
+        s: signal.signal(s, lambda signum, frame: got.append(signal.Signals(signum)))
+        for s in (signal.SIGINT, signal.SIGTERM)
+    }
     try:
         yield
     finally:

@@ -101,10 +101,15 @@ class World:
         self._names: dict[pymunk.Shape, str] = {}
         self._add_walls()
         # obstacles first, then landmarks: the order pymunk meets them in
-        for o in sorted((o for o in scenario.objects if o.kind in ("circle", "segment", "landmark")),
-                        key=lambda o: o.kind == "landmark"):
-            shape: pymunk.Shape = pymunk.Segment(space.static_body, o.a, o.b, o.radius) if o.kind == "segment" \
+        for o in sorted(
+            (o for o in scenario.objects if o.kind in ("circle", "segment", "landmark")),
+            key=lambda o: o.kind == "landmark",
+        ):
+            shape: pymunk.Shape = (
+                pymunk.Segment(space.static_body, o.a, o.b, o.radius)
+                if o.kind == "segment"
                 else pymunk.Circle(space.static_body, o.radius, o.a)
+            )
             self._add_static(shape, o.label)
 
         r = robot.radius
@@ -237,4 +242,3 @@ class World:
     def stop(self) -> None:
         """Halt the drive at once (at the end of a mission)."""
         self._v = self._w = 0.0
-

@@ -22,8 +22,12 @@ SCENARIOS = ROOT / "scenarios"
 
 
 def pytest_addoption(parser):
-    parser.addoption("--update-goldens", action="store_true", default=False,
-                     help="rewrite tests/golden/*.json from fresh runs instead of comparing to them")
+    parser.addoption(
+        "--update-goldens",
+        action="store_true",
+        default=False,
+        help="rewrite tests/golden/*.json from fresh runs instead of comparing to them",
+    )
 
 
 def scenario_dict(**over) -> dict:

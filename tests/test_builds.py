@@ -13,18 +13,19 @@ from typer.testing import CliRunner
 
 import navcli
 from conftest import ROOT
-from navcli import _build
+from navcli import builds
 from navcli.cli import app
 
-LIBRARY = _build._library(os.path.dirname(navcli.__file__))
-compiled_only = pytest.mark.skipif(LIBRARY is None, reason="no compiled build installed (pure Python only): "
-                                                           "nothing to compare")
+LIBRARY = builds.library(os.path.dirname(navcli.__file__))
+compiled_only = pytest.mark.skipif(
+    LIBRARY is None, reason="no compiled build installed (pure Python only): nothing to compare"
+)
 
 # in a child process: which build runs, and where every navcli module came from
 WHERE = """
 import sys, navcli, navcli.runner, navcli.mission
-from navcli import _build
-for m in _build.MODULES:
+from navcli import builds
+for m in builds.MODULES:
     __import__("navcli." + m)
 print(navcli.BUILD)
 for name, mod in sorted(sys.modules.items()):
@@ -41,8 +42,14 @@ def child_env(pure: bool) -> dict[str, str]:
 
 
 def run_child(code: list[str], pure: bool) -> subprocess.Popen:
-    return subprocess.Popen([sys.executable, *code], cwd=ROOT, env=child_env(pure), stdout=subprocess.PIPE,
-                            stderr=subprocess.PIPE, text=True)
+    return subprocess.Popen(
+        [sys.executable, *code],
+        cwd=ROOT,
+        env=child_env(pure),
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
 
 
 @compiled_only
@@ -52,7 +59,7 @@ def test_navcli_pure_runs_every_module_from_its_source_and_the_default_the_compi
     assert compiled[0] == "compiled", "the compiled modules are older than their sources: `pip install -e .` rebuilds"
     assert all(line.endswith(".py") for line in pure[1:])
     files = dict(line.split(" ", 1) for line in compiled[1:])
-    for m in _build.MODULES:
+    for m in builds.MODULES:
         assert not files[f"navcli.{m}"].endswith(".py"), m
     assert files["navcli.runner"].endswith(".py")  # a module not compiled is its source in both
 
@@ -74,9 +81,14 @@ def test_the_compiled_build_runs_20_missions_exactly_as_pure_python():
 def test_the_compiled_modules_worked_examples_hold_in_their_pure_python_sources():
     """The doctests of the compiled modules' sources (which pytest cannot collect from a compiled
     build: conftest.py at the root leaves them to this test), run under NAVCLI_PURE=1."""
-    files = [str(ROOT / "navcli" / (m.replace(".", "/") + ".py")) for m in _build.MODULES]
-    r = subprocess.run([sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "--doctest-modules", *files],
-                       cwd=ROOT, env=child_env(True), capture_output=True, text=True)
+    files = [str(ROOT / "navcli" / (m.replace(".", "/") + ".py")) for m in builds.MODULES]
+    r = subprocess.run(
+        [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "--doctest-modules", *files],
+        cwd=ROOT,
+        env=child_env(True),
+        capture_output=True,
+        text=True,
+    )
     assert r.returncode == 0, r.stdout[-3000:] + r.stderr[-2000:]
     assert " passed" in r.stdout
 

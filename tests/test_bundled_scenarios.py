@@ -61,17 +61,29 @@ def test_a_name_that_is_neither_is_refused_with_the_names_it_could_have_meant(el
     r = runner.invoke(app, ["validate", "u-trapp.yaml", "scenarios/landmark-12.yaml", "nothing-like-it"])
     assert r.exit_code == 2
     assert "did you mean u-trap?" in r.output and "did you mean landmarks-12" in r.output
-    assert "nothing-like-it: no such file, nor a bundled scenario of that name (`navcli scenarios` lists them)" \
-        in r.output
+    assert (
+        "nothing-like-it: no such file, nor a bundled scenario of that name (`navcli scenarios` lists them)" in r.output
+    )
     # a path to a folder elsewhere is not a name: no bundled scenario is taken for it
     r = runner.invoke(app, ["validate", "rooms/paper-8x8.yaml"])
     assert r.exit_code == 2 and "rooms/paper-8x8.yaml: no such file" in r.output
 
 
-@pytest.mark.parametrize("command", [
-    ["run"], ["validate"], ["bench"], ["params"], ["plot", "field"], ["plot", "bids"], ["compare", "pilots"],
-    ["compare", "policies"], ["train"], ["tune", "--param", "pilot.K=1:10"],
-])
+@pytest.mark.parametrize(
+    "command",
+    [
+        ["run"],
+        ["validate"],
+        ["bench"],
+        ["params"],
+        ["plot", "field"],
+        ["plot", "bids"],
+        ["compare", "pilots"],
+        ["compare", "policies"],
+        ["train"],
+        ["tune", "--param", "pilot.K=1:10"],
+    ],
+)
 def test_every_command_that_takes_a_scenario_resolves_names_the_same_way(elsewhere, command):
     """Each command reads its scenario through the one resolver: a misspelt name is refused with
     the same suggestion (before any work: nothing is written)."""

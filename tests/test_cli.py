@@ -63,9 +63,11 @@ def test_missing_scenario_file_exits_2(tmp_path):
 
 
 def test_bad_options_exit_2_without_traceback():
-    for args in (["run", SCENARIOS / "open-arena.yaml", "--pilot", "autopilot"],
-                 ["run", SCENARIOS / "open-arena.yaml", "--seed", "-1"],
-                 ["run", SCENARIOS / "open-arena.yaml", "--time-limit", "0"]):
+    for args in (
+        ["run", SCENARIOS / "open-arena.yaml", "--pilot", "autopilot"],
+        ["run", SCENARIOS / "open-arena.yaml", "--seed", "-1"],
+        ["run", SCENARIOS / "open-arena.yaml", "--time-limit", "0"],
+    ):
         r = invoke(*args)
         assert r.exit_code == 2, (args, r.output)
         assert "Traceback" not in r.output
@@ -109,8 +111,10 @@ def test_help_lists_every_command_with_its_summary():
 
 
 def test_cli_module_imports_no_heavy_library():
-    code = ("import sys, navcli.cli; heavy = [m for m in ('numpy', 'pymunk', 'foxglove', 'pandas', 'matplotlib')"
-            " if m in sys.modules]; print(heavy); sys.exit(1 if heavy else 0)")
+    code = (
+        "import sys, navcli.cli; heavy = [m for m in ('numpy', 'pymunk', 'foxglove', 'pandas', 'matplotlib')"
+        " if m in sys.modules]; print(heavy); sys.exit(1 if heavy else 0)"
+    )
     r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
     assert r.returncode == 0, r.stdout + r.stderr
 
@@ -119,9 +123,24 @@ def test_cli_module_imports_no_heavy_library():
 def test_ctrl_c_on_a_live_run_leaves_a_log_marked_interrupted(tmp_path):
     """A real process, paced to real time by --live, stopped with SIGINT as a terminal would."""
     out = tmp_path / "live.mcap"
-    proc = subprocess.Popen([sys.executable, "-m", "navcli", "run", str(SCENARIOS / "open-arena.yaml"), "--live",
-                             "--port", "0", "--out", str(out)], cwd=ROOT, stdout=subprocess.PIPE,
-                            stderr=subprocess.PIPE, text=True)
+    proc = subprocess.Popen(
+        [
+            sys.executable,
+            "-m",
+            "navcli",
+            "run",
+            str(SCENARIOS / "open-arena.yaml"),
+            "--live",
+            "--port",
+            "0",
+            "--out",
+            str(out),
+        ],
+        cwd=ROOT,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
     partial = out.with_name(out.name + ".partial")
     deadline = time.monotonic() + 20
     while not partial.exists() and time.monotonic() < deadline:
@@ -139,22 +158,43 @@ def test_ctrl_c_on_a_live_run_leaves_a_log_marked_interrupted(tmp_path):
 
 def test_param_overrides_any_parameter_and_is_recorded_as_json(tmp_path):
     out = tmp_path / "k.mcap"
-    r = invoke("run", SCENARIOS / "open-arena.yaml", "--param", "pilot.K=30", "--param", "pilot.A_t=40",
-               "--param", "navigation.kappa1=0.5", "--param", "robot.max_speed=0.25", "--out", out)
+    r = invoke(
+        "run",
+        SCENARIOS / "open-arena.yaml",
+        "--param",
+        "pilot.K=30",
+        "--param",
+        "pilot.A_t=40",
+        "--param",
+        "navigation.kappa1=0.5",
+        "--param",
+        "robot.max_speed=0.25",
+        "--out",
+        out,
+    )
     assert r.exit_code == 0, r.output
     params = read_log(out, topics=[]).config["params"]
     assert (params["pilot"]["K"], params["pilot"]["A_t"], params["navigation"]["kappa1"]) == (30.0, 40.0, 0.5)
     assert params["robot"]["max_speed"] == 0.25
-    others = {k: v for k, v in Params().flat().items()
-              if k not in ("pilot.K", "pilot.A_t", "navigation.kappa1", "robot.max_speed")}
+    others = {
+        k: v
+        for k, v in Params().flat().items()
+        if k not in ("pilot.K", "pilot.A_t", "navigation.kappa1", "robot.max_speed")
+    }
     assert {f"{g}.{k}": v for g, b in params.items() for k, v in b.items()}.items() >= others.items()
 
 
 def test_bad_param_exits_2_naming_it():
-    for bad, words in (("Q=1", "unknown parameter 'Q'"), ("K=1", "did you mean pilot.K?"),
-                       ("pilot.K=abc", "'abc' is not a number"), ("pilot.R_min=0", "pilot.R_min must be at least 0.01"),
-                       ("pilot.K", "expected NAME=VALUE"), ("pilot.K=nan", "finite number"),
-                       ("navigation.kappa1=1.5", "at most 1"), ("vision.forget_every=2.5", "whole number")):
+    for bad, words in (
+        ("Q=1", "unknown parameter 'Q'"),
+        ("K=1", "did you mean pilot.K?"),
+        ("pilot.K=abc", "'abc' is not a number"),
+        ("pilot.R_min=0", "pilot.R_min must be at least 0.01"),
+        ("pilot.K", "expected NAME=VALUE"),
+        ("pilot.K=nan", "finite number"),
+        ("navigation.kappa1=1.5", "at most 1"),
+        ("vision.forget_every=2.5", "whole number"),
+    ):
         r = invoke("run", SCENARIOS / "open-arena.yaml", "--param", bad)
         assert r.exit_code == 2 and words in r.output and "Traceback" not in r.output, (bad, r.output)
 
@@ -162,7 +202,9 @@ def test_bad_param_exits_2_naming_it():
 def test_bench_reports_the_floor_and_the_stack_against_it():
     r = invoke("bench", SCENARIOS / "open-arena.yaml", "--repeat", "1")
     assert r.exit_code == 0, r.output
-    lines = {ln.split()[0] + (" " + ln.split()[1] if ln.startswith("logging") else ""): ln for ln in r.output.splitlines()}
+    lines = {
+        ln.split()[0] + (" " + ln.split()[1] if ln.startswith("logging") else ""): ln for ln in r.output.splitlines()
+    }
     assert {"floor", "logging off", "logging on"} <= set(lines)
     assert "x floor" not in lines["floor"]  # the floor against itself would say nothing
     us = {k: float(re.search(r"(\d+) us/tick", v).group(1)) for k, v in lines.items() if "us/tick" in v}

@@ -151,15 +151,26 @@ def test_paired_statistics_on_a_known_case():
 def test_cli_compare_and_report(tmp_path):
     runner = CliRunner()
     out = tmp_path / "cli"
-    r = runner.invoke(app, ["compare", "pilots", str(SCENARIOS / "paper-fig9.yaml"), "--reruns", "1", "--jobs", "1",
-                            "--out", str(out)])
+    r = runner.invoke(
+        app,
+        ["compare", "pilots", str(SCENARIOS / "paper-fig9.yaml"), "--reruns", "1", "--jobs", "1", "--out", str(out)],
+    )
     assert r.exit_code == 0, r.output
     assert "2 runs (2 run now, 0 already complete)" in r.output and "| potential-field |" in r.output
-    for f in ("table.csv", "table.md", "improvements.csv", "runs.csv", "boxplots-paper-fig9.png",
-              "trajectories-paper-fig9-geometric.png", "trajectories-paper-fig9-potential-field.png"):
+    for f in (
+        "table.csv",
+        "table.md",
+        "improvements.csv",
+        "runs.csv",
+        "boxplots-paper-fig9.png",
+        "trajectories-paper-fig9-geometric.png",
+        "trajectories-paper-fig9-potential-field.png",
+    ):
         assert (out / f).exists(), f
-    r = runner.invoke(app, ["compare", "pilots", str(SCENARIOS / "paper-fig9.yaml"), "--reruns", "1", "--jobs", "1",
-                            "--out", str(out)])
+    r = runner.invoke(
+        app,
+        ["compare", "pilots", str(SCENARIOS / "paper-fig9.yaml"), "--reruns", "1", "--jobs", "1", "--out", str(out)],
+    )
     assert "0 run now, 2 already complete" in r.output
     r = runner.invoke(app, ["report", str(out / "paper-fig9"), "--out", str(tmp_path / "rep")])
     assert r.exit_code == 0 and (tmp_path / "rep" / "table.md").read_text() == (out / "table.md").read_text()
@@ -174,7 +185,7 @@ def test_few_pairs_get_the_exact_permutation_p_value():
     for n in (2, 3, 5):
         base = np.arange(10.0, 10.0 + n)
         _, _, _, p = paired_improvement(base, base - 1.0)
-        assert p == 2 / 2 ** n
+        assert p == 2 / 2**n
     _, _, _, p = paired_improvement(np.array([10.0, 12.0, 11.0]), np.array([9.0, 12.5, 10.0]))
     # d = (1, -0.5, 1), |mean| = 0.5; of the 8 sign assignments |mean| >= 0.5 for (+,-,+), (-,+,-),
     # (+,+,+) and (-,-,-): p = 4 / 8

@@ -39,8 +39,9 @@ def always_mvt(tmp_path_factory):
     """A Q-learning model file whose greedy action is MVT in every state."""
     q = QLearning(980, 5)
     q.q[:, MVT] = 1.0
-    return model_file.save(tmp_path_factory.mktemp("q") / "q.npz", q, {"algorithm": "q-learning", "trials": 0,
-                                                                        "scenario": "none"})
+    return model_file.save(
+        tmp_path_factory.mktemp("q") / "q.npz", q, {"algorithm": "q-learning", "trials": 0, "scenario": "none"}
+    )
 
 
 @pytest.fixture(scope="module")
@@ -51,15 +52,36 @@ def parity(tmp_path_factory):
     q = QLearning(980, 5)
     q.q[0::2, MB] = 1.0
     q.q[1::2, MLL] = 1.0
-    return model_file.save(tmp_path_factory.mktemp("parity") / "parity.npz", q,
-                           {"algorithm": "q-learning", "trials": 0, "scenario": "none"})
+    return model_file.save(
+        tmp_path_factory.mktemp("parity") / "parity.npz",
+        q,
+        {"algorithm": "q-learning", "trials": 0, "scenario": "none"},
+    )
 
 
 @pytest.fixture(scope="module")
 def compared(tmp_path_factory, always_mvt, parity):
     out = tmp_path_factory.mktemp("cmp-policies")
-    args = ["compare", "policies", str(ROOM), "--policy", f"learned:{always_mvt}", "--policy", "learned",
-            "--policy", f"learned:{parity}", "--runs", "2", "--starts", "3", "--jobs", "1", "--out", str(out), *SHORT]
+    args = [
+        "compare",
+        "policies",
+        str(ROOM),
+        "--policy",
+        f"learned:{always_mvt}",
+        "--policy",
+        "learned",
+        "--policy",
+        f"learned:{parity}",
+        "--runs",
+        "2",
+        "--starts",
+        "3",
+        "--jobs",
+        "1",
+        "--out",
+        str(out),
+        *SHORT,
+    ]
     r = CliRunner().invoke(app, args)
     assert r.exit_code == 0, r.output
     return out, args, r.output
@@ -86,13 +108,16 @@ def test_the_table_is_the_mean_over_runs_of_the_per_trial_records(compared, alwa
         trials = recs[policy, 0] + recs[policy, 1]
         reached = sum(t["outcome"] == "reached" for t in trials)
         lo, hi = wilson_interval(reached, 6)  # successes: the rate over all 6 trials, in starts (of 3)
-        assert (float(row["successes"]), float(row["successes_lo"]), float(row["successes_hi"])) == \
-            pytest.approx((reached / 2, 3 * lo, 3 * hi)), policy
+        assert (float(row["successes"]), float(row["successes_lo"]), float(row["successes_hi"])) == pytest.approx(
+            (reached / 2, 3 * lo, 3 * hi)
+        ), policy
         for m in ("reward", "actions", *ACTIONS):
             per_start = {i: [t[m] for t in trials if t["start"] == i] for i in range(3)}
             assert float(row[m]) == pytest.approx(sum(t[m] for t in trials) / 6, abs=1e-9), (policy, m)
-            assert (float(row[f"{m}_lo"]), float(row[f"{m}_hi"])) == pytest.approx(few_starts_interval(per_start)), \
-                (policy, m)
+            assert (float(row[f"{m}_lo"]), float(row[f"{m}_hi"])) == pytest.approx(few_starts_interval(per_start)), (
+                policy,
+                m,
+            )
     # the always-MVT model: every action is MVT, each costing 5
     for run in (0, 1):
         for t in recs[f"learned:{always_mvt}", run]:
@@ -118,8 +143,9 @@ def test_every_policy_runs_the_evaluation_starts_and_run_0_is_the_evaluation(com
     assert run0[0] == run0[1] == [s.seed for s in starts]  # run 0: the starts' own seeds
     assert run1[0] == run1[1] and not set(run1[0]) & set(run0[0])  # run 1: other seeds, the same
     evaluation = evaluate(spec, model_file.load_policy(), starts)  # what `navcli train` measures
-    assert [(t["outcome"], t["actions"], t["reward"]) for t in recs["learned", 0]] == \
-        [(e.outcome, e.actions, e.reward) for e in evaluation]
+    assert [(t["outcome"], t["actions"], t["reward"]) for t in recs["learned", 0]] == [
+        (e.outcome, e.actions, e.reward) for e in evaluation
+    ]
 
 
 def test_a_comparison_resumes_and_reruns_only_what_is_missing_or_changed(compared):
@@ -138,7 +164,8 @@ def test_a_comparison_resumes_and_reruns_only_what_is_missing_or_changed(compare
     other = spec.replace(params=spec.params.override({"learning.max_actions": 5}))
     hc = comparison.parse_policy("hand-coded")
     assert {j.key for j in comparison.plan(spec, [hc], 2, 3, out)}.isdisjoint(
-        j.key for j in comparison.plan(other, [hc], 2, 3, out))
+        j.key for j in comparison.plan(other, [hc], 2, 3, out)
+    )
 
 
 def test_the_agents_row(tmp_path):
@@ -166,9 +193,12 @@ def test_the_tables_intervals_stay_in_range_and_warn_of_few_starts(tmp_path):
     counts = {0: [(2, "timeout"), (4, "timeout")], 1: [(1, "reached"), (4, "timeout")]}  # MVT actions per trial
     results = []
     for j in jobs:
-        trials = [comparison._record(i, st, outcome, 2.0 * n, n, REWARDS[MVT] * n,
-                                     tuple(n if k == MVT else 0 for k in range(len(ACTIONS))))
-                  for i, (st, (n, outcome)) in enumerate(zip(j.starts, counts[j.run]))]
+        trials = [
+            comparison._record(
+                i, st, outcome, 2.0 * n, n, REWARDS[MVT] * n, tuple(n if k == MVT else 0 for k in range(len(ACTIONS)))
+            )
+            for i, (st, (n, outcome)) in enumerate(zip(j.starts, counts[j.run]))
+        ]
         results.append(comparison.Result(j, trials, ran=True))
     table = comparison.policy_table(comparison.trials_frame(results))
     (row,) = table.itertuples()
@@ -178,21 +208,27 @@ def test_the_tables_intervals_stay_in_range_and_warn_of_few_starts(tmp_path):
     start0, start1 = (2 + 1) / 2, (4 + 4) / 2  # actions per trial of each start over the two runs
     for m, scale in {"actions": 1.0, "MVT": 1.0, "reward": REWARDS[MVT], "time_s": 2.0}.items():
         assert getattr(row, m) == pytest.approx(scale * 11 / 4), m
-        assert sorted((getattr(row, f"{m}_lo"), getattr(row, f"{m}_hi"))) == \
-            pytest.approx(sorted((scale * start0, scale * start1))), m
+        assert sorted((getattr(row, f"{m}_lo"), getattr(row, f"{m}_hi"))) == pytest.approx(
+            sorted((scale * start0, scale * start1))
+        ), m
     assert row.MB == row.MB_lo == row.MB_hi == 0.0
     md = comparison.markdown(table, "landmarks-12")
-    assert "the policies on landmarks-12: only 2 starts; with fewer than 10 its 95 % intervals are too uncertain " \
-           "to trust" in md
+    assert (
+        "the policies on landmarks-12: only 2 starts; with fewer than 10 its 95 % intervals are too uncertain "
+        "to trust" in md
+    )
 
 
-@pytest.mark.parametrize("bad, message", [
-    (["--policy", "bogus"], "unknown policy"),
-    (["--policy", "learned:"], "unknown policy"),
-    (["--policy", "hand-coded", "--policy", "hand-coded"], "named twice"),
-    (["--policy", "learned:/no/such.npz"], "no such model file"),
-    (["--out", "/dev/null/x"], "/dev/null is a file, not a folder"),
-])
+@pytest.mark.parametrize(
+    "bad, message",
+    [
+        (["--policy", "bogus"], "unknown policy"),
+        (["--policy", "learned:"], "unknown policy"),
+        (["--policy", "hand-coded", "--policy", "hand-coded"], "named twice"),
+        (["--policy", "learned:/no/such.npz"], "no such model file"),
+        (["--out", "/dev/null/x"], "/dev/null is a file, not a folder"),
+    ],
+)
 def test_bad_policies_are_refused(bad, message):
     r = CliRunner().invoke(app, ["compare", "policies", str(ROOM), *bad])
     assert r.exit_code == 2 and message in r.output

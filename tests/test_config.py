@@ -23,9 +23,19 @@ def base():
 def test_build_takes_the_scenarios_choices_unless_told_otherwise(base):
     sc = base.scenario
     assert (base.seed, base.pilot, base.perception, base.time_limit) == (
-        sc.mission.seed, sc.mission.pilot, sc.mission.perception, sc.mission.time_limit)
-    other = RunSpec.build(sc, seed=9, pilot="geometric", perception="oracle", time_limit=5,
-                          overrides={"pilot.K": 30, "vision.forget_above": 0.3})
+        sc.mission.seed,
+        sc.mission.pilot,
+        sc.mission.perception,
+        sc.mission.time_limit,
+    )
+    other = RunSpec.build(
+        sc,
+        seed=9,
+        pilot="geometric",
+        perception="oracle",
+        time_limit=5,
+        overrides={"pilot.K": 30, "vision.forget_above": 0.3},
+    )
     assert (other.seed, other.pilot, other.perception, other.time_limit) == (9, "geometric", "oracle", 5.0)
     assert other.params.pilot.K == 30.0 and other.params.vision.forget_above == 0.3
     assert other.params.pilot.A_t == sc.params.pilot.A_t  # everything else as the scenario has it
@@ -33,9 +43,13 @@ def test_build_takes_the_scenarios_choices_unless_told_otherwise(base):
 
 def test_the_run_id_changes_with_anything_that_decides_the_run(base):
     ids = {base.run_id}
-    for changed in (base.replace(seed=2), base.replace(pilot="geometric"), base.replace(perception="oracle"),
-                    base.replace(time_limit=base.time_limit + 1),
-                    base.replace(params=base.params.override({"navigation.kappa2": 0.5}))):
+    for changed in (
+        base.replace(seed=2),
+        base.replace(pilot="geometric"),
+        base.replace(perception="oracle"),
+        base.replace(time_limit=base.time_limit + 1),
+        base.replace(params=base.params.override({"navigation.kappa2": 0.5})),
+    ):
         ids.add(changed.run_id)
     assert len(ids) == 6
     again = RunSpec.build(load_scenario(SCENARIOS / "open-arena.yaml"))
@@ -67,11 +81,17 @@ def test_the_log_records_the_configuration_it_was_run_with(base, tmp_path):
     assert rebuilt == spec  # a log is enough to reproduce its run
 
 
-@pytest.mark.parametrize("change, words", [
-    (dict(pilot="autopilot"), "unknown pilot"), (dict(perception="sonar"), "unknown perception"),
-    (dict(seed=-1), "seed"), (dict(seed=2 ** 64), "seed"), (dict(time_limit=float("inf")), "time limit"),
-    (dict(time_limit=0.0), "time limit"),
-])
+@pytest.mark.parametrize(
+    "change, words",
+    [
+        (dict(pilot="autopilot"), "unknown pilot"),
+        (dict(perception="sonar"), "unknown perception"),
+        (dict(seed=-1), "seed"),
+        (dict(seed=2**64), "seed"),
+        (dict(time_limit=float("inf")), "time limit"),
+        (dict(time_limit=0.0), "time limit"),
+    ],
+)
 def test_impossible_configurations_are_refused(base, change, words):
     with pytest.raises(NavcliError, match=words):  # a ConfigError, or for a name, the registry's UnknownPlugin
         base.replace(**change)

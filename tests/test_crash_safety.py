@@ -27,15 +27,25 @@ from navcli.scenario import load_scenario
 # A wall across the room, and a Rescuer that never gives up: the run lasts until its (long) time
 # limit, long enough to be killed (with 3 failed diverting targets it ended "blocked" after 152 s,
 # about a second of wall time, which a loaded machine could let pass before the test's signal).
-BLOCKED = scenario_dict(name="blocked", obstacles=[{"segment": {"from": [3, 0], "to": [3, 4]}}],
-                        mission={"time_limit": 3000, "seed": 1}, navigation={"gives_up": 0})
+BLOCKED = scenario_dict(
+    name="blocked",
+    obstacles=[{"segment": {"from": [3, 0], "to": [3, 4]}}],
+    mission={"time_limit": 3000, "seed": 1},
+    navigation={"gives_up": 0},
+)
 
 
 def start_run(write_scenario, out, *extra):
     sc = write_scenario(BLOCKED)
     env = dict(os.environ, PYTHONPATH=str(ROOT))
-    return subprocess.Popen([sys.executable, "-m", "navcli", "run", str(sc), "--out", str(out), *extra],
-                            cwd=ROOT, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    return subprocess.Popen(
+        [sys.executable, "-m", "navcli", "run", str(sc), "--out", str(out), *extra],
+        cwd=ROOT,
+        env=env,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
 
 
 def wait_for_chunks(partial, proc, size=200_000, timeout=30.0):
@@ -56,8 +66,13 @@ def test_a_run_killed_with_sigkill_is_recovered(write_scenario, tmp_path):
     proc.kill()
     proc.wait()
     assert not out.exists() and partial.exists()
-    r = subprocess.run([sys.executable, "-m", "navcli", "recover", str(partial)], cwd=ROOT, capture_output=True,
-                       text=True, env=dict(os.environ, PYTHONPATH=str(ROOT)))
+    r = subprocess.run(
+        [sys.executable, "-m", "navcli", "recover", str(partial)],
+        cwd=ROOT,
+        capture_output=True,
+        text=True,
+        env=dict(os.environ, PYTHONPATH=str(ROOT)),
+    )
     assert r.returncode == 0, r.stderr
     log = read_log(out)
     s = log.summary
@@ -67,14 +82,21 @@ def test_a_run_killed_with_sigkill_is_recovered(write_scenario, tmp_path):
     # chunks are finished every simulated second, so the log ends on a whole second
     assert (s["time_s"] * 1e9) % FLUSH_EVERY_NS == 0
     assert s["ticks"] == len(log["/pilot"]) == round(s["time_s"] / 0.1)
-    assert log.metadata["run"]["scenario"] == "blocked" and log.attachments["scenario.yaml"] == \
-        (tmp_path / "scenario.yaml").read_bytes()
+    assert (
+        log.metadata["run"]["scenario"] == "blocked"
+        and log.attachments["scenario.yaml"] == (tmp_path / "scenario.yaml").read_bytes()
+    )
     runs = load_runs(tmp_path)  # the summary agrees with the poses, as report checks
     assert list(runs["outcome"]) == ["interrupted"]
     # the .partial stays; a second recover refuses to overwrite
     assert partial.exists()
-    r2 = subprocess.run([sys.executable, "-m", "navcli", "recover", str(partial)], cwd=ROOT, capture_output=True,
-                        text=True, env=dict(os.environ, PYTHONPATH=str(ROOT)))
+    r2 = subprocess.run(
+        [sys.executable, "-m", "navcli", "recover", str(partial)],
+        cwd=ROOT,
+        capture_output=True,
+        text=True,
+        env=dict(os.environ, PYTHONPATH=str(ROOT)),
+    )
     assert r2.returncode == 2 and "exists" in r2.stderr
 
 
@@ -107,9 +129,17 @@ def test_a_killed_runs_partial_is_kept_aside_and_a_locked_log_refused(tmp_path):
     Recorder(out).finish(summary, 0)  # free again
 
 
-@pytest.mark.parametrize("out, words", [("", "not a file name"), ("/", "not a file name"), (".", "not a file name"),
-                                        ("{dir}", "is a folder"), ("{scenario}", "ends in .mcap"),
-                                        ("{dir}/x.txt", "ends in .mcap")])
+@pytest.mark.parametrize(
+    "out, words",
+    [
+        ("", "not a file name"),
+        ("/", "not a file name"),
+        (".", "not a file name"),
+        ("{dir}", "is a folder"),
+        ("{scenario}", "ends in .mcap"),
+        ("{dir}/x.txt", "ends in .mcap"),
+    ],
+)
 def test_bad_log_paths_are_refused_before_the_mission(tmp_path, write_scenario, out, words):
     sc = write_scenario(scenario_dict())
     out = out.format(dir=tmp_path, scenario=sc)

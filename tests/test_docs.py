@@ -28,7 +28,7 @@ def _pages() -> list[Path]:
 def _blocks(page: Path) -> list[tuple[str, str, str]]:
     """(language, body, the text before the block) of each fenced block of a page, in order."""
     text = page.read_text(encoding="utf-8")
-    return [(m.group(1), m.group(2), text[:m.start()]) for m in FENCE.finditer(text)]
+    return [(m.group(1), m.group(2), text[: m.start()]) for m in FENCE.finditer(text)]
 
 
 def _commands(body: str) -> list[tuple[str, int]]:
@@ -44,15 +44,28 @@ def _commands(body: str) -> list[tuple[str, int]]:
 @pytest.fixture(scope="module")
 def built(tmp_path_factory) -> Path:
     out = tmp_path_factory.mktemp("html")
-    r = subprocess.run([sys.executable, "-m", "sphinx", "-W", "--keep-going", "-q", "-b", "html", str(DOCS), str(out)],
-                       capture_output=True, text=True, cwd=ROOT)
+    r = subprocess.run(
+        [sys.executable, "-m", "sphinx", "-W", "--keep-going", "-q", "-b", "html", str(DOCS), str(out)],
+        capture_output=True,
+        text=True,
+        cwd=ROOT,
+    )
     assert r.returncode == 0, r.stderr[-3000:]
     return out
 
 
 def test_the_site_builds_with_warnings_as_errors(built):
-    for page in ("index", "reference/cli", "reference/params", "reference/api", "results/index", "changelog",
-                 "references", "concepts/pilot", "tutorials/first-mission"):
+    for page in (
+        "index",
+        "reference/cli",
+        "reference/params",
+        "reference/api",
+        "results/index",
+        "changelog",
+        "references",
+        "concepts/pilot",
+        "tutorials/first-mission",
+    ):
         assert (built / f"{page}.html").is_file(), page
 
 
@@ -71,8 +84,9 @@ def test_the_references_are_made_from_the_code(built):
                 assert opt in cli, (name, opt)
     params = (built / "reference" / "params.html").read_text(encoding="utf-8")
     names = [n for n, _, _ in Params().declarations()]
-    assert len(names) > 50 and all(f"<code class=\"docutils literal notranslate\"><span class=\"pre\">{n}</span>" in params
-                                   for n in names)
+    assert len(names) > 50 and all(
+        f'<code class="docutils literal notranslate"><span class="pre">{n}</span>' in params for n in names
+    )
     api = (built / "reference" / "api.html").read_text(encoding="utf-8")
     assert all(f'id="navcli.api.{f}"' in api for f in ("run", "compare", "sweep"))
 
@@ -84,18 +98,34 @@ def test_every_block_is_run_or_says_why_not():
             if lang in ("sh", "bash", "shell"):
                 paragraph = before.rstrip().rsplit("\n\n", 1)[-1].lower()
                 is_setup = page.name == "README.md" and body.startswith("python -m pip install -e ")
-                assert is_setup or "not run by the tests" in paragraph, f"{page}: a {lang} block with no reason: {body[:60]}"
+                assert is_setup or "not run by the tests" in paragraph, (
+                    f"{page}: a {lang} block with no reason: {body[:60]}"
+                )
                 not_run += not is_setup
             else:
-                assert lang in ("console", "python", "text", "yaml", "{eval-rst}", "{toctree}", "{literalinclude}",
-                                "{include}", "{navcli-cli}", "{navcli-params}", "{navcli-references}", ""), (page, lang)
+                assert lang in (
+                    "console",
+                    "python",
+                    "text",
+                    "yaml",
+                    "{eval-rst}",
+                    "{toctree}",
+                    "{literalinclude}",
+                    "{include}",
+                    "{navcli-cli}",
+                    "{navcli-params}",
+                    "{navcli-references}",
+                    "",
+                ), (page, lang)
                 if lang == "console":
                     assert _commands(body), f"{page}: a console block with no $ command"
     assert 0 < not_run <= MAX_NOT_RUN
 
 
-@pytest.mark.parametrize("page", [str(p.relative_to(ROOT)) for p in _pages()
-                                  if any(lang in ("console", "python") for lang, _, _ in _blocks(p))])
+@pytest.mark.parametrize(
+    "page",
+    [str(p.relative_to(ROOT)) for p in _pages() if any(lang in ("console", "python") for lang, _, _ in _blocks(p))],
+)
 def test_every_command_and_snippet_of_a_page_runs(page, tmp_path, monkeypatch):
     """In an empty folder that sees the repository's scenarios, plans, examples and docs; the
     page's blocks in order, its Python blocks sharing one namespace."""
@@ -110,9 +140,18 @@ def test_every_command_and_snippet_of_a_page_runs(page, tmp_path, monkeypatch):
     for i, (lang, body, _) in enumerate(_blocks(ROOT / page)):
         if lang == "console":
             for command, expected in _commands(body):
-                r = subprocess.run(["bash", "-c", command], capture_output=True, text=True, env=env, cwd=tmp_path,
-                                   stdin=subprocess.DEVNULL, timeout=300)
-                assert r.returncode == expected, f"{page}: `{command}` exited {r.returncode}:\n{r.stdout[-1500:]}{r.stderr[-1500:]}"
+                r = subprocess.run(
+                    ["bash", "-c", command],
+                    capture_output=True,
+                    text=True,
+                    env=env,
+                    cwd=tmp_path,
+                    stdin=subprocess.DEVNULL,
+                    timeout=300,
+                )
+                assert r.returncode == expected, (
+                    f"{page}: `{command}` exited {r.returncode}:\n{r.stdout[-1500:]}{r.stderr[-1500:]}"
+                )
         elif lang == "python":
             exec(compile(body, f"{page} block {i + 1}", "exec"), namespace)
     for name in LINKED:  # nothing written into the repository through the links

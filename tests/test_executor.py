@@ -36,20 +36,43 @@ def _alive(pid: int) -> bool:
 
 @pytest.mark.skipif(not Path("/proc/self/task").exists(), reason="needs Linux /proc")
 @pytest.mark.parametrize("to", ["main", "group"])
-@pytest.mark.parametrize("sig, code, words, reason", [
-    (signal.SIGTERM, 143, "stopped by SIGTERM", "stopped by SIGTERM"),
-    (signal.SIGINT, 130, "interrupted (Ctrl-C)", "stopped by the user (Ctrl-C)")])
+@pytest.mark.parametrize(
+    "sig, code, words, reason",
+    [
+        (signal.SIGTERM, 143, "stopped by SIGTERM", "stopped by SIGTERM"),
+        (signal.SIGINT, 130, "interrupted (Ctrl-C)", "stopped by the user (Ctrl-C)"),
+    ],
+)
 def test_a_signal_stops_compare_and_all_its_workers(tmp_path, sig, code, words, reason, to):
     """To the main process (a scheduler's kill) or to the whole process group (a terminal's Ctrl-C,
     which reaches the workers too): exit 128 + the signal, one line, no worker left, and the runs
     under way logged as ended by that signal."""
     env = dict(os.environ, PYTHONPATH=f"{ROOT}{os.pathsep}{os.environ.get('PYTHONPATH', '')}")
-    cmd = [sys.executable, "-m", "navcli", "compare", "pilots", str(SCENARIOS / "paper-8x8.yaml"),
-           "--reruns", "20", "--jobs", "2", "--out", str(tmp_path)]
+    cmd = [
+        sys.executable,
+        "-m",
+        "navcli",
+        "compare",
+        "pilots",
+        str(SCENARIOS / "paper-8x8.yaml"),
+        "--reruns",
+        "20",
+        "--jobs",
+        "2",
+        "--out",
+        str(tmp_path),
+    ]
     # its own process group, with SIGINT's default disposition as in a terminal (a shell may start
     # background jobs ignoring it)
-    proc = subprocess.Popen(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                            start_new_session=True, preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    proc = subprocess.Popen(
+        cmd,
+        env=env,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        start_new_session=True,
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
+    )
     try:
         deadline = time.monotonic() + 30
         while len(kids := _children(proc.pid)) < 2 and proc.poll() is None and time.monotonic() < deadline:
@@ -87,8 +110,20 @@ def test_a_worker_whose_parent_died_stops_itself(tmp_path):
     """SIGKILL of the main process (nothing of it runs to stop the pool): the workers notice within
     about a second that their parent is gone and stop themselves."""
     env = dict(os.environ, PYTHONPATH=f"{ROOT}{os.pathsep}{os.environ.get('PYTHONPATH', '')}")
-    cmd = [sys.executable, "-m", "navcli", "compare", "pilots", str(SCENARIOS / "paper-8x8.yaml"),
-           "--reruns", "20", "--jobs", "2", "--out", str(tmp_path)]
+    cmd = [
+        sys.executable,
+        "-m",
+        "navcli",
+        "compare",
+        "pilots",
+        str(SCENARIOS / "paper-8x8.yaml"),
+        "--reruns",
+        "20",
+        "--jobs",
+        "2",
+        "--out",
+        str(tmp_path),
+    ]
     proc = subprocess.Popen(cmd, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
     try:
         deadline = time.monotonic() + 30

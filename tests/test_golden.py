@@ -30,9 +30,13 @@ def digest(log) -> dict:
         "summary": {k: s[k] for k in ("scenario", "seed", "pilot", "outcome", "ticks", "collisions", "camera_looks")}
         | {"time_s": round(s["time_s"], 3), "path_length_m": round(s["path_length_m"], 3)},
         "motion_winners": dict(sorted(Counter(log["/bids"]["motion.winner"].fillna("none")).items())),
-        "events": [f"{t:.1f} {n}: {m}" for t, n, m in log["/events"][["time_s", "name", "message"]].itertuples(index=False)],
-        "poses": [[round(t, 1), round(x, 3), round(y, 3), round(th, 3)]
-                  for t, x, y, th in sample[["time_s", "x", "y", "theta"]].itertuples(index=False)],
+        "events": [
+            f"{t:.1f} {n}: {m}" for t, n, m in log["/events"][["time_s", "name", "message"]].itertuples(index=False)
+        ],
+        "poses": [
+            [round(t, 1), round(x, 3), round(y, 3), round(th, 3)]
+            for t, x, y, th in sample[["time_s", "x", "y", "theta"]].itertuples(index=False)
+        ],
     }
 
 

@@ -31,7 +31,8 @@ def test_the_documented_make_line_works_in_a_fresh_interpreter():
     code = documented_snippet()
     assert f'gymnasium.make("{navcli.envs.MAKE_ID}", render_mode="rgb_array")' in code
     check = code.replace('render_mode="rgb_array")', f'render_mode="rgb_array", overrides={SHORT!r})') + (
-        "\nobs, info = env.reset(seed=2)\nframe = env.render()\nprint(obs in range(980), frame.shape, frame.dtype)\n")
+        "\nobs, info = env.reset(seed=2)\nframe = env.render()\nprint(obs in range(980), frame.shape, frame.dtype)\n"
+    )
     fresh = "import sys; assert not any(m.startswith('navcli') for m in sys.modules)\n" + check
     r = subprocess.run([sys.executable, "-c", fresh], capture_output=True, text=True, cwd=ROOT / "tests", timeout=120)
     assert r.returncode == 0, r.stderr[-2000:]
@@ -79,16 +80,19 @@ def test_record_video_writes_a_frame_per_step_from_the_reset(tmp_path):
     import imageio
     from gymnasium.wrappers import RecordVideo
 
-    env = RecordVideo(gym.make(navcli.envs.MAKE_ID, render_mode="rgb_array", overrides=SHORT),
-                      str(tmp_path / "videos"),
-                      episode_trigger=lambda episode: True, disable_logger=True)
+    env = RecordVideo(
+        gym.make(navcli.envs.MAKE_ID, render_mode="rgb_array", overrides=SHORT),
+        str(tmp_path / "videos"),
+        episode_trigger=lambda episode: True,
+        disable_logger=True,
+    )
     env.reset(seed=1)
     steps, done = 0, False
     while not done:
         _, _, terminated, truncated, _ = env.step(0)
         steps, done = steps + 1, terminated or truncated
     env.close()
-    video, = (tmp_path / "videos").glob("*.mp4")
+    (video,) = (tmp_path / "videos").glob("*.mp4")
     with imageio.get_reader(video) as reader:
         meta = reader.get_meta_data()
         assert reader.count_frames() == steps + 1 and 1 <= steps <= SHORT["learning.max_actions"]

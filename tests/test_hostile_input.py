@@ -22,7 +22,8 @@ from navcli.scenario import MAX_BYTES, MAX_PROBLEMS, ScenarioError, load_scenari
 
 BASE = "version: 1\nname: r\narena: {width: 6, height: 4}\nrobot: {start: [1, 2]}\ntarget: {at: [5, 2]}\n"
 BOMB = "a: &a [x, x, x, x, x, x, x, x, x]\n" + "".join(
-    f"{c}: &{c} [{', '.join(['*' + p] * 9)}]\n" for p, c in zip("abcdefgh", "bcdefghi"))  # 9**9 values
+    f"{c}: &{c} [{', '.join(['*' + p] * 9)}]\n" for p, c in zip("abcdefgh", "bcdefghi")
+)  # 9**9 values
 
 
 def refused(text: str, budget_s: float = 1.0) -> ScenarioError:
@@ -42,21 +43,33 @@ HOSTILE = {
     "NUL byte": (BASE + 'description: "x\0y"\n', 6, "", "U+0000"),
     "400-digit seed": (BASE + "mission: {seed: " + "9" * 400 + "}\n", 6, "", "too large"),
     "seed above 64 bits": (BASE + "mission: {seed: 18446744073709551616}\n", 6, "mission.seed", "2**64 - 1"),
-    "vision noise that breaks the fuzzy numbers": (BASE + "noise: {vision_distance: 0.4}\n", 6,
-                                                   "noise.vision_distance", "at most 0.3"),
+    "vision noise that breaks the fuzzy numbers": (
+        BASE + "noise: {vision_distance: 0.4}\n",
+        6,
+        "noise.vision_distance",
+        "at most 0.3",
+    ),
     "tiny robot": (BASE.replace("{start: [1, 2]}", "{start: [1, 2], radius: 1.0e-300}"), 4, "robot.radius", "at least"),
     "tiny R_min": (BASE + "pilot: {R_min: 1.0e-300}\n", 6, "pilot.R_min", "at least 0.01"),
     "huge R_min": (BASE + "pilot: {R_min: 1.0e+308}\n", 6, "pilot.R_min", "at most 5"),
     "huge odometry noise": (BASE + "noise: {odometry: 1.0e+308}\n", 6, "noise.odometry", "at most"),
     "huge arena": (BASE.replace("height: 4", "height: 1.0e+308"), 3, "arena.height", "at most 100"),
-    "lone surrogate id": (BASE + "landmarks: [{id: \"\\ud800\", at: [3, 3]}]\n", 6, None, "invalid Unicode"),
+    "lone surrogate id": (BASE + 'landmarks: [{id: "\\ud800", at: [3, 3]}]\n', 6, None, "invalid Unicode"),
     "50 m/s": (BASE.replace("{start: [1, 2]}", "{start: [1, 2], max_speed: 50}"), 4, "robot.max_speed", "at most 2"),
     "300-character name": (BASE.replace("name: r", "name: " + "r" * 300), 2, "name", "1 to 64"),
     "name ending in a newline": (BASE.replace("name: r", 'name: "r\\n"'), 2, "name", "may hold only"),
-    "target inside an obstacle": (BASE + "obstacles: [{circle: {center: [5, 2], radius: 0.5}}]\n", 5, "target.at",
-                                  "lies inside obstacles[0]"),
-    "circle through a wall": (BASE + "obstacles: [{circle: {center: [3, 0.2], radius: 0.5}}]\n", 6,
-                              "obstacles[0].circle.center", "through a wall"),
+    "target inside an obstacle": (
+        BASE + "obstacles: [{circle: {center: [5, 2], radius: 0.5}}]\n",
+        5,
+        "target.at",
+        "lies inside obstacles[0]",
+    ),
+    "circle through a wall": (
+        BASE + "obstacles: [{circle: {center: [3, 0.2], radius: 0.5}}]\n",
+        6,
+        "obstacles[0].circle.center",
+        "through a wall",
+    ),
     "YAML 1.1 exponent": (BASE + "noise: {odometry: 1e-3}\n", 6, "noise.odometry", "write it with a point"),
     "infinite time limit": (BASE + "mission: {time_limit: .inf}\n", 6, "mission.time_limit", "finite"),
 }
@@ -101,17 +114,23 @@ def test_noise_beyond_the_noise_bound_is_refused_by_the_run_configuration():
 def test_validate_refuses_the_bomb_with_exit_2_and_no_traceback(tmp_path):
     f = tmp_path / "bomb.yaml"
     f.write_text(BOMB)
-    r = subprocess.run([sys.executable, "-m", "navcli", "validate", str(f)], capture_output=True, text=True,
-                       cwd=ROOT, timeout=30)
+    r = subprocess.run(
+        [sys.executable, "-m", "navcli", "validate", str(f)], capture_output=True, text=True, cwd=ROOT, timeout=30
+    )
     assert r.returncode == 2 and "Traceback" not in r.stderr and f"{f}:" in r.stderr
 
 
 # --- property: random mutations of the bundled scenarios, and random bytes ------------------
 BUNDLED = {p.name: p.read_text() for p in sorted(SCENARIOS.glob("*.yaml"))}
 ODD = st.one_of(
-    st.floats(allow_nan=True, allow_infinity=True), st.integers(-2 ** 70, 2 ** 70), st.booleans(), st.none(),
-    st.text(max_size=20), st.lists(st.floats(-20, 20), max_size=3),
-    st.sampled_from([0, -1, 1e-300, 1e308, 0.4, 2.5, 1000, "1e-3", [], {}, [[1, 2], [3, 4]]]))
+    st.floats(allow_nan=True, allow_infinity=True),
+    st.integers(-(2**70), 2**70),
+    st.booleans(),
+    st.none(),
+    st.text(max_size=20),
+    st.lists(st.floats(-20, 20), max_size=3),
+    st.sampled_from([0, -1, 1e-300, 1e308, 0.4, 2.5, 1000, "1e-3", [], {}, [[1, 2], [3, 4]]]),
+)
 
 
 def _leaves(d, path=()):
@@ -139,7 +158,11 @@ def mutated(draw) -> str:
         return yaml.safe_dump(data, sort_keys=False)
     i = draw(st.integers(0, len(text)))
     j = draw(st.integers(i, min(len(text), i + 40)))
-    return text[:i] + draw(st.text(alphabet=st.sampled_from(list("[]{}:,-&*!|>'\"#\n 0123456789.e")), max_size=12)) + text[j:]
+    return (
+        text[:i]
+        + draw(st.text(alphabet=st.sampled_from(list("[]{}:,-&*!|>'\"#\n 0123456789.e")), max_size=12))
+        + text[j:]
+    )
 
 
 def _loads_or_refuses(text: str):
@@ -192,14 +215,19 @@ class _RefusingLoader(yaml.SafeLoader):
 
     def check_event(self, *choices):
         end = len(self.buffer) - 2  # the reader appends a NUL
-        raise yaml.scanner.ScannerError("while scanning", None, "refused by this parser's own limit",
-                                        yaml.Mark("<text>", end, 0, end, None, None))
+        raise yaml.scanner.ScannerError(
+            "while scanning", None, "refused by this parser's own limit", yaml.Mark("<text>", end, 0, end, None, None)
+        )
 
 
-@pytest.mark.parametrize("text,words", [
-    ("a: " + "[" * 40 + "]" * 40 + "\n", "nested more than"),  # one of our bounds: ours is reported
-    ("a: [1, 2\n", "refused by this parser's own limit"),  # none of ours: the parser's own refusal stands
-], ids=["our bound", "its own refusal"])
+@pytest.mark.parametrize(
+    "text,words",
+    [
+        ("a: " + "[" * 40 + "]" * 40 + "\n", "nested more than"),  # one of our bounds: ours is reported
+        ("a: [1, 2\n", "refused by this parser's own limit"),  # none of ours: the parser's own refusal stands
+    ],
+    ids=["our bound", "its own refusal"],
+)
 def test_where_the_parser_refuses_on_its_own_our_bounds_still_speak_first(monkeypatch, text, words):
     import navcli.scenario.yaml_reader as scenario
 

@@ -96,7 +96,7 @@ def model_value_sd(T, R, Rt, D, policy, tries, gamma, start):
     var = (P * (W - (P * W).sum(1, keepdims=True)) ** 2).sum(1)
     if (n[visits > 1e-12] == 0).any():
         return math.inf
-    return math.sqrt((visits ** 2 * var / np.maximum(n, 1)).sum())
+    return math.sqrt((visits**2 * var / np.maximum(n, 1)).sum())
 
 
 def frozen_lake_check(seed: int, steps: int = 4000) -> None:
@@ -107,8 +107,9 @@ def frozen_lake_check(seed: int, steps: int = 4000) -> None:
     V, Q = value_iteration(T, R, D, gamma)
     best = Q.argmax(1)
     assert V == pytest.approx(policy_value(T, R, D, best, gamma), abs=1e-9)  # V* is its greedy policy's value
-    ps = PrioritizedSweeping(16, 4, gamma=gamma, backups=5, threshold=1e-4, explore=10, optimistic=1.0,
-                             rng=np.random.default_rng(seed))
+    ps = PrioritizedSweeping(
+        16, 4, gamma=gamma, backups=5, threshold=1e-4, explore=10, optimistic=1.0, rng=np.random.default_rng(seed)
+    )
     learn(ps, T, Rt, D, 0, steps=steps, seed=seed - 1)
     # its model: every probability it estimated from n tries within 5 binomial standard errors of the
     # truth (landing in a hole or on the goal ends the episode: its model's last column)
@@ -191,8 +192,13 @@ def test_features_count_the_sectors_and_average_the_best_four():
 
 
 def test_980_states_each_reached_once():
-    seen = {state_index(Features(d, i, c, m)) for d in (0.1, 1, 2, 4, 9) for i in (0, 0.03, 0.05, 0.08, 0.12, 0.2, 1)
-            for c in (0, 0.5, 0.8, 2) for m in (0.1, 0.3, 0.4, 0.6, 0.7, 0.9, 1)}
+    seen = {
+        state_index(Features(d, i, c, m))
+        for d in (0.1, 1, 2, 4, 9)
+        for i in (0, 0.03, 0.05, 0.08, 0.12, 0.2, 1)
+        for c in (0, 0.5, 0.8, 2)
+        for m in (0.1, 0.3, 0.4, 0.6, 0.7, 0.9, 1)
+    }
     assert len(seen) == 980 == math.prod(SHAPE) and seen == set(range(980))
     assert discretise(Features(0.9, 0.0, 0.0, 0.0))[0] == 1  # on a bound: the interval above
 
@@ -212,25 +218,28 @@ def test_actions_move_and_look_as_section_5_3_says():
     assert abs(lost[0].action.heading) == pytest.approx(math.pi)  # the paper's pacing
 
 
-@pytest.mark.parametrize("intervals, action", [
-    # "If the robot is far from the target and there are few landmarks, it executes an MLL"
-    pytest.param((4, 0, 0, 0), MLL, id="far, few landmarks: MLL"),
-    pytest.param((3, 0, 1, 6), MLL, id="far (3 m), few landmarks, blurred: still MLL"),
-    # "if there are enough landmarks but they are highly imprecise, an MVL is executed"
-    pytest.param((4, 0, 2, 3), MVL, id="far, enough landmarks, highly imprecise: MVL"),
-    # "if the landmarks are good enough, an MOT is executed if the target's location has a high
-    # imprecision, and an MB is executed otherwise"
-    pytest.param((4, 4, 3, 0), MOT, id="far, landmarks good, target highly imprecise: MOT"),
-    pytest.param((3, 3, 3, 2), MB, id="far, landmarks good, target precise: MB"),
-    # "If the robot is not far from the target but its location is highly imprecise, then an MVL
-    # or an MVT is executed, depending on whether the overall imprecision of landmarks is high or not"
-    pytest.param((2, 5, 0, 5), MVL, id="not far, target highly imprecise, landmarks imprecise: MVL"),
-    pytest.param((1, 6, 3, 2), MVT, id="not far, target highly imprecise, landmarks sharp: MVT"),
-    # "if the target's location has low imprecision, then if the robot is really near the target it
-    # executes an MVT, and an MB is executed if the distance is medium"
-    pytest.param((0, 1, 0, 6), MVT, id="really near, target precise: MVT"),
-    pytest.param((2, 0, 0, 6), MB, id="medium distance, target precise: MB"),
-])
+@pytest.mark.parametrize(
+    "intervals, action",
+    [
+        # "If the robot is far from the target and there are few landmarks, it executes an MLL"
+        pytest.param((4, 0, 0, 0), MLL, id="far, few landmarks: MLL"),
+        pytest.param((3, 0, 1, 6), MLL, id="far (3 m), few landmarks, blurred: still MLL"),
+        # "if there are enough landmarks but they are highly imprecise, an MVL is executed"
+        pytest.param((4, 0, 2, 3), MVL, id="far, enough landmarks, highly imprecise: MVL"),
+        # "if the landmarks are good enough, an MOT is executed if the target's location has a high
+        # imprecision, and an MB is executed otherwise"
+        pytest.param((4, 4, 3, 0), MOT, id="far, landmarks good, target highly imprecise: MOT"),
+        pytest.param((3, 3, 3, 2), MB, id="far, landmarks good, target precise: MB"),
+        # "If the robot is not far from the target but its location is highly imprecise, then an MVL
+        # or an MVT is executed, depending on whether the overall imprecision of landmarks is high or not"
+        pytest.param((2, 5, 0, 5), MVL, id="not far, target highly imprecise, landmarks imprecise: MVL"),
+        pytest.param((1, 6, 3, 2), MVT, id="not far, target highly imprecise, landmarks sharp: MVT"),
+        # "if the target's location has low imprecision, then if the robot is really near the target it
+        # executes an MVT, and an MB is executed if the distance is medium"
+        pytest.param((0, 1, 0, 6), MVT, id="really near, target precise: MVT"),
+        pytest.param((2, 0, 0, 6), MB, id="medium distance, target precise: MB"),
+    ],
+)
 def test_the_hand_coded_policy_follows_section_6(intervals, action):
     """Section 6's hand-coded policy, sentence by sentence (the intervals: distance, I(t), count,
     I-bar; the bounds of each word in :mod:`navcli.learning.hand_coded`)."""
@@ -280,7 +289,11 @@ def test_the_model_file_round_trips_and_refuses_garbage(tmp_path):
     arrays, meta = model_file.load(path)
     again = PrioritizedSweeping(980, 5)
     again.load_arrays(arrays)
-    assert meta == {"seed": 3, "algorithm": "prioritized-sweeping"} and (again.counts == ps.counts).all() and (again.values == ps.values).all()
+    assert (
+        meta == {"seed": 3, "algorithm": "prioritized-sweeping"}
+        and (again.counts == ps.counts).all()
+        and (again.values == ps.values).all()
+    )
     assert again.predecessors == ps.predecessors
     (tmp_path / "bad.npz").write_text("no")
     with pytest.raises(model_file.ModelError, match="bad.npz"):
@@ -295,8 +308,9 @@ def test_run_refuses_a_bad_navigation(tmp_path):
 
     r = CliRunner().invoke(app, ["run", str(SCENARIOS / "landmarks-12.yaml"), "--navigation", "bogus"])
     assert r.exit_code == 2 and "unknown navigation" in r.output
-    r = CliRunner().invoke(app, ["run", str(SCENARIOS / "landmarks-12.yaml"), "--navigation",
-                                 f"learned:{tmp_path / 'none.npz'}"])
+    r = CliRunner().invoke(
+        app, ["run", str(SCENARIOS / "landmarks-12.yaml"), "--navigation", f"learned:{tmp_path / 'none.npz'}"]
+    )
     assert r.exit_code == 2 and "no such model file" in r.output
 
 
@@ -316,12 +330,15 @@ def test_the_gymnasium_environment_passes_the_checker():
     assert r == -1.0 and trunc  # max_actions = 2
 
 
-@pytest.mark.parametrize("outcome,reached,ended,want", [
-    ("reached", True, False, (True, False)),  # an end state
-    ("blocked", False, True, (True, False)),  # the Rescuer gave up: an end state too, in either task
-    ("timeout", False, True, (False, True)),  # max_actions or the time limit: cut from outside
-    (None, False, False, (False, False)),  # the trial goes on
-])
+@pytest.mark.parametrize(
+    "outcome,reached,ended,want",
+    [
+        ("reached", True, False, (True, False)),  # an end state
+        ("blocked", False, True, (True, False)),  # the Rescuer gave up: an end state too, in either task
+        ("timeout", False, True, (False, True)),  # max_actions or the time limit: cut from outside
+        (None, False, False, (False, False)),  # the trial goes on
+    ],
+)
 @pytest.mark.parametrize("paper_task", [0, 1])
 def test_the_environment_follows_gymnasiums_terminated_truncated_contract(outcome, reached, ended, want, paper_task):
     from navcli.envs import LandmarkNavigationEnv
@@ -373,11 +390,16 @@ def test_training_records_each_trial_and_resumes_where_the_model_was_saved(tmp_p
         assert sum(counts) == int(r["actions"]) <= 4 and float(r["reward"]) == reward_of(counts)
         log = read_log(logs / f"trial-{int(r['trial']):05d}.mcap")  # every tick of the trial, closed properly
         s = log.summary
-        assert s["outcome"] == r["outcome"] and s["navigation"] == "learned" and s["learning.actions"] == int(r["actions"])
+        assert (
+            s["outcome"] == r["outcome"] and s["navigation"] == "learned" and s["learning.actions"] == int(r["actions"])
+        )
         assert len(log["/robot/pose"]) == s["ticks"] + 1
     start = random_starts(spec, 1, np.random.SeedSequence([7, 1]).generate_state(1)[0])[0]
-    assert (float(rows[1]["x"]), float(rows[1]["y"]), int(rows[1]["seed"])) == (round(start.x, 3), round(start.y, 3),
-                                                                               start.seed)
+    assert (float(rows[1]["x"]), float(rows[1]["y"]), int(rows[1]["seed"])) == (
+        round(start.x, 3),
+        round(start.y, 3),
+        start.seed,
+    )
     again = train(spec, trials=5, eval_every=2, eval_starts=2, out=out, resume=out, workers=1)  # 5 in all
     rows2 = list(csv.DictReader(csv_path.open()))
     assert again.trials == 5 and [int(r["trial"]) for r in rows2] == [0, 1, 2, 3, 4] and rows2[:3] == rows

@@ -30,8 +30,11 @@ CRISP = (0.0,) * len(ALPHAS)
 
 def landmark_room(make_scenario, **over):
     """A 6 m x 4 m room, the target landmark T 2 m ahead of the robot, in view from the start."""
-    return make_scenario(target={"landmark": "T", "tolerance": 0.3},
-                         landmarks=[{"id": "T", "at": [3.0, 2.0]}, {"id": "A", "at": [4.0, 3.2]}], **over)
+    return make_scenario(
+        target={"landmark": "T", "tolerance": 0.3},
+        landmarks=[{"id": "T", "at": [3.0, 2.0]}, {"id": "A", "at": [4.0, 3.2]}],
+        **over,
+    )
 
 
 # -- the preset --------------------------------------------------------------------------------
@@ -117,6 +120,7 @@ def test_without_looks_the_rescuer_neither_sweeps_nor_scans_a_lost_target():
 def test_with_blocked_ends_the_first_blocked_situation_ends_the_mission():
     """No progress toward the target for the blocked window: the paper's trial terminates there;
     the control asks the map for a diverting target instead."""
+
     def blocked(params):
         r, asked, t = Rescuer(params, np.random.default_rng(0)), [], 0.0
         while t < r.window_s + 5.0:
@@ -136,10 +140,13 @@ def test_in_the_paper_task_bumps_end_a_trial_even_while_the_target_is_lost():
     """ "The robot can be blocked by the landmarks or by the wall": with the target lost (no aim),
     blocked_bumps bumps within the window end the paper's trial; before, blocked needed a known
     target. The control (the full system) never calls a robot blocked without an aim."""
+
     def run(params):
         r = Rescuer(params, np.random.default_rng(0))
         for k in range(params.blocked_bumps):
-            b = Beliefs(k * 1.0, Pose(0, 0, 0), None, None, (), 2 * math.pi, None, (Bump(k * 1.0, "wall", (0.3, 0.0), 0.0),))
+            b = Beliefs(
+                k * 1.0, Pose(0, 0, 0), None, None, (), 2 * math.pi, None, (Bump(k * 1.0, "wall", (0.3, 0.0), 0.0),)
+            )
             out = r.decide(Situation(b, None, None, "memory", 1.0), lambda f: None)
         return out
 
@@ -208,8 +215,11 @@ def test_reached_only_when_the_belief_too_is_within_reach(make_scenario):
     assert m._confident(near) and not m._confident(wide) and not m._confident(far) and not m._confident(None)
     body_only = Mission(RunSpec.build(sc))
     assert body_only._confident(None) and body_only._confident(wide)  # the control: the body alone
-    strict = Mission(RunSpec.build(sc, overrides={"navigation.reach_confident": 1,
-                                                  "navigation.reach_imprecision": near.imprecision() / 2}))
+    strict = Mission(
+        RunSpec.build(
+            sc, overrides={"navigation.reach_confident": 1, "navigation.reach_imprecision": near.imprecision() / 2}
+        )
+    )
     assert not strict._confident(near)
 
 

@@ -29,8 +29,7 @@ def _free_port() -> int:
 async def _late_client(port: int, deadline: float) -> dict:
     """Connect, subscribe to /world/scene and /robot/body, and collect until both have arrived."""
     got: dict = {"topics": set(), "times": []}
-    async with websockets.connect(f"ws://127.0.0.1:{port}", subprotocols=["foxglove.sdk.v1"],
-                                  open_timeout=5) as ws:
+    async with websockets.connect(f"ws://127.0.0.1:{port}", subprotocols=["foxglove.sdk.v1"], open_timeout=5) as ws:
         channels: dict[int, str] = {}
         subs: dict[int, str] = {}
         while time.monotonic() < deadline and not ({"/world/scene", "/robot/body"} <= got["topics"] and got["times"]):
@@ -48,7 +47,9 @@ async def _late_client(port: int, deadline: float) -> dict:
                         if ch["topic"] in ("/world/scene", "/robot/body"):
                             sid = len(subs) + 1
                             subs[sid] = ch["topic"]
-                            await ws.send(json.dumps({"op": "subscribe", "subscriptions": [{"id": sid, "channelId": ch["id"]}]}))
+                            await ws.send(
+                                json.dumps({"op": "subscribe", "subscriptions": [{"id": sid, "channelId": ch["id"]}]})
+                            )
             elif raw[0] == 1:  # message data: subscription id, log time, payload
                 sid, _ = struct.unpack_from("<IQ", raw, 1)
                 got["topics"].add(subs[sid])
@@ -60,9 +61,25 @@ async def _late_client(port: int, deadline: float) -> dict:
 def test_a_late_viewer_gets_the_arena_the_robot_and_simulation_time(tmp_path):
     port = _free_port()
     env = dict(os.environ, PYTHONPATH=str(ROOT))
-    proc = subprocess.Popen([sys.executable, "-m", "navcli", "run", str(SCENARIOS / "paper-8x8.yaml"), "--live",
-                             "--port", str(port), "--time-limit", "30", "--out", str(tmp_path / "live.mcap")],
-                            env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    proc = subprocess.Popen(
+        [
+            sys.executable,
+            "-m",
+            "navcli",
+            "run",
+            str(SCENARIOS / "paper-8x8.yaml"),
+            "--live",
+            "--port",
+            str(port),
+            "--time-limit",
+            "30",
+            "--out",
+            str(tmp_path / "live.mcap"),
+        ],
+        env=env,
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+    )
     try:
         t0 = time.monotonic()
         while time.monotonic() - t0 < 15:  # wait for the port to answer
@@ -95,9 +112,28 @@ def test_after_the_mission_the_final_state_is_still_served_then_the_run_exits_wi
     port = _free_port()
     env = dict(os.environ, PYTHONPATH=str(ROOT))
     log = tmp_path / "live.mcap"
-    proc = subprocess.Popen([sys.executable, "-m", "navcli", "run", str(SCENARIOS / "paper-8x8.yaml"), "--live",
-                             "--port", str(port), "--time-limit", "3", "--linger", "6", "--out", str(log)],
-                            env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    proc = subprocess.Popen(
+        [
+            sys.executable,
+            "-m",
+            "navcli",
+            "run",
+            str(SCENARIOS / "paper-8x8.yaml"),
+            "--live",
+            "--port",
+            str(port),
+            "--time-limit",
+            "3",
+            "--linger",
+            "6",
+            "--out",
+            str(log),
+        ],
+        env=env,
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
     try:
         t0 = time.monotonic()
         while not log.exists() and time.monotonic() - t0 < 30:  # the log gets its final name at the end

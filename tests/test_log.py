@@ -14,8 +14,21 @@ from navcli.params import CONTROL_DT
 from navcli.runner import run_mission
 from navcli.scenario import load_scenario
 
-TOPICS = {"/tf", "/robot/pose", "/robot/odometry", "/world/scene", "/robot/scene", "/pilot", "/bids",
-          "/events", "/mission/summary", "/vision", "/memory/scene", "/robot/body", "/robot/camera"}
+TOPICS = {
+    "/tf",
+    "/robot/pose",
+    "/robot/odometry",
+    "/world/scene",
+    "/robot/scene",
+    "/pilot",
+    "/bids",
+    "/events",
+    "/mission/summary",
+    "/vision",
+    "/memory/scene",
+    "/robot/body",
+    "/robot/camera",
+}
 
 
 @pytest.fixture(scope="module")
@@ -130,10 +143,13 @@ def test_error_in_a_run_leaves_a_log_marked_error(tmp_path):
     assert s["outcome"] == "error" and "sensor on fire" in s["reason"]
 
 
-
-@pytest.mark.parametrize("stop, outcome, reason", [
-    (KeyboardInterrupt(), "interrupted", "stopped by the user (Ctrl-C)"),
-    (RuntimeError("disk on fire"), "error", "RuntimeError: disk on fire")])
+@pytest.mark.parametrize(
+    "stop, outcome, reason",
+    [
+        (KeyboardInterrupt(), "interrupted", "stopped by the user (Ctrl-C)"),
+        (RuntimeError("disk on fire"), "error", "RuntimeError: disk on fire"),
+    ],
+)
 def test_a_run_stopped_while_its_log_begins_says_why(tmp_path, monkeypatch, stop, outcome, reason):
     """The log's start (the configuration, the first pose) is written before the first tick: a stop
     there leaves a log labelled as a stop inside the run is, not an empty reason."""
@@ -153,6 +169,7 @@ def test_a_run_stopped_while_its_log_begins_says_why(tmp_path, monkeypatch, stop
     assert (log.summary["outcome"], log.summary["reason"], log.summary["ticks"]) == (outcome, reason, 0)
     assert log["/events"]["message"].iloc[-1] == reason
 
+
 def test_time_limit_ends_the_run_as_timeout(tmp_path):
     sc = load_scenario(SCENARIOS / "open-arena.yaml")
     res = run_mission(RunSpec.build(sc, time_limit=2.0), out=tmp_path / "t.mcap")
@@ -168,7 +185,9 @@ def test_vision_topic_reports_images_with_fuzzy_detections(open_run, tmp_path):
     assert len(images) == res.summary["camera_looks"] > 0
     from navcli.bidding import PURPOSES
 
-    assert set(images["purpose"]) <= set(PURPOSES) and images["purpose"].notna().all()  # every image says what it was for
+    assert (
+        set(images["purpose"]) <= set(PURPOSES) and images["purpose"].notna().all()
+    )  # every image says what it was for
     assert v.loc[v["state"] == "idle", "purpose"].isna().all()
     # the open room has no landmark: the Risk Manager searches (bid at R = 1) and finds nothing, for
     # a search registers landmarks only; the Pilot's looks ahead (its bid reaches 1 after d_m) find the walls
@@ -201,7 +220,9 @@ def test_the_pilots_decorations_are_drawn_every_draw_period_and_its_forces_logge
     ticks = (scene["log_time_ns"] // round(CONTROL_DT * 1e9)).to_numpy()
     assert ticks[0] == 1 and ((ticks - 1) % every == 0).all()
     assert len(scene) == (res.summary["ticks"] - 1) // every + 1
-    assert all(set(e) == {"forces", "grown-obstacles"} for e in scene["entities"])  # the potential-field pilot has forces
+    assert all(
+        set(e) == {"forces", "grown-obstacles"} for e in scene["entities"]
+    )  # the potential-field pilot has forces
     pilot = log["/pilot"]
     assert len(pilot) == res.summary["ticks"] and not pilot[["net.x", "net.y"]].isna().any().any()
 
@@ -228,8 +249,12 @@ def test_the_camera_frame_in_tf_turns_by_the_pan_of_every_tick(open_run):
     assert any(abs(p) > 1.0 for p in pans.values())  # the camera did pan
     for ns, pan in pans.items():
         base, cam = tf[ns].transforms
-        assert (base.parent_frame_id, base.child_frame_id, cam.parent_frame_id, cam.child_frame_id) == \
-            ("world", "base_link", "base_link", "camera")
+        assert (base.parent_frame_id, base.child_frame_id, cam.parent_frame_id, cam.child_frame_id) == (
+            "world",
+            "base_link",
+            "base_link",
+            "camera",
+        )
         q = cam.rotation
         assert math.degrees(2 * math.atan2(q.z, q.w)) == pytest.approx(pan, abs=1e-9)
     assert all(e == ["camera"] for e in log["/robot/camera"]["entities"])
@@ -261,9 +286,11 @@ def test_the_pose_messages_built_inline_are_those_of_the_plain_helpers(tmp_path)
     from navcli.log.scenes import CAMERA_AT, stamp, yaw
     from navcli.log.writer import Recorder
 
-    cases = [(Pose(1.5, 2.25, 0.7), Pose(1.4, 2.5, -2.9), 2_000_000_000, 0.3),
-             (Pose(0.0, 3.0, 0.0), Pose(-0.5, 0.0, 0.0), 2_100_000_000, 0.0),
-             (Pose(7.0, 0.5, -math.pi), Pose(7.1, 0.4, 3.1), 2_200_000_000, -1.2)]
+    cases = [
+        (Pose(1.5, 2.25, 0.7), Pose(1.4, 2.5, -2.9), 2_000_000_000, 0.3),
+        (Pose(0.0, 3.0, 0.0), Pose(-0.5, 0.0, 0.0), 2_100_000_000, 0.0),
+        (Pose(7.0, 0.5, -math.pi), Pose(7.1, 0.4, 3.1), 2_200_000_000, -1.2),
+    ]
     rec = Recorder(tmp_path / "p.mcap")
     for truth, odom, ns, pan in cases:
         rec._pose_msgs(truth, odom, ns, pan)
@@ -274,15 +301,44 @@ def test_the_pose_messages_built_inline_are_those_of_the_plain_helpers(tmp_path)
     for truth, odom, ns, pan in cases:
         ts, q = stamp(ns), yaw(truth.theta)
         at = Vector3(x=truth.x, y=truth.y, z=0.0)
-        want += [("/tf", ns, FrameTransforms(transforms=[
-                     FrameTransform(timestamp=ts, parent_frame_id="world", child_frame_id="base_link", translation=at,
-                                    rotation=q),
-                     FrameTransform(timestamp=ts, parent_frame_id="base_link", child_frame_id="camera",
-                                    translation=CAMERA_AT, rotation=yaw(pan))]).encode()),
-                 ("/robot/odometry", ns, PoseInFrame(timestamp=ts, frame_id="world", pose=FxPose(
-                     position=Vector3(x=odom.x, y=odom.y, z=0.0), orientation=yaw(odom.theta))).encode()),
-                 ("/robot/pose", ns, PoseInFrame(timestamp=ts, frame_id="world",
-                                                 pose=FxPose(position=at, orientation=q)).encode())]
+        want += [
+            (
+                "/tf",
+                ns,
+                FrameTransforms(
+                    transforms=[
+                        FrameTransform(
+                            timestamp=ts,
+                            parent_frame_id="world",
+                            child_frame_id="base_link",
+                            translation=at,
+                            rotation=q,
+                        ),
+                        FrameTransform(
+                            timestamp=ts,
+                            parent_frame_id="base_link",
+                            child_frame_id="camera",
+                            translation=CAMERA_AT,
+                            rotation=yaw(pan),
+                        ),
+                    ]
+                ).encode(),
+            ),
+            (
+                "/robot/odometry",
+                ns,
+                PoseInFrame(
+                    timestamp=ts,
+                    frame_id="world",
+                    pose=FxPose(position=Vector3(x=odom.x, y=odom.y, z=0.0), orientation=yaw(odom.theta)),
+                ).encode(),
+            ),
+            (
+                "/robot/pose",
+                ns,
+                PoseInFrame(timestamp=ts, frame_id="world", pose=FxPose(position=at, orientation=q)).encode(),
+            ),
+        ]
     assert got == want
     rec.lock.release()
 

@@ -57,11 +57,20 @@ def validate_run(job: tuple[str, str, str, str]) -> dict:
             msg = json.loads(message.data)
             messages += 1
             if not v.is_valid(msg):
-                errors += [f"{channel.topic} at {message.log_time / 1e9:.1f} s: {e.message}" for e in v.iter_errors(msg)]
+                errors += [
+                    f"{channel.topic} at {message.log_time / 1e9:.1f} s: {e.message}" for e in v.iter_errors(msg)
+                ]
             if channel.topic == "/navigation":
                 rescuer[msg["rescuer"]] += 1
-    return {"run": f"{name} {pilot} {perception}", "outcome": summary["outcome"], "time_s": summary["time_s"],
-            "messages": messages, "errors": errors, "rescuer": rescuer, "topics": len(validators)}
+    return {
+        "run": f"{name} {pilot} {perception}",
+        "outcome": summary["outcome"],
+        "time_s": summary["time_s"],
+        "messages": messages,
+        "errors": errors,
+        "rescuer": rescuer,
+        "topics": len(validators),
+    }
 
 
 @pytest.fixture(scope="module")
@@ -108,8 +117,9 @@ def test_each_enumeration_of_the_log_is_the_producers():
             if ENUM in node:
                 marked.add(node[ENUM])
             for v in node.values():
-                walk(v) if isinstance(v, dict) else [walk(x) for x in v if isinstance(x, dict)] if isinstance(v, list) \
-                    else None
+                walk(v) if isinstance(v, dict) else [walk(x) for x in v if isinstance(x, dict)] if isinstance(
+                    v, list
+                ) else None
 
     import msgspec
 
@@ -130,9 +140,13 @@ def test_the_rescuer_enters_no_state_it_does_not_declare():
     tree = ast.parse((ROOT / "navcli" / "navigation" / "rescuer.py").read_text())
     used = set()
     for node in ast.walk(tree):
-        if isinstance(node, ast.Assign) and any(isinstance(t, ast.Attribute) and t.attr == "state" for t in node.targets):
+        if isinstance(node, ast.Assign) and any(
+            isinstance(t, ast.Attribute) and t.attr == "state" for t in node.targets
+        ):
             used |= {c.value for c in ast.walk(node.value) if isinstance(c, ast.Constant) and isinstance(c.value, str)}
         if isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and node.func.attr == "_enter":
-            used |= {c.value for c in ast.walk(node.args[0]) if isinstance(c, ast.Constant) and isinstance(c.value, str)}
+            used |= {
+                c.value for c in ast.walk(node.args[0]) if isinstance(c, ast.Constant) and isinstance(c.value, str)
+            }
     assert used and used <= set(STATES), used - set(STATES)
     assert {"drive", "explore"} <= used

@@ -46,9 +46,14 @@ def test_collinear_triangles_are_refused():
 
 
 @settings(deadline=None)
-@given(st.lists(point, min_size=4, max_size=4), st.floats(-math.pi, math.pi), coord, coord,
-       st.lists(st.tuples(st.floats(0, 1), st.floats(-math.pi, math.pi)), min_size=7, max_size=7),
-       st.floats(0.01, 0.2))
+@given(
+    st.lists(point, min_size=4, max_size=4),
+    st.floats(-math.pi, math.pi),
+    coord,
+    coord,
+    st.lists(st.tuples(st.floats(0, 1), st.floats(-math.pi, math.pi)), min_size=7, max_size=7),
+    st.floats(0.01, 0.2),
+)
 def test_the_fuzzy_recall_holds_the_true_position(pts, theta, tx, ty, errors, r):
     """Every position is seen with an error inside its support (radius r), when encoding and
     when recalling: the recalled support still holds the true position."""
@@ -95,7 +100,13 @@ def test_regions_triangulate_the_landmarks_with_virtual_ones_around():
     r = triangulate(SQUARE)
     real = [t for t in r.triangles if all(not r.ids[v].startswith("~") for v in t)]
     assert len(real) == 3  # all 5 landmarks on the hull (a convex pentagon): 5 - 2 triangles
-    assert sorted(i for i in r.ids if i.startswith("~")) == ["~A-B", "~A-D", "~B-C", "~C-E", "~D-E"]  # one per hull edge
+    assert sorted(i for i in r.ids if i.startswith("~")) == [
+        "~A-B",
+        "~A-D",
+        "~B-C",
+        "~C-E",
+        "~D-E",
+    ]  # one per hull edge
     inside = r.triangles[r.region_of((2.0, 1.0))]
     assert all(not r.ids[v].startswith("~") for v in inside)  # inside the landmarks: a real region
     outside = r.triangles[r.region_of((2.0, -3.0))]
@@ -139,9 +150,23 @@ def test_a_logged_run_is_the_same_file_whatever_pythons_hash_seed(tmp_path):
     logs = []
     for seed in ("1", "2"):
         out = tmp_path / f"hash{seed}.mcap"
-        r = subprocess.run([sys.executable, "-m", "navcli", "run", str(SCENARIOS / "landmarks-12.yaml"),
-                            "--time-limit", "15", "--out", str(out)], capture_output=True, text=True, cwd=ROOT,
-                           env=os.environ | {"PYTHONHASHSEED": seed})
+        r = subprocess.run(
+            [
+                sys.executable,
+                "-m",
+                "navcli",
+                "run",
+                str(SCENARIOS / "landmarks-12.yaml"),
+                "--time-limit",
+                "15",
+                "--out",
+                str(out),
+            ],
+            capture_output=True,
+            text=True,
+            cwd=ROOT,
+            env=os.environ | {"PYTHONHASHSEED": seed},
+        )
         assert r.returncode == 3 and "timeout" in r.stdout, r.stderr  # 15 s: the map is drawn, the target not reached
         logs.append(out.read_bytes())
     assert logs[0] == logs[1]
@@ -163,8 +188,10 @@ def test_the_quality_of_a_landmark_set_is_that_of_its_six_best_known_now(monkeyp
 
     def fresh(points):
         six = sorted(points.values(), key=FuzzyPoint.imprecision)[:6]
-        return max((1.0 - collinearity((a.x, a.y), (b.x, b.y), (c.x, c.y))
-                    for a, b, c in itertools.combinations(six, 3)), default=0.0)
+        return max(
+            (1.0 - collinearity((a.x, a.y), (b.x, b.y), (c.x, c.y)) for a, b, c in itertools.combinations(six, 3)),
+            default=0.0,
+        )
 
     seen = []  # (the Map Manager's answer, the definition's, the set's size) at every call
     quality = MapManager.quality
@@ -183,8 +210,14 @@ def test_the_quality_of_a_landmark_set_is_that_of_its_six_best_known_now(monkeyp
 
 
 # -- regions that know the obstacles (issue 22) ------------------------------------------------------
-from navcli.navigation.regions import (CROSS_MARGIN, NoCrossing, blocked_edges, crossing_along, obstacle_of,  # noqa: E402
-                                       way_out)
+from navcli.navigation.regions import (  # noqa: E402
+    CROSS_MARGIN,
+    NoCrossing,
+    blocked_edges,
+    crossing_along,
+    obstacle_of,
+    way_out,
+)
 
 # four landmarks around a fence across the middle: the robot below it, the target above it
 AROUND = {"A": (-3.0, -2.0), "B": (3.0, -2.0), "C": (3.0, 3.0), "D": (-3.0, 3.0)}
@@ -248,10 +281,20 @@ def test_the_map_tells_no_way_out_from_too_little_known():
     assert isinstance(why, NoCrossing) and not why.trapped and "too few" in why.why
     # inside a closed fenced box, every edge out of the robot's region crosses a known side
     inside = {"A": (-1.0, -1.0), "B": (1.0, -1.0), "C": (1.0, 1.0), "D": (-1.0, 1.0), "E": (4.0, 0.0), "F": (4.0, 3.0)}
-    box = [((-2.0, -2.0), (2.0, -2.0)), ((2.0, -2.0), (2.0, 2.0)), ((2.0, 2.0), (-2.0, 2.0)), ((-2.0, 2.0), (-2.0, -2.0))]
-    b = Beliefs(0.0, Pose(0, 0, 0), (5.0, 1.5), None,
-                tuple(KnownObstacle(f"side-{i}", p, q, 0.025) for i, (p, q) in enumerate(box)),
-                landmarks=tuple(KnownLandmark(k, point(*p), 0.0) for k, p in inside.items()))
+    box = [
+        ((-2.0, -2.0), (2.0, -2.0)),
+        ((2.0, -2.0), (2.0, 2.0)),
+        ((2.0, 2.0), (-2.0, 2.0)),
+        ((-2.0, 2.0), (-2.0, -2.0)),
+    ]
+    b = Beliefs(
+        0.0,
+        Pose(0, 0, 0),
+        (5.0, 1.5),
+        None,
+        tuple(KnownObstacle(f"side-{i}", p, q, 0.025) for i, (p, q) in enumerate(box)),
+        landmarks=tuple(KnownLandmark(k, point(*p), 0.0) for k, p in inside.items()),
+    )
     trapped = MapManager().diverting_target(b, (5.0, 1.5))
     assert isinstance(trapped, NoCrossing) and trapped.trapped
     # with one side open, there is a way
@@ -278,7 +321,9 @@ def test_what_a_fence_was_seen_to_block_between_landmarks_stays_known_when_the_m
     rel = {k: shift(p) for k, p in marks.items()}
     landmarks = tuple(KnownLandmark(k, point(*p), 0.0) for k, p in rel.items())
     fence = KnownObstacle(across.key, shift(across.a), shift(across.b), across.radius)
-    seen = Beliefs(0.0, Pose(0, 0, 0), shift(target), None, (fence,), looked=Look(0.0, "obstacles"), landmarks=landmarks)
+    seen = Beliefs(
+        0.0, Pose(0, 0, 0), shift(target), None, (fence,), looked=Look(0.0, "obstacles"), landmarks=landmarks
+    )
     forgot = Beliefs(0.1, Pose(0, 0, 0), shift(target), None, (), landmarks=landmarks)
     expected = set(crossed_pairs(rel, [(fence.key, fence.a, fence.b)]))
     assert expected == {frozenset(p) for p in ("AC", "BD", "AE", "BE")}  # the pairs from below to above
@@ -305,8 +350,14 @@ def test_the_logged_map_shows_the_regions_and_blocked_edges_the_diverting_target
     from navcli.navigation.map_manager import MapManager
 
     point = lambda x, y: FuzzyPoint(x, y, (0.02, 0.014, 0.006, 0.0))  # noqa: E731
-    b = Beliefs(0.0, Pose(0, 0, 0), (0.0, 2.0), None, (KnownObstacle("fence", FENCE[1], FENCE[2], 0.025),),
-                landmarks=tuple(KnownLandmark(k, point(*p), 0.0) for k, p in AROUND.items()))
+    b = Beliefs(
+        0.0,
+        Pose(0, 0, 0),
+        (0.0, 2.0),
+        None,
+        (KnownObstacle("fence", FENCE[1], FENCE[2], 0.025),),
+        landmarks=tuple(KnownLandmark(k, point(*p), 0.0) for k, p in AROUND.items()),
+    )
     snap = MapManager().snapshot(b)
     fence_points = {k for k in snap.vertices if k.startswith("#fence")}
     assert len(fence_points) == 5  # the chain the regions are built with
@@ -361,8 +412,13 @@ def test_an_edge_to_a_virtual_landmark_is_the_failed_one_again_only_the_same_way
     ray = lambda deg: (1.0 + 10 * math.cos(math.radians(deg)), 10 * math.sin(math.radians(deg)))  # noqa: E731
     mm._where = {"A": (1.0, 0.0), "B": (1.0, 3.0), "~east": ray(0.0)}
     mm.report_blocked(frozenset({"A", "~east"}))
-    mm._where = {"#obstacle-4:0": (1.2, 0.1), "~a": ray(0.8 * SAME_WAY_DEG), "~b": ray(1.2 * SAME_WAY_DEG),
-                 "~west": ray(180.0), "B": (1.0, 3.0)}
+    mm._where = {
+        "#obstacle-4:0": (1.2, 0.1),
+        "~a": ray(0.8 * SAME_WAY_DEG),
+        "~b": ray(1.2 * SAME_WAY_DEG),
+        "~west": ray(180.0),
+        "B": (1.0, 3.0),
+    }
     again = lambda v: mm._failed_before(mm._place(frozenset({"#obstacle-4:0", v})))  # noqa: E731
     assert again("~a") and not again("~b") and not again("~west")
     assert not mm._failed_before(mm._place(frozenset({"#obstacle-4:0", "B"})))  # two real ends: another edge

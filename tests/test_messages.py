@@ -20,12 +20,16 @@ from navcli.scenario import load_scenario
 
 
 def test_the_checker_refuses_what_foxglove_refuses():
-    assert foxglove_problems({"type": "object", "properties": {"a": {"type": "object"}}}) == ["a: object without properties"]
+    assert foxglove_problems({"type": "object", "properties": {"a": {"type": "object"}}}) == [
+        "a: object without properties"
+    ]
     assert foxglove_problems({"type": "object", "properties": {"a": {"type": ["number", "null"]}}})
     assert foxglove_problems({"type": "object", "properties": {"a": {"$ref": "#/$defs/A"}}})
     assert foxglove_problems({"type": "object", "properties": {"a": {"enum": ["x"]}}})
     assert foxglove_problems({"type": "object", "properties": {"a": {"type": "array", "items": {"type": "null"}}}})
-    assert not foxglove_problems({"type": "object", "properties": {"a": {"type": "array", "items": {"type": "number"}}}})
+    assert not foxglove_problems(
+        {"type": "object", "properties": {"a": {"type": "array", "items": {"type": "number"}}}}
+    )
 
 
 def _objects(node: dict, path: str = ""):
@@ -59,14 +63,24 @@ def logs(tmp_path_factory):
     d = tmp_path_factory.mktemp("msglogs")
     paper = load_scenario(SCENARIOS / "paper-8x8.yaml")
     bump = d / "bump.yaml"
-    bump.write_text(yaml.safe_dump(scenario_dict(obstacles=[{"circle": {"center": [2.5, 2.0], "radius": 0.15}}],
-                                                 camera={"range": 0.3}, noise={"odometry": 0.0})))
+    bump.write_text(
+        yaml.safe_dump(
+            scenario_dict(
+                obstacles=[{"circle": {"center": [2.5, 2.0], "radius": 0.15}}],
+                camera={"range": 0.3},
+                noise={"odometry": 0.0},
+            )
+        )
+    )
     fast = {"robot.max_speed": 0.3}  # in 12 s a robot at the paper's pace meets no obstacle
-    runs = {"pf-vision": RunSpec.build(paper, seed=1, time_limit=12.0, overrides=fast),
-            "geometric-vision": RunSpec.build(paper, seed=1, pilot="geometric", time_limit=12.0, overrides=fast),
-            "geometric-oracle": RunSpec.build(paper, seed=2, pilot="geometric", perception="oracle", time_limit=12.0,
-                                              overrides=fast),
-            "reflex": RunSpec.build(load_scenario(bump), time_limit=12.0)}
+    runs = {
+        "pf-vision": RunSpec.build(paper, seed=1, time_limit=12.0, overrides=fast),
+        "geometric-vision": RunSpec.build(paper, seed=1, pilot="geometric", time_limit=12.0, overrides=fast),
+        "geometric-oracle": RunSpec.build(
+            paper, seed=2, pilot="geometric", perception="oracle", time_limit=12.0, overrides=fast
+        ),
+        "reflex": RunSpec.build(load_scenario(bump), time_limit=12.0),
+    }
     out = {}
     for name, spec in runs.items():
         out[name] = d / f"{name}.mcap"

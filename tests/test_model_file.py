@@ -96,8 +96,10 @@ BAD = {
     "values NaN": (_changed(values=lambda a: np.where(np.arange(a.size) == 3, np.nan, a)), "NaN"),
     "values infinite": (_changed(values=lambda a: np.full_like(a, np.inf)), "NaN or infinite"),
     "counts of another length": (_changed(count_value=lambda a: a[:-1]), "differ in length"),
-    "count index beyond the states": (_changed(count_index=lambda a: np.where(np.arange(a.shape[1]) == 0,
-                                                                                   N_STATES, a)), "does not exist"),
+    "count index beyond the states": (
+        _changed(count_index=lambda a: np.where(np.arange(a.shape[1]) == 0, N_STATES, a)),
+        "does not exist",
+    ),
     "steps an array": (_changed(steps=np.arange(3)), "has shape"),
     "an array too many": (_changed(extra=np.zeros(2)), "does not"),
 }
@@ -160,29 +162,48 @@ def test_what_is_not_a_regular_file_is_refused_unread(tmp_path):
             model_file.load(path)
 
 
-@pytest.mark.parametrize("case", ["empty", "truncated", "a flipped byte", "meta a JSON list", "policy of floats",
-                                  "values NaN"])
+@pytest.mark.parametrize(
+    "case", ["empty", "truncated", "a flipped byte", "meta a JSON list", "policy of floats", "values NaN"]
+)
 @pytest.mark.parametrize("command", ["run", "compare policies", "train --resume"])
 def test_every_command_that_reads_a_model_refuses_it_with_exit_2(tmp_path, case, command):
     path = BAD[case][0](tmp_path / "m.npz")
     before = sorted(tmp_path.iterdir())
-    args = {"run": ["run", str(ROOM), "--navigation", f"learned:{path}", "--out", str(tmp_path / "r.mcap")],
-            "compare policies": ["compare", "policies", str(ROOM), "--policy", f"learned:{path}", "--runs", "1",
-                                 "--starts", "1", "--jobs", "1", "--out", str(tmp_path / "cmp")],
-            "train --resume": ["train", str(ROOM), "--resume", str(path), "--trials", "1", "--jobs", "1"]}[command]
+    args = {
+        "run": ["run", str(ROOM), "--navigation", f"learned:{path}", "--out", str(tmp_path / "r.mcap")],
+        "compare policies": [
+            "compare",
+            "policies",
+            str(ROOM),
+            "--policy",
+            f"learned:{path}",
+            "--runs",
+            "1",
+            "--starts",
+            "1",
+            "--jobs",
+            "1",
+            "--out",
+            str(tmp_path / "cmp"),
+        ],
+        "train --resume": ["train", str(ROOM), "--resume", str(path), "--trials", "1", "--jobs", "1"],
+    }[command]
     r = CliRunner().invoke(app, args)
     assert r.exit_code == 2, r.output
     assert "Traceback" not in r.output and str(path) in r.output and BAD[case][1] in r.output
     assert sorted(tmp_path.iterdir()) == before  # nothing written
 
 
-@pytest.mark.parametrize("out, words", [
-    ("scenario.yaml", "give a name ending in .npz"),  # the data loss: the scenario itself
-    ("folder", "is a folder"),
-    ("folder/", "is a folder"),
-    ("dev.npz", "not a regular file"),  # a link to the device /dev/full: a device is never replaced
-    ("m.npz/x.npz", "is a file, not a folder"),
-])
+@pytest.mark.parametrize(
+    "out, words",
+    [
+        ("scenario.yaml", "give a name ending in .npz"),  # the data loss: the scenario itself
+        ("folder", "is a folder"),
+        ("folder/", "is a folder"),
+        ("dev.npz", "not a regular file"),  # a link to the device /dev/full: a device is never replaced
+        ("m.npz/x.npz", "is a file, not a folder"),
+    ],
+)
 def test_train_never_writes_over_what_it_did_not_write(tmp_path, out, words):
     scenario = tmp_path / "scenario.yaml"
     scenario.write_bytes(ROOM.read_bytes())
@@ -193,8 +214,23 @@ def test_train_never_writes_over_what_it_did_not_write(tmp_path, out, words):
             pytest.skip("no /dev/full here")
         (tmp_path / out).symlink_to("/dev/full")
     before = sorted(tmp_path.iterdir())
-    r = CliRunner().invoke(app, ["train", str(scenario), "--trials", "1", "--eval-every", "1", "--eval-starts", "1",
-                                 "--jobs", "1", "--out", f"{tmp_path}/{out}"])
+    r = CliRunner().invoke(
+        app,
+        [
+            "train",
+            str(scenario),
+            "--trials",
+            "1",
+            "--eval-every",
+            "1",
+            "--eval-starts",
+            "1",
+            "--jobs",
+            "1",
+            "--out",
+            f"{tmp_path}/{out}",
+        ],
+    )
     assert r.exit_code == 2 and words in r.output and "Traceback" not in r.output, r.output
     assert scenario.read_bytes() == ROOM.read_bytes() and sorted(tmp_path.iterdir()) == before
 
@@ -215,8 +251,9 @@ def test_a_save_leaves_no_temporary_file_and_replaces_its_own_model(tmp_path):
     spec = RunSpec.build(load_scenario(ROOM))
     out = tmp_path / "m.npz"
     for trials in (1, 2):
-        model_file.save(out, make_learner("q-learning", spec, 1), {"algorithm": "q-learning", "seed": 1,
-                                                                      "trials": trials})
+        model_file.save(
+            out, make_learner("q-learning", spec, 1), {"algorithm": "q-learning", "seed": 1, "trials": trials}
+        )
     assert sorted(p.name for p in tmp_path.iterdir()) == ["m.json", "m.npz"]
     assert model_file.load(out)[1]["trials"] == 2 and json.loads((tmp_path / "m.json").read_text())["trials"] == 2
     assert io.BytesIO(out.read_bytes()).read(4) == b"PK\x03\x04"

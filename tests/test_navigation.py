@@ -29,8 +29,20 @@ CRISP = (0.0, 0.0, 0.0, 0.0)
 CLUSTER = pytest.mark.parametrize("P", list(CLUSTERS.values()), ids=list(CLUSTERS))
 
 
-def situation(target=(3.0, 4.0), I_a=0.0, line=None, landmarks=None, ahead=(), q_ahead=0.0, q_around=0.0,
-              radii=CRISP, time=0.0, odometry=Pose(0.0, 0.0, 0.0), looked=None, bumps=()):
+def situation(
+    target=(3.0, 4.0),
+    I_a=0.0,
+    line=None,
+    landmarks=None,
+    ahead=(),
+    q_ahead=0.0,
+    q_around=0.0,
+    radii=CRISP,
+    time=0.0,
+    odometry=Pose(0.0, 0.0, 0.0),
+    looked=None,
+    bumps=(),
+):
     b = Beliefs(time, odometry, target, line, (), 0.0, looked, tuple(bumps))
     t = None if target is None else FuzzyPoint(*target, radii)
     return Situation(b, t, line, "memory", I_a, landmarks or {}, ahead, q_ahead, q_around)
@@ -109,10 +121,10 @@ def test_risk_from_the_landmarks_ahead_and_around(P):
     r = risk_eq9(P, 0.3, 1, 0.3, 1)
     assert rm.risk(few) == pytest.approx(r) and P.R_bar < r < 1.0
     (b,) = rm.bid(few)
-    assert b.value == pytest.approx(r ** P.gamma_R) and b.resource == "camera"
+    assert b.value == pytest.approx(r**P.gamma_R) and b.resource == "camera"
     lonely = situation(landmarks={"a": lm["a"]}, ahead=("a",))  # qualities 0 (one landmark): R = 1
     (b,) = rm.bid(lonely)
-    assert rm.risk(lonely) == 1.0 and b.value == pytest.approx(1.0 ** P.gamma_R) and b.resource == "camera"
+    assert rm.risk(lonely) == 1.0 and b.value == pytest.approx(1.0**P.gamma_R) and b.resource == "camera"
     # the least-known reachable sector: "a" is ahead-left (in the 0-degree sector); the empty +-60 ones
     # tie, the camera goes to +60 (listed first)
     assert b.action.pan == pytest.approx(math.radians(60))
@@ -142,7 +154,9 @@ def test_the_communicators_ties_go_to_this_ticks_first_bidder_even_after_its_bid
     c.forward([Bid("rescuer", "camera", Look(0.5, "scan"), 1.0)], 0.0)
     for t in (0.1, 0.2, 0.3, 0.4):  # the rescuer falls silent; the risk manager keeps bidding 1.0
         c.forward([Bid("risk-manager", "camera", Look(0.0, "search"), 1.0)], t)
-    out = c.forward([Bid("rescuer", "camera", Look(0.7, "scan"), 1.0), Bid("risk-manager", "camera", Look(0.0, "search"), 1.0)], 0.5)
+    out = c.forward(
+        [Bid("rescuer", "camera", Look(0.7, "scan"), 1.0), Bid("risk-manager", "camera", Look(0.0, "search"), 1.0)], 0.5
+    )
     assert [b.action for b in out] == [Look(0.7, "scan")]
 
 
@@ -229,8 +243,11 @@ def _bumped_until_given_up(r: Rescuer, t: float, answers, limit: float = 1000.0)
     return t, give_up, events, failed_edges
 
 
-CROSSINGS = (Crossing("A", "B", (2.0, 1.0), (2.0, -1.0), 2.0), Crossing("C", "D", (0.0, 3.0), (1.0, 3.0), 2.0),
-             Crossing("E", "F", (-1.0, 2.0), (-2.0, 1.0), 2.0))
+CROSSINGS = (
+    Crossing("A", "B", (2.0, 1.0), (2.0, -1.0), 2.0),
+    Crossing("C", "D", (0.0, 3.0), (1.0, 3.0), 2.0),
+    Crossing("E", "F", (-1.0, 2.0), (-2.0, 1.0), 2.0),
+)
 
 
 def test_rescuer_abandons_a_diverting_target_that_cannot_be_reached_and_asks_again_until_no_way_is_left():
@@ -275,8 +292,10 @@ def test_a_target_found_again_starts_the_next_loss_with_fresh_scans():
     def step(I_a):
         nonlocal t, looked
         t += 0.1
-        out = r.decide(situation(time=t, I_a=I_a, looked=looked, odometry=Pose(0.0, 0.0, r._turn_to or 0.0)),
-                       lambda f: asked.append(f) or CROSSINGS[0])
+        out = r.decide(
+            situation(time=t, I_a=I_a, looked=looked, odometry=Pose(0.0, 0.0, r._turn_to or 0.0)),
+            lambda f: asked.append(f) or CROSSINGS[0],
+        )
         looked = next((b.action for b in out.bids if b.resource == "camera"), None)
         return out
 
@@ -365,8 +384,13 @@ def test_blocked_wall_is_passed_round_a_fence_end_and_every_diverting_target_is_
     spec = RunSpec.build(sc, pilot="potential-field", perception="oracle")
     (fence,) = sc.obstacles
     crossings = []
-    res = run_mission(spec, out=tmp_path / "bw.mcap", on_tick=lambda m, t: crossings.extend(
-        m.navigation.rescuer._crossing_world for e in t.events if e.message.startswith("diverting target set")))
+    res = run_mission(
+        spec,
+        out=tmp_path / "bw.mcap",
+        on_tick=lambda m, t: crossings.extend(
+            m.navigation.rescuer._crossing_world for e in t.events if e.message.startswith("diverting target set")
+        ),
+    )
     s = res.summary
     assert s["outcome"] == "reached" and s["time_s"] < spec.time_limit / 4, s
     assert crossings and not any(crossing_along(a, b, fence.start, fence.end, CROSS_MARGIN) for a, b in crossings)
@@ -470,8 +494,10 @@ def test_exploring_turns_away_from_the_target_and_drives_looking_around():
     for k in range(1, 200):
         d = min(k * step, P.explore_m)
         t += 0.1
-        r.decide(situation(time=t, odometry=Pose(d * math.cos(turned_to), d * math.sin(turned_to), turned_to)),
-                 lambda f: None)
+        r.decide(
+            situation(time=t, odometry=Pose(d * math.cos(turned_to), d * math.sin(turned_to), turned_to)),
+            lambda f: None,
+        )
         if r.state != "drive":
             break
     assert r.state == "explore" and d == pytest.approx(P.explore_m)
@@ -599,8 +625,10 @@ def test_a_target_no_scan_finds_sends_the_robot_the_maps_way_and_counts_no_failu
         while not asked and t < 500.0:
             t += 0.1
             theta = r._turn_to or 0.0  # the robot has made the last turn asked for
-            out = r.decide(situation(time=t, I_a=0.9, looked=looked, odometry=Pose(0.0, 0.0, theta)),
-                           lambda f, asked=asked, answer=answer: asked.append(f) or answer)
+            out = r.decide(
+                situation(time=t, I_a=0.9, looked=looked, odometry=Pose(0.0, 0.0, theta)),
+                lambda f, asked=asked, answer=answer: asked.append(f) or answer,
+            )
             scans += sum("still lost after a scan" in m for _, m in out.events)
             looked = next((b.action for b in out.bids if b.resource == "camera"), None)
             assert out.give_up is None
@@ -610,5 +638,7 @@ def test_a_target_no_scan_finds_sends_the_robot_the_maps_way_and_counts_no_failu
         else:
             assert r.state == "turn" and out.diverting is None
             turn = math.degrees(r._turn_to - theta)  # the target is at (3, 4), egocentric: away is 233 deg
-            assert abs((turn - (math.degrees(math.atan2(4.0, 3.0)) + 180.0) + 180.0) % 360.0 - 180.0) \
+            assert (
+                abs((turn - (math.degrees(math.atan2(4.0, 3.0)) + 180.0) + 180.0) % 360.0 - 180.0)
                 <= NAVIGATION.random_turn_deg / 2 + 1e-9
+            )

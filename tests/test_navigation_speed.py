@@ -49,8 +49,9 @@ def fp(x: float, y: float, r: float = 0.3) -> FuzzyPoint:
 @pytest.mark.parametrize("told", [True, False])
 def test_memory_points_are_the_memorys_landmarks_and_marker_in_its_order(target_key, told):
     lms = tuple(KnownLandmark(k, fp(i, 1.0), 0.1 * i) for i, k in enumerate("CAB"))
-    b = Beliefs(1.0, Pose(0, 0, 0), None, None, (), landmarks=lms,
-                target_at=fp(5.0, 5.0) if told else None, target_seen=0.5)
+    b = Beliefs(
+        1.0, Pose(0, 0, 0), None, None, (), landmarks=lms, target_at=fp(5.0, 5.0) if told else None, target_seen=0.5
+    )
     m = MapManager(target_key=target_key)
     got = m.memory_points(b)
     want = {lm.key: lm.where for lm in lms}  # the memory's landmarks, in its order, then the marker:
@@ -74,8 +75,15 @@ def test_the_communicator_forwards_what_the_plain_rule_forwards():
     c, held = Communicator(window=0.2), {}
     for tick in range(400):
         time = tick * 0.1
-        bids = [Bid(str(rng.integers(4)), RESOURCES[rng.integers(2)], Move(float(rng.uniform(-1, 1)), 0.3),
-                    float(rng.choice([0.0, 0.5, 1.0, rng.uniform()]))) for _ in range(rng.integers(0, 5))]
+        bids = [
+            Bid(
+                str(rng.integers(4)),
+                RESOURCES[rng.integers(2)],
+                Move(float(rng.uniform(-1, 1)), 0.3),
+                float(rng.choice([0.0, 0.5, 1.0, rng.uniform()])),
+            )
+            for _ in range(rng.integers(0, 5))
+        ]
         held, by, want = plain_forward(held, bids, time, 0.2, "navigation")
         assert c.forward(bids, time) == want
         assert c.forwarded_by == by and list(c._held.items()) == list(held.items())
@@ -85,7 +93,9 @@ def test_bids_moves_and_looks_are_immutable_values_with_the_dataclass_repr():
     b = Bid("pilot", "motion", Move(0.0, 0.3), 0.9)
     assert repr(b) == "Bid(bidder='pilot', resource='motion', action=Move(heading=0.0, speed=0.3), value=0.9)"
     assert repr(Look(0.5, "search")) == "Look(pan=0.5, purpose='search')"
-    assert b == Bid("pilot", "motion", Move(0.0, 0.3), 0.9) and hash(b) == hash(Bid("pilot", "motion", Move(0.0, 0.3), 0.9))
+    assert b == Bid("pilot", "motion", Move(0.0, 0.3), 0.9) and hash(b) == hash(
+        Bid("pilot", "motion", Move(0.0, 0.3), 0.9)
+    )
     assert pickle.loads(pickle.dumps(b)) == b
     with pytest.raises(AttributeError):
         b.value = 0.1

@@ -151,9 +151,13 @@ def test_a_mission_around_an_obstacle_is_reached_at_any_speed(make_scenario, spe
     """A real run: around a post to a target 4.4 m away, at each speed, with vision. Reached, and
     no blocked or stall event on the way (its time limit is three times the drive at full speed,
     plus the initial sweep)."""
-    sc = make_scenario(arena={"width": 6.0, "height": 4.0}, robot={"start": [0.8, 2.0], "heading_deg": 0},
-                       target={"at": [5.2, 2.0]}, obstacles=[{"circle": {"center": [3.0, 2.05], "radius": 0.15}}],
-                       mission={"time_limit": round(3 * 4.4 / speed + 20), "seed": 1})
+    sc = make_scenario(
+        arena={"width": 6.0, "height": 4.0},
+        robot={"start": [0.8, 2.0], "heading_deg": 0},
+        target={"at": [5.2, 2.0]},
+        obstacles=[{"circle": {"center": [3.0, 2.05], "radius": 0.15}}],
+        mission={"time_limit": round(3 * 4.4 / speed + 20), "seed": 1},
+    )
     m = Mission(RunSpec.build(sc, pilot="potential-field", overrides={"robot.max_speed": speed}), snapshots=False)
     events = []
     while m.outcome is None:

@@ -72,13 +72,14 @@ def test_the_schema_check_would_refuse_a_broken_citation(citation):
 
 def test_citation_names_both_papers_as_references(citation):
     refs = {r["title"]: r for r in citation["references"]}
-    pilot = refs["Integrating a potential field based pilot into a multiagent navigation architecture for "
-                 "autonomous robots"]
-    learning = refs["A multi-agent architecture integrating learning and fuzzy techniques for landmark-based "
-                    "robot navigation"]
+    pilot = refs[
+        "Integrating a potential field based pilot into a multiagent navigation architecture for autonomous robots"
+    ]
+    learning = refs[
+        "A multi-agent architecture integrating learning and fuzzy techniques for landmark-based robot navigation"
+    ]
     assert [a["family-names"] for a in pilot["authors"]] == ["Mohan", "Busquets", "López de Màntaras", "Sierra"]
-    assert [a["family-names"] for a in learning["authors"]] == ["Busquets", "López de Mántaras", "Sierra",
-                                                                "Dietterich"]
+    assert [a["family-names"] for a in learning["authors"]] == ["Busquets", "López de Mántaras", "Sierra", "Dietterich"]
     assert (pilot["year"], learning["year"]) == (2004, 2002)
 
 

@@ -10,8 +10,19 @@ import math
 
 import pytest
 
-from navcli.params import (LEARNING, NAVIGATION_C2, Declared, NavigationParams, ParamError, Params, ParamSet,
-                           PilotParams, RobotParams, param, parse_override)
+from navcli.params import (
+    LEARNING,
+    NAVIGATION_C2,
+    Declared,
+    NavigationParams,
+    ParamError,
+    Params,
+    ParamSet,
+    PilotParams,
+    RobotParams,
+    param,
+    parse_override,
+)
 
 
 def test_a_value_out_of_range_is_refused_when_the_set_is_made():

@@ -43,7 +43,10 @@ def test_execution_commands_the_speed_and_the_turn_together():
     assert v == 0.3 and w == pytest.approx(PILOT.heading_gain * 0.2)
     v, w = p.execute(nav(Move(math.radians(90), 0.3)))
     assert v == 0.3 and w == pytest.approx(ROBOT.max_turn_rate)  # 1.5 x pi/2 > pi/2: the turn rate's limit
-    assert p.execute(nav(Move(math.radians(90), 0.0))) == (0.0, pytest.approx(ROBOT.max_turn_rate))  # a stop turns in place
+    assert p.execute(nav(Move(math.radians(90), 0.0))) == (
+        0.0,
+        pytest.approx(ROBOT.max_turn_rate),
+    )  # a stop turns in place
     assert p.execute(None) == (0.0, 0.0)
 
 
@@ -213,8 +216,11 @@ def test_reflex_stops_looks_around_backs_up_then_avoids_again():
             looks.append(round(math.degrees(look.action.pan)))
             # Vision carries the look out, the pilot hears of it next tick; the first time, another
             # system's image (at 30 degrees) comes first: it is not the reflex's look
-            looked = look.action if looks.count(looks[-1]) > 1 or looks[-1] != looks[0] \
+            looked = (
+                look.action
+                if looks.count(looks[-1]) > 1 or looks[-1] != looks[0]
                 else Look(math.radians(30), "obstacles")
+            )
     order = [ph for i, ph in enumerate(phases) if i == 0 or phases[i - 1] != ph]
     assert order == ["stop", "look", "backup"]
     assert phases.count("stop") == round(PILOT.reflex_stop_s / CONTROL_DT)
@@ -230,8 +236,9 @@ def test_reflex_stops_looks_around_backs_up_then_avoids_again():
 def test_reflex_after_hitting_an_obstacle_the_pilot_did_not_know(make_scenario, tmp_path):
     """Camera range 0.3 m: the obstacle is only found by the bumper; the reflex, and the
     obstacle the bumper put in the visual memory, then take the robot around it to the target."""
-    sc = make_scenario(obstacles=[{"circle": {"center": [2.5, 2.0], "radius": 0.15}}],
-                       camera={"range": 0.3}, noise={"odometry": 0.0})
+    sc = make_scenario(
+        obstacles=[{"circle": {"center": [2.5, 2.0], "radius": 0.15}}], camera={"range": 0.3}, noise={"odometry": 0.0}
+    )
     out = tmp_path / "bump.mcap"
     res = run_mission(RunSpec.build(sc), out=out)
     log = read_log(out)
@@ -330,9 +337,14 @@ def test_driving_while_turning_hard_along_a_wall_keeps_out_of_it_and_bumps_are_e
 # -- equation 8, in the physics world ----------------------------------------------------------
 def gap_scenario(make_scenario, gap, radius=0.1):
     obstacles = [{"circle": {"center": [3.0, 2.0 + s * gap / 2], "radius": radius}} for s in (-1, 1)]
-    return make_scenario(arena={"width": 6.0, "height": 5.0}, robot={"start": [0.8, 2.0], "heading_deg": 0},
-                         target={"at": [5.2, 2.0]}, obstacles=obstacles, noise={"odometry": 0.0},
-                         mission={"time_limit": 120, "seed": 1})
+    return make_scenario(
+        arena={"width": 6.0, "height": 5.0},
+        robot={"start": [0.8, 2.0], "heading_deg": 0},
+        target={"at": [5.2, 2.0]},
+        obstacles=obstacles,
+        noise={"odometry": 0.0},
+        mission={"time_limit": 120, "seed": 1},
+    )
 
 
 def crossing_y(mission_poses, x=3.0):
@@ -363,7 +375,7 @@ def worst_push_back(K, A_t, d, radius):
 
 def test_eq8_the_passable_gap_follows_from_K_and_A_t():
     # point obstacles: A_t = c K / d_min^2 with c = 2 / sqrt(2) / 1.5 ** 1.5 = 0.7698 (the paper: 0.76)
-    c = 2 / math.sqrt(2) / 1.5 ** 1.5
+    c = 2 / math.sqrt(2) / 1.5**1.5
     assert c == pytest.approx(0.7698, abs=1e-4)
     assert passable_gap(PILOT.K, PILOT.A_t) == pytest.approx(2 * math.sqrt(c * PILOT.K / PILOT.A_t), abs=1e-3)
     assert passable_gap(PILOT.K, PILOT.A_t) == pytest.approx(1.053, abs=1e-3)  # the paper: "1 meter"
@@ -376,8 +388,10 @@ def test_eq8_the_passable_gap_follows_from_K_and_A_t():
 # how fast it drives: turning in place, or driving while turning at the paper's pace (5 cm/s: a
 # turning radius of 3 cm at the full turn rate). Driving while turning at 0.3 m/s (a radius of
 # 0.19 m) carries the robot through a gap 3 cm narrower than eq. 8's: not a property of the field.
-EQ8_EXECUTIONS = {"in place, 0.3 m/s": {"pilot.drive_while_turning": 0, "robot.max_speed": 0.3},
-                  "driving while turning, 0.05 m/s": {"pilot.drive_while_turning": 1, "robot.max_speed": 0.05}}
+EQ8_EXECUTIONS = {
+    "in place, 0.3 m/s": {"pilot.drive_while_turning": 0, "robot.max_speed": 0.3},
+    "driving while turning, 0.05 m/s": {"pilot.drive_while_turning": 1, "robot.max_speed": 0.05},
+}
 
 
 @pytest.mark.parametrize("execution", EQ8_EXECUTIONS)
@@ -472,7 +486,7 @@ def test_the_pilot_reports_a_long_obstacle_it_is_held_in_front_of_but_not_one_it
         return [p.decide(beliefs([fence], target=(5.0, 0.0), odom=Pose(0.0, y, 0.0))).blocked_by for y in ys]
 
     held = run(on, [0.0] * (ticks + 2))
-    assert held[:ticks - 1] == [None] * (ticks - 1) and held[ticks - 1] == "fence"  # after the window, once
+    assert held[: ticks - 1] == [None] * (ticks - 1) and held[ticks - 1] == "fence"  # after the window, once
     assert held[ticks] is None  # a new report takes another window
     assert set(run(on, [0.05 * i for i in range(ticks + 2)])) == {None}  # 0.5 m along the fence: going round
     assert set(run(PILOT, [0.0] * (ticks + 2))) == {None}

@@ -51,6 +51,7 @@ def test_plot_map_draws_the_final_map_of_a_log(tmp_path):
     r = CliRunner().invoke(app, ["plot", "map", str(log), "--out", str(tmp_path / "map.png")])
     assert r.exit_code == 0, r.output
     assert (tmp_path / "map.png").read_bytes().startswith(PNG)
+
     def stop(mission, tick):  # a run stopped before its first map (a finished run draws its final map)
         if tick.index == 5:
             raise KeyboardInterrupt
@@ -68,10 +69,15 @@ def test_a_field_too_costly_to_draw_is_refused_before_any_work():
     from navcli.experiments.figures import MAX_GRID_WORK, GridError, field_grid
     from navcli.scenario import parse_scenario
 
-    circles = "".join(f"  - circle: {{center: [{2 + (i % 20) * 1.8:.1f}, {4 + (i // 20) * 1.6:.1f}], radius: 0.1}}\n"
-                      for i in range(400))
-    sc = parse_scenario("version: 1\nname: many\narena: {width: 40, height: 40}\nrobot: {start: [1, 1]}\n"
-                        "target: {at: [39, 39]}\nobstacles:\n" + circles, "many.yaml")
+    circles = "".join(
+        f"  - circle: {{center: [{2 + (i % 20) * 1.8:.1f}, {4 + (i // 20) * 1.6:.1f}], radius: 0.1}}\n"
+        for i in range(400)
+    )
+    sc = parse_scenario(
+        "version: 1\nname: many\narena: {width: 40, height: 40}\nrobot: {start: [1, 1]}\n"
+        "target: {at: [39, 39]}\nobstacles:\n" + circles,
+        "many.yaml",
+    )
     with pytest.raises(GridError, match="use a step of at least") as e:
         field_grid(RunSpec.build(sc), 0.2)
     finest = float(str(e.value).rsplit("at least ", 1)[1].split(" m")[0])

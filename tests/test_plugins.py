@@ -113,8 +113,12 @@ def folder(tmp_path, monkeypatch):
 def _room(folder):
     """A short mission with an obstacle in the way: open-arena with a post on the straight way."""
     text = (SCENARIOS / "open-arena.yaml").read_text()
-    return load_scenario(_write(folder / "room.yaml", text.replace("\nmission:", "\nobstacles:\n  - circle: "
-                                                                   "{center: [1.8, 2.25], radius: 0.15}\nmission:")))
+    return load_scenario(
+        _write(
+            folder / "room.yaml",
+            text.replace("\nmission:", "\nobstacles:\n  - circle: {center: [1.8, 2.25], radius: 0.15}\nmission:"),
+        )
+    )
 
 
 def _write(path, text):
@@ -129,16 +133,34 @@ def _messages(path, topic):
 
 
 def test_a_module_class_pilot_from_a_plain_folder_runs_with_its_parameters_and_fields(folder):
-    r = CliRunner().invoke(app, ["run", "room.yaml" if _room(folder) else "", "--pilot", "swerve:Swerve",
-                                 "--perception", "oracle", "--time-limit", "8", "--param", "Swerve.swerve_deg=30",
-                                 "--out", "swerve.mcap"])
+    r = CliRunner().invoke(
+        app,
+        [
+            "run",
+            "room.yaml" if _room(folder) else "",
+            "--pilot",
+            "swerve:Swerve",
+            "--perception",
+            "oracle",
+            "--time-limit",
+            "8",
+            "--param",
+            "Swerve.swerve_deg=30",
+            "--out",
+            "swerve.mcap",
+        ],
+    )
     assert r.exit_code in (0, 3), r.output
     log = read_log(folder / "swerve.mcap")
     assert log.summary["pilot"] == "swerve:Swerve"
     config = log.config
-    assert config["plugins"][0] | {"version": "?"} == {"role": "pilot", "name": "swerve:Swerve", "version": "?",
-                                                       "origin": "module swerve",
-                                                       "params": {"swerve_deg": 30.0, "reach_m": 1.0}}
+    assert config["plugins"][0] | {"version": "?"} == {
+        "role": "pilot",
+        "name": "swerve:Swerve",
+        "version": "?",
+        "origin": "module swerve",
+        "params": {"swerve_deg": 30.0, "reach_m": 1.0},
+    }
     assert config["plugins"][0]["version"].startswith("sha256:")  # no version declared: its source's hash
     msgs = list(_messages(folder / "swerve.mcap", "/pilot"))
     schema = msgs[0][0]
@@ -155,7 +177,12 @@ def test_a_plugins_parameters_are_listed_checked_and_in_the_run_configuration(fo
     sc = _room(folder)
     spec = RunSpec.build(sc, pilot="swerve:Swerve", overrides={"Swerve.reach_m": 2})
     assert spec.params.plugin("Swerve").reach_m == 2.0 and spec.to_json()["params"].keys() == {
-        "robot", "pilot", "navigation", "vision", "learning"}
+        "robot",
+        "pilot",
+        "navigation",
+        "vision",
+        "learning",
+    }
     with pytest.raises(NavcliError, match="Swerve.swerve_deg must be at most 90, got 95"):
         RunSpec.build(sc, pilot="swerve:Swerve", overrides={"Swerve.swerve_deg": 95})
     assert RunSpec.from_json(spec.to_json(), sc.text) == spec
@@ -181,44 +208,70 @@ def test_an_installed_package_is_found_by_its_entry_point(folder, monkeypatch):
     info = site / "swerve_pkg-1.2.0.dist-info"
     info.mkdir()
     (info / "METADATA").write_text("Metadata-Version: 2.1\nName: swerve-pkg\nVersion: 1.2.0\n")
-    (info / "entry_points.txt").write_text("[navcli.pilots]\nswerve = swerve_pkg:Swerve\nbad = swerve_pkg:NotAPilot\n"
-                                           "[navcli.policies]\nstraight = swerve_pkg:GoStraight\n")
+    (info / "entry_points.txt").write_text(
+        "[navcli.pilots]\nswerve = swerve_pkg:Swerve\nbad = swerve_pkg:NotAPilot\n"
+        "[navcli.policies]\nstraight = swerve_pkg:GoStraight\n"
+    )
     monkeypatch.syspath_prepend(str(site))
     registry.entry_points.cache_clear()
     r = CliRunner().invoke(app, ["plugins", "list"])
     assert r.exit_code == 0, r.output
-    assert "pilot   swerve                   1.2.0        entry point swerve = swerve_pkg:Swerve of swerve-pkg 1.2.0; " \
-           "parameters swerve.swerve_deg, swerve.reach_m" in r.output
+    assert (
+        "pilot   swerve                   1.2.0        entry point swerve = swerve_pkg:Swerve of swerve-pkg 1.2.0; "
+        "parameters swerve.swerve_deg, swerve.reach_m" in r.output
+    )
     assert "pilot   bad                      cannot be used:" in r.output
     c = registry.pilot("swerve")
     assert (c.version, c.group) == ("1.2.0", "swerve")
     with pytest.raises(PluginError, match="is no pilot: <class 'swerve_pkg.NotAPilot'> is not a subclass"):
         registry.pilot("bad")  # an installed package that is broken: its fault, exit 1
-    r = CliRunner().invoke(app, ["run", str(_room(folder).source), "--pilot", "swerve", "--navigation", "straight",
-                                 "--time-limit", "3", "--param", "swerve.reach_m=1.5", "--out", "ep.mcap"])
+    r = CliRunner().invoke(
+        app,
+        [
+            "run",
+            str(_room(folder).source),
+            "--pilot",
+            "swerve",
+            "--navigation",
+            "straight",
+            "--time-limit",
+            "3",
+            "--param",
+            "swerve.reach_m=1.5",
+            "--out",
+            "ep.mcap",
+        ],
+    )
     assert r.exit_code in (0, 3), r.output
     plugins = read_log(folder / "ep.mcap").config["plugins"]
-    assert [(p["role"], p["name"], p["version"]) for p in plugins] == [("pilot", "swerve", "1.2.0"),
-                                                                       ("navigation", "straight", "1.2.0")]
+    assert [(p["role"], p["name"], p["version"]) for p in plugins] == [
+        ("pilot", "swerve", "1.2.0"),
+        ("navigation", "straight", "1.2.0"),
+    ]
 
 
 def test_an_unknown_name_is_refused_saying_where_it_was_looked_for(folder):
     sc = str(_room(folder).source)
-    for args, words in ((["--pilot", "no-such-pilot"], "unknown pilot 'no-such-pilot': not one of navcli's "
-                                                       "(potential-field, geometric), not an entry point navcli.pilots "
-                                                       "of an installed package"),
-                        (["--pilot", "nosuch:Pilot"], "no module 'nosuch' among the installed packages or in the "
-                                                      "current folder"),
-                        (["--pilot", "swerve:NotAPilot"], "is not a subclass of navcli.pilot.Pilot"),
-                        (["--navigation", "agents+nope"], "unknown navigation policy 'nope'")):
+    for args, words in (
+        (
+            ["--pilot", "no-such-pilot"],
+            "unknown pilot 'no-such-pilot': not one of navcli's "
+            "(potential-field, geometric), not an entry point navcli.pilots "
+            "of an installed package",
+        ),
+        (["--pilot", "nosuch:Pilot"], "no module 'nosuch' among the installed packages or in the current folder"),
+        (["--pilot", "swerve:NotAPilot"], "is not a subclass of navcli.pilot.Pilot"),
+        (["--navigation", "agents+nope"], "unknown navigation policy 'nope'"),
+    ):
         r = CliRunner().invoke(app, ["run", sc, *args, "--out", "x.mcap"])
         assert r.exit_code == 2 and words in r.output and "Traceback" not in r.output, r.output
         assert not (folder / "x.mcap").exists()
 
 
 def test_a_plugin_that_raises_exits_1_with_its_name_and_leaves_a_log_marked_error(folder):
-    r = CliRunner().invoke(app, ["run", str(_room(folder).source), "--pilot", "swerve:Broken", "--time-limit", "5",
-                                 "--out", "broken.mcap"])
+    r = CliRunner().invoke(
+        app, ["run", str(_room(folder).source), "--pilot", "swerve:Broken", "--time-limit", "5", "--out", "broken.mcap"]
+    )
     assert r.exit_code == 1, r.output
     line = r.output.strip().splitlines()[-1]
     assert line.startswith("error: the pilot plugin 'swerve:Broken' (module swerve, version sha256:")
@@ -270,12 +323,32 @@ def test_a_policy_plugin_drives_alone_or_beside_the_bidding_agents(folder):
 
 def test_compare_sweep_and_tune_take_a_plugin_pilot_and_its_parameters(folder):
     room = str(_room(folder).source)
-    r = CliRunner().invoke(app, ["compare", "pilots", room, "--pilots", "swerve:Swerve,geometric", "--reruns", "1",
-                                 "--jobs", "1", "--time-limit", "4", "--param", "Swerve.reach_m=0.8", "--out", "cmp"])
+    r = CliRunner().invoke(
+        app,
+        [
+            "compare",
+            "pilots",
+            room,
+            "--pilots",
+            "swerve:Swerve,geometric",
+            "--reruns",
+            "1",
+            "--jobs",
+            "1",
+            "--time-limit",
+            "4",
+            "--param",
+            "Swerve.reach_m=0.8",
+            "--out",
+            "cmp",
+        ],
+    )
     assert r.exit_code == 0, r.output
     assert "| swerve:Swerve |" in r.output and "| geometric |" in r.output
-    (folder / "plan.yaml").write_text("version: 1\nscenarios: [room.yaml]\nseeds: 1\ntime_limit: 3\n"
-                                      "pilots: [swerve:Swerve, geometric]\ngrid: {Swerve.swerve_deg: [20, 60]}\n")
+    (folder / "plan.yaml").write_text(
+        "version: 1\nscenarios: [room.yaml]\nseeds: 1\ntime_limit: 3\n"
+        "pilots: [swerve:Swerve, geometric]\ngrid: {Swerve.swerve_deg: [20, 60]}\n"
+    )
     r = CliRunner().invoke(app, ["sweep", "plan.yaml", "--jobs", "1", "--out", "sw"])
     assert r.exit_code == 0, r.output
     import pandas as pd
@@ -284,8 +357,27 @@ def test_compare_sweep_and_tune_take_a_plugin_pilot_and_its_parameters(folder):
     # the plugin's own parameter varies its runs only: the geometric pilot's are one run, kept once
     assert sorted(rows["pilot"]) == ["geometric", "swerve:Swerve", "swerve:Swerve"]
     assert sorted(rows.loc[rows["pilot"] == "swerve:Swerve", "Swerve.swerve_deg"]) == [20.0, 60.0]
-    r = CliRunner().invoke(app, ["tune", room, "--pilot", "swerve:Swerve", "--param", "Swerve.swerve_deg=10:80",
-                                 "--trials", "2", "--seeds", "1", "--jobs", "1", "--time-limit", "3", "--out", "tn"])
+    r = CliRunner().invoke(
+        app,
+        [
+            "tune",
+            room,
+            "--pilot",
+            "swerve:Swerve",
+            "--param",
+            "Swerve.swerve_deg=10:80",
+            "--trials",
+            "2",
+            "--seeds",
+            "1",
+            "--jobs",
+            "1",
+            "--time-limit",
+            "3",
+            "--out",
+            "tn",
+        ],
+    )
     assert r.exit_code == 0, r.output
     assert "Swerve.swerve_deg = " in r.output
 

@@ -114,8 +114,9 @@ def test_section_5_in_distress_each_offender_weighs_1_5_and_the_target_is_ignore
     assert f.net == pytest.approx((hit[0] + other[0], hit[1] + other[1]))
     assert f.bid == pytest.approx(0.9)
     # two obstacles in distress, left and right ahead: both weigh 1.5 (their sideways pushes cancel)
-    f = field((5.0, 0.0), None, [pt("l", 0.3, 0.2, r=0.0), pt("r", 0.3, -0.1, r=0.0), pt("far", -2.0, 0.0, r=0.0)],
-              PILOT)
+    f = field(
+        (5.0, 0.0), None, [pt("l", 0.3, 0.2, r=0.0), pt("r", 0.3, -0.1, r=0.0), pt("far", -2.0, 0.0, r=0.0)], PILOT
+    )
     ul, ur = (0.3, 0.2), (0.3, -0.1)
     nl, nr = math.hypot(*ul), math.hypot(*ur)
     want = (-1.5 * F_MAX * (ul[0] / nl + ur[0] / nr) + 18 / 4, -1.5 * F_MAX * (ul[1] / nl + ur[1] / nr))
@@ -212,8 +213,7 @@ def test_the_inlined_occlusion_is_the_geometry_of_lines_of_sight(obstacles):
     def hides(q, c):
         return blocks_sight((0.0, 0.0), c, q.a, q.radius) if q.is_point else crosses_sight((0.0, 0.0), c, q.a, q.b)
 
-    ref = [not any(j != i and hides(q, o.centre) for j, q in enumerate(obstacles))
-           for i, o in enumerate(obstacles)]
+    ref = [not any(j != i and hides(q, o.centre) for j, q in enumerate(obstacles)) for i, o in enumerate(obstacles)]
     assert facing_loop(obstacles) == ref
 
 
@@ -284,10 +284,10 @@ def test_a_fence_longer_than_the_line_window_pushes_away_from_its_near_stretch_n
     A 2.8 m obstacle, the paper's kind, is unchanged."""
     long = KnownObstacle("fence", (-0.5, 0.6), (8.5, 0.6), 0.0)
     f = field((5.0, 0.0), None, [long], PILOT)
-    (fx, fy), = [(o.fx, o.fy) for o in f.forces]
+    ((fx, fy),) = [(o.fx, o.fy) for o in f.forces]
     assert math.degrees(math.atan2(fy, fx)) == pytest.approx(math.degrees(math.atan2(-0.6, -1.0)))
     paper = replace(PILOT, line_window=100.0)
-    (gx, gy), = [(o.fx, o.fy) for o in field((5.0, 0.0), None, [long], paper).forces]
+    ((gx, gy),) = [(o.fx, o.fy) for o in field((5.0, 0.0), None, [long], paper).forces]
     assert math.degrees(math.atan2(gy, gx)) == pytest.approx(math.degrees(math.atan2(-0.6, -4.0)))
     short = KnownObstacle("post-row", (-0.5, 0.6), (2.3, 0.6), 0.0)
     assert field((5.0, 0.0), None, [short], PILOT).forces == field((5.0, 0.0), None, [short], paper).forces

@@ -46,7 +46,7 @@ def test_render_places_the_memory_with_the_pose_of_its_drawing():
     nothing is drawn."""
     memory = [(1.0, [("landmark", 1.0, 0.0, 0.1, 0.5)])]
     poses = tuple(np.array(v) for v in ([0.0, 0.0, 5.0], [0.0, 0.0, 0.0], [0.0, 0.0, math.pi / 2], [0.0, 1.0, 2.0]))
-    (kind, x, y, r70, r0), = memory_in_world(memory, np.array([1.0]), poses, 2.0)
+    ((kind, x, y, r70, r0),) = memory_in_world(memory, np.array([1.0]), poses, 2.0)
     assert kind == "landmark" and (x, y) == pytest.approx((1.0, 0.0)) and (r70, r0) == (0.1, 0.5)
     assert memory_in_world(memory, np.array([1.0]), poses, 0.9) == []
 

@@ -28,8 +28,13 @@ def near(tmp_path_factory):
     """A target 1.5 m ahead in an empty room (oracle): every run reaches it in a few seconds."""
     d = tmp_path_factory.mktemp("near")
     f = d / "near.yaml"
-    f.write_text(yaml.safe_dump(scenario_dict(name="near", target={"at": [2.5, 2.0]},
-                                              mission={"time_limit": 30, "seed": 7, "perception": "oracle"})))
+    f.write_text(
+        yaml.safe_dump(
+            scenario_dict(
+                name="near", target={"at": [2.5, 2.0]}, mission={"time_limit": 30, "seed": 7, "perception": "oracle"}
+            )
+        )
+    )
     return load_scenario(f)
 
 
@@ -77,7 +82,8 @@ def test_other_time_limits_are_other_conditions_and_an_interrupted_run_is_left_o
         ("near (oracle perception, time limit 20 s)", "geometric"): 1,
         ("near (oracle perception, time limit 20 s)", "potential-field"): 0,
         ("near (oracle perception, time limit 30 s)", "geometric"): 3,
-        ("near (oracle perception, time limit 30 s)", "potential-field"): 3}
+        ("near (oracle perception, time limit 30 s)", "potential-field"): 3,
+    }
     assert table.loc[("near (oracle perception, time limit 20 s)", "potential-field"), "interrupted"] == 1
     r = report(tmp_path, "--out", tmp_path / "rep")
     assert r.exit_code == 0 and "1 interrupted run(s) left out of the success rate" in r.output
@@ -105,8 +111,9 @@ def test_compare_reports_only_the_runs_it_planned(near, tmp_path):
     scenario = near.source
     r = cli.invoke(app, ["compare", "pilots", scenario, "--reruns", "1", "--jobs", "1", "--out", str(out)])
     assert r.exit_code == 0, r.output
-    r = cli.invoke(app, ["compare", "pilots", scenario, "--reruns", "1", "--jobs", "1", "--out", str(out),
-                         "--pilots", "geometric"])
+    r = cli.invoke(
+        app, ["compare", "pilots", scenario, "--reruns", "1", "--jobs", "1", "--out", str(out), "--pilots", "geometric"]
+    )
     assert r.exit_code == 0 and "Traceback" not in r.output, r.output
     assert "| geometric | 1/1 |" in r.output and "| potential-field |" not in r.output
     assert "only one pilot (geometric)" in r.output
@@ -118,13 +125,31 @@ def test_the_table_breaks_outcomes_and_diverting_targets_down_per_pilot():
     from navcli.analysis.tables import markdown
 
     rows = []
-    for seed, (outcome, diverting) in enumerate([("reached", 0), ("reached", 1), ("reached", 2), ("blocked", 3),
-                                                 ("timeout", 1), ("interrupted", 0)]):
-        rows.append({"log": f"l{seed}", "run_id": f"r{seed}", "scenario": "s", "perception": "vision", "pilot": "pf",
-                     "seed": seed, "time_limit_s": 100.0, "outcome": outcome, "reached": outcome == "reached",
-                     "time_s": 50.0 if outcome == "reached" else 100.0, "path_m": 5.0, "path_cm": 500.0,
-                     "collisions": 0, "camera_looks": 3, "ticks": 500, "diverting_targets": diverting,
-                     "poses_path_m": 5.0, "xy": None})
+    for seed, (outcome, diverting) in enumerate(
+        [("reached", 0), ("reached", 1), ("reached", 2), ("blocked", 3), ("timeout", 1), ("interrupted", 0)]
+    ):
+        rows.append(
+            {
+                "log": f"l{seed}",
+                "run_id": f"r{seed}",
+                "scenario": "s",
+                "perception": "vision",
+                "pilot": "pf",
+                "seed": seed,
+                "time_limit_s": 100.0,
+                "outcome": outcome,
+                "reached": outcome == "reached",
+                "time_s": 50.0 if outcome == "reached" else 100.0,
+                "path_m": 5.0,
+                "path_cm": 500.0,
+                "collisions": 0,
+                "camera_looks": 3,
+                "ticks": 500,
+                "diverting_targets": diverting,
+                "poses_path_m": 5.0,
+                "xy": None,
+            }
+        )
     t = pilot_table(pd.DataFrame(rows)).iloc[0]
     assert (t.outcome_reached, t.outcome_blocked, t.outcome_timeout, t.interrupted) == (3, 1, 1, 1)
     assert (t.diverting_0, t.diverting_1, t.diverting_2, t.diverting_3_or_more) == (1, 2, 1, 1)  # the 5 counted

@@ -19,8 +19,18 @@ from navcli.cli import app
 from navcli.experiments.reproduce import FULL, QUICK, reproduce
 from navcli.learning.actions import ACTIONS
 
-TINY = replace(QUICK, reruns=2, sensitivity_seeds=2, trap_seeds=1, trap_rooms=("blocked-wall",), policy_runs=2,
-               policy_starts=3, train_trials=4, eval_every=2, eval_starts=3)
+TINY = replace(
+    QUICK,
+    reruns=2,
+    sensitivity_seeds=2,
+    trap_seeds=1,
+    trap_rooms=("blocked-wall",),
+    policy_runs=2,
+    policy_starts=3,
+    train_trials=4,
+    eval_every=2,
+    eval_starts=3,
+)
 VFH = "vfh_pilot:VFHPilot"
 """The example plugin (examples/vfh-pilot), beside the paper's two pilots, as reproduce --pilot runs it."""
 PILOTS = ("geometric", "potential-field", VFH)
@@ -69,8 +79,9 @@ def test_the_pilots_table_is_the_mean_of_the_logs_it_names(done):
             time_row = next(r for r in rows if r[:3] == [perception, pilot, "time_s"])
             path_row = next(r for r in rows if r[:3] == [perception, pilot, "path_cm"])
             assert _mean(time_row[4]) == pytest.approx(statistics.mean(s["time_s"] for s in reached), abs=0.05 + 1e-9)
-            assert _mean(path_row[4]) == pytest.approx(statistics.mean(100 * s["path_length_m"] for s in reached),
-                                                       abs=0.05 + 1e-9)
+            assert _mean(path_row[4]) == pytest.approx(
+                statistics.mean(100 * s["path_length_m"] for s in reached), abs=0.05 + 1e-9
+            )
             assert time_row[5] == f"{len(reached)}/{len(mine)}"
 
 
@@ -107,7 +118,9 @@ def test_the_figure_is_written_and_named_and_the_html_holds_the_same_tables(done
     img = re.search(r"!\[[^]]*\]\(([^)]+)\)", md).group(1)
     assert (out / img).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     html = (out / "report.html").read_text()
-    assert html.count("<table>") == sum(ln.startswith("| ---") for ln in md.splitlines()) == 6  # every table, once (the sensitivity has two: pace and turns; what the robot senses)
+    assert (
+        html.count("<table>") == sum(ln.startswith("| ---") for ln in md.splitlines()) == 6
+    )  # every table, once (the sensitivity has two: pace and turns; what the robot senses)
     took = {r[0]: int(r[1].removesuffix(" s")) for r in _rows(md, "How long it took")}
     assert len(took) == 6 and took["all"] >= max(v for k, v in took.items() if k != "all")  # five sections, then all
 
@@ -127,12 +140,20 @@ def test_the_command_refuses_an_unknown_section():
     assert r.exit_code == 2 and "expected pilots, learning or all" in r.output
 
 
-@pytest.mark.parametrize("args, want", [(["--quick", "--train-seeds", "3"], replace(QUICK, train_seeds=3)),
-                                        (["--train-seeds", "1"], replace(FULL, train_seeds=1)), ([], FULL)])
+@pytest.mark.parametrize(
+    "args, want",
+    [
+        (["--quick", "--train-seeds", "3"], replace(QUICK, train_seeds=3)),
+        (["--train-seeds", "1"], replace(FULL, train_seeds=1)),
+        ([], FULL),
+    ],
+)
 def test_train_seeds_sets_figure_3s_trainings_and_nothing_else(args, want, monkeypatch, tmp_path):
     seen = []
-    monkeypatch.setattr("navcli.experiments.reproduce.reproduce",
-                        lambda which, out, settings, **kw: seen.append(settings) or _written(out))
+    monkeypatch.setattr(
+        "navcli.experiments.reproduce.reproduce",
+        lambda which, out, settings, **kw: seen.append(settings) or _written(out),
+    )
     r = CliRunner().invoke(app, ["reproduce", "learning", "--out", str(tmp_path / "r"), *args])
     assert r.exit_code == 0, r.output
     assert seen == [want]
@@ -170,9 +191,17 @@ def test_a_users_pilot_runs_beside_the_papers_two_without_the_papers_numbers(don
     assert [r[0] for r in gains] == ["vision", "vision", "oracle", "oracle"] and all(r[3] == "-" for r in gains)
     r = CliRunner().invoke(app, ["reproduce", "pilots", "--pilot", "geometric"])
     assert r.exit_code == 2 and "one of the paper's two pilots" in r.output
-RANGES = {"time_s": (0.0, float("inf")), "path_cm": (0.0, float("inf")), "successes": (0.0, 99.0),
-          "reward": (-float("inf"), 0.0), "actions": (0.0, float("inf")), "contacts per run": (0.0, float("inf")),
-          **{a: (0.0, float("inf")) for a in ACTIONS}}
+
+
+RANGES = {
+    "time_s": (0.0, float("inf")),
+    "path_cm": (0.0, float("inf")),
+    "successes": (0.0, 99.0),
+    "reward": (-float("inf"), 0.0),
+    "actions": (0.0, float("inf")),
+    "contacts per run": (0.0, float("inf")),
+    **{a: (0.0, float("inf")) for a in ACTIONS},
+}
 """Where each quantity of the report lives: times, paths, actions (and each action's count) and contacts
 are not negative, rewards not positive (every action costs), successes of 99 starts between 0 and 99."""
 
@@ -185,9 +214,11 @@ def _bounds(cell: str) -> tuple[float, float]:
 def test_no_interval_leaves_its_range_and_no_verdict_stands_without_a_paper_number(done):
     _, md = done
     checked = 0
-    for heading, quantity, paper, navcli, agreement in (("Pilot paper, Table 1:", 2, 3, 4, 6),
-                                                        ("Trap rooms", 1, 2, 3, 4),
-                                                        ("Learning paper, Table 1", 1, 2, 3, 4)):
+    for heading, quantity, paper, navcli, agreement in (
+        ("Pilot paper, Table 1:", 2, 3, 4, 6),
+        ("Trap rooms", 1, 2, 3, 4),
+        ("Learning paper, Table 1", 1, 2, 3, 4),
+    ):
         for row in _rows(md, heading):
             q = row[quantity]
             if row[paper] == "-":  # the paper has no number: no verdict
@@ -218,4 +249,7 @@ def test_too_few_runs_give_no_verdict_and_the_notes_say_so(done):
     for heading, agreement in (("Pilot paper, Table 1:", 6), ("Learning paper, Table 1", 4)):
         verdicts = {r[agreement] for r in _rows(md, heading) if r[agreement]}
         assert verdicts and all(v.startswith("too few ") and f"{MIN_SAMPLE} needed" in v for v in verdicts)
-    assert "the policies on landmarks-12: only 3 starts; with fewer than 10 its 95 % intervals are too uncertain to trust" in md
+    assert (
+        "the policies on landmarks-12: only 3 starts; with fewer than 10 its 95 % intervals are too uncertain to trust"
+        in md
+    )

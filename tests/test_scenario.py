@@ -18,15 +18,18 @@ def test_bundled_scenarios_load(path):
 
 
 def test_values_are_converted_to_si_and_radians(make_scenario):
-    sc = make_scenario(robot={"start": [1.0, 2.0], "heading_deg": 90},
-                       obstacles=[{"circle": {"center": [3, 3], "radius": 0.2}},
-                                  {"segment": {"from": [4, 1], "to": [4, 3]}}],
-                       camera={"fov_deg": 60})
+    sc = make_scenario(
+        robot={"start": [1.0, 2.0], "heading_deg": 90},
+        obstacles=[{"circle": {"center": [3, 3], "radius": 0.2}}, {"segment": {"from": [4, 1], "to": [4, 3]}}],
+        camera={"fov_deg": 60},
+    )
     assert sc.robot.heading == pytest.approx(math.pi / 2)
     assert sc.camera.fov == pytest.approx(math.pi / 3)
     assert sc.obstacles[0] == Circle((3.0, 3.0), 0.2)
     assert isinstance(sc.obstacles[1], Segment) and sc.obstacles[1].center == (4.0, 2.0)
-    assert sc.params.pilot.K == 18 and sc.params.pilot.A_t == 50 and sc.params.pilot.R_min == 0.40  # the paper's defaults
+    assert (
+        sc.params.pilot.K == 18 and sc.params.pilot.A_t == 50 and sc.params.pilot.R_min == 0.40
+    )  # the paper's defaults
 
 
 def test_landmark_target_takes_the_landmark_position(make_scenario):
@@ -54,25 +57,45 @@ CASES = {
     "wrong type": (scenario_dict(arena={"width": "wide", "height": 4}), "arena.width", "expected a number"),
     "boolean is not a number": (scenario_dict(arena={"width": True, "height": 4}), "arena.width", "boolean"),
     "zero size": (scenario_dict(arena={"width": 0, "height": 4}), "arena.width", "greater than zero"),
-    "negative size": (scenario_dict(obstacles=[{"circle": {"center": [3, 3], "radius": -0.2}}]),
-                      "obstacles[0].circle.radius", "greater than zero"),
+    "negative size": (
+        scenario_dict(obstacles=[{"circle": {"center": [3, 3], "radius": -0.2}}]),
+        "obstacles[0].circle.radius",
+        "greater than zero",
+    ),
     "point outside the arena": (scenario_dict(target={"at": [7.5, 2.0]}), "target.at", "outside the 6 m x 4 m arena"),
-    "start overlaps an obstacle": (scenario_dict(obstacles=[{"circle": {"center": [1.3, 2.0], "radius": 0.2}}]),
-                                   "robot.start", "overlaps obstacles[0]"),
-    "start overlaps a landmark": (scenario_dict(landmarks=[{"id": "A", "at": [1.2, 2.1]}]), "robot.start",
-                                  "overlaps landmark 'A'"),
+    "start overlaps an obstacle": (
+        scenario_dict(obstacles=[{"circle": {"center": [1.3, 2.0], "radius": 0.2}}]),
+        "robot.start",
+        "overlaps obstacles[0]",
+    ),
+    "start overlaps a landmark": (
+        scenario_dict(landmarks=[{"id": "A", "at": [1.2, 2.1]}]),
+        "robot.start",
+        "overlaps landmark 'A'",
+    ),
     "start overlaps a wall": (scenario_dict(robot={"start": [0.1, 2.0]}), "robot.start", "overlaps a wall"),
-    "start overlaps a segment": (scenario_dict(obstacles=[{"segment": {"from": [1.1, 0.5], "to": [1.1, 3.5]}}]),
-                                 "robot.start", "overlaps obstacles[0]"),
-    "duplicate landmark id": (scenario_dict(landmarks=[{"id": "A", "at": [3, 1]}, {"id": "A", "at": [3, 3]}]),
-                              "landmarks[1].id", "already used by landmarks[0]"),
-    "unknown target landmark": (scenario_dict(landmarks=[{"id": "A", "at": [3, 1]}], target={"landmark": "Z"}),
-                                "target.landmark", "unknown landmark 'Z'"),
-    "degenerate segment": (scenario_dict(obstacles=[{"segment": {"from": [3, 1], "to": [3, 1]}}]),
-                           "obstacles[0].segment", "degenerate"),
+    "start overlaps a segment": (
+        scenario_dict(obstacles=[{"segment": {"from": [1.1, 0.5], "to": [1.1, 3.5]}}]),
+        "robot.start",
+        "overlaps obstacles[0]",
+    ),
+    "duplicate landmark id": (
+        scenario_dict(landmarks=[{"id": "A", "at": [3, 1]}, {"id": "A", "at": [3, 3]}]),
+        "landmarks[1].id",
+        "already used by landmarks[0]",
+    ),
+    "unknown target landmark": (
+        scenario_dict(landmarks=[{"id": "A", "at": [3, 1]}], target={"landmark": "Z"}),
+        "target.landmark",
+        "unknown landmark 'Z'",
+    ),
+    "degenerate segment": (
+        scenario_dict(obstacles=[{"segment": {"from": [3, 1], "to": [3, 1]}}]),
+        "obstacles[0].segment",
+        "degenerate",
+    ),
     "degenerate target line": (scenario_dict(target={"line": [[3, 1], [3, 1]]}), "target.line", "degenerate"),
-    "two target forms": (scenario_dict(target={"at": [5, 2], "line": [[3, 1], [3, 3]]}), "target",
-                         "exactly one of"),
+    "two target forms": (scenario_dict(target={"at": [5, 2], "line": [[3, 1], [3, 3]]}), "target", "exactly one of"),
     "unknown pilot": (scenario_dict(mission={"pilot": "autopilot"}), "mission.pilot", "unknown pilot 'autopilot'"),
     "bad name": (scenario_dict(name="Paper 8x8"), "name", "may hold only"),
     "unsupported version": (scenario_dict(version=2), "version", "unsupported version 2"),
@@ -101,15 +124,18 @@ def test_several_problems_are_reported_together(write_scenario):
     assert {p.field for p in err.problems} == {"arena.width", "mission.pilot"}
 
 
-@pytest.mark.parametrize("text, words", [
-    ("", "empty"),
-    ("# only a comment\n", "empty"),
-    ("- 1\n- 2\n", "holds a list"),
-    ("just a string\n", "single value"),
-    ("version: 1\nname: [unclosed\n", "not valid YAML"),
-    ("version: 1\nversion: 1\n", "appears twice"),
-    ("!!python/object/apply:os.system ['echo hi']\n", "not valid YAML"),
-])
+@pytest.mark.parametrize(
+    "text, words",
+    [
+        ("", "empty"),
+        ("# only a comment\n", "empty"),
+        ("- 1\n- 2\n", "holds a list"),
+        ("just a string\n", "single value"),
+        ("version: 1\nname: [unclosed\n", "not valid YAML"),
+        ("version: 1\nversion: 1\n", "appears twice"),
+        ("!!python/object/apply:os.system ['echo hi']\n", "not valid YAML"),
+    ],
+)
 def test_not_a_yaml_mapping_is_refused(write_scenario, text, words):
     err = refusal(write_scenario, text)
     assert words in str(err)
@@ -136,12 +162,15 @@ def test_the_navigation_block_picks_a_cluster_and_overrides_parameters(make_scen
     assert make_scenario().params.navigation == NAVIGATION  # C1 by default
 
 
-@pytest.mark.parametrize("block, field, words", [
-    ({"cluster": "C3"}, "navigation.cluster", "unknown cluster 'C3'"),
-    ({"kappa1": 1.5}, "navigation.kappa1", "at most 1"),
-    ({"I_a_bar": 1.0}, "navigation.I_a_bar", "below 1"),
-    ({"kapa1": 0.3}, "navigation.kapa1", "unknown field 'kapa1'"),
-])
+@pytest.mark.parametrize(
+    "block, field, words",
+    [
+        ({"cluster": "C3"}, "navigation.cluster", "unknown cluster 'C3'"),
+        ({"kappa1": 1.5}, "navigation.kappa1", "at most 1"),
+        ({"I_a_bar": 1.0}, "navigation.I_a_bar", "below 1"),
+        ({"kapa1": 0.3}, "navigation.kapa1", "unknown field 'kapa1'"),
+    ],
+)
 def test_the_navigation_block_refuses_what_cannot_be_run(write_scenario, block, field, words):
     with pytest.raises(ScenarioError) as e:
         load_scenario(write_scenario(scenario_dict(navigation=block)))

@@ -35,14 +35,15 @@ REFUSED = {
     "zero size": scenario_dict(arena={"width": 0, "height": 4}),
     "too fast": scenario_dict(robot={"start": [1, 2], "max_speed": 50}),
     "vision noise": scenario_dict(noise={"vision_distance": 0.4}),
-    "seed above 64 bits": scenario_dict(mission={"seed": 2 ** 64}),
+    "seed above 64 bits": scenario_dict(mission={"seed": 2**64}),
     "bad name": scenario_dict(name="Paper 8x8"),
     "name with a newline": scenario_dict(name="r\n"),
     "two target forms": scenario_dict(target={"at": [5, 2], "line": [[3, 1], [3, 3]]}),
     # any name may be an installed plugin's, so only what no name can be is the schema's to refuse
     "a pilot no name can be": scenario_dict(mission={"pilot": "auto pilot!"}),
-    "circle and segment in one item": scenario_dict(obstacles=[{"circle": {"center": [3, 3], "radius": 0.2},
-                                                                "segment": {"from": [1, 1], "to": [2, 2]}}]),
+    "circle and segment in one item": scenario_dict(
+        obstacles=[{"circle": {"center": [3, 3], "radius": 0.2}, "segment": {"from": [1, 1], "to": [2, 2]}}]
+    ),
 }
 
 
@@ -68,9 +69,14 @@ def test_the_documented_fields_are_the_loaders():
     assert table in (ROOT / "docs" / "scenario-format.md").read_text(), "refresh it: navcli schema --markdown"
     rows = [ln.split("|")[1:7] for ln in table.splitlines() if ln.startswith("| `") and "≤" in ln]
     documented = {f.strip().strip("`"): (lo.strip(), hi.strip(), unit.strip()) for f, _, _, lo, hi, unit in rows}
-    assert documented == {k.removeprefix("scenario."): (("> " if r.lo_open else "≥ ") + f"{r.lo:g}",
-                                                         f"≤ {r.hi:d}" if isinstance(r.hi, int) else f"≤ {r.hi:g}",
-                                                         r.unit or "-") for k, r in RANGES.items()}
+    assert documented == {
+        k.removeprefix("scenario."): (
+            ("> " if r.lo_open else "≥ ") + f"{r.lo:g}",
+            f"≤ {r.hi:d}" if isinstance(r.hi, int) else f"≤ {r.hi:g}",
+            r.unit or "-",
+        )
+        for k, r in RANGES.items()
+    }
 
 
 def test_every_field_the_loader_takes_is_declared_and_in_the_schema(tmp_path):
@@ -84,8 +90,10 @@ def test_every_field_the_loader_takes_is_declared_and_in_the_schema(tmp_path):
         assert set(schema["properties"][block]["properties"]) == set(FIELDS[block]), block
         assert schema["properties"][block]["required"] == [k for k, f in FIELDS[block].items() if f.required]
     items = schema["properties"]["obstacles"]["items"]["oneOf"]
-    assert [set(i["properties"][k]["properties"]) for i, k in zip(items, ("circle", "segment"))] == \
-        [set(FIELDS["circle"]), set(FIELDS["segment"])]
+    assert [set(i["properties"][k]["properties"]) for i, k in zip(items, ("circle", "segment"))] == [
+        set(FIELDS["circle"]),
+        set(FIELDS["segment"]),
+    ]
     for block, fields in FIELDS.items():
         for key, f in fields.items():
             if f.default is not None and f.kind not in ("block", "list", "param") and block in schema["properties"]:

@@ -42,5 +42,7 @@ def test_a_bootstrap_with_groups_resamples_groups_not_values():
 
 def test_the_small_sample_warning_is_one_sentence_for_every_comparison():
     assert small_sample("x", MIN_SAMPLE, "runs") is None
-    assert small_sample("x", MIN_SAMPLE - 1, "pairs") == \
-        f"x: only {MIN_SAMPLE - 1} pairs; with fewer than {MIN_SAMPLE} its 95 % intervals are too uncertain to trust"
+    assert (
+        small_sample("x", MIN_SAMPLE - 1, "pairs")
+        == f"x: only {MIN_SAMPLE - 1} pairs; with fewer than {MIN_SAMPLE} its 95 % intervals are too uncertain to trust"
+    )

@@ -38,10 +38,18 @@ def cluster(tmp_path_factory):
     import dask
 
     scratch = tmp_path_factory.mktemp("dask")
-    with dask.config.set({"temporary-directory": str(scratch)}), \
-            distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1",
-                                     dashboard_address=None, local_directory=scratch) as c, \
-            distributed.Client(c) as client:
+    with (
+        dask.config.set({"temporary-directory": str(scratch)}),
+        distributed.LocalCluster(
+            n_workers=2,
+            threads_per_worker=1,
+            processes=True,
+            host="127.0.0.1",
+            dashboard_address=None,
+            local_directory=scratch,
+        ) as c,
+        distributed.Client(c) as client,
+    ):
         yield c, client
 
 
@@ -58,7 +66,12 @@ def test_a_grid_plan_is_every_combination_with_paired_seeds(tmp_path):
     assert combos == {(v, k) for v in (0.2, 0.4, 0.6) for k in (10.0, 30.0)}
     assert {r.seed for r in (r.spec for r in runs)} == {rerun_seed(1, 0), rerun_seed(1, 1)}
     spec = runs[-1].spec
-    assert (spec.params.robot.max_speed, spec.params.pilot.K, spec.params.pilot.A_t, spec.time_limit) == (0.6, 30, 40, 3)
+    assert (spec.params.robot.max_speed, spec.params.pilot.K, spec.params.pilot.A_t, spec.time_limit) == (
+        0.6,
+        30,
+        40,
+        3,
+    )
     assert len({r.spec.run_id for r in runs}) == len(runs)
 
 
@@ -74,27 +87,53 @@ def test_a_random_plan_is_a_seeded_sample_within_its_ranges(tmp_path):
 def test_a_plan_of_points_gives_each_point_whole_with_the_defaults_filling_in(tmp_path):
     body = "seeds: 1\npoints:\n  - {}\n  - {vision.routines: 0}\n  - {vision.walls: felt, pilot.look_cap: 0.9}\n"
     points = sweep.load_plan(_plan(tmp_path, body)).points
-    assert points == ({"vision.routines": 1, "vision.walls": "seen", "pilot.look_cap": 1.0},
-                      {"vision.routines": 0, "vision.walls": "seen", "pilot.look_cap": 1.0},
-                      {"vision.routines": 1, "vision.walls": "felt", "pilot.look_cap": 0.9})
+    assert points == (
+        {"vision.routines": 1, "vision.walls": "seen", "pilot.look_cap": 1.0},
+        {"vision.routines": 0, "vision.walls": "seen", "pilot.look_cap": 1.0},
+        {"vision.routines": 1, "vision.walls": "felt", "pilot.look_cap": 0.9},
+    )
 
 
-@pytest.mark.parametrize("body, where, message", [
-    ("seeds: 1\npoints:\n  - {}\n  - {vision.routines: 1}\n", ":6: points[1]", "the point of points[0] again"),
-    ("seeds: 1\npoints:\n  - {vision.walls: seen-ish}\n", ":5: points[0].vision.walls",
-     "vision.walls is one of seen, known, felt"),
-    ("seeds: 1\ngrid: {pilot.K: [1]}\npoints: [{}]\n", ":5: points", "not more than one"),
-    ("seeds: 1\ngrid:\n  pilot.k: [1, 2]\n", ":5: grid.pilot.k", "unknown parameter 'pilot.k' (did you mean pilot.K?)"),
-    ("seeds: 1\ngrid:\n  pilot.R_min: [0.3, 0]\n", ":5: grid.pilot.R_min[1]", "pilot.R_min must be at least 0.01, got 0"),
-    ("seeds: 1\ngrid: {pilot.K: [1]}\nrandom: {samples: 2, ranges: {pilot.K: [1, 2]}}\n", ":5: random",
-     "a grid, a random sample or a list of points, not more than one"),
-    ("seeds: 1\nrandom: {samples: 2, ranges: {pilot.K: [3, 2]}}\n", ":4: random.ranges.pilot.K", "low 3 is above high 2"),
-    ("seeds: two\n", ":3: seeds", "expected a whole number"),
-    ("seeds: 1\nseed: 3\n", ":4: seed", "unknown field 'seed'"),
-    ("seeds: 1\npilots: [potential-field, wall-follower]\n", ":4: pilots[1]",
-         "unknown pilot 'wall-follower': not one of navcli's (potential-field, geometric), not an entry point navcli.pilots"),
-    ("seeds: 1\ngrid: {pilot.K: [1, 2}\n", ":4", "not valid YAML"),
-])
+@pytest.mark.parametrize(
+    "body, where, message",
+    [
+        ("seeds: 1\npoints:\n  - {}\n  - {vision.routines: 1}\n", ":6: points[1]", "the point of points[0] again"),
+        (
+            "seeds: 1\npoints:\n  - {vision.walls: seen-ish}\n",
+            ":5: points[0].vision.walls",
+            "vision.walls is one of seen, known, felt",
+        ),
+        ("seeds: 1\ngrid: {pilot.K: [1]}\npoints: [{}]\n", ":5: points", "not more than one"),
+        (
+            "seeds: 1\ngrid:\n  pilot.k: [1, 2]\n",
+            ":5: grid.pilot.k",
+            "unknown parameter 'pilot.k' (did you mean pilot.K?)",
+        ),
+        (
+            "seeds: 1\ngrid:\n  pilot.R_min: [0.3, 0]\n",
+            ":5: grid.pilot.R_min[1]",
+            "pilot.R_min must be at least 0.01, got 0",
+        ),
+        (
+            "seeds: 1\ngrid: {pilot.K: [1]}\nrandom: {samples: 2, ranges: {pilot.K: [1, 2]}}\n",
+            ":5: random",
+            "a grid, a random sample or a list of points, not more than one",
+        ),
+        (
+            "seeds: 1\nrandom: {samples: 2, ranges: {pilot.K: [3, 2]}}\n",
+            ":4: random.ranges.pilot.K",
+            "low 3 is above high 2",
+        ),
+        ("seeds: two\n", ":3: seeds", "expected a whole number"),
+        ("seeds: 1\nseed: 3\n", ":4: seed", "unknown field 'seed'"),
+        (
+            "seeds: 1\npilots: [potential-field, wall-follower]\n",
+            ":4: pilots[1]",
+            "unknown pilot 'wall-follower': not one of navcli's (potential-field, geometric), not an entry point navcli.pilots",
+        ),
+        ("seeds: 1\ngrid: {pilot.K: [1, 2}\n", ":4", "not valid YAML"),
+    ],
+)
 def test_bad_plans_are_refused_with_file_line_and_field(tmp_path, body, where, message):
     plan = _plan(tmp_path, body)
     res = CliRunner().invoke(app, ["sweep", str(plan), "--out", str(tmp_path / "out")])
@@ -153,8 +192,17 @@ def test_compare_pilots_on_the_dask_cluster_logs_the_runs_the_local_pool_does(tm
     from navcli.analysis import read_log
 
     c, _ = cluster
-    args = ["compare", "pilots", str(SCENARIOS / "open-arena.yaml"), "--reruns", "2", "--time-limit", "3",
-            "--param", "navigation.initial_sweep=0"]
+    args = [
+        "compare",
+        "pilots",
+        str(SCENARIOS / "open-arena.yaml"),
+        "--reruns",
+        "2",
+        "--time-limit",
+        "3",
+        "--param",
+        "navigation.initial_sweep=0",
+    ]
     for where, extra in (("local", ["--jobs", "2"]), ("dask", ["--scheduler", c.scheduler_address])):
         res = CliRunner().invoke(app, [*args, "--out", str(tmp_path / where), *extra])
         assert res.exit_code == 0, res.output
@@ -191,10 +239,16 @@ def test_a_worker_killed_mid_sweep_loses_and_duplicates_nothing(tmp_path, cluste
 
 
 def test_a_plan_may_list_perceptions_each_a_base_of_its_own(tmp_path):
-    p = sweep.load_plan(_plan(tmp_path, "seeds: 2\npilots: [potential-field, geometric]\n"
-                                        "perception: [vision, oracle]\ngrid:\n  pilot.K: [10, 30]\n"))
-    assert [(b.pilot, b.perception) for b in p.bases] == [(pi, pe) for pi in ("potential-field", "geometric")
-                                                          for pe in ("vision", "oracle")]
+    p = sweep.load_plan(
+        _plan(
+            tmp_path,
+            "seeds: 2\npilots: [potential-field, geometric]\n"
+            "perception: [vision, oracle]\ngrid:\n  pilot.K: [10, 30]\n",
+        )
+    )
+    assert [(b.pilot, b.perception) for b in p.bases] == [
+        (pi, pe) for pi in ("potential-field", "geometric") for pe in ("vision", "oracle")
+    ]
     assert p.size == 2 * 2 * 2 * 2
     bad = _plan(tmp_path, "seeds: 1\nperception: [vision, sonar]\n", "bad.yaml")
     res = CliRunner().invoke(app, ["sweep", str(bad)])
@@ -210,10 +264,27 @@ def test_report_reads_a_sweep_table_and_pairs_the_pilots_per_point(tmp_path):
     for k, ratio in ((10.0, 0.9), (30.0, 1.0)):
         for seed, base in zip((1, 2, 3), (10.0, 20.0, 30.0)):
             for pilot, t in (("geometric", base), ("potential-field", ratio * base)):
-                rows.append({"scenario": "room", "pilot": pilot, "perception": "vision", "seed": seed, "point": int(k),
-                             "pilot.K": k, "outcome": "reached", "reason": "", "time_s": t, "path_length_m": t / 10,
-                             "collisions": 0, "camera_looks": 1, "ticks": int(t * 10), "diverting_targets": 0,
-                             "log": "", "run_id": f"{pilot}-{k}-{seed}", "error": ""})
+                rows.append(
+                    {
+                        "scenario": "room",
+                        "pilot": pilot,
+                        "perception": "vision",
+                        "seed": seed,
+                        "point": int(k),
+                        "pilot.K": k,
+                        "outcome": "reached",
+                        "reason": "",
+                        "time_s": t,
+                        "path_length_m": t / 10,
+                        "collisions": 0,
+                        "camera_looks": 1,
+                        "ticks": int(t * 10),
+                        "diverting_targets": 0,
+                        "log": "",
+                        "run_id": f"{pilot}-{k}-{seed}",
+                        "error": "",
+                    }
+                )
     table = tmp_path / "results.parquet"
     pd.DataFrame(rows).to_parquet(table, index=False)
     res = CliRunner().invoke(app, ["report", str(table)])
@@ -232,16 +303,34 @@ def test_report_reads_a_sweep_table_and_pairs_the_pilots_per_point(tmp_path):
     assert res.exit_code == 2 and "not a sweep results table" in res.output
 
 
-@pytest.mark.parametrize("body, words", [
-    ("seeds: 1\nrandom: {samples: 100000000, ranges: {pilot.K: [1, 2]}}\n", "100000000 samples: more than"),
-    ("seeds: 1\ngrid: {pilot.K: " + str(list(range(1, 1001))) + ", robot.max_speed: "
-     + str([0.1 + i / 1000 for i in range(1001)]) + "}\n", "points; split the plan"),
-    ("seeds: 1\nparams: {pilot.K: 20}\ngrid: {pilot.K: [10, 30]}\n", "pilot.K set here and in grid"),
-    ("seeds: 1\nparams: {pilot.K: 20}\nrandom: {samples: 2, ranges: {pilot.K: [1, 2]}}\n", "set here and in random"),
-    ("seeds: 1\nrandom: {samples: 2, ranges: {pilot.reflex_look_pans_deg: [[0], [1]]}}\n", "give its values in a grid"),
-    ("seeds: 1\ngrid: {pilot.reflex_look_pans_deg: [[0, 1], nope]}\n", "expects a list of at most 64 finite numbers"),
-    ("seeds: 1\ngrid: {learning.distance_bounds: [[1, 2]]}\n", "must be 4 increasing numbers"),
-])
+@pytest.mark.parametrize(
+    "body, words",
+    [
+        ("seeds: 1\nrandom: {samples: 100000000, ranges: {pilot.K: [1, 2]}}\n", "100000000 samples: more than"),
+        (
+            "seeds: 1\ngrid: {pilot.K: "
+            + str(list(range(1, 1001)))
+            + ", robot.max_speed: "
+            + str([0.1 + i / 1000 for i in range(1001)])
+            + "}\n",
+            "points; split the plan",
+        ),
+        ("seeds: 1\nparams: {pilot.K: 20}\ngrid: {pilot.K: [10, 30]}\n", "pilot.K set here and in grid"),
+        (
+            "seeds: 1\nparams: {pilot.K: 20}\nrandom: {samples: 2, ranges: {pilot.K: [1, 2]}}\n",
+            "set here and in random",
+        ),
+        (
+            "seeds: 1\nrandom: {samples: 2, ranges: {pilot.reflex_look_pans_deg: [[0], [1]]}}\n",
+            "give its values in a grid",
+        ),
+        (
+            "seeds: 1\ngrid: {pilot.reflex_look_pans_deg: [[0, 1], nope]}\n",
+            "expects a list of at most 64 finite numbers",
+        ),
+        ("seeds: 1\ngrid: {learning.distance_bounds: [[1, 2]]}\n", "must be 4 increasing numbers"),
+    ],
+)
 def test_a_plan_that_would_mislead_or_hang_is_refused_at_once(tmp_path, body, words):
     """Counts bounded before anything is drawn; a value given twice (params and a grid) refused
     instead of one silently winning."""
@@ -261,8 +350,9 @@ def test_a_scenario_named_twice_is_refused(tmp_path):
 
 
 def test_a_list_valued_parameter_is_a_grid_axis_and_a_column(tmp_path):
-    plan = sweep.load_plan(_plan(tmp_path, "seeds: 1\ntime_limit: 2\n"
-                                           "grid: {pilot.reflex_look_pans_deg: [[], [-30, 30]]}\n"))
+    plan = sweep.load_plan(
+        _plan(tmp_path, "seeds: 1\ntime_limit: 2\ngrid: {pilot.reflex_look_pans_deg: [[], [-30, 30]]}\n")
+    )
     runs = sweep.plan_runs(plan, None)
     assert [r.spec.params.pilot.reflex_look_pans_deg for r in runs] == [(), (-30.0, 30.0)]
     table = tmp_path / "t.parquet"

@@ -193,9 +193,25 @@ CLI_PARAMS = ["--param", "learning.max_actions=40"]  # trials of about 0.1 s: th
 
 
 def _cli(out: Path, *args: str) -> list[str]:
-    return [sys.executable, "-m", "navcli", "train", str(SCENARIOS / "landmarks-12.yaml"), "--eval-every",
-            str(CLI_EVERY), "--eval-starts", str(STARTS), "--seed", str(SEED), "--jobs", "2", "--out", str(out),
-            *CLI_PARAMS, *args]
+    return [
+        sys.executable,
+        "-m",
+        "navcli",
+        "train",
+        str(SCENARIOS / "landmarks-12.yaml"),
+        "--eval-every",
+        str(CLI_EVERY),
+        "--eval-starts",
+        str(STARTS),
+        "--seed",
+        str(SEED),
+        "--jobs",
+        "2",
+        "--out",
+        str(out),
+        *CLI_PARAMS,
+        *args,
+    ]
 
 
 @pytest.mark.skipif(not Path("/proc/self/stat").exists(), reason="finds the worker processes in /proc")
@@ -203,8 +219,14 @@ def _cli(out: Path, *args: str) -> list[str]:
 def test_the_command_stops_cleanly_on_sigterm_and_ctrl_c_and_resumes(tmp_path, how):
     out = tmp_path / "m.npz"
     env = {**os.environ, "PYTHONPATH": str(ROOT)}
-    p = subprocess.Popen(_cli(out, "--trials", str(CLI_TRIALS)), stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                         text=True, env=env, start_new_session=True)  # its own process group, SIGINT not ignored
+    p = subprocess.Popen(
+        _cli(out, "--trials", str(CLI_TRIALS)),
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        env=env,
+        start_new_session=True,
+    )  # its own process group, SIGINT not ignored
     try:
         deadline = time.monotonic() + 60
         while not out.with_suffix(".json").exists():  # the first save: an evaluation was just submitted
@@ -228,17 +250,28 @@ def test_the_command_stops_cleanly_on_sigterm_and_ctrl_c_and_resumes(tmp_path, h
     assert not [w for w in workers if _alive(w)], "workers left behind"
     saved = _saved_trials(out)
     assert 0 < saved < CLI_TRIALS
-    r = subprocess.run(_cli(out, "--trials", str(CLI_TRIALS), "--resume", str(out)), capture_output=True,
-                       text=True, env=env, timeout=120)
+    r = subprocess.run(
+        _cli(out, "--trials", str(CLI_TRIALS), "--resume", str(out)),
+        capture_output=True,
+        text=True,
+        env=env,
+        timeout=120,
+    )
     assert r.returncode == 0, r.stderr
     ref = tmp_path / "ref.npz"  # the same training uninterrupted, in this process
     from navcli import load_scenario
     from navcli.training.task import task_spec
     from navcli.training.trainer import train
 
-    train(task_spec(load_scenario(SCENARIOS / "landmarks-12.yaml"), {"learning.max_actions": 40}),
-          trials=CLI_TRIALS,
-          eval_every=CLI_EVERY, eval_starts=STARTS, seed=SEED, out=ref, workers=1)
+    train(
+        task_spec(load_scenario(SCENARIOS / "landmarks-12.yaml"), {"learning.max_actions": 40}),
+        trials=CLI_TRIALS,
+        eval_every=CLI_EVERY,
+        eval_starts=STARTS,
+        seed=SEED,
+        out=ref,
+        workers=1,
+    )
     a, meta = _model(out)
     b, ref_meta = _model(ref)
     assert all(np.array_equal(a[k], b[k]) for k in b) and sorted(a) == sorted(b)

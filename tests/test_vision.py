@@ -39,23 +39,38 @@ def seen(cam, pose=ROBOT):
 
 
 def test_a_landmark_behind_an_obstacle_is_not_seen(make_scenario):
-    hidden = camera(make_scenario, landmarks=[{"id": "A", "at": [4.0, 2.0]}],
-                    obstacles=[{"circle": {"center": [2.5, 2.05], "radius": 0.2}}])
+    hidden = camera(
+        make_scenario,
+        landmarks=[{"id": "A", "at": [4.0, 2.0]}],
+        obstacles=[{"circle": {"center": [2.5, 2.05], "radius": 0.2}}],
+    )
     assert "A" not in seen(hidden)
-    clear = camera(make_scenario, landmarks=[{"id": "A", "at": [4.0, 2.0]}],
-                   obstacles=[{"circle": {"center": [2.5, 2.6], "radius": 0.2}}])
+    clear = camera(
+        make_scenario,
+        landmarks=[{"id": "A", "at": [4.0, 2.0]}],
+        obstacles=[{"circle": {"center": [2.5, 2.6], "radius": 0.2}}],
+    )
     assert "A" in seen(clear)
-    wall = camera(make_scenario, landmarks=[{"id": "A", "at": [4.0, 2.0]}],
-                  obstacles=[{"segment": {"from": [2.5, 1.0], "to": [2.5, 3.0]}}])
+    wall = camera(
+        make_scenario,
+        landmarks=[{"id": "A", "at": [4.0, 2.0]}],
+        obstacles=[{"segment": {"from": [2.5, 1.0], "to": [2.5, 3.0]}}],
+    )
     assert "A" not in seen(wall)
 
 
 def test_field_of_view_and_range_edges(make_scenario):
     # 60 degree field of view: 29 degrees off the axis is in, 31 is out; range 6 m
     at = lambda deg, d: [1.0 + d * math.cos(math.radians(deg)), 2.0 + d * math.sin(math.radians(deg))]  # noqa: E731
-    sc = dict(arena={"width": 9.0, "height": 6.0},
-              landmarks=[{"id": "in", "at": at(29, 2.0)}, {"id": "out", "at": at(-31, 2.0)},
-                         {"id": "near", "at": at(0, 5.9)}, {"id": "far", "at": at(5, 6.1)}])
+    sc = dict(
+        arena={"width": 9.0, "height": 6.0},
+        landmarks=[
+            {"id": "in", "at": at(29, 2.0)},
+            {"id": "out", "at": at(-31, 2.0)},
+            {"id": "near", "at": at(0, 5.9)},
+            {"id": "far", "at": at(5, 6.1)},
+        ],
+    )
     assert seen(camera(make_scenario, **sc)) == {"in", "near"}
 
 
@@ -68,7 +83,7 @@ def test_the_pan_takes_time_and_stops_at_its_limit(make_scenario):
         if out is not None:
             images.append((t, out))
         t += CONTROL_DT
-    (t_img, dets), = images
+    ((t_img, dets),) = images
     assert t_img == pytest.approx(math.radians(90) / spec.pan_speed, abs=CONTROL_DT)  # 1 s at 90 deg/s
     assert [d.key for d in dets if d.kind == "landmark"] == ["A"]
     cam.step(t, ROBOT, Look(math.radians(170), "search"), CONTROL_DT)
@@ -100,18 +115,33 @@ def test_measurements_hold_the_truth_in_their_support(make_scenario):
 
 
 def test_a_linear_obstacle_was_seen_by_the_ends_of_its_visible_stretches_before(make_scenario):
-    cam = camera(make_scenario, params=LEGACY, obstacles=[{"segment": {"from": [3.0, 1.5], "to": [3.0, 2.5]}},
-                                           {"segment": {"from": [4.0, -0.0], "to": [4.0, 4.0]}}])
+    cam = camera(
+        make_scenario,
+        params=LEGACY,
+        obstacles=[
+            {"segment": {"from": [3.0, 1.5], "to": [3.0, 2.5]}},
+            {"segment": {"from": [4.0, -0.0], "to": [4.0, 4.0]}},
+        ],
+    )
     dets = cam.capture(ROBOT)
-    ends = sorted(tuple(round(ROBOT.to_world((p.distance.centre * math.cos(p.heading.centre),
-                                               p.distance.centre * math.sin(p.heading.centre)))[1], 1)
-                        for p in d.points) for d in dets)
+    ends = sorted(
+        tuple(
+            round(
+                ROBOT.to_world(
+                    (p.distance.centre * math.cos(p.heading.centre), p.distance.centre * math.sin(p.heading.centre))
+                )[1],
+                1,
+            )
+            for p in d.points
+        )
+        for d in dets
+    )
     # the short one whole; of the long one, what shows past the short one's ends, inside the view
     assert (1.5, 2.5) in ends
     assert all(len(e) == 2 for e in ends) and len(ends) == 3
     for lo, hi in ends:
         if lo != 1.5:
-            assert (hi <= 1.5 or lo >= 2.5)
+            assert hi <= 1.5 or lo >= 2.5
 
 
 # -- the memory ------------------------------------------------------------------------------------
@@ -169,8 +199,9 @@ def test_the_images_visibility_test_is_the_geometry_of_lines_of_sight(name, reac
 
     def occluded(pose, p, own):
         eye = (pose.x, pose.y)
-        return (any(o.key != own and blocks_sight(eye, p, o.a, o.radius) for o in discs)
-                or any(o.key != own and crosses_sight(eye, p, o.a, o.b) for o in lines))
+        return any(o.key != own and blocks_sight(eye, p, o.a, o.radius) for o in discs) or any(
+            o.key != own and crosses_sight(eye, p, o.a, o.b) for o in lines
+        )
 
     shown = hidden = 0
     for _ in range(150):
@@ -210,7 +241,9 @@ def test_drift_grows_without_looks_and_shrinks_after_a_look(make_scenario):
     # the robot has moved 0.9 m and turned 0.6 rad: look again from where it truly is
     pose = ROBOT
     for _ in range(30):
-        pose = Pose(pose.x + 0.03 * math.cos(pose.theta + 0.01), pose.y + 0.03 * math.sin(pose.theta + 0.01), pose.theta + 0.02)
+        pose = Pose(
+            pose.x + 0.03 * math.cos(pose.theta + 0.01), pose.y + 0.03 * math.sin(pose.theta + 0.01), pose.theta + 0.02
+        )
     cam.pan = 0.0
     mem.observe(cam.capture(pose), 3.0)
     assert mem.items["A"].spots[0].r0 < r[-1]
@@ -239,10 +272,11 @@ def test_a_fence_is_forgotten_when_both_its_ends_blur_not_when_the_near_one_does
     a fence blurs that end (a wide angle seen from nearby) while the far end, 6 m off, stays
     sharp. The fence is kept until both ends pass forget_above; with forget_line_by_one_end 1 it
     goes with its near end."""
+
     def drive(params):
         mem = VisualMemory(0.2, params)  # a poor odometry (20 %): the blur grows fast
         mem.add_found("obstacle", [Spot(3.0, 0.6, 0.02, 0.0), Spot(3.0, 6.0, 0.02, 0.0)], 0.025)
-        (key, m), = mem.items.items()
+        ((key, m),) = mem.items.items()
         for _ in range(140):  # 2.8 m ahead, toward the near end
             mem.move(0.02, 0.0)
             mem.forget()
@@ -268,8 +302,12 @@ def test_fusing_keeps_the_truth_and_sharpens():
 
 def true_clearance(sc, x, y):
     """Distance from a world point to the nearest physical thing (surface), or to the walls."""
-    d = [math.dist((x, y), o.center) - o.radius if isinstance(o, Circle)
-         else distance_to_segment((x, y), o.start, o.end) - o.thickness / 2 for o in sc.obstacles]
+    d = [
+        math.dist((x, y), o.center) - o.radius
+        if isinstance(o, Circle)
+        else distance_to_segment((x, y), o.start, o.end) - o.thickness / 2
+        for o in sc.obstacles
+    ]
     d += [math.dist((x, y), lm.at) - lm.radius for lm in sc.landmarks]
     W, H = sc.arena.width, sc.arena.height
     d += [abs(x), abs(y), abs(W - x), abs(H - y)]
@@ -422,8 +460,10 @@ def test_the_memorys_lines_lie_along_the_true_obstacles_over_a_run(name):
             if len(mem.spots) != 2 or mem.kind not in ("obstacle", "wall") or not mem.seen:
                 continue
             ends = [(pose.to_world((s.x, s.y)), s.r0) for s in mem.spots]
-            off = min(max(distance_to_segment(p, a, b) - r - rad for p, r in ends)
-                      for a, b, rad in (walls if mem.kind == "wall" else segs))
+            off = min(
+                max(distance_to_segment(p, a, b) - r - rad for p, r in ends)
+                for a, b, rad in (walls if mem.kind == "wall" else segs)
+            )
             assert off <= 0.05, (m.time, mem.key, ends)
             checked += 1
     assert checked > 100

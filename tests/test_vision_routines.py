@@ -31,9 +31,12 @@ ROBOT = Pose(1.0, 2.0, 0.0)
 def room(make_scenario, **over):
     """A 6 m x 4 m room, the robot at (1, 2) facing +x; the target landmark T and landmarks A, B
     all in view ahead."""
-    return make_scenario(target={"landmark": "T", "tolerance": 0.3}, noise=NOISELESS,
-                         landmarks=[{"id": "T", "at": [4.0, 2.0]}, {"id": "A", "at": [3.5, 2.9]},
-                                    {"id": "B", "at": [3.5, 1.1]}], **over)
+    return make_scenario(
+        target={"landmark": "T", "tolerance": 0.3},
+        noise=NOISELESS,
+        landmarks=[{"id": "T", "at": [4.0, 2.0]}, {"id": "A", "at": [3.5, 2.9]}, {"id": "B", "at": [3.5, 1.1]}],
+        **over,
+    )
 
 
 def keys(dets):
@@ -69,8 +72,13 @@ def test_re_acquiring_the_known_landmarks_and_scanning_for_the_lost_target(make_
 
 
 def test_the_look_for_obstacles_sees_obstacles_and_unknown_landmarks_as_plain_points(make_scenario):
-    sc = room(make_scenario, obstacles=[{"circle": {"center": [2.5, 2.5], "radius": 0.1}},
-                                        {"segment": {"from": [5.0, 1.0], "to": [5.0, 3.0]}}])
+    sc = room(
+        make_scenario,
+        obstacles=[
+            {"circle": {"center": [2.5, 2.5], "radius": 0.1}},
+            {"segment": {"from": [5.0, 1.0], "to": [5.0, 3.0]}},
+        ],
+    )
     cam = Camera(sc, np.random.default_rng(0))
     dets = cam.capture(ROBOT, "obstacles", known={"A"})
     assert [d for d in dets if d.kind == "landmark"] == []  # the obstacle routine identifies no landmark
@@ -119,8 +127,10 @@ def test_another_look_that_wins_turns_the_camera_and_sets_the_routine(make_scena
 def test_move_blind_gets_no_image_in_the_learning_task(params):
     """MVL and MB in turn (the paper's task: the camera is the Learning Agent's alone): an MB
     action takes no image, even when MVL's pan is still in flight as it begins."""
-    base = task_spec(load_scenario(SCENARIOS / "landmarks-12.yaml"),
-                     {f"vision.{f}": getattr(params, f) for f in ("routines", "line_objects")})
+    base = task_spec(
+        load_scenario(SCENARIOS / "landmarks-12.yaml"),
+        {f"vision.{f}": getattr(params, f) for f in ("routines", "line_objects")},
+    )
     task = NavigationTask(base)
     task.reset(Start(2.0, 2.0, 0.3, 5))
     blind = 0
@@ -137,9 +147,14 @@ def test_move_blind_gets_no_image_in_the_learning_task(params):
 
 # -- a linear obstacle is one object -------------------------------------------------------------
 def fence_room(make_scenario, **over):
-    return make_scenario(arena={"width": 10.0, "height": 6.0}, robot={"start": [1.0, 1.0], "heading_deg": 0},
-                         target={"at": [9.0, 5.0]}, obstacles=[{"segment": {"from": [3.0, 3.0], "to": [9.0, 3.0]}}],
-                         noise=NOISELESS, **over)
+    return make_scenario(
+        arena={"width": 10.0, "height": 6.0},
+        robot={"start": [1.0, 1.0], "heading_deg": 0},
+        target={"at": [9.0, 5.0]},
+        obstacles=[{"segment": {"from": [3.0, 3.0], "to": [9.0, 3.0]}}],
+        noise=NOISELESS,
+        **over,
+    )
 
 
 def test_a_fence_cut_by_the_view_is_one_object_whose_ends_say_what_was_seen(make_scenario):
@@ -194,11 +209,16 @@ def test_a_door_between_two_pieces_of_one_wall_is_never_closed(make_scenario, pa
     sides, near and far, with the camera's noise, all folded into one memory: no remembered line
     may come within 0.5 m of the door's middle (0.75 m from each piece). The old memory's lines,
     joined by geometry, close it from some places (it closed door-wall's door in 1 of 100 runs)."""
-    sc = make_scenario(arena={"width": 10.0, "height": 8.0}, robot={"start": [5.0, 1.0], "heading_deg": 90},
-                       target={"at": [5.0, 7.0]},
-                       noise={"odometry": 0.0, "vision_heading_deg": 2.0, "vision_distance": 0.05},
-                       obstacles=[{"segment": {"from": [0.5, 4.0], "to": [4.25, 4.0]}},
-                                  {"segment": {"from": [5.75, 4.0], "to": [9.5, 4.0]}}])
+    sc = make_scenario(
+        arena={"width": 10.0, "height": 8.0},
+        robot={"start": [5.0, 1.0], "heading_deg": 90},
+        target={"at": [5.0, 7.0]},
+        noise={"odometry": 0.0, "vision_heading_deg": 2.0, "vision_distance": 0.05},
+        obstacles=[
+            {"segment": {"from": [0.5, 4.0], "to": [4.25, 4.0]}},
+            {"segment": {"from": [5.75, 4.0], "to": [9.5, 4.0]}},
+        ],
+    )
     cam = Camera(sc, np.random.default_rng(3), params)
     mem = VisualMemory(0.0, params)
     door = (5.0, 4.0)
@@ -242,9 +262,13 @@ def test_how_the_robot_knows_the_walls(make_scenario, walls):
 def test_a_fence_between_landmarks_ends_at_them(make_scenario):
     """The thesis' linear obstacles run between landmarks: a fence whose ends stand at landmarks
     takes its ends from where the memory holds those landmarks, even when only its middle was seen."""
-    sc = make_scenario(arena={"width": 10.0, "height": 6.0}, robot={"start": [5.0, 1.0], "heading_deg": 90},
-                       target={"at": [5.0, 5.5]}, landmarks=[{"id": "P", "at": [2.0, 3.0]}, {"id": "Q", "at": [8.0, 3.0]}],
-                       obstacles=[{"segment": {"from": [2.2, 3.0], "to": [7.8, 3.0]}}])
+    sc = make_scenario(
+        arena={"width": 10.0, "height": 6.0},
+        robot={"start": [5.0, 1.0], "heading_deg": 90},
+        target={"at": [5.0, 5.5]},
+        landmarks=[{"id": "P", "at": [2.0, 3.0]}, {"id": "Q", "at": [8.0, 3.0]}],
+        obstacles=[{"segment": {"from": [2.2, 3.0], "to": [7.8, 3.0]}}],
+    )
     m = Mission(RunSpec.build(sc, overrides={"navigation.initial_sweep": 0, "pilot.looks": 0}), snapshots=False)
     p = m.perception
     truth = m.world.pose

@@ -12,8 +12,9 @@ from navcli.world import World
 
 
 def world_for(make_scenario, speed=0.3, noise=0.0, **over) -> World:
-    sc = make_scenario(robot={"start": [1.0, 2.0], "heading_deg": 0, "max_speed": speed},
-                       noise={"odometry": noise}, **over)
+    sc = make_scenario(
+        robot={"start": [1.0, 2.0], "heading_deg": 0, "max_speed": speed}, noise={"odometry": noise}, **over
+    )
     return World(sc, np.random.default_rng(0))
 
 
@@ -35,10 +36,14 @@ def test_wall_stops_the_robot_at_top_speed(make_scenario, speed):
 
 
 @pytest.mark.parametrize("speed", [0.3, 2.0])
-@pytest.mark.parametrize("obstacle", [
-    {"circle": {"center": [3.0, 2.0], "radius": 0.15}},
-    {"segment": {"from": [3.0, 0.5], "to": [3.0, 3.5], "thickness": 0.02}},
-], ids=["circle", "thin-segment"])
+@pytest.mark.parametrize(
+    "obstacle",
+    [
+        {"circle": {"center": [3.0, 2.0], "radius": 0.15}},
+        {"segment": {"from": [3.0, 0.5], "to": [3.0, 3.5], "thickness": 0.02}},
+    ],
+    ids=["circle", "thin-segment"],
+)
 def test_obstacle_stops_the_robot(make_scenario, speed, obstacle):
     w = world_for(make_scenario, speed=speed, obstacles=[obstacle])
     bumps = drive(w, speed, 0.0, 8.0)
@@ -132,8 +137,9 @@ def test_odometry_heading_drifts_along_a_straight_run_by_the_scenario_spread(mak
     10 s), the believed heading turns by 3 m x (the per-run rate, sd 1 deg/m) plus the per-tick
     parts (30 ticks of 0.03 m x sd 1 deg/m: sd 0.03 x sqrt(100) = 0.3 deg all told), while the
     true heading stays. Over 60 runs the spread is about 3 deg, the mean about 0."""
-    sc = make_scenario(robot={"start": [1.0, 2.0], "heading_deg": 0},
-                       noise={"odometry": 0.0, "odometry_drift_deg_per_m": 1.0})
+    sc = make_scenario(
+        robot={"start": [1.0, 2.0], "heading_deg": 0}, noise={"odometry": 0.0, "odometry_drift_deg_per_m": 1.0}
+    )
     turned = []
     for seed in range(60):
         w = World(sc, np.random.default_rng(seed))

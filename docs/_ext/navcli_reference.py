@@ -53,13 +53,17 @@ def cli_markdown(level: int = 2) -> str:
             lines.append(f"{'#' * (level + depth - 1)} {ctx.command_path}\n")
         lines.append(f"```text\n{cmd.get_usage(ctx).strip()}\n```\n")
         lines.extend(_escape(p) + "\n" for p in _paragraphs(cmd.help or ""))
-        records = [(kind, r) for kind in ("argument", "option") for p in cmd.params
-                   if p.param_type_name == kind and (r := p.get_help_record(ctx))]
+        records = [
+            (kind, r)
+            for kind in ("argument", "option")
+            for p in cmd.params
+            if p.param_type_name == kind and (r := p.get_help_record(ctx))
+        ]
         if records:
             for kind, (names, text) in records:
                 lines.append(f"- `{names}` ({kind}): {_escape(text)}")
             lines.append("")
-        for name in (sub or {}):
+        for name in sub or {}:
             child = sub[name]
             visit(child, child.make_context(name, [], parent=ctx, resilient_parsing=True), depth + 1)
 
@@ -86,8 +90,11 @@ def references_markdown() -> str:
     for ref in cff["references"]:
         names = [f"{a['given-names']} {a['family-names']}" for a in ref["authors"]]
         where = ref.get("collection-title") or ref["conference"]["name"]
-        parts = [", ".join(names[:-1]) + " and " + names[-1] if len(names) > 1 else names[0],
-                 f"\"{ref['title']}\"", f"*{_escape(where)}*"]
+        parts = [
+            ", ".join(names[:-1]) + " and " + names[-1] if len(names) > 1 else names[0],
+            f'"{ref["title"]}"',
+            f"*{_escape(where)}*",
+        ]
         if "volume" in ref:
             parts.append(f"volume {ref['volume']}")
         parts += [ref["publisher"]["name"], str(ref["year"])]
@@ -102,8 +109,9 @@ class _Generated(SphinxDirective):
     def run(self) -> list[nodes.Node]:
         text = type(self).make()
         container = nodes.section() if "\n#" in "\n" + text else nodes.container()
-        self.state.nested_parse(StringList(text.splitlines(), source="<generated>"), self.content_offset,
-                                container, match_titles=True)
+        self.state.nested_parse(
+            StringList(text.splitlines(), source="<generated>"), self.content_offset, container, match_titles=True
+        )
         return list(container.children)
 
 

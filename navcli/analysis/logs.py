@@ -69,8 +69,11 @@ class RunLog:
 def config_columns(config: dict[str, Any]) -> dict[str, Any]:
     """Every parameter of a configuration as a column ``params.<group>.<name>`` (lists as
     tuples), so a table of runs can be grouped by any of them."""
-    return {f"params.{g}.{k}": tuple(v) if isinstance(v, list) else v
-            for g, block in config.get("params", {}).items() for k, v in block.items()}
+    return {
+        f"params.{g}.{k}": tuple(v) if isinstance(v, list) else v
+        for g, block in config.get("params", {}).items()
+        for k, v in block.items()
+    }
 
 
 def _yaw(q) -> float:
@@ -113,11 +116,19 @@ def _row(schema: str, encoding: str, data: bytes, decoded) -> dict[str, Any]:
         return {"x": p.position.x, "y": p.position.y, "theta": _yaw(p.orientation), "frame_id": decoded.frame_id}
     if schema == "foxglove.FrameTransforms":
         t = decoded.transforms[0]
-        return {"x": t.translation.x, "y": t.translation.y, "theta": _yaw(t.rotation),
-                "parent": t.parent_frame_id, "child": t.child_frame_id}
+        return {
+            "x": t.translation.x,
+            "y": t.translation.y,
+            "theta": _yaw(t.rotation),
+            "parent": t.parent_frame_id,
+            "child": t.child_frame_id,
+        }
     if schema == "foxglove.Log":
-        return {"level": LOG_LEVELS.get(decoded.level, str(decoded.level)), "name": decoded.name,
-                "message": decoded.message}
+        return {
+            "level": LOG_LEVELS.get(decoded.level, str(decoded.level)),
+            "name": decoded.name,
+            "message": decoded.message,
+        }
     if schema == "foxglove.SceneUpdate":
         return {"entities": [e.id for e in decoded.entities], "deletions": len(decoded.deletions)}
     return {"raw": decoded}

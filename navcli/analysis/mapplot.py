@@ -73,8 +73,13 @@ def plot_map(log_path: str | Path, out: str | Path) -> Path:
                 for a, b in zip(pts[::2], pts[1::2]):
                     ax.plot([a[0], b[0]], [a[1], b[1]], color=colour, alpha=0.35, lw=0.6)
                 continue
-            ax.plot([p[0] for p in pts], [p[1] for p in pts], color=colour, alpha=max(ln.color.a, 0.3),
-                    lw=3 if ln.thickness >= 0.04 else 0.8)
+            ax.plot(
+                [p[0] for p in pts],
+                [p[1] for p in pts],
+                color=colour,
+                alpha=max(ln.color.a, 0.3),
+                lw=3 if ln.thickness >= 0.04 else 0.8,
+            )
         for cyl in e.cylinders:
             x, y = world(cyl.pose.position)
             ax.add_patch(mp.Circle((x, y), cyl.size.x / 2, color="tab:purple", alpha=0.35, zorder=5))
@@ -85,9 +90,12 @@ def plot_map(log_path: str | Path, out: str | Path) -> Path:
     if sc:
         draw_arena(ax, sc)
     summary = log.summary
-    ax.set_title(f"{summary.get('scenario', path.stem)}: the map at {ns / 1e9:.0f} s "
-                 f"({summary.get('outcome', '?')}, diverting targets: {summary.get('diverting_targets', 0)})\n"
-                 "the map (purple): landmarks (70 % cut), regions, blocked edges (thick, pink),\n"
-                 "the diverting line (green), those ended (thin green, named by how they ended);\n"
-                 "the truth: obstacles (red), landmarks (blue), the path (grey)", fontsize=8)
+    ax.set_title(
+        f"{summary.get('scenario', path.stem)}: the map at {ns / 1e9:.0f} s "
+        f"({summary.get('outcome', '?')}, diverting targets: {summary.get('diverting_targets', 0)})\n"
+        "the map (purple): landmarks (70 % cut), regions, blocked edges (thick, pink),\n"
+        "the diverting line (green), those ended (thin green, named by how they ended);\n"
+        "the truth: obstacles (red), landmarks (blue), the path (grey)",
+        fontsize=8,
+    )
     return save_figure(fig, out, dpi=110)

@@ -86,8 +86,10 @@ def comparison_plots(runs: pd.DataFrame, out: Path) -> dict[str, Path]:
             if sc:
                 draw_arena(ax, sc)
             failed = int((~gp["reached"]).sum())
-            ax.set_title(f"{scenario} ({perception}): {pilot}, {int(gp['reached'].sum())}/{len(gp)} reached"
-                         + (f"\n{failed} failed: orange, x where they stopped" if failed else ""))
+            ax.set_title(
+                f"{scenario} ({perception}): {pilot}, {int(gp['reached'].sum())}/{len(gp)} reached"
+                + (f"\n{failed} failed: orange, x where they stopped" if failed else "")
+            )
             files[f"trajectories-{tag}-{pilot}"] = save_figure(fig, out / f"trajectories-{tag}-{file_name(pilot)}.png")
         ok = g[g["reached"]]
         pilots = sorted(g["pilot"].unique())

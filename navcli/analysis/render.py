@@ -33,7 +33,11 @@ from .plots import draw_arena
 
 FORCE_SCALE = 100.0  # force units per metre of arrow, as in the log's /robot/scene
 BID_SERIES = ("motion.pilot", "motion.navigation", "camera.pilot", "camera.navigation")
-FORCES = (("net", "m"), ("target", "tab:green"), ("repulsive", "tab:red"))  # the pilot's forces drawn, and their colours
+FORCES = (
+    ("net", "m"),
+    ("target", "tab:green"),
+    ("repulsive", "tab:red"),
+)  # the pilot's forces drawn, and their colours
 _MEMORY_COLOURS = {"landmark": "tab:blue", "obstacle": "tab:red", "bump": "red", "target": "tab:green"}
 
 
@@ -62,8 +66,11 @@ def _memory(path: Path) -> list[tuple[float, list[tuple[str, float, float, float
     """``/memory/scene`` as (time s, [(kind, x, y, r70, r0)]) in ``base_link``: the disc of a
     70 % cut is a cylinder, the support a ring around the same centre in ``/memory/supports``
     (the entity of the same id, at the same time; logs before it kept the rings with the discs)."""
-    supports = {(log_time, e.id): [ln for ln in e.lines if len(ln.points) > 2]
-                for log_time, m in scene_messages(path, MEMORY_SUPPORTS_TOPIC) for e in m.entities}
+    supports = {
+        (log_time, e.id): [ln for ln in e.lines if len(ln.points) > 2]
+        for log_time, m in scene_messages(path, MEMORY_SUPPORTS_TOPIC)
+        for e in m.entities
+    }
     out = []
     for log_time, m in scene_messages(path, MEMORY_SCENE_TOPIC):
         spots = []
@@ -133,10 +140,10 @@ class RunFigure:
         strip.set_xlabel("simulated time (s)")
         strip.legend(fontsize=6, ncol=2, loc="upper right")
         self.cursor = strip.axvline(0.0, color="k", lw=0.8)
-        self.path_line, = ax.plot([], [], color="k", lw=1.0, zorder=5)
+        (self.path_line,) = ax.plot([], [], color="k", lw=1.0, zorder=5)
         self.body = Circle((0, 0), radius, facecolor="gold", edgecolor="k", zorder=6)
         ax.add_patch(self.body)
-        self.heading, = ax.plot([], [], color="k", lw=1.5, zorder=7)
+        (self.heading,) = ax.plot([], [], color="k", lw=1.5, zorder=7)
         self.supports = PatchCollection([], facecolor="none", lw=0.5, alpha=0.5, zorder=2)
         self.cuts = PatchCollection([], alpha=0.45, zorder=2)
         ax.add_collection(self.supports)
@@ -171,8 +178,11 @@ class RunFigure:
         self.arrows.clear()
         for fx, fy, colour in forces:
             dx, dy = (c * fx - s * fy) / FORCE_SCALE, (s * fx + c * fy) / FORCE_SCALE
-            self.arrows.append(self.ax.arrow(x, y, dx, dy, width=0.02, head_width=0.12, length_includes_head=True,
-                                             color=colour, zorder=7))
+            self.arrows.append(
+                self.ax.arrow(
+                    x, y, dx, dy, width=0.02, head_width=0.12, length_includes_head=True, color=colour, zorder=7
+                )
+            )
         self.cursor.set_xdata([t, t])
         self.clock.set_text(f"t = {t:5.1f} s")
 
@@ -207,13 +217,24 @@ def force_vectors(get: Callable[[str], float | None]) -> list[tuple[float, float
     if all(fx is None for fx, _, _ in vectors) and get("turn_deg") is not None:
         turn = math.radians(float(get("turn_deg")))  # type: ignore[arg-type]
         vectors = [(50 * math.cos(turn), 50 * math.sin(turn), "m")]
-    return [(float(fx), float(fy), colour) for fx, fy, colour in vectors
-            if fx is not None and fy is not None and math.hypot(fx, fy) >= 1.0]
+    return [
+        (float(fx), float(fy), colour)
+        for fx, fy, colour in vectors
+        if fx is not None and fy is not None and math.hypot(fx, fy) >= 1.0
+    ]
 
 
-def render(log_path: str | Path, out: str | Path, *, speed: float = 10.0, start: float | None = None,
-           end: float | None = None, fps: float = 10.0, dpi: int = 80,
-           progress: Callable[[int, int], None] | None = None) -> Rendered:
+def render(
+    log_path: str | Path,
+    out: str | Path,
+    *,
+    speed: float = 10.0,
+    start: float | None = None,
+    end: float | None = None,
+    fps: float = 10.0,
+    dpi: int = 80,
+    progress: Callable[[int, int], None] | None = None,
+) -> Rendered:
     """Write a video of the run in ``log_path`` to ``out`` (``.gif``, or ``.mp4`` with ffmpeg):
     a :class:`RunFigure` per frame.
 
@@ -260,11 +281,11 @@ def render(log_path: str | Path, out: str | Path, *, speed: float = 10.0, start:
         i = max(int(np.searchsorted(pt, t, side="right")) - 1, 0)
         row = pilot.iloc[max(int(np.searchsorted(pilot_t, t, side="right")) - 1, 0)]
         forces = force_vectors(lambda k: None if pd.isna(row.get(k, np.nan)) else row[k])
-        figure.draw(t, px[:i + 1], py[:i + 1], pth[i], memory_in_world(memory, mem_t, (px, py, pth, pt), t), forces)
+        figure.draw(t, px[: i + 1], py[: i + 1], pth[i], memory_in_world(memory, mem_t, (px, py, pth, pt), t), forces)
 
     try:
         with atomic(out) as tmp, writer.saving(figure.fig, str(tmp), dpi):  # one draw per frame (FuncAnimation.save
-            for k in range(len(times)):                                    # draws each twice)
+            for k in range(len(times)):  # draws each twice)
                 draw(times[k])
                 writer.grab_frame()
                 if progress:

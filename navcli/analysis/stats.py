@@ -47,8 +47,9 @@ def wilson_interval(successes: int, n: int, z: float = 1.96) -> tuple[float, flo
     return (0.0 if successes == 0 else max(0.0, centre - half)), (1.0 if successes == n else min(1.0, centre + half))
 
 
-def bootstrap_mean(values: Sequence[float] | np.ndarray, groups: Sequence | np.ndarray | None = None,
-                   seed: int = 0) -> tuple[float, float, float]:
+def bootstrap_mean(
+    values: Sequence[float] | np.ndarray, groups: Sequence | np.ndarray | None = None, seed: int = 0
+) -> tuple[float, float, float]:
     """The mean of ``values`` and its percentile bootstrap 95 % interval, resampling whole groups
     (``groups[i]`` names the group of ``values[i]``) or, without groups, single values. NaNs for no
     value or a NaN among them (a metric that does not apply); no interval (NaN bounds) for one

@@ -48,8 +48,12 @@ REPORT_FILES = ("runs.csv", "table.csv", "improvements.csv", "table.md", "trajec
 user's file of one of these names is never replaced)."""
 
 
-def load_runs(logdir: str | Path | None = None, *, paths: list[str | Path] | None = None,
-              skipped: list[tuple[str, str]] | None = None) -> pd.DataFrame:
+def load_runs(
+    logdir: str | Path | None = None,
+    *,
+    paths: list[str | Path] | None = None,
+    skipped: list[tuple[str, str]] | None = None,
+) -> pd.DataFrame:
     """One row per ``.mcap`` under ``logdir`` (recursively), or per file of ``paths``: the
     summary, the run's configuration (scenario sha256, perception, time limit and every
     parameter as ``params.<group>.<name>`` columns, so runs can be grouped by them), plus the path
@@ -71,8 +75,10 @@ def load_runs(logdir: str | Path | None = None, *, paths: list[str | Path] | Non
             continue
         rid = row["run_id"]
         if rid and rid in seen:
-            raise LogError(f"{path} and {seen[rid]} are the same run (run id {rid[:8]}); a run counts once: "
-                           "remove one, or report on the folders separately")
+            raise LogError(
+                f"{path} and {seen[rid]} are the same run (run id {rid[:8]}); a run counts once: "
+                "remove one, or report on the folders separately"
+            )
         if rid:
             seen[rid] = str(path)
         rows.append(row)
@@ -82,8 +88,20 @@ def load_runs(logdir: str | Path | None = None, *, paths: list[str | Path] | Non
     return pd.DataFrame(rows)
 
 
-SWEEP_COLUMNS = {"scenario", "pilot", "perception", "seed", "point", "outcome", "time_s", "path_length_m",
-                 "collisions", "camera_looks", "ticks", "run_id"}
+SWEEP_COLUMNS = {
+    "scenario",
+    "pilot",
+    "perception",
+    "seed",
+    "point",
+    "outcome",
+    "time_s",
+    "path_length_m",
+    "collisions",
+    "camera_looks",
+    "ticks",
+    "run_id",
+}
 """What a ``navcli sweep`` results table holds besides its swept parameters' columns."""
 
 
@@ -110,14 +128,17 @@ def load_sweep(path: str | Path) -> pd.DataFrame:
             runs[column] = absent
     runs["reached"] = runs["outcome"] == "reached"
     runs["path_cm"] = 100.0 * runs["path_length_m"]
-    keys = ["scenario", "scenario_sha256", "pilot", "perception", "time_limit_s", "seed"] + \
-        [f"params.{c}" for c in swept]
+    keys = ["scenario", "scenario_sha256", "pilot", "perception", "time_limit_s", "seed"] + [
+        f"params.{c}" for c in swept
+    ]
     twice = runs[runs.duplicated([k for k in keys if k in runs], keep=False)]
     if len(twice):
         r = twice.iloc[0]
-        raise LogError(f"{path}: {len(twice)} rows are the same condition, pilot and seed twice ({r['scenario']}, "
-                       f"{r['pilot']}, seed {r['seed']}: run ids {', '.join(str(i)[:8] for i in twice['run_id'][:2])}): "
-                       "the table holds runs of a scenario or plan since changed; report on a sweep with a new --out")
+        raise LogError(
+            f"{path}: {len(twice)} rows are the same condition, pilot and seed twice ({r['scenario']}, "
+            f"{r['pilot']}, seed {r['seed']}: run ids {', '.join(str(i)[:8] for i in twice['run_id'][:2])}): "
+            "the table holds runs of a scenario or plan since changed; report on a sweep with a new --out"
+        )
     return runs
 
 
@@ -126,28 +147,44 @@ def _run_row(path: Path) -> dict:
     log = read_log(path, topics=[POSE_TOPIC])
     s = log.summary
     if not s:
-        raise LogError(f"{path}: no /mission/summary (the run was killed before it could close its log; "
-                       "`navcli recover` makes a readable log of a .partial)")
+        raise LogError(
+            f"{path}: no /mission/summary (the run was killed before it could close its log; "
+            "`navcli recover` makes a readable log of a .partial)"
+        )
     if POSE_TOPIC not in log.topics:
         raise LogError(f"{path}: no /robot/pose")
     poses = log[POSE_TOPIC]
     walked = path_length(poses)
     last = float(poses["time_s"].iloc[-1])
     if abs(walked - s["path_length_m"]) > PATH_TOLERANCE * max(walked, 0.01):
-        raise LogError(f"{path}: summary path length {s['path_length_m']:.3f} m disagrees with "
-                       f"its poses ({walked:.3f} m)")
+        raise LogError(
+            f"{path}: summary path length {s['path_length_m']:.3f} m disagrees with its poses ({walked:.3f} m)"
+        )
     if abs(last - s["time_s"]) > 1e-6:
         raise LogError(f"{path}: summary time {s['time_s']} s disagrees with its last pose ({last} s)")
     config = log.config
     run_id = s.get("run_id") or log.metadata.get("run", {}).get("run_id")
-    return {"log": str(path), "run_id": run_id, "scenario": s["scenario"], "pilot": s["pilot"], "seed": s["seed"],
-            "scenario_sha256": config.get("scenario", {}).get("sha256"), "perception": config.get("perception"),
-            "time_limit_s": config.get("time_limit_s"),
-            "outcome": s["outcome"], "reached": s["outcome"] == "reached", "time_s": s["time_s"],
-            "path_m": s["path_length_m"], "path_cm": 100.0 * s["path_length_m"],
-            "collisions": s["collisions"], "camera_looks": s["camera_looks"], "ticks": s["ticks"],
-            "diverting_targets": s.get("diverting_targets", 0),
-            "poses_path_m": walked, "xy": poses[["x", "y"]].to_numpy()} | config_columns(config)
+    return {
+        "log": str(path),
+        "run_id": run_id,
+        "scenario": s["scenario"],
+        "pilot": s["pilot"],
+        "seed": s["seed"],
+        "scenario_sha256": config.get("scenario", {}).get("sha256"),
+        "perception": config.get("perception"),
+        "time_limit_s": config.get("time_limit_s"),
+        "outcome": s["outcome"],
+        "reached": s["outcome"] == "reached",
+        "time_s": s["time_s"],
+        "path_m": s["path_length_m"],
+        "path_cm": 100.0 * s["path_length_m"],
+        "collisions": s["collisions"],
+        "camera_looks": s["camera_looks"],
+        "ticks": s["ticks"],
+        "diverting_targets": s.get("diverting_targets", 0),
+        "poses_path_m": walked,
+        "xy": poses[["x", "y"]].to_numpy(),
+    } | config_columns(config)
 
 
 CONFIG = ["scenario", "scenario_sha256", "perception", "time_limit_s"]
@@ -171,10 +208,17 @@ def _conditions(runs: pd.DataFrame) -> pd.DataFrame:
         varying = [c for c in keys[1:] if g[c].astype(str).nunique() > 1]  # all but the scenario's name
         for key, _ in g.groupby(keys, sort=True):
             d = dict(zip(keys, key))
-            extra = [f"scenario sha256 {str(d['scenario_sha256'])[:8]}" if c == "scenario_sha256"
-                     else f"time limit {d[c]:g} s" if c == "time_limit_s" and d[c] != "?"
-                     else f"{c.removeprefix('params.')}={d[c]:g}" if isinstance(d[c], float)
-                     else f"{c.removeprefix('params.')}={d[c]}" for c in varying if c != "perception"]
+            extra = [
+                f"scenario sha256 {str(d['scenario_sha256'])[:8]}"
+                if c == "scenario_sha256"
+                else f"time limit {d[c]:g} s"
+                if c == "time_limit_s" and d[c] != "?"
+                else f"{c.removeprefix('params.')}={d[c]:g}"
+                if isinstance(d[c], float)
+                else f"{c.removeprefix('params.')}={d[c]}"
+                for c in varying
+                if c != "perception"
+            ]
             labels[key] = f"{scenario} ({d['perception']} perception{''.join(', ' + e for e in extra)})"
     runs["condition"] = [labels[tuple(r)] for r in k[keys].itertuples(index=False)]
     return runs
@@ -199,10 +243,19 @@ def pilot_table(runs: pd.DataFrame) -> pd.DataFrame:
         ok = g[g["reached"]]
         n, k = len(g), int(g["reached"].sum())
         lo, hi = wilson_interval(k, n)
-        row = {"condition": condition, "scenario": g_all["scenario"].iloc[0],
-               "perception": g_all["perception"].iloc[0], "pilot": pilot, "runs": n, "reached": k,
-               "failed": n - k, "interrupted": len(g_all) - n, "success_rate": k / n if n else math.nan,
-               "success_ci_low": lo, "success_ci_high": hi}
+        row = {
+            "condition": condition,
+            "scenario": g_all["scenario"].iloc[0],
+            "perception": g_all["perception"].iloc[0],
+            "pilot": pilot,
+            "runs": n,
+            "reached": k,
+            "failed": n - k,
+            "interrupted": len(g_all) - n,
+            "success_rate": k / n if n else math.nan,
+            "success_ci_low": lo,
+            "success_ci_high": hi,
+        }
         for col in ("time_s", "path_cm", "collisions", "camera_looks"):
             row[f"{col}_mean"] = float(ok[col].mean()) if len(ok) else math.nan
             row[f"{col}_std"] = float(ok[col].std(ddof=1)) if len(ok) > 1 else math.nan
@@ -234,16 +287,38 @@ def improvements(runs: pd.DataFrame, baseline: str) -> pd.DataFrame:
                 b = base.loc[seeds, metric].to_numpy(float)
                 p = other.loc[seeds, metric].to_numpy(float)
                 imp, lo, hi, pval = paired_improvement(b, p)
-                out.append({"condition": condition, "pilot": pilot, "baseline": baseline,
-                            "metric": metric,
-                            "pairs": len(seeds), "improvement_pct": imp, "ci95_low": lo, "ci95_high": hi,
-                            "p_value": pval})
-    return pd.DataFrame(out, columns=["condition", "pilot", "baseline", "metric", "pairs", "improvement_pct",
-                                      "ci95_low", "ci95_high", "p_value"])
+                out.append(
+                    {
+                        "condition": condition,
+                        "pilot": pilot,
+                        "baseline": baseline,
+                        "metric": metric,
+                        "pairs": len(seeds),
+                        "improvement_pct": imp,
+                        "ci95_low": lo,
+                        "ci95_high": hi,
+                        "p_value": pval,
+                    }
+                )
+    return pd.DataFrame(
+        out,
+        columns=[
+            "condition",
+            "pilot",
+            "baseline",
+            "metric",
+            "pairs",
+            "improvement_pct",
+            "ci95_low",
+            "ci95_high",
+            "p_value",
+        ],
+    )
 
 
-def notes(runs: pd.DataFrame, table: pd.DataFrame, imps: pd.DataFrame, baseline: str,
-          skipped: Sequence[tuple[str, str]] = ()) -> list[str]:
+def notes(
+    runs: pd.DataFrame, table: pd.DataFrame, imps: pd.DataFrame, baseline: str, skipped: Sequence[tuple[str, str]] = ()
+) -> list[str]:
     """What the table cannot say, in words: skipped logs, interrupted runs left out, an unknown
     baseline, a single pilot, too few pairs for the test, no reached run."""
     out = [f"skipped {path}: {why}" for path, why in skipped]
@@ -254,20 +329,23 @@ def notes(runs: pd.DataFrame, table: pd.DataFrame, imps: pd.DataFrame, baseline:
         if r.runs and not r.reached:
             out.append(f"{r.condition}, {r.pilot}: no run reached the target, so no time or path averages")
     if baseline not in pilots:
-        out.append(f"baseline {baseline!r} is not among the pilots of these runs ({', '.join(pilots)}): "
-                   "no improvements table (--baseline names one of them)")
+        out.append(
+            f"baseline {baseline!r} is not among the pilots of these runs ({', '.join(pilots)}): "
+            "no improvements table (--baseline names one of them)"
+        )
     elif len(pilots) == 1:
         out.append(f"only one pilot ({pilots[0]}): nothing to compare it with")
     for (condition, pilot), g in imps.groupby(["condition", "pilot"], sort=True) if len(imps) else ():
         pairs = int(g["pairs"].iloc[0])
         if pairs < 2:
-            out.append(f"{condition}, {pilot} vs {baseline}: {pairs} pair(s) where both reached the target; "
-                       "at least 2 are needed for an improvement with an interval")
+            out.append(
+                f"{condition}, {pilot} vs {baseline}: {pairs} pair(s) where both reached the target; "
+                "at least 2 are needed for an improvement with an interval"
+            )
         elif pairs < MIN_SAMPLE:
             note = f"{small_sample(f'{condition}, {pilot} vs {baseline}', pairs, 'pairs')}"
             if pairs < MIN_PAIRS:
-                note += (f", and the paired test cannot reach p < 0.05 (its least p is 2/2^{pairs} = "
-                         f"{2 / 2 ** pairs:.3g})")
+                note += f", and the paired test cannot reach p < 0.05 (its least p is 2/2^{pairs} = {2 / 2**pairs:.3g})"
             out.append(note)
     return out
 
@@ -285,9 +363,9 @@ def paired_improvement(base: np.ndarray, pilot: np.ndarray, seed: int = 0) -> tu
     lo, hi = np.percentile(boot, [2.5, 97.5])
     d = base - pilot
     if n <= EXACT_UP_TO:  # every one of the 2^n sign assignments: the exact p-value
-        signs = 1.0 - 2.0 * ((np.arange(2 ** n)[:, None] >> np.arange(n)) & 1)
+        signs = 1.0 - 2.0 * ((np.arange(2**n)[:, None] >> np.arange(n)) & 1)
         null = np.abs((signs * d).mean(axis=1))
-        pval = np.count_nonzero(null >= abs(d.mean()) - 1e-12) / 2 ** n
+        pval = np.count_nonzero(null >= abs(d.mean()) - 1e-12) / 2**n
     else:
         signs = rng.choice([-1.0, 1.0], size=(RESAMPLES, n))
         null = np.abs((signs * d).mean(axis=1))
@@ -309,15 +387,21 @@ def overview(table: pd.DataFrame, imps: pd.DataFrame) -> list[str]:
     95 % intervals and p-values: a sweep's sensitivity at a glance."""
     if not len(imps):
         return []
-    lines = ["### Every condition: each pilot against the baseline", "",
-             "| condition | pilot vs baseline | reached | time (s) | path (cm) | pairs | time gain, 95 % CI, p "
-             "| path gain, 95 % CI, p |",
-             "| --- | --- | --- | --- | --- | ---: | --- | --- |"]
+    lines = [
+        "### Every condition: each pilot against the baseline",
+        "",
+        "| condition | pilot vs baseline | reached | time (s) | path (cm) | pairs | time gain, 95 % CI, p "
+        "| path gain, 95 % CI, p |",
+        "| --- | --- | --- | --- | --- | ---: | --- | --- |",
+    ]
     rows = table.set_index(["condition", "pilot"])
 
     def gain(r) -> str:
-        return "-" if math.isnan(r.improvement_pct) else \
-            f"{r.improvement_pct:+.1f} % [{r.ci95_low:+.1f}, {r.ci95_high:+.1f}], {r.p_value:.4f}"
+        return (
+            "-"
+            if math.isnan(r.improvement_pct)
+            else f"{r.improvement_pct:+.1f} % [{r.ci95_low:+.1f}, {r.ci95_high:+.1f}], {r.p_value:.4f}"
+        )
 
     for (condition, pilot), g in imps.groupby(["condition", "pilot"], sort=True):
         base = g["baseline"].iloc[0]
@@ -327,8 +411,10 @@ def overview(table: pd.DataFrame, imps: pd.DataFrame) -> list[str]:
         by = g.set_index("metric")
         t = " / ".join(_number(x, 1) for x in (a.time_s_mean, b.time_s_mean))
         pth = " / ".join(_number(x, 0) for x in (a.path_cm_mean, b.path_cm_mean))
-        lines.append(f"| {condition} | {pilot} vs {base} | {a.reached}/{a.runs} vs {b.reached}/{b.runs} | {t} | "
-                     f"{pth} | {int(g['pairs'].iloc[0])} | {gain(by.loc['time_s'])} | {gain(by.loc['path_cm'])} |")
+        lines.append(
+            f"| {condition} | {pilot} vs {base} | {a.reached}/{a.runs} vs {b.reached}/{b.runs} | {t} | "
+            f"{pth} | {int(g['pairs'].iloc[0])} | {gain(by.loc['time_s'])} | {gain(by.loc['path_cm'])} |"
+        )
     return lines + [""]
 
 
@@ -338,54 +424,78 @@ def markdown(table: pd.DataFrame, imps: pd.DataFrame, remarks: Sequence[str] = (
     then the improvements."""
     lines = overview(table, imps) if table["condition"].nunique() > 1 else []
     for condition, g in table.groupby("condition", sort=True):
-        lines += [f"### {condition}", "",
-                  "| pilot | reached | success (95 % CI) | time avg (s) | time std | path avg (cm) | path std "
-                  "| time, failures at the limit (s) | collisions avg (all runs) | camera looks avg |",
-                  "| --- | --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"]
+        lines += [
+            f"### {condition}",
+            "",
+            "| pilot | reached | success (95 % CI) | time avg (s) | time std | path avg (cm) | path std "
+            "| time, failures at the limit (s) | collisions avg (all runs) | camera looks avg |",
+            "| --- | --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: |",
+        ]
         for r in g.itertuples():
             t, ts = _fmt(r.time_s_mean, r.time_s_std)
             p, ps = _fmt(r.path_cm_mean, r.path_cm_std)
             tl, _ = _fmt(r.time_fail_at_limit_mean, 0.0)
             c, _ = _fmt(r.collisions_all_mean, 0.0)
             k, _ = _fmt(r.camera_looks_mean, 0.0, 1)
-            rate = "-" if not r.runs else \
-                f"{100 * r.success_rate:.0f} % [{100 * r.success_ci_low:.0f}, {100 * r.success_ci_high:.0f}]"
+            rate = (
+                "-"
+                if not r.runs
+                else f"{100 * r.success_rate:.0f} % [{100 * r.success_ci_low:.0f}, {100 * r.success_ci_high:.0f}]"
+            )
             lines.append(f"| {r.pilot} | {r.reached}/{r.runs} | {rate} | {t} | {ts} | {p} | {ps} | {tl} | {c} | {k} |")
-        lines += ["", "| pilot | reached | blocked | timeout | error | diverting targets avg | runs with 0 / 1 / 2 / 3+ |",
-                  "| --- | ---: | ---: | ---: | ---: | ---: | --- |"]
+        lines += [
+            "",
+            "| pilot | reached | blocked | timeout | error | diverting targets avg | runs with 0 / 1 / 2 / 3+ |",
+            "| --- | ---: | ---: | ---: | ---: | ---: | --- |",
+        ]
         for r in g.itertuples():
             d, _ = _fmt(r.diverting_targets_mean, 0.0)
-            lines.append(f"| {r.pilot} | {r.outcome_reached} | {r.outcome_blocked} | {r.outcome_timeout} | "
-                         f"{r.outcome_error} | {d} | {r.diverting_0} / {r.diverting_1} / {r.diverting_2} / "
-                         f"{r.diverting_3_or_more} |")
+            lines.append(
+                f"| {r.pilot} | {r.outcome_reached} | {r.outcome_blocked} | {r.outcome_timeout} | "
+                f"{r.outcome_error} | {d} | {r.diverting_0} / {r.diverting_1} / {r.diverting_2} / "
+                f"{r.diverting_3_or_more} |"
+            )
         lines.append("")
         gi = imps[imps["condition"] == condition] if len(imps) else imps
         if len(gi):
-            lines += ["| pilot vs baseline | metric | pairs (both reached) | improvement | 95 % CI | p (paired) |",
-                      "| --- | --- | ---: | ---: | --- | ---: |"]
+            lines += [
+                "| pilot vs baseline | metric | pairs (both reached) | improvement | 95 % CI | p (paired) |",
+                "| --- | --- | ---: | ---: | --- | ---: |",
+            ]
             for r in gi.itertuples():
                 if math.isnan(r.improvement_pct):
                     lines.append(f"| {r.pilot} vs {r.baseline} | {METRICS[r.metric]} | {r.pairs} | - | - | - |")
                 else:
-                    lines.append(f"| {r.pilot} vs {r.baseline} | {METRICS[r.metric]} | {r.pairs} | "
-                                 f"{r.improvement_pct:+.1f} % | [{r.ci95_low:+.1f}, {r.ci95_high:+.1f}] % | "
-                                 f"{r.p_value:.4f} |")
+                    lines.append(
+                        f"| {r.pilot} vs {r.baseline} | {METRICS[r.metric]} | {r.pairs} | "
+                        f"{r.improvement_pct:+.1f} % | [{r.ci95_low:+.1f}, {r.ci95_high:+.1f}] % | "
+                        f"{r.p_value:.4f} |"
+                    )
             lines.append("")
     if remarks:
         lines += ["Notes:", ""] + [f"- {n}" for n in remarks] + [""]
     return "\n".join(lines)
 
 
-def write_report(runs: pd.DataFrame, out: str | Path, baseline: str = "geometric",
-                 skipped: Sequence[tuple[str, str]] = (), plots: bool = True) -> dict[str, Path]:
+def write_report(
+    runs: pd.DataFrame,
+    out: str | Path,
+    baseline: str = "geometric",
+    skipped: Sequence[tuple[str, str]] = (),
+    plots: bool = True,
+) -> dict[str, Path]:
     """Table (CSV, Markdown with its notes) and, with ``plots``, trajectories and box plots into
     ``out``; returns what was written."""
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     table = pilot_table(runs)
     imps = improvements(runs, baseline) if baseline in set(runs["pilot"]) else improvements(runs.iloc[:0], baseline)
-    files = {"runs": out / REPORT_FILES[0], "table": out / REPORT_FILES[1], "improvements": out / REPORT_FILES[2],
-             "markdown": out / REPORT_FILES[3]}
+    files = {
+        "runs": out / REPORT_FILES[0],
+        "table": out / REPORT_FILES[1],
+        "improvements": out / REPORT_FILES[2],
+        "markdown": out / REPORT_FILES[3],
+    }
     for key, frame in (("runs", runs.drop(columns=["xy"], errors="ignore")), ("table", table), ("improvements", imps)):
         write_csv(files[key], frame)
     write_markdown(files["markdown"], markdown(table, imps, notes(runs, table, imps, baseline, skipped)))

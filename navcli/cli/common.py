@@ -44,8 +44,11 @@ def _print_version(value: bool) -> None:
 
 
 @app.callback()
-def _options(version: Annotated[bool, typer.Option(
-        "--version", callback=_print_version, is_eager=True, help="Print navcli's version and exit.")] = False) -> None:
+def _options(
+    version: Annotated[
+        bool, typer.Option("--version", callback=_print_version, is_eager=True, help="Print navcli's version and exit.")
+    ] = False,
+) -> None:
     pass
 
 
@@ -56,7 +59,7 @@ PerceptionName = Enum("PerceptionName", {n: n for n in PERCEPTIONS}, type=str)  
 
 SCENARIO_HELP = "A scenario YAML file, or a bundled scenario's name (`navcli scenarios` lists them; a file wins)"
 SCENARIOS_HELP = "Scenario YAML files, or bundled scenarios' names (`navcli scenarios` lists them; a file wins)"
-MAX_SEED = 2 ** 64 - 1
+MAX_SEED = 2**64 - 1
 """The largest seed (numpy's SeedSequence takes any; the log stores an unsigned 64-bit one)."""
 MAX_JOBS = 256
 """Most local worker processes (each forks the whole of navcli: some 100 MB)."""
@@ -70,18 +73,30 @@ def finite(value: Optional[float]) -> Optional[float]:
     return value
 
 
-PILOT_HELP = ("potential-field, geometric, an installed plugin's name (entry point navcli.pilots) or module:Class "
-              "(a module importable here, or path/to/file.py:Class)")
-PilotOption = Annotated[Optional[str], typer.Option(metavar="NAME", help=f"Pilot: {PILOT_HELP} (default: the scenario's "
-                                                                          "mission.pilot).")]
-NAVIGATION_HELP = ("who chooses the Navigation system's moves and looks: agents (its bidding agents), hand-coded "
-                   "(the learning paper's hand-coded policy), learned[:FILE] (the Learning Agent; without FILE the "
-                   "model bundled with navcli), a policy plugin's name (entry point navcli.policies) or module:Class, "
-                   "or agents+NAME: a plugin's agent bidding beside the bidding agents")
-ParamOption = Annotated[Optional[list[str]], typer.Option(
-    "--param", metavar="NAME=VALUE",
-    help="Override any parameter by its dotted name (pilot.K, pilot.R_min, navigation.kappa1, robot.max_speed, "
-         "vision.forget_above ...; `navcli params` lists them); repeatable, e.g. --param pilot.K=20.")]
+PILOT_HELP = (
+    "potential-field, geometric, an installed plugin's name (entry point navcli.pilots) or module:Class "
+    "(a module importable here, or path/to/file.py:Class)"
+)
+PilotOption = Annotated[
+    Optional[str], typer.Option(metavar="NAME", help=f"Pilot: {PILOT_HELP} (default: the scenario's mission.pilot).")
+]
+NAVIGATION_HELP = (
+    "who chooses the Navigation system's moves and looks: agents (its bidding agents), hand-coded "
+    "(the learning paper's hand-coded policy), learned[:FILE] (the Learning Agent; without FILE the "
+    "model bundled with navcli), a policy plugin's name (entry point navcli.policies) or module:Class, "
+    "or agents+NAME: a plugin's agent bidding beside the bidding agents"
+)
+ParamOption = Annotated[
+    Optional[list[str]],
+    typer.Option(
+        "--param",
+        metavar="NAME=VALUE",
+        help="Override any parameter by its dotted name (pilot.K, pilot.R_min, navigation.kappa1, robot.max_speed, "
+        "vision.forget_above ...; `navcli params` lists them); repeatable, e.g. --param pilot.K=20.",
+    ),
+]
+
+
 def scheduler_address(value: Optional[str]) -> Optional[str]:
     """A ``--scheduler`` checked before anything connects: ``tcp://HOST:PORT`` (the port 1-65535)."""
     import re
@@ -94,10 +109,18 @@ def scheduler_address(value: Optional[str]) -> Optional[str]:
     return value.strip()
 
 
-SchedulerOption = Annotated[Optional[str], typer.Option(
-    metavar="ADDRESS", callback=scheduler_address, help="Send the runs to the Dask cluster whose scheduler is at tcp://HOST:PORT instead of "
-                            "local worker processes (needs navcli[cluster]).")]
-JobsOption = Annotated[Optional[int], typer.Option(min=1, max=MAX_JOBS, help="Local worker processes (default: the machine's cores).")]
+SchedulerOption = Annotated[
+    Optional[str],
+    typer.Option(
+        metavar="ADDRESS",
+        callback=scheduler_address,
+        help="Send the runs to the Dask cluster whose scheduler is at tcp://HOST:PORT instead of "
+        "local worker processes (needs navcli[cluster]).",
+    ),
+]
+JobsOption = Annotated[
+    Optional[int], typer.Option(min=1, max=MAX_JOBS, help="Local worker processes (default: the machine's cores).")
+]
 
 
 def choice(value: Optional[Enum]) -> Optional[str]:
@@ -170,8 +193,14 @@ def progress_bar(*columns: Any) -> Any:
     (default: the time elapsed). Hidden when stderr is not a terminal (logs of batch jobs)."""
     from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
 
-    return Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(),
-                    *(columns or (TimeElapsedColumn(),)), transient=True, disable=not sys.stderr.isatty())
+    return Progress(
+        TextColumn("{task.description}"),
+        BarColumn(),
+        MofNCompleteColumn(),
+        *(columns or (TimeElapsedColumn(),)),
+        transient=True,
+        disable=not sys.stderr.isatty(),
+    )
 
 
 def require_extra(module: str, what: str) -> Any:
@@ -219,9 +248,13 @@ class MissionProgress:
                 return
             from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
-            self.bar = Progress(TextColumn("{task.description}"), BarColumn(),
-                                TextColumn("{task.completed:.0f}/{task.total:.0f} sim s"), TimeElapsedColumn(),
-                                transient=True)
+            self.bar = Progress(
+                TextColumn("{task.description}"),
+                BarColumn(),
+                TextColumn("{task.completed:.0f}/{task.total:.0f} sim s"),
+                TimeElapsedColumn(),
+                transient=True,
+            )
             self.bar.start()
             self.task = self.bar.add_task(self.label, total=self.limit)
         self.bar.update(self.task, completed=mission.time)

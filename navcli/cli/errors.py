@@ -103,8 +103,10 @@ def guarded(fn: Callable[..., Any]) -> Callable[..., Any]:
             if isinstance(e, OSError):
                 say(f"error: {e.strerror or e}" + (f": {e.filename}" if e.filename else ""))
             else:
-                say(f"navcli: internal error: {type(e).__name__}: {e}\n(a bug in navcli: please report it with "
-                    f"the command that raised it; NAVCLI_DEBUG=1 shows the traceback)")
+                say(
+                    f"navcli: internal error: {type(e).__name__}: {e}\n(a bug in navcli: please report it with "
+                    f"the command that raised it; NAVCLI_DEBUG=1 shows the traceback)"
+                )
             raise typer.Exit(EXIT_INTERNAL) from None
 
     return command

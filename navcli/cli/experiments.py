@@ -12,9 +12,27 @@ from typing import Annotated, Optional
 import typer
 
 from ..analysis.files import without_mark
-from .common import (MAX_JOBS, MAX_SEED, SCENARIO_HELP, SCENARIOS_HELP, JobsOption, ParamOption, PerceptionName,
-                     PilotOption, SchedulerOption, app, build_spec, choice, compare_app, executor_for, finite, out_file,
-                     out_folder, progress_bar, require_extra)
+from .common import (
+    MAX_JOBS,
+    MAX_SEED,
+    SCENARIO_HELP,
+    SCENARIOS_HELP,
+    JobsOption,
+    ParamOption,
+    PerceptionName,
+    PilotOption,
+    SchedulerOption,
+    app,
+    build_spec,
+    choice,
+    compare_app,
+    executor_for,
+    finite,
+    out_file,
+    out_folder,
+    progress_bar,
+    require_extra,
+)
 from .errors import EXIT_INTERNAL, about, on_stop, refuse, say
 from .views import write_tables
 
@@ -25,15 +43,25 @@ app.add_typer(compare_app, name="compare")
 def compare_pilots(
     scenarios: Annotated[list[Path], typer.Argument(metavar="SCENARIOS", help=SCENARIOS_HELP + ".")],
     reruns: Annotated[int, typer.Option(min=1, max=10_000, help="Reruns per scenario and pilot (the paper: 45).")] = 45,
-    pilots: Annotated[str, typer.Option(help="Comma-separated pilots, the last the baseline: navcli's (potential-field, "
-                                             "geometric), installed plugins' names, or module:Class.")] =
-        "potential-field,geometric",
-    jobs: Annotated[Optional[int], typer.Option(min=1, max=MAX_JOBS, help="Worker processes (default: the machine's cores).")] = None,
+    pilots: Annotated[
+        str,
+        typer.Option(
+            help="Comma-separated pilots, the last the baseline: navcli's (potential-field, "
+            "geometric), installed plugins' names, or module:Class."
+        ),
+    ] = "potential-field,geometric",
+    jobs: Annotated[
+        Optional[int], typer.Option(min=1, max=MAX_JOBS, help="Worker processes (default: the machine's cores).")
+    ] = None,
     out: Annotated[Path, typer.Option(help="Folder for the logs, the table and the plots.")] = Path("logs/compare"),
-    time_limit: Annotated[Optional[float], typer.Option(min=0.1, callback=finite, help="Override the scenarios' time limit (s).")] = None,
+    time_limit: Annotated[
+        Optional[float], typer.Option(min=0.1, callback=finite, help="Override the scenarios' time limit (s).")
+    ] = None,
     param: ParamOption = None,
-    perception: Annotated[Optional[PerceptionName], typer.Option(
-        help="vision or oracle for every run (default: each scenario's mission.perception).")] = None,
+    perception: Annotated[
+        Optional[PerceptionName],
+        typer.Option(help="vision or oracle for every run (default: each scenario's mission.perception)."),
+    ] = None,
     scheduler: SchedulerOption = None,
 ) -> None:
     """The pilot paper's Table 1: every pilot on every scenario with the same seeds, in parallel;
@@ -52,7 +80,9 @@ def compare_pilots(
     first: dict[str, Path] = {}
     for path, spec in zip(scenarios, specs):
         if spec.run_id in first:
-            raise refuse(f"SCENARIOS: {first[spec.run_id]} and {path} are the same scenario: each run would be made twice")
+            raise refuse(
+                f"SCENARIOS: {first[spec.run_id]} and {path} are the same scenario: each run would be made twice"
+            )
         first[spec.run_id] = path
     from ..analysis.tables import REPORT_FILES
     from ..experiments.compare import plan, run_on
@@ -81,8 +111,9 @@ def compare_pilots(
         with on_stop("completed logs are kept; run the same command again to resume"):
             run_on(work, ex, done)
     wall = time.perf_counter() - t0
-    typer.echo(f"{len(work)} runs ({ran} run now, {len(work) - ran} already complete) in {wall:.1f} s "
-               f"on {workers} workers")
+    typer.echo(
+        f"{len(work)} runs ({ran} run now, {len(work) - ran} already complete) in {wall:.1f} s on {workers} workers"
+    )
     for r in failed:
         j = r.job.spec
         why = r.message if r.message.startswith(r.outcome) else f"{r.outcome}: {r.message}".rstrip(": ")
@@ -92,18 +123,32 @@ def compare_pilots(
 
 @compare_app.command("policies")
 def compare_policies(
-    scenario: Annotated[Path, typer.Argument(metavar="SCENARIO", help=SCENARIO_HELP + " (the paper's setting: landmarks-12).")],
-    policy: Annotated[Optional[list[str]], typer.Option(
-        "--policy", metavar="POLICY", help="learned (the bundled model), learned:FILE (a model of `navcli train`, Prioritized Sweeping "
-                         "or Q-learning), hand-coded, agents, random (a uniform random action at every choice, seeded), a baseline "
-                         "of one action in every state (all-MB, all-MLL, all-MOT, all-MVL, all-MVT), or a Navigation policy plugin (its name, module:Class, or agents+NAME: run as "
-                         "agents is); repeatable (default: learned, hand-coded, random, agents). Every policy runs the "
-                         "learning paper's task (learning.paper_task=0: navcli's first one).")] = None,
+    scenario: Annotated[
+        Path, typer.Argument(metavar="SCENARIO", help=SCENARIO_HELP + " (the paper's setting: landmarks-12).")
+    ],
+    policy: Annotated[
+        Optional[list[str]],
+        typer.Option(
+            "--policy",
+            metavar="POLICY",
+            help="learned (the bundled model), learned:FILE (a model of `navcli train`, Prioritized Sweeping "
+            "or Q-learning), hand-coded, agents, random (a uniform random action at every choice, seeded), a baseline "
+            "of one action in every state (all-MB, all-MLL, all-MOT, all-MVL, all-MVT), or a Navigation policy plugin (its name, module:Class, or agents+NAME: run as "
+            "agents is); repeatable (default: learned, hand-coded, random, agents). Every policy runs the "
+            "learning paper's task (learning.paper_task=0: navcli's first one).",
+        ),
+    ] = None,
     runs: Annotated[int, typer.Option(min=1, max=1000, help="Runs (seeds of the missions' noise) per policy.")] = 5,
-    starts: Annotated[int, typer.Option(min=1, max=10_000, help="Fixed random starts per run, those `navcli train` evaluates on "
-                                                    "(the paper: 99).")] = 99,
-    out: Annotated[Path, typer.Option(help="Folder for the per-run trials (runs/*.json), policies.csv, policies.md "
-                                           "and trials.csv.")] = Path("logs/compare-policies"),
+    starts: Annotated[
+        int,
+        typer.Option(
+            min=1, max=10_000, help="Fixed random starts per run, those `navcli train` evaluates on (the paper: 99)."
+        ),
+    ] = 99,
+    out: Annotated[
+        Path,
+        typer.Option(help="Folder for the per-run trials (runs/*.json), policies.csv, policies.md and trials.csv."),
+    ] = Path("logs/compare-policies"),
     jobs: JobsOption = None,
     scheduler: SchedulerOption = None,
     param: ParamOption = None,
@@ -137,8 +182,10 @@ def compare_policies(
                 results = run_all(work, ex, lambda r: bar.advance(task))
             workers = getattr(ex, "workers", 1)
     ran = sum(r.ran for r in results)
-    typer.echo(f"{len(work)} (policy, run) pairs of {starts} trials ({ran} run now, {len(work) - ran} kept) in "
-               f"{time.perf_counter() - t0:.1f} s on {workers} workers")
+    typer.echo(
+        f"{len(work)} (policy, run) pairs of {starts} trials ({ran} run now, {len(work) - ran} kept) in "
+        f"{time.perf_counter() - t0:.1f} s on {workers} workers"
+    )
     errors = [r for r in results if r.trials is None]
     for r in errors:
         say(f"  failed: {r.job.policy.label} run {r.job.run}: {r.error}")
@@ -152,11 +199,21 @@ def compare_policies(
 
 @app.command()
 def sweep(
-    plan: Annotated[Path, typer.Argument(metavar="PLAN", help="Plan file (YAML): scenarios (files or bundled names), seeds, a grid or a random sample of "
-                                              "--param values; see the README.")],
-    out: Annotated[Optional[Path], typer.Option(
-        help="Folder for the results table (results.parquet) and the logs (default: logs/sweep/<plan name>); "
-             "on a cluster, a path every worker can write.")] = None,
+    plan: Annotated[
+        Path,
+        typer.Argument(
+            metavar="PLAN",
+            help="Plan file (YAML): scenarios (files or bundled names), seeds, a grid or a random sample of "
+            "--param values; see the README.",
+        ),
+    ],
+    out: Annotated[
+        Optional[Path],
+        typer.Option(
+            help="Folder for the results table (results.parquet) and the logs (default: logs/sweep/<plan name>); "
+            "on a cluster, a path every worker can write."
+        ),
+    ] = None,
     jobs: JobsOption = None,
     scheduler: SchedulerOption = None,
     no_logs: Annotated[bool, typer.Option("--no-logs", help="Run without logs; keep only the results table.")] = False,
@@ -167,7 +224,9 @@ def sweep(
     from ..experiments.sweep import load_plan, plan_runs, run_sweep
 
     p = load_plan(plan)
-    out = out_folder(out or Path("logs") / "sweep" / plan.stem, ("results.parquet",) + (("results.csv",) if csv else ()))
+    out = out_folder(
+        out or Path("logs") / "sweep" / plan.stem, ("results.parquet",) + (("results.csv",) if csv else ())
+    )
     runs = plan_runs(p, None if no_logs else out)
     table = out / "results.parquet"
     from rich.progress import TextColumn, TimeRemainingColumn
@@ -183,8 +242,10 @@ def sweep(
             with on_stop(f"the finished runs are in {table}; run the same command again to resume"):
                 stats = run_sweep(runs, table, ex, csv=csv, on_row=row)
     wall = time.perf_counter() - t0
-    typer.echo(f"{stats.total} runs: {stats.done} run now in {wall:.1f} s, {stats.skipped} already in the table; "
-               f"{stats.failed} did not reach the target, {stats.errors} raised an error")
+    typer.echo(
+        f"{stats.total} runs: {stats.done} run now in {wall:.1f} s, {stats.skipped} already in the table; "
+        f"{stats.failed} did not reach the target, {stats.errors} raised an error"
+    )
     typer.echo(f"wrote {table}" + (f" and {table.with_suffix('.csv')}" if csv else ""))
     if stats.errors:
         raise typer.Exit(EXIT_INTERNAL)
@@ -192,32 +253,57 @@ def sweep(
 
 @app.command()
 def tune(
-    scenarios: Annotated[list[Path], typer.Argument(metavar="SCENARIOS", help=SCENARIOS_HELP + "; every trial runs each of them.")],
-    param: Annotated[list[str], typer.Option(
-        "--param", metavar="NAME=LOW:HIGH",
-        help="A parameter to tune in [LOW, HIGH] (NAME alone: [0, 5]); NAME=VALUE fixes it for every trial. "
-             "Repeatable; names as `navcli params` lists them.")],
-    algorithm: Annotated[str, typer.Option(help="tpe (Optuna), cmaes (Optuna) or ga (DEAP's eaSimple, the "
-                                                "thesis' generational GA).")] = "tpe",
-    trials: Annotated[int, typer.Option(min=1, max=100_000, help="Finished trials the study should hold (tpe, cmaes).")] = 100,
-    seeds: Annotated[int, typer.Option(min=1, max=10_000, help="Runs per scenario per trial (the same seeds for every trial).")] = 3,
-    objective: Annotated[str, typer.Option(
-        help="fitness (success rate, mean steps and their spread; see navcli/experiments/tune.py), success "
-             "(rate) or time (minus the mean time, failures at the limit). Maximised.")] = "fitness",
-    storage: Annotated[Optional[Path], typer.Option(
-        help="The study's journal file (tpe, cmaes) or the GA's checkpoint; an existing one of the same problem "
-             "is resumed. Default: OUT/study.journal or OUT/ga.json.")] = None,
-    out: Annotated[Path, typer.Option(help="Folder for history.csv, best.json, best.yaml, objective.png.")] =
-        Path("logs/tune"),
+    scenarios: Annotated[
+        list[Path], typer.Argument(metavar="SCENARIOS", help=SCENARIOS_HELP + "; every trial runs each of them.")
+    ],
+    param: Annotated[
+        list[str],
+        typer.Option(
+            "--param",
+            metavar="NAME=LOW:HIGH",
+            help="A parameter to tune in [LOW, HIGH] (NAME alone: [0, 5]); NAME=VALUE fixes it for every trial. "
+            "Repeatable; names as `navcli params` lists them.",
+        ),
+    ],
+    algorithm: Annotated[
+        str, typer.Option(help="tpe (Optuna), cmaes (Optuna) or ga (DEAP's eaSimple, the thesis' generational GA).")
+    ] = "tpe",
+    trials: Annotated[
+        int, typer.Option(min=1, max=100_000, help="Finished trials the study should hold (tpe, cmaes).")
+    ] = 100,
+    seeds: Annotated[
+        int, typer.Option(min=1, max=10_000, help="Runs per scenario per trial (the same seeds for every trial).")
+    ] = 3,
+    objective: Annotated[
+        str,
+        typer.Option(
+            help="fitness (success rate, mean steps and their spread; see navcli/experiments/tune.py), success "
+            "(rate) or time (minus the mean time, failures at the limit). Maximised."
+        ),
+    ] = "fitness",
+    storage: Annotated[
+        Optional[Path],
+        typer.Option(
+            help="The study's journal file (tpe, cmaes) or the GA's checkpoint; an existing one of the same problem "
+            "is resumed. Default: OUT/study.journal or OUT/ga.json."
+        ),
+    ] = None,
+    out: Annotated[Path, typer.Option(help="Folder for history.csv, best.json, best.yaml, objective.png.")] = Path(
+        "logs/tune"
+    ),
     jobs: JobsOption = None,
     scheduler: SchedulerOption = None,
-    time_limit: Annotated[Optional[float], typer.Option(min=0.1, callback=finite, help="Override the scenarios' time limit (s).")] = None,
+    time_limit: Annotated[
+        Optional[float], typer.Option(min=0.1, callback=finite, help="Override the scenarios' time limit (s).")
+    ] = None,
     perception: Annotated[Optional[PerceptionName], typer.Option(help="vision or oracle for every run.")] = None,
     pilot: PilotOption = None,
     seed: Annotated[int, typer.Option(min=0, max=MAX_SEED, help="Seed of the optimiser (not of the runs).")] = 1,
     population: Annotated[int, typer.Option(min=2, max=10_000, help="GA: individuals per generation.")] = 20,
     generations: Annotated[int, typer.Option(min=1, max=100_000, help="GA: generations.")] = 100,
-    crossover: Annotated[float, typer.Option(min=0.0, max=1.0, callback=finite, help="GA: crossover probability.")] = 0.8,
+    crossover: Annotated[
+        float, typer.Option(min=0.0, max=1.0, callback=finite, help="GA: crossover probability.")
+    ] = 0.8,
     mutation: Annotated[float, typer.Option(min=0.0, max=1.0, callback=finite, help="GA: mutation probability.")] = 0.1,
 ) -> None:
     """Find parameter values that maximise an objective over scenarios and seeds; prints and writes the
@@ -237,16 +323,22 @@ def tune(
     if not tuned:
         raise refuse("--param: name at least one parameter to tune, as NAME=LOW:HIGH or NAME")
     fixed = [f"{p[0]}={p[1]}" for p in parsed if len(p) == 2]
-    bases = tuple(build_spec(s, fixed, time_limit=time_limit, perception=choice(perception), pilot=pilot)
-                  for s in scenarios)
-    problem = TuneProblem(bases, tuple(p[0] for p in tuned), tuple(p[1] for p in tuned),
-                          tuple(p[2] for p in tuned), seeds, objective)
+    bases = tuple(
+        build_spec(s, fixed, time_limit=time_limit, perception=choice(perception), pilot=pilot) for s in scenarios
+    )
+    problem = TuneProblem(
+        bases, tuple(p[0] for p in tuned), tuple(p[1] for p in tuned), tuple(p[2] for p in tuned), seeds, objective
+    )
     require_extra("deap" if algorithm == "ga" else "optuna", "navcli tune")
     from ..experiments.tune import RESULT_FILES
 
     out_folder(out, RESULT_FILES)
-    storage = out_file(storage or out / ("ga.json" if algorithm == "ga" else "study.journal"),
-                       (".json",) if algorithm == "ga" else (".journal", ".log"), "study file", "--storage")
+    storage = out_file(
+        storage or out / ("ga.json" if algorithm == "ga" else "study.journal"),
+        (".json",) if algorithm == "ga" else (".journal", ".log"),
+        "study file",
+        "--storage",
+    )
     count = 0
 
     def trial(r: dict) -> None:
@@ -257,16 +349,31 @@ def tune(
 
     from ..experiments import tune as t
 
-    with executor_for(jobs, scheduler) as ex, about("--storage", t.CheckpointError), \
-            on_stop(lambda: f"the finished trials are in {storage}; run the same command again to resume"
-                    if storage.exists() else "no trial had finished; nothing was kept"):
+    with (
+        executor_for(jobs, scheduler) as ex,
+        about("--storage", t.CheckpointError),
+        on_stop(
+            lambda: (
+                f"the finished trials are in {storage}; run the same command again to resume"
+                if storage.exists()
+                else "no trial had finished; nothing was kept"
+            )
+        ),
+    ):
         if algorithm == "ga":
-            history = t.tune_ga(problem, ex, storage=storage, seed=seed,
-                                settings=GASettings(population, generations, crossover, mutation), on_trial=trial)
+            history = t.tune_ga(
+                problem,
+                ex,
+                storage=storage,
+                seed=seed,
+                settings=GASettings(population, generations, crossover, mutation),
+                on_trial=trial,
+            )
         else:
             batch = getattr(ex, "workers", None) or jobs or os.cpu_count() or 1
-            history = t.tune_optuna(problem, ex, algorithm=algorithm, trials=trials, storage=storage,
-                                    batch=batch, seed=seed, on_trial=trial)
+            history = t.tune_optuna(
+                problem, ex, algorithm=algorithm, trials=trials, storage=storage, batch=batch, seed=seed, on_trial=trial
+            )
     files = t.write_results(history, problem, out)
     import json
 
@@ -280,18 +387,34 @@ def tune(
 @app.command()
 def reproduce(
     which: Annotated[str, typer.Argument(metavar="[pilots|learning|all]", help="Which paper's experiments.")] = "all",
-    quick: Annotated[bool, typer.Option("--quick", help="Few reruns (minutes on 2 cores), to check the machinery; "
-                                                        "the report says so.")] = False,
-    out: Annotated[Path, typer.Option(help="Folder for the runs, report.md, report.html and the PNGs.")] =
-        Path("logs/reproduce"),
-    train_seeds: Annotated[Optional[int], typer.Option(
-        "--train-seeds", min=1, max=100, help="Trainings (seeds 1..N) behind Figure 3 (default: 5, the full "
-                                               "reproduction's; 2 with --quick); the report says when it differs.")] = None,
+    quick: Annotated[
+        bool,
+        typer.Option("--quick", help="Few reruns (minutes on 2 cores), to check the machinery; the report says so."),
+    ] = False,
+    out: Annotated[Path, typer.Option(help="Folder for the runs, report.md, report.html and the PNGs.")] = Path(
+        "logs/reproduce"
+    ),
+    train_seeds: Annotated[
+        Optional[int],
+        typer.Option(
+            "--train-seeds",
+            min=1,
+            max=100,
+            help="Trainings (seeds 1..N) behind Figure 3 (default: 5, the full "
+            "reproduction's; 2 with --quick); the report says when it differs.",
+        ),
+    ] = None,
     jobs: JobsOption = None,
     scheduler: SchedulerOption = None,
-    pilot: Annotated[Optional[list[str]], typer.Option(
-        "--pilot", metavar="NAME", help="Also run this pilot (an installed plugin's name, or module:Class) beside the "
-                                        "paper's two in Table 1 and the trap rooms; repeatable.")] = None,
+    pilot: Annotated[
+        Optional[list[str]],
+        typer.Option(
+            "--pilot",
+            metavar="NAME",
+            help="Also run this pilot (an installed plugin's name, or module:Class) beside the "
+            "paper's two in Table 1 and the trap rooms; repeatable.",
+        ),
+    ] = None,
 ) -> None:
     """Both papers' experiments under their conditions, and a report of navcli's numbers with 95 %
     intervals beside the papers', saying what agrees (the pilot paper's Table 1 with both
@@ -315,7 +438,14 @@ def reproduce(
         settings = QUICK if quick else FULL
         if train_seeds is not None:
             settings = dataclasses.replace(settings, train_seeds=train_seeds)
-        files = run_all_sections(which, out, settings=settings, jobs=jobs or os.cpu_count() or 1,
-                                 scheduler=scheduler, echo=say, pilots=tuple(extra))
+        files = run_all_sections(
+            which,
+            out,
+            settings=settings,
+            jobs=jobs or os.cpu_count() or 1,
+            scheduler=scheduler,
+            echo=say,
+            pilots=tuple(extra),
+        )
     typer.echo(without_mark(files["markdown"].read_text()))
     typer.echo(f"wrote {files['markdown']} and {files['html']} in {time.perf_counter() - t0:.0f} s")

@@ -15,23 +15,44 @@ from .errors import about, refuse, say
 
 @app.command()
 def train(
-    scenario: Annotated[Path, typer.Argument(metavar="SCENARIO", help=SCENARIO_HELP + " (the paper's setting: landmarks-12).")],
-    trials: Annotated[int, typer.Option(min=1, max=1_000_000, help="Training trials in all (the paper: 2000); with "
-                                                                   "--resume, the total to reach.")] = 2000,
-    eval_every: Annotated[int, typer.Option(min=1, max=1_000_000, help="Evaluate the greedy policy every this many trials.")] = 100,
-    eval_starts: Annotated[int, typer.Option(min=1, max=10_000, help="Fixed test starts of each evaluation (the paper: 99).")] = 99,
+    scenario: Annotated[
+        Path, typer.Argument(metavar="SCENARIO", help=SCENARIO_HELP + " (the paper's setting: landmarks-12).")
+    ],
+    trials: Annotated[
+        int,
+        typer.Option(
+            min=1, max=1_000_000, help="Training trials in all (the paper: 2000); with --resume, the total to reach."
+        ),
+    ] = 2000,
+    eval_every: Annotated[
+        int, typer.Option(min=1, max=1_000_000, help="Evaluate the greedy policy every this many trials.")
+    ] = 100,
+    eval_starts: Annotated[
+        int, typer.Option(min=1, max=10_000, help="Fixed test starts of each evaluation (the paper: 99).")
+    ] = 99,
     seed: Annotated[int, typer.Option(min=0, max=MAX_SEED, help="Seed of the training starts and of the learner.")] = 1,
-    out: Annotated[Optional[Path], typer.Option(
-        help="Model file (.npz, with FILE.json, FILE-curve.csv and FILE-curve.png beside it; default: "
-             "logs/<scenario>/<algorithm>-seed<N>.npz).")] = None,
-    resume: Annotated[Optional[Path], typer.Option(help="Continue the training saved in this model file, up to "
-                                                        "--trials in all.")] = None,
-    algorithm: Annotated[str, typer.Option(help="prioritized-sweeping (the paper's) or q-learning (model-free baseline).")]
-        = "prioritized-sweeping",
+    out: Annotated[
+        Optional[Path],
+        typer.Option(
+            help="Model file (.npz, with FILE.json, FILE-curve.csv and FILE-curve.png beside it; default: "
+            "logs/<scenario>/<algorithm>-seed<N>.npz)."
+        ),
+    ] = None,
+    resume: Annotated[
+        Optional[Path], typer.Option(help="Continue the training saved in this model file, up to --trials in all.")
+    ] = None,
+    algorithm: Annotated[
+        str, typer.Option(help="prioritized-sweeping (the paper's) or q-learning (model-free baseline).")
+    ] = "prioritized-sweeping",
     jobs: Annotated[int, typer.Option(min=1, max=MAX_JOBS, help="Worker processes for the evaluations.")] = 2,
-    log: Annotated[str, typer.Option(help="What is recorded of each training trial: summary (a row of "
-                                          "FILE-trials.csv) or full (also every tick, one MCAP log per trial "
-                                          "in FILE-trials/, 10-25 kB a simulated second).")] = "summary",
+    log: Annotated[
+        str,
+        typer.Option(
+            help="What is recorded of each training trial: summary (a row of "
+            "FILE-trials.csv) or full (also every tick, one MCAP log per trial "
+            "in FILE-trials/, 10-25 kB a simulated second)."
+        ),
+    ] = "summary",
     param: ParamOption = None,
 ) -> None:
     """Train the Learning Agent (learning-agent paper, section 6): trials from seeded random starts,
@@ -72,17 +93,35 @@ def train(
 
         try:
             with about("--resume"):
-                res = run_training(spec, trials=trials, eval_every=eval_every, eval_starts=eval_starts, seed=seed,
-                                   algorithm=algorithm, out=out, resume=resume, workers=jobs, log=log,
-                                   on_trial=on_trial)
+                res = run_training(
+                    spec,
+                    trials=trials,
+                    eval_every=eval_every,
+                    eval_starts=eval_starts,
+                    seed=seed,
+                    algorithm=algorithm,
+                    out=out,
+                    resume=resume,
+                    workers=jobs,
+                    log=log,
+                    on_trial=on_trial,
+                )
         except KeyboardInterrupt as e:
             t = getattr(e, "training", None)
-            say(f"{stopped_by(e)}: " + (f"the model saved at {t.saved} trials is in {t.saved_in}; "
-                                        f"--resume {t.saved_in} --trials {t.end} completes the {t.end}"
-                                        if t is not None and t.saved is not None else "no model was saved yet"))
+            say(
+                f"{stopped_by(e)}: "
+                + (
+                    f"the model saved at {t.saved} trials is in {t.saved_in}; "
+                    f"--resume {t.saved_in} --trials {t.end} completes the {t.end}"
+                    if t is not None and t.saved is not None
+                    else "no model was saved yet"
+                )
+            )
             raise typer.Exit(exit_code(e)) from None
-    typer.echo(f"{res.trials} trials ({res.trials - (res.saved_at_start or 0)} now) in {time.perf_counter() - t0:.0f} s: training {res.train_s:.0f} s, "
-               f"evaluations {res.eval_s:.0f} s " + ("in this process" if jobs == 1 else f"of worker time on {jobs} workers"))
+    typer.echo(
+        f"{res.trials} trials ({res.trials - (res.saved_at_start or 0)} now) in {time.perf_counter() - t0:.0f} s: training {res.train_s:.0f} s, "
+        f"evaluations {res.eval_s:.0f} s " + ("in this process" if jobs == 1 else f"of worker time on {jobs} workers")
+    )
     typer.echo(f"training outcomes: {res.outcomes}")
     typer.echo("trials  successes/{}  reward/trial  actions/trial".format(eval_starts))
     for p in res.curve:
@@ -90,5 +129,7 @@ def train(
     typer.echo(f"hand-coded policy: {res.hand_coded}/{eval_starts}; uniform random policy: {res.random}/{eval_starts}")
     trials_csv, trial_logs = trials_paths(out)
     curve_csv, curve_png = curve_paths(out)
-    typer.echo(f"wrote {out}, {out.with_suffix('.json')}, {curve_csv}, {curve_png}, {trials_csv}"
-               + (f" and the trial logs in {trial_logs}/" if log == "full" else ""))
+    typer.echo(
+        f"wrote {out}, {out.with_suffix('.json')}, {curve_csv}, {curve_png}, {trials_csv}"
+        + (f" and the trial logs in {trial_logs}/" if log == "full" else "")
+    )

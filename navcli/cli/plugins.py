@@ -9,8 +9,9 @@ import typer
 from .common import app
 from .errors import EXIT_INTERNAL, say
 
-plugins_app = typer.Typer(help="Pilots and Navigation policies: navcli's own and installed plugins.",
-                          no_args_is_help=True)
+plugins_app = typer.Typer(
+    help="Pilots and Navigation policies: navcli's own and installed plugins.", no_args_is_help=True
+)
 app.add_typer(plugins_app, name="plugins")
 
 KindArgument = Annotated[str, typer.Argument(metavar="KIND", help="pilot or policy.")]

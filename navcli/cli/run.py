@@ -7,35 +7,77 @@ from typing import Annotated, Any, Optional
 
 import typer
 
-from .common import (MAX_SEED, NAVIGATION_HELP, SCENARIO_HELP, ParamOption, PerceptionName, PilotOption, app, build_spec,
-                     check_model, choice, finite)
+from .common import (
+    MAX_SEED,
+    NAVIGATION_HELP,
+    SCENARIO_HELP,
+    ParamOption,
+    PerceptionName,
+    PilotOption,
+    app,
+    build_spec,
+    check_model,
+    choice,
+    finite,
+)
 from .errors import EXIT_BAD_INPUT, EXIT_FAILED_MISSION, about, refuse, say
 
 
 @app.command()
 def run(
     scenario: Annotated[Path, typer.Argument(metavar="SCENARIO", help=SCENARIO_HELP + ".")],
-    seed: Annotated[Optional[int], typer.Option(min=0, max=MAX_SEED, help="Random seed (default: the scenario's mission.seed).")] = None,
+    seed: Annotated[
+        Optional[int], typer.Option(min=0, max=MAX_SEED, help="Random seed (default: the scenario's mission.seed).")
+    ] = None,
     pilot: PilotOption = None,
-    out: Annotated[Optional[Path], typer.Option(
-        help="Log file (default: logs/<scenario>/<pilot>-seed<N>-<run id>.mcap, the run id a hash of the whole "
-             "configuration). Missing folders are created.")] = None,
-    time_limit: Annotated[Optional[float], typer.Option(min=0.1, callback=finite, help="Simulated seconds before the run is declared failed.")] = None,
-    live: Annotated[bool, typer.Option(help="Also serve the run to Foxglove (ws://127.0.0.1:PORT), paced to real time.")] = False,
+    out: Annotated[
+        Optional[Path],
+        typer.Option(
+            help="Log file (default: logs/<scenario>/<pilot>-seed<N>-<run id>.mcap, the run id a hash of the whole "
+            "configuration). Missing folders are created."
+        ),
+    ] = None,
+    time_limit: Annotated[
+        Optional[float],
+        typer.Option(min=0.1, callback=finite, help="Simulated seconds before the run is declared failed."),
+    ] = None,
+    live: Annotated[
+        bool, typer.Option(help="Also serve the run to Foxglove (ws://127.0.0.1:PORT), paced to real time.")
+    ] = False,
     port: Annotated[int, typer.Option(min=0, max=65535, help="WebSocket port for --live (0: any free port).")] = 8765,
-    linger: Annotated[Optional[float], typer.Option(
-        min=0.0, max=86_400.0, callback=finite, metavar="S",
-        help="With --live: once the mission ends, keep serving its final state this many seconds "
-             "(default: until Ctrl-C), so the viewer keeps it on screen.")] = None,
+    linger: Annotated[
+        Optional[float],
+        typer.Option(
+            min=0.0,
+            max=86_400.0,
+            callback=finite,
+            metavar="S",
+            help="With --live: once the mission ends, keep serving its final state this many seconds "
+            "(default: until Ctrl-C), so the viewer keeps it on screen.",
+        ),
+    ] = None,
     param: ParamOption = None,
-    perception: Annotated[Optional[PerceptionName], typer.Option(
-        help="What the agents know: vision (camera and visual memory) or oracle (ground truth, to isolate the "
-             "pilot). Default: the scenario's mission.perception, else vision.")] = None,
-    navigation: Annotated[str, typer.Option(metavar="POLICY", help=NAVIGATION_HELP[0].upper() + NAVIGATION_HELP[1:] + ".")] = "agents",
+    perception: Annotated[
+        Optional[PerceptionName],
+        typer.Option(
+            help="What the agents know: vision (camera and visual memory) or oracle (ground truth, to isolate the "
+            "pilot). Default: the scenario's mission.perception, else vision."
+        ),
+    ] = None,
+    navigation: Annotated[
+        str, typer.Option(metavar="POLICY", help=NAVIGATION_HELP[0].upper() + NAVIGATION_HELP[1:] + ".")
+    ] = "agents",
 ) -> None:
     """Run one mission, record it to an MCAP log and print how it ended."""
-    spec = build_spec(scenario, param, seed=seed, pilot=pilot, time_limit=time_limit,
-                      perception=choice(perception), navigation=navigation)
+    spec = build_spec(
+        scenario,
+        param,
+        seed=seed,
+        pilot=pilot,
+        time_limit=time_limit,
+        perception=choice(perception),
+        navigation=navigation,
+    )
     check_model(spec.navigation)
     import signal
 
@@ -56,8 +98,10 @@ def run(
     def opened(recorder) -> None:  # said once the log is this run's (not before: another run may hold it)
         served.append(recorder)
         if recorder.kept_aside:
-            say(f"note: {recorder.partial} was the unfinished log of an earlier run; it is kept as "
-                f"{recorder.kept_aside} (`navcli recover` makes a readable log of it)")
+            say(
+                f"note: {recorder.partial} was the unfinished log of an earlier run; it is kept as "
+                f"{recorder.kept_aside} (`navcli recover` makes a readable log of it)"
+            )
         if recorder.port is not None:
             say(f"serving the run live on ws://127.0.0.1:{recorder.port} (open it in Foxglove: Open connection)")
 
@@ -66,8 +110,10 @@ def run(
         res = run_mission(spec, out=out, live=live, port=port, on_tick=progress, on_open=opened, keep_serving=live)
     except KeyboardInterrupt as e:  # Ctrl-C or SIGTERM: the log was closed by run_mission
         progress.close()
-        say(("terminated (SIGTERM)" if isinstance(e, Terminated) else "interrupted")
-            + ": the log is closed and marked 'interrupted'")
+        say(
+            ("terminated (SIGTERM)" if isinstance(e, Terminated) else "interrupted")
+            + ": the log is closed and marked 'interrupted'"
+        )
         raise typer.Exit(exit_code(e)) from None
     finally:
         progress.close()
@@ -93,8 +139,10 @@ def _linger(recorder, summary: dict, seconds: float | None) -> None:
     import math
     import time
 
-    say(f"the mission ended ({summary['outcome']}) and its log is complete; still serving its final state on "
-        f"ws://127.0.0.1:{recorder.port} " + (f"for {seconds:g} s" if seconds is not None else "until Ctrl-C"))
+    say(
+        f"the mission ended ({summary['outcome']}) and its log is complete; still serving its final state on "
+        f"ws://127.0.0.1:{recorder.port} " + (f"for {seconds:g} s" if seconds is not None else "until Ctrl-C")
+    )
     end = time.monotonic() + (seconds if seconds is not None else math.inf)
     try:
         while (left := end - time.monotonic()) > 0:
@@ -119,8 +167,10 @@ def validate(files: Annotated[list[Path], typer.Argument(metavar="FILES", help="
             bad += 1
             say(str(e))
             continue
-        typer.echo(f"{f}: ok ({sc.name}: {sc.arena.width:g} m x {sc.arena.height:g} m, "
-                   f"{len(sc.obstacles)} obstacles, {len(sc.landmarks)} landmarks)")
+        typer.echo(
+            f"{f}: ok ({sc.name}: {sc.arena.width:g} m x {sc.arena.height:g} m, "
+            f"{len(sc.obstacles)} obstacles, {len(sc.landmarks)} landmarks)"
+        )
     if bad:
         say(f"{bad} of {len(files)} files refused")
         raise typer.Exit(EXIT_BAD_INPUT)
@@ -128,9 +178,16 @@ def validate(files: Annotated[list[Path], typer.Argument(metavar="FILES", help="
 
 @app.command()
 def scenarios(
-    name: Annotated[Optional[str], typer.Argument(metavar="[NAME]", help=(
-        "Print this bundled scenario's YAML instead, to start a room of your own from it "
-        "(navcli scenarios paper-8x8 > my-room.yaml)."))] = None,
+    name: Annotated[
+        Optional[str],
+        typer.Argument(
+            metavar="[NAME]",
+            help=(
+                "Print this bundled scenario's YAML instead, to start a room of your own from it "
+                "(navcli scenarios paper-8x8 > my-room.yaml)."
+            ),
+        ),
+    ] = None,
 ) -> None:
     """List the scenarios bundled with navcli, with their descriptions: every command takes them by
     name, from any folder (navcli run paper-8x8); a file of that name in the folder wins."""
@@ -156,25 +213,45 @@ def scenarios(
 
 @app.command()
 def bench(
-    scenario: Annotated[Optional[Path], typer.Argument(
-        metavar="SCENARIO", help=SCENARIO_HELP + ", to time (default: paper-8x8; with --training, landmarks-12).",
-        show_default=False)] = None,
+    scenario: Annotated[
+        Optional[Path],
+        typer.Argument(
+            metavar="SCENARIO",
+            help=SCENARIO_HELP + ", to time (default: paper-8x8; with --training, landmarks-12).",
+            show_default=False,
+        ),
+    ] = None,
     repeat: Annotated[int, typer.Option(min=1, max=1000, help="Runs per configuration; the median is reported.")] = 5,
     pilot: PilotOption = None,
     seed: Annotated[Optional[int], typer.Option(min=0, max=MAX_SEED)] = None,
     occlusion: Annotated[bool, typer.Option(help="Instead: time the pilot's occlusion test, loop vs numpy.")] = False,
     param: ParamOption = None,
-    perception: Annotated[Optional[PerceptionName], typer.Option(help="vision or oracle (default: the scenario's).")] = None,
-    objects: Annotated[bool, typer.Option(help="Instead: cost per tick with the scenario's own objects, then 50 and 200.")] = False,
-    long: Annotated[bool, typer.Option(
-        "--long", help="Instead: cost per tick in the last minute of a 20-minute run against the first "
-                       "(the map must not slow a long run down; try scenarios/trap-box.yaml).")] = False,
-    training: Annotated[bool, typer.Option(
-        "--training", help="Instead: the learning task's throughput: actions per second of its Gym env's step, and "
-                           "a short training's wall time per trial, extrapolated to 2,000 trials.")] = False,
+    perception: Annotated[
+        Optional[PerceptionName], typer.Option(help="vision or oracle (default: the scenario's).")
+    ] = None,
+    objects: Annotated[
+        bool, typer.Option(help="Instead: cost per tick with the scenario's own objects, then 50 and 200.")
+    ] = False,
+    long: Annotated[
+        bool,
+        typer.Option(
+            "--long",
+            help="Instead: cost per tick in the last minute of a 20-minute run against the first "
+            "(the map must not slow a long run down; try scenarios/trap-box.yaml).",
+        ),
+    ] = False,
+    training: Annotated[
+        bool,
+        typer.Option(
+            "--training",
+            help="Instead: the learning task's throughput: actions per second of its Gym env's step, and "
+            "a short training's wall time per trial, extrapolated to 2,000 trials.",
+        ),
+    ] = False,
     trials: Annotated[int, typer.Option(min=1, max=100_000, help="With --training: the short training's trials.")] = 50,
-    eval_starts: Annotated[int, typer.Option(min=1, max=10_000, help="With --training: starts of each of its "
-                                                                      "4 evaluations.")] = 10,
+    eval_starts: Annotated[
+        int, typer.Option(min=1, max=10_000, help="With --training: starts of each of its 4 evaluations.")
+    ] = 10,
     actions: Annotated[int, typer.Option(min=1, max=1_000_000, help="With --training: env.step calls timed.")] = 300,
 ) -> None:
     """Real-time factor (simulated s per wall s) of a full mission, with logging on and off."""
@@ -187,8 +264,9 @@ def bench(
         from ..experiments.bench import training_benchmark
 
         spec = build_spec(scenario or Path("landmarks-12"), param, task=True)
-        training_benchmark(spec, actions=actions, trials=trials, eval_starts=eval_starts, seed=seed or 1,
-                           echo=typer.echo)
+        training_benchmark(
+            spec, actions=actions, trials=trials, eval_starts=eval_starts, seed=seed or 1, echo=typer.echo
+        )
         return
     spec = build_spec(scenario or Path("paper-8x8"), param, seed=seed, pilot=pilot, perception=choice(perception))
     from ..experiments.bench import benchmark, long_run_benchmark, objects_benchmark
@@ -203,7 +281,10 @@ def bench(
 
 @app.command()
 def recover(
-    partial: Annotated[Path, typer.Argument(metavar="PARTIAL", help="The .partial file a killed run left (or a .partial-<n> kept aside).")],
+    partial: Annotated[
+        Path,
+        typer.Argument(metavar="PARTIAL", help="The .partial file a killed run left (or a .partial-<n> kept aside)."),
+    ],
     out: Annotated[Optional[Path], typer.Option(help="The log to write (default: the name without .partial).")] = None,
 ) -> None:
     """Make a readable log of a run killed outright: its complete chunks (all but at most the last
@@ -211,26 +292,44 @@ def recover(
     from ..log.recover import recover as recover_log
 
     if not partial.is_file():
-        raise refuse(f"{partial}: " + ("is a folder; give the .partial file a killed run left" if partial.is_dir()
-                                       else "a link that leads nowhere (or to itself)" if partial.is_symlink()
-                                       else "no such file" if not partial.exists() else "not a regular file"))
+        raise refuse(
+            f"{partial}: "
+            + (
+                "is a folder; give the .partial file a killed run left"
+                if partial.is_dir()
+                else "a link that leads nowhere (or to itself)"
+                if partial.is_symlink()
+                else "no such file"
+                if not partial.exists()
+                else "not a regular file"
+            )
+        )
     path, s = recover_log(partial, out)
     if s["damaged_bytes"]:
-        say(f"warning: {partial} is damaged before its end (a record fails its check): the {s['damaged_bytes']} "
-            f"bytes after the damage are not recovered; the log ends at the last good record")
-    typer.echo(f"recovered {s['ticks']} ticks, {s['time_s']:.1f} simulated s, into {path} (outcome interrupted); "
-               f"{partial} is left as it was")
+        say(
+            f"warning: {partial} is damaged before its end (a record fails its check): the {s['damaged_bytes']} "
+            f"bytes after the damage are not recovered; the log ends at the last good record"
+        )
+    typer.echo(
+        f"recovered {s['ticks']} ticks, {s['time_s']:.1f} simulated s, into {path} (outcome interrupted); "
+        f"{partial} is left as it was"
+    )
 
 
 @app.command()
 def params(
-    scenario: Annotated[Optional[Path], typer.Argument(metavar="SCENARIO", help=SCENARIO_HELP + ": show the values it resolves to.")] = None,
+    scenario: Annotated[
+        Optional[Path], typer.Argument(metavar="SCENARIO", help=SCENARIO_HELP + ": show the values it resolves to.")
+    ] = None,
     param: ParamOption = None,
     pilot: PilotOption = None,
-    navigation: Annotated[Optional[str], typer.Option(metavar="POLICY", help="A Navigation policy whose parameters to "
-                                                                             "show too (a plugin's).")] = None,
-    markdown: Annotated[bool, typer.Option("--markdown", help="Print the reference table in Markdown (the docs' "
-                                                              "parameter reference).")] = False,
+    navigation: Annotated[
+        Optional[str],
+        typer.Option(metavar="POLICY", help="A Navigation policy whose parameters to show too (a plugin's)."),
+    ] = None,
+    markdown: Annotated[
+        bool, typer.Option("--markdown", help="Print the reference table in Markdown (the docs' parameter reference).")
+    ] = False,
 ) -> None:
     """List every parameter by its --param name, with its value, unit, the range an override must lie in,
     and what it is: navcli's, and a plugin's own (NAME.x) for the pilot and policy chosen, or, without a
@@ -259,14 +358,17 @@ def params(
     header = ("name", "value", "unit", "range", "description")
     widths = [max(len(r[i]) for r in rows + [header]) for i in range(4)]
     for row in [header] + rows:
-        typer.echo(f"{row[0]:{widths[0]}s}  {row[1]:>{widths[1]}s}  {row[2]:{widths[2]}s}  {row[3]:{widths[3]}s}  {row[4]}")
+        typer.echo(
+            f"{row[0]:{widths[0]}s}  {row[1]:>{widths[1]}s}  {row[2]:{widths[2]}s}  {row[3]:{widths[3]}s}  {row[4]}"
+        )
 
 
 def param_rows(values: Any) -> list[tuple[str, str, str, str, str]]:
     """One row per parameter of ``values`` (a :class:`~navcli.params.Params`): its --param name, value,
     unit, the range an override must lie in, and what it is."""
-    return [(name, _shown(value), d.unit or "-", d.range_text(), d.description)
-            for name, d, value in values.declarations()]
+    return [
+        (name, _shown(value), d.unit or "-", d.range_text(), d.description) for name, d, value in values.declarations()
+    ]
 
 
 def params_markdown(values: Any) -> str:
@@ -280,13 +382,20 @@ def params_markdown(values: Any) -> str:
 
 def _shown(value) -> str:
     """A parameter's value as ``navcli params`` prints it (a switch as true/false, as --param takes it)."""
-    return str(value).lower() if isinstance(value, bool) else str(list(value)) if isinstance(value, tuple) else str(value)
+    return (
+        str(value).lower() if isinstance(value, bool) else str(list(value)) if isinstance(value, tuple) else str(value)
+    )
 
 
 @app.command()
 def schema(
-    markdown: Annotated[bool, typer.Option("--markdown", help="Instead: every field with what it is, its default, "
-                                                              "range and unit, as a Markdown table (the docs').")] = False,
+    markdown: Annotated[
+        bool,
+        typer.Option(
+            "--markdown",
+            help="Instead: every field with what it is, its default, range and unit, as a Markdown table (the docs').",
+        ),
+    ] = False,
 ) -> None:
     """Print the scenario format as a JSON Schema, for editors (the YAML language server:
     `# yaml-language-server: $schema=scenario.schema.json` at the top of a scenario)."""

@@ -16,12 +16,14 @@ from .errors import about, refuse, say
 
 app.add_typer(plot_app, name="plot")
 
-WallsOption = Annotated[bool, typer.Option(
-    help="Let the room's walls push too (the paper's figures show an example without walls).")]
+WallsOption = Annotated[
+    bool, typer.Option(help="Let the room's walls push too (the paper's figures show an example without walls).")
+]
 
 
-def _plot(kind: str, scenario: Path, out: Optional[Path], step: Optional[float], param: list[str] | None,
-          walls: bool = False) -> None:
+def _plot(
+    kind: str, scenario: Path, out: Optional[Path], step: Optional[float], param: list[str] | None, walls: bool = False
+) -> None:
     spec = build_spec(scenario, param)
     out = out_file(out or Path("logs") / spec.scenario.name / f"{kind}.png", (".png",), "PNG image")
     from ..experiments import figures
@@ -29,8 +31,13 @@ def _plot(kind: str, scenario: Path, out: Optional[Path], step: Optional[float],
     fn = figures.plot_field if kind == "field" else figures.plot_bids
     with progress_bar() as bar, about("--step"):
         task = bar.add_task(f"{kind}: rows of the grid", total=None)
-        path = fn(spec, out, step or (0.2 if kind == "field" else 0.05), walls,
-                  progress=lambda i, n: bar.update(task, completed=i, total=n))
+        path = fn(
+            spec,
+            out,
+            step or (0.2 if kind == "field" else 0.05),
+            walls,
+            progress=lambda i, n: bar.update(task, completed=i, total=n),
+        )
     typer.echo(f"wrote {path}")
 
 
@@ -38,7 +45,9 @@ def _plot(kind: str, scenario: Path, out: Optional[Path], step: Optional[float],
 def plot_field(
     scenario: Annotated[Path, typer.Argument(metavar="SCENARIO", help=SCENARIO_HELP + ".")],
     out: Annotated[Optional[Path], typer.Option(help="PNG file (default: logs/<scenario>/field.png).")] = None,
-    step: Annotated[Optional[float], typer.Option(min=0.02, callback=finite, help="Grid spacing in metres (default 0.2).")] = None,
+    step: Annotated[
+        Optional[float], typer.Option(min=0.02, callback=finite, help="Grid spacing in metres (default 0.2).")
+    ] = None,
     param: ParamOption = None,
     walls: WallsOption = False,
 ) -> None:
@@ -50,7 +59,9 @@ def plot_field(
 def plot_bids(
     scenario: Annotated[Path, typer.Argument(metavar="SCENARIO", help=SCENARIO_HELP + ".")],
     out: Annotated[Optional[Path], typer.Option(help="PNG file (default: logs/<scenario>/bids.png).")] = None,
-    step: Annotated[Optional[float], typer.Option(min=0.02, callback=finite, help="Grid spacing in metres (default 0.05).")] = None,
+    step: Annotated[
+        Optional[float], typer.Option(min=0.02, callback=finite, help="Grid spacing in metres (default 0.05).")
+    ] = None,
     param: ParamOption = None,
     walls: WallsOption = False,
 ) -> None:
@@ -73,10 +84,18 @@ def plot_map(
 @app.command()
 def render(
     log: Annotated[Path, typer.Argument(metavar="LOG", help="A navcli log (.mcap).")],
-    out: Annotated[Optional[Path], typer.Option(help="run.gif or run.mp4 (MP4 needs ffmpeg); default: the log's name with .gif.")] = None,
-    speed: Annotated[float, typer.Option(min=0.01, max=10_000.0, callback=finite, help="Simulated seconds per second of video.")] = 10.0,
-    start: Annotated[Optional[float], typer.Option("--from", min=0.0, callback=finite, help="First simulated second shown.")] = None,
-    end: Annotated[Optional[float], typer.Option("--to", min=0.0, callback=finite, help="Last simulated second shown.")] = None,
+    out: Annotated[
+        Optional[Path], typer.Option(help="run.gif or run.mp4 (MP4 needs ffmpeg); default: the log's name with .gif.")
+    ] = None,
+    speed: Annotated[
+        float, typer.Option(min=0.01, max=10_000.0, callback=finite, help="Simulated seconds per second of video.")
+    ] = 10.0,
+    start: Annotated[
+        Optional[float], typer.Option("--from", min=0.0, callback=finite, help="First simulated second shown.")
+    ] = None,
+    end: Annotated[
+        Optional[float], typer.Option("--to", min=0.0, callback=finite, help="Last simulated second shown.")
+    ] = None,
     fps: Annotated[float, typer.Option(min=1.0, max=60.0, callback=finite, help="Frames per second of video.")] = 10.0,
     dpi: Annotated[int, typer.Option(min=20, max=300, help="Pixels per inch of the 5 x 6.4 inch frame.")] = 80,
 ) -> None:
@@ -110,9 +129,14 @@ LayoutFormat = Enum("LayoutFormat", {"app": "app", "sdk": "sdk"}, type=str)
 @app.command()
 def layout(
     out: Annotated[Optional[Path], typer.Option(help="Write the layout here (default: print it).")] = None,
-    format: Annotated[LayoutFormat, typer.Option(
-        "--format", help="app: the file Foxglove's Layouts > Import from file reads (also Lichtblick, Foxglove "
-                         "Studio 1.x); sdk: foxglove-sdk's layout JSON (foxglove.layouts, notebooks).")] = LayoutFormat.app,
+    format: Annotated[
+        LayoutFormat,
+        typer.Option(
+            "--format",
+            help="app: the file Foxglove's Layouts > Import from file reads (also Lichtblick, Foxglove "
+            "Studio 1.x); sdk: foxglove-sdk's layout JSON (foxglove.layouts, notebooks).",
+        ),
+    ] = LayoutFormat.app,
 ) -> None:
     """Write a Foxglove layout for navcli logs and --live runs: the arena in 2D top-down (frame
     world), bids per resource, the pilot's forces, the events and the summary."""
@@ -132,21 +156,38 @@ def layout(
 
 @app.command()
 def report(
-    logdir: Annotated[Path, typer.Argument(metavar="LOGDIR", help=(
-        "A folder of logs (searched recursively), or a sweep's results table (results.parquet or "
-        "results.csv): then every parameter point is a condition of its own, and no plots are made."))],
-    out: Annotated[Optional[Path], typer.Option(help="Where to write the table and plots (default: LOGDIR, "
-                                                     "or the results table's folder).")] = None,
-    baseline: Annotated[str, typer.Option(help="The pilot the others are compared with (a pilot of the logs; the "
-                                                "report says so when none of the runs is its).")] = "geometric",
+    logdir: Annotated[
+        Path,
+        typer.Argument(
+            metavar="LOGDIR",
+            help=(
+                "A folder of logs (searched recursively), or a sweep's results table (results.parquet or "
+                "results.csv): then every parameter point is a condition of its own, and no plots are made."
+            ),
+        ),
+    ],
+    out: Annotated[
+        Optional[Path],
+        typer.Option(help="Where to write the table and plots (default: LOGDIR, or the results table's folder)."),
+    ] = None,
+    baseline: Annotated[
+        str,
+        typer.Option(
+            help="The pilot the others are compared with (a pilot of the logs; the "
+            "report says so when none of the runs is its)."
+        ),
+    ] = "geometric",
 ) -> None:
     """Rebuild the comparison table and plots from existing logs, running nothing; with several
     conditions (parameter points of a sweep), a table of every pilot against the baseline per
     condition comes first."""
     table = logdir.is_file() and logdir.suffix in (".parquet", ".csv")
     if not (logdir.is_dir() or table):
-        raise refuse(f"{logdir}: no such file or folder" if not logdir.exists() else
-                     f"{logdir}: expected a folder of logs or a sweep's results table (.parquet or .csv)")
+        raise refuse(
+            f"{logdir}: no such file or folder"
+            if not logdir.exists()
+            else f"{logdir}: expected a folder of logs or a sweep's results table (.parquet or .csv)"
+        )
     from ..analysis.tables import REPORT_FILES
     from ..plugins import UnknownPlugin, pilot
 
@@ -161,8 +202,14 @@ def report(
     write_tables(logdir, baseline, folder, table=table, baseline_in_runs=anywhere)
 
 
-def write_tables(logdir: Path, baseline: str, out: Path, logs: list[str | Path] | None = None,
-                 table: bool = False, baseline_in_runs: bool = False) -> None:
+def write_tables(
+    logdir: Path,
+    baseline: str,
+    out: Path,
+    logs: list[str | Path] | None = None,
+    table: bool = False,
+    baseline_in_runs: bool = False,
+) -> None:
     """The table of the logs under ``logdir`` (or of ``logs``; with ``table``, of the sweep
     results table ``logdir``), printed and written to ``out``; an unreadable log is skipped with a
     line naming it; the same run twice, or no readable log at all, is refused, and so, with
@@ -177,8 +224,10 @@ def write_tables(logdir: Path, baseline: str, out: Path, logs: list[str | Path] 
             say(f"skipped {path}: {why}")
     pilots = sorted(set(runs["pilot"]))
     if baseline_in_runs and baseline not in pilots:
-        raise refuse(f"--baseline: {baseline!r} is not a pilot: none of these runs' ({', '.join(pilots)}), and none "
-                     "navcli can find (navcli's, an installed plugin's, module:Class)")
+        raise refuse(
+            f"--baseline: {baseline!r} is not a pilot: none of these runs' ({', '.join(pilots)}), and none "
+            "navcli can find (navcli's, an installed plugin's, module:Class)"
+        )
     files = write_report(runs, out, baseline, skipped, plots=not table)
     typer.echo("")
     typer.echo(without_mark(files["markdown"].read_text()))

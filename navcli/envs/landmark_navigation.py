@@ -42,8 +42,13 @@ class LandmarkNavigationEnv(gym.Env):
 
     metadata = {"render_modes": ["rgb_array"], "render_fps": RENDER_FPS}
 
-    def __init__(self, scenario: str | Path | RunSpec | None = None, overrides: dict | None = None,
-                 render_mode: str | None = None, dpi: int = 80):
+    def __init__(
+        self,
+        scenario: str | Path | RunSpec | None = None,
+        overrides: dict | None = None,
+        render_mode: str | None = None,
+        dpi: int = 80,
+    ):
         if render_mode is not None and render_mode not in self.metadata["render_modes"]:
             raise ValueError(f"render_mode {render_mode!r} is not one of {self.metadata['render_modes']} (or None)")
         if isinstance(scenario, RunSpec):
@@ -65,7 +70,7 @@ class LandmarkNavigationEnv(gym.Env):
 
     def reset(self, *, seed: int | None = None, options: dict | None = None):
         super().reset(seed=seed)
-        start = random_starts(self.run_spec, 1, int(self.np_random.integers(2 ** 31)))[0]
+        start = random_starts(self.run_spec, 1, int(self.np_random.integers(2**31)))[0]
         if self.render_mode is not None:
             self._close_figure()
             self._trace = _Trace(start.x, start.y, start.heading)
@@ -95,8 +100,9 @@ class LandmarkNavigationEnv(gym.Env):
             from ..analysis.render import RunFigure
 
             drawn = yaml.safe_load(sc.text) | {"robot": {"start": [trace.x[0], trace.y[0]]}}  # the trial's start
-            self._figure = RunFigure(drawn, f"{sc.name}  {self.run_spec.pilot}", self.run_spec.params.robot.radius,
-                                     self.dpi)
+            self._figure = RunFigure(
+                drawn, f"{sc.name}  {self.run_spec.pilot}", self.run_spec.params.robot.radius, self.dpi
+            )
         mission = self.task.mission if self._trace is not None else None
         return trace.draw(self._figure, mission)
 

@@ -60,15 +60,19 @@ def benchmark(spec: RunSpec, *, repeat: int = 5, echo: Callable[[str], None] = p
                 runs[record].append(run_mission(spec, out=log, record=record))
         floor_us = statistics.median(floors)
         sim_s = ticks * 0.1
-        echo(f"{'floor':12s} {sim_s / (floor_us * ticks / 1e6):8.0f}x real time   {floor_us:7.0f} us/tick   "
-             f"{'':11s}  (the world alone, scripted wheels, {ticks} ticks, median of {repeat})")
+        echo(
+            f"{'floor':12s} {sim_s / (floor_us * ticks / 1e6):8.0f}x real time   {floor_us:7.0f} us/tick   "
+            f"{'':11s}  (the world alone, scripted wheels, {ticks} ticks, median of {repeat})"
+        )
         results["floor_us"] = floor_us
         for label, record in (("logging off", False), ("logging on", True)):
             rtf = statistics.median(r.realtime_factor for r in runs[record])
             us = statistics.median(r.wall_s / max(r.summary["ticks"], 1) * 1e6 for r in runs[record])
             s = runs[record][0].summary
-            echo(f"{label:12s} {rtf:8.0f}x real time   {us:7.0f} us/tick   {us / floor_us:5.2f}x floor  "
-                 f"({s['pilot']}, {s['outcome']} after {s['time_s']:.1f} s sim, {s['ticks']} ticks, median of {repeat})")
+            echo(
+                f"{label:12s} {rtf:8.0f}x real time   {us:7.0f} us/tick   {us / floor_us:5.2f}x floor  "
+                f"({s['pilot']}, {s['outcome']} after {s['time_s']:.1f} s sim, {s['ticks']} ticks, median of {repeat})"
+            )
             results[label.split()[1]] = rtf
             results[f"{label.split()[1]}_us"] = us
         echo(f"logging costs {100 * (results['on_us'] / results['off_us'] - 1):.0f} % on top of the stack")
@@ -92,13 +96,21 @@ def occlusion_benchmark(sizes=(12, 18, 32, 50, 100, 200), echo: Callable[[str], 
             x, y = rnd.uniform(-4, 4), rnd.uniform(-4, 4)
             b = (x + rnd.uniform(-1, 1), y + rnd.uniform(-1, 1)) if i % 4 == 3 else (x, y)
             obs.append(KnownObstacle(f"o{i}", (x, y), b, 0.02 if i % 4 == 3 else 0.15))
-        t = [min(timeit.repeat(functools.partial(f, obs), number=200, repeat=5)) / 200 * 1e6
-             for f in (facing_loop, facing_numpy)]
+        t = [
+            min(timeit.repeat(functools.partial(f, obs), number=200, repeat=5)) / 200 * 1e6
+            for f in (facing_loop, facing_numpy)
+        ]
         echo(f"{n:>9} {t[0]:>9.0f} {t[1]:>9.0f}")
 
 
-def objects_benchmark(spec: RunSpec, *, sizes: tuple[int, ...] = (50, 200), ticks: int = 300, repeat: int = 3,
-                      echo: Callable[[str], None] = print) -> None:
+def objects_benchmark(
+    spec: RunSpec,
+    *,
+    sizes: tuple[int, ...] = (50, 200),
+    ticks: int = 300,
+    repeat: int = 3,
+    echo: Callable[[str], None] = print,
+) -> None:
     """Wall time per tick (logging on, the median of ``repeat`` runs of ``ticks`` ticks) with the
     scenario's own objects (obstacles and landmarks), then with extra point obstacles scattered at
     random (seeded) where they leave the start clear, up to each of ``sizes`` objects. A warm-up
@@ -112,8 +124,10 @@ def objects_benchmark(spec: RunSpec, *, sizes: tuple[int, ...] = (50, 200), tick
     sc = spec.scenario
     rnd = random.Random(7)
     base: list[Obstacle] = list(sc.obstacles)
-    echo(f"{'objects':>8} {'us/tick':>9} {'x real time':>12}   ({spec.pilot}, {spec.perception}, logging on, "
-         f"median of {repeat} runs of {ticks} ticks)")
+    echo(
+        f"{'objects':>8} {'us/tick':>9} {'x real time':>12}   ({spec.pilot}, {spec.perception}, logging on, "
+        f"median of {repeat} runs of {ticks} ticks)"
+    )
     with tempfile.TemporaryDirectory() as tmp:  # warm-up: imports and caches, paid once, not by the first size
         run_mission(spec.replace(time_limit=5.0), out=Path(tmp) / "w.mcap")
     own = len(base) + len(sc.landmarks)
@@ -130,20 +144,22 @@ def objects_benchmark(spec: RunSpec, *, sizes: tuple[int, ...] = (50, 200), tick
                 r = run_mission(spec.replace(scenario=s, time_limit=ticks * 0.1), out=Path(tmp) / "b.mcap")
             costs.append(r.wall_s / max(r.summary["ticks"], 1) * 1e6)
             factors.append(r.realtime_factor)
-        echo(f"{own + len(extra):>8} {statistics.median(costs):>9.0f} {statistics.median(factors):>11.0f}x"
-             + ("   (the scenario's own)" if not extra else ""))
+        echo(
+            f"{own + len(extra):>8} {statistics.median(costs):>9.0f} {statistics.median(factors):>11.0f}x"
+            + ("   (the scenario's own)" if not extra else "")
+        )
 
 
-def long_run_benchmark(spec: RunSpec, *, minutes: float = 20.0, window_s: float = 60.0,
-                       echo: Callable[[str], None] = print) -> float:
+def long_run_benchmark(
+    spec: RunSpec, *, minutes: float = 20.0, window_s: float = 60.0, echo: Callable[[str], None] = print
+) -> float:
     """Does a tick cost more late in a long run than early? Runs ``spec`` for ``minutes`` of
     simulated time (logging on; the Rescuer never gives up, so the map keeps working), and compares
     the median wall time per tick of the last ``window_s`` with that of the first (after the
     initial sweep). Returns late / early; the Map Manager's cost must not grow with the run."""
     import time
 
-    spec = spec.replace(time_limit=minutes * 60.0,
-                        params=spec.params.override({"navigation.gives_up": 0}))
+    spec = spec.replace(time_limit=minutes * 60.0, params=spec.params.override({"navigation.gives_up": 0}))
     costs: list[tuple[float, float]] = []  # (simulated s, wall s of the tick: its step and its logging)
     last = time.perf_counter()
     mission: Mission | None = None
@@ -165,14 +181,23 @@ def long_run_benchmark(spec: RunSpec, *, minutes: float = 20.0, window_s: float 
         echo(f"the run ended after {end:.0f} s ({m.outcome}): too short to compare")
         return float("nan")
     e, lt = statistics.median(early) * 1e6, statistics.median(late) * 1e6
-    echo(f"{spec.scenario.name}: {m.outcome} after {end:.0f} s, {len(costs)} ticks; "
-         f"median {e:.0f} us/tick in the first minute, {lt:.0f} us/tick in the last: {lt / e:.2f}x "
-         f"({len(m.navigation.map.network)} beta-units, {m.navigation.diverting_targets} diverting targets)")
+    echo(
+        f"{spec.scenario.name}: {m.outcome} after {end:.0f} s, {len(costs)} ticks; "
+        f"median {e:.0f} us/tick in the first minute, {lt:.0f} us/tick in the last: {lt / e:.2f}x "
+        f"({len(m.navigation.map.network)} beta-units, {m.navigation.diverting_targets} diverting targets)"
+    )
     return lt / e
 
 
-def training_benchmark(spec: RunSpec, *, actions: int = 300, trials: int = 50, eval_starts: int = 10, seed: int = 1,
-                       echo: Callable[[str], None] = print) -> dict[str, float]:
+def training_benchmark(
+    spec: RunSpec,
+    *,
+    actions: int = 300,
+    trials: int = 50,
+    eval_starts: int = 10,
+    seed: int = 1,
+    echo: Callable[[str], None] = print,
+) -> dict[str, float]:
     """The learning task's throughput (issue 39): the Gymnasium environment's ``step`` (one action of
     the Learning Agent, ``learning.action_s`` of simulated time) in actions per wall second, over
     ``actions`` actions of a uniformly random policy (seeded; the trials' resets not counted), and a
@@ -207,21 +232,38 @@ def training_benchmark(spec: RunSpec, *, actions: int = 300, trials: int = 50, e
     env.close()
     per_s = actions / stepping
     action_s = spec.params.learning.action_s
-    echo(f"{'env.step':12s} {per_s:8.1f} actions/s   {1e3 / per_s:7.1f} ms/action  ({action_s:g} s simulated each, "
-         f"{per_s * action_s:.0f}x real time; {actions} actions of a random policy over {trials_seen} trials, "
-         f"{spec.scenario.name})")
+    echo(
+        f"{'env.step':12s} {per_s:8.1f} actions/s   {1e3 / per_s:7.1f} ms/action  ({action_s:g} s simulated each, "
+        f"{per_s * action_s:.0f}x real time; {actions} actions of a random policy over {trials_seen} trials, "
+        f"{spec.scenario.name})"
+    )
     with tempfile.TemporaryDirectory() as tmp:
         t0 = time.perf_counter()
-        r = train(spec, trials=trials, eval_every=trials, eval_starts=eval_starts, seed=seed, workers=1,
-                  out=Path(tmp) / "bench.npz")
+        r = train(
+            spec,
+            trials=trials,
+            eval_every=trials,
+            eval_starts=eval_starts,
+            seed=seed,
+            workers=1,
+            out=Path(tmp) / "bench.npz",
+        )
         wall = time.perf_counter() - t0
     evals = 4 * eval_starts  # the untrained and the last policy, the hand-coded and the random one
     per_trial, per_eval = r.train_s / trials, r.eval_s / evals
     default_evals = (2000 // 100 + 1 + 2) * 99
-    echo(f"{'training':12s} {trials} trials in {wall:.1f} s (with {evals} evaluation trials): {per_trial:.2f} s a "
-         f"learning trial, {per_eval:.2f} s an evaluation trial")
-    echo(f"{'2,000 trials':12s} {2000 * per_trial / 60:8.1f} min of learning trials (extrapolated from {trials}), "
-         f"and {default_evals * per_eval / 60:.1f} min of CPU for a default training's {default_evals} evaluation "
-         f"trials (in worker processes, beside the learning)")
-    return {"actions_per_s": per_s, "trial_s": per_trial, "eval_trial_s": per_eval,
-            "training_2000_min": 2000 * per_trial / 60}
+    echo(
+        f"{'training':12s} {trials} trials in {wall:.1f} s (with {evals} evaluation trials): {per_trial:.2f} s a "
+        f"learning trial, {per_eval:.2f} s an evaluation trial"
+    )
+    echo(
+        f"{'2,000 trials':12s} {2000 * per_trial / 60:8.1f} min of learning trials (extrapolated from {trials}), "
+        f"and {default_evals * per_eval / 60:.1f} min of CPU for a default training's {default_evals} evaluation "
+        f"trials (in worker processes, beside the learning)"
+    )
+    return {
+        "actions_per_s": per_s,
+        "trial_s": per_trial,
+        "eval_trial_s": per_eval,
+        "training_2000_min": 2000 * per_trial / 60,
+    }

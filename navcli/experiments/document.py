@@ -60,9 +60,11 @@ class Report:
         e = html.escape
         from ..analysis.files import MARK
 
-        out = [f"<!doctype html>{MARK}<html><head><meta charset='utf-8'><title>navcli reproduce</title><style>"
-               "body{font-family:sans-serif;max-width:70em;margin:2em auto}table{border-collapse:collapse}"
-               "td,th{border:1px solid #bbb;padding:2px 6px;text-align:right}img{max-width:100%}</style></head><body>"]
+        out = [
+            f"<!doctype html>{MARK}<html><head><meta charset='utf-8'><title>navcli reproduce</title><style>"
+            "body{font-family:sans-serif;max-width:70em;margin:2em auto}table{border-collapse:collapse}"
+            "td,th{border:1px solid #bbb;padding:2px 6px;text-align:right}img{max-width:100%}</style></head><body>"
+        ]
         for kind, b in self.blocks:
             if kind == "h":
                 out.append(f"<h{b[0]}>{e(b[1])}</h{b[0]}>")
@@ -70,9 +72,13 @@ class Report:
                 out.append(f"<p>{e(b)}</p>")
             elif kind == "table":
                 header, rows = b
-                out.append("<table><tr>" + "".join(f"<th>{e(h)}</th>" for h in header) + "</tr>"
-                           + "".join("<tr>" + "".join(f"<td>{e(c)}</td>" for c in r) + "</tr>" for r in rows)
-                           + "</table>")
+                out.append(
+                    "<table><tr>"
+                    + "".join(f"<th>{e(h)}</th>" for h in header)
+                    + "</tr>"
+                    + "".join("<tr>" + "".join(f"<td>{e(c)}</td>" for c in r) + "</tr>" for r in rows)
+                    + "</table>"
+                )
             elif kind == "ul":
                 out.append("<ul>" + "".join(f"<li>{e(item)}</li>" for item in b) + "</ul>")
             else:

@@ -94,7 +94,7 @@ def _worker_signal(signum: int, frame: Any) -> None:
         signal.setitimer(signal.ITIMER_REAL, 0.01)
         return
     for s in (signal.SIGTERM, signal.SIGINT, signal.SIGALRM):  # the log is closed undisturbed, even by
-        signal.signal(s, _ignore)                               # the pool's stop() after a group's Ctrl-C
+        signal.signal(s, _ignore)  # the pool's stop() after a group's Ctrl-C
     # the run ends as the main process was ended; run_mission closes the log marked interrupted
     raise Terminated if signum == signal.SIGTERM else KeyboardInterrupt
 
@@ -238,8 +238,9 @@ def interruptible() -> Iterator[None]:
         return noted
 
     try:
-        old = {s: signal.signal(s, note(e)) for s, e in ((signal.SIGINT, KeyboardInterrupt),
-                                                         (signal.SIGTERM, Terminated))}
+        old = {
+            s: signal.signal(s, note(e)) for s, e in ((signal.SIGINT, KeyboardInterrupt), (signal.SIGTERM, Terminated))
+        }
     except ValueError:  # not the main thread: leave signals alone
         yield
         return
@@ -270,8 +271,9 @@ def _signal_of(e: BaseException) -> int:
     return signal.SIGINT if isinstance(e, KeyboardInterrupt) and not isinstance(e, Terminated) else signal.SIGTERM
 
 
-def submit_all(fn: Callable[[Any], Any], items: Sequence[Any], ex: Executor,
-               cost: Callable[[Any], float] | None = None) -> dict[Future, int]:
+def submit_all(
+    fn: Callable[[Any], Any], items: Sequence[Any], ex: Executor, cost: Callable[[Any], float] | None = None
+) -> dict[Future, int]:
     """Submit ``fn(item)`` for every item, the costliest first when ``cost`` (an item's expected
     length, in any unit) is given: longest-processing-time-first list scheduling, so that a long
     run does not start last and hold the pool's tail alone. Returns each future's item index.
@@ -298,8 +300,13 @@ def collect(futures: dict[Future, int], ex: Executor, on_done: Callable[[int, Fu
             _stop(futures, ex, e)
 
 
-def run_each(fn: Callable[[Any], Any], items: Sequence[Any], ex: Executor,
-             on_done: Callable[[int, Future], None], cost: Callable[[Any], float] | None = None) -> None:
+def run_each(
+    fn: Callable[[Any], Any],
+    items: Sequence[Any],
+    ex: Executor,
+    on_done: Callable[[int, Future], None],
+    cost: Callable[[Any], float] | None = None,
+) -> None:
     """Submit ``fn(item)`` for every item (the costliest first, :func:`submit_all`) and call
     ``on_done(index, future)`` as each finishes (in the order they finish; the future holds the
     result or the exception). A :class:`SerialExecutor` runs and reports each before the next.
@@ -348,5 +355,3 @@ def map_ordered(fn: Callable[[Any], Any], items: Iterable[Any], ex: Executor) ->
 
     run_each(fn, items, ex, keep)
     return out
-
-

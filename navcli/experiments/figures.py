@@ -44,8 +44,9 @@ def grid_points(sc: Scenario, step: float) -> int:
     return math.ceil(sc.arena.width / step - 0.5) * math.ceil(sc.arena.height / step - 0.5)
 
 
-def field_grid(spec: RunSpec, step: float, walls: bool = False,
-               progress: Callable[[int, int], None] | None = None) -> tuple[np.ndarray, ...]:
+def field_grid(
+    spec: RunSpec, step: float, walls: bool = False, progress: Callable[[int, int], None] | None = None
+) -> tuple[np.ndarray, ...]:
     """X, Y (m), the unit net-force direction (U, V) and the bid on a grid of ``step`` metres.
 
     Like the paper's Figures 9 and 10, the room's walls exert no force unless ``walls`` is set
@@ -58,9 +59,11 @@ def field_grid(spec: RunSpec, step: float, walls: bool = False,
     budget = min(MAX_GRID_POINTS, MAX_GRID_WORK // (len(bodies) + 1))  # each point costs a force per body
     if points > budget:
         finest = math.sqrt(sc.arena.width * sc.arena.height / budget)
-        raise GridError(f"a step of {step:g} m makes {points:,} points over the {sc.arena.width:g} m x "
-                        f"{sc.arena.height:g} m arena with {len(bodies)} bodies (at most {budget:,}); "
-                        f"use a step of at least {math.ceil(finest * 1000) / 1000:g} m")
+        raise GridError(
+            f"a step of {step:g} m makes {points:,} points over the {sc.arena.width:g} m x "
+            f"{sc.arena.height:g} m arena with {len(bodies)} bodies (at most {budget:,}); "
+            f"use a step of at least {math.ceil(finest * 1000) / 1000:g} m"
+        )
     xs = np.arange(step / 2, sc.arena.width, step)
     ys = np.arange(step / 2, sc.arena.height, step)
     X, Y = np.meshgrid(xs, ys)
@@ -95,8 +98,16 @@ def _arena(ax, sc: Scenario, R_min: float) -> None:
             ax.plot([o.start[0], o.end[0]], [o.start[1], o.end[1]], color="tab:red", lw=3, zorder=3)
     for lm in sc.landmarks:
         ax.add_patch(mp.Circle(lm.at, lm.radius, color="tab:blue", zorder=3))
-        ax.annotate(lm.id, lm.at, xytext=(6, 6), textcoords="offset points", color="tab:blue", zorder=6,
-                    fontweight="bold", bbox={"boxstyle": "round,pad=0.15", "fc": "white", "ec": "none", "alpha": 0.8})
+        ax.annotate(
+            lm.id,
+            lm.at,
+            xytext=(6, 6),
+            textcoords="offset points",
+            color="tab:blue",
+            zorder=6,
+            fontweight="bold",
+            bbox={"boxstyle": "round,pad=0.15", "fc": "white", "ec": "none", "alpha": 0.8},
+        )
     t = sc.target
     if t.line is not None:
         ax.plot([t.line[0][0], t.line[1][0]], [t.line[0][1], t.line[1][1]], color="tab:green", lw=2, zorder=3)
@@ -110,8 +121,9 @@ def _arena(ax, sc: Scenario, R_min: float) -> None:
     ax.set_ylabel("y (m)")
 
 
-def plot_field(spec: RunSpec, out: Path, step: float = 0.2, walls: bool = False,
-               progress: Callable[[int, int], None] | None = None) -> Path:
+def plot_field(
+    spec: RunSpec, out: Path, step: float = 0.2, walls: bool = False, progress: Callable[[int, int], None] | None = None
+) -> Path:
     """Figure 9: arrows along the net force (eq. 6-7), over the arena."""
     sc, p = spec.scenario, spec.params.pilot
     import matplotlib
@@ -127,8 +139,13 @@ def plot_field(spec: RunSpec, out: Path, step: float = 0.2, walls: bool = False,
     return save_figure(fig, out, dpi=110)
 
 
-def plot_bids(spec: RunSpec, out: Path, step: float = 0.05, walls: bool = False,
-              progress: Callable[[int, int], None] | None = None) -> Path:
+def plot_bids(
+    spec: RunSpec,
+    out: Path,
+    step: float = 0.05,
+    walls: bool = False,
+    progress: Callable[[int, int], None] | None = None,
+) -> Path:
     """Figure 10: the pilot's motion bid (eq. 9) over the arena."""
     sc, p = spec.scenario, spec.params.pilot
     import matplotlib
@@ -158,14 +175,21 @@ def learning_curves(metas: list[dict], out: str | Path) -> Path:
 
     trials = [p["trials"] for p in metas[0]["curve"]]
     fig, axes = plt.subplots(1, 2, figsize=(11, 4.2))
-    for ax, key, level_keys, label in ((axes[0], "successes", ("hand_coded", "random"), "successful test trials"),
-                                       (axes[1], "reward", ("hand_coded_reward", "random_reward"),
-                                        "reward per test trial (higher is cheaper)")):
+    for ax, key, level_keys, label in (
+        (axes[0], "successes", ("hand_coded", "random"), "successful test trials"),
+        (axes[1], "reward", ("hand_coded_reward", "random_reward"), "reward per test trial (higher is cheaper)"),
+    ):
         values = np.array([[p[key] for p in m["curve"]] for m in metas], dtype=float)
         for row in values:
             ax.plot(trials, row, "-", color="tab:blue", lw=0.8, alpha=0.45)
-        ax.fill_between(trials, values.min(axis=0), values.max(axis=0), color="tab:blue", alpha=0.15,
-                        label=f"range of {len(metas)} trainings")
+        ax.fill_between(
+            trials,
+            values.min(axis=0),
+            values.max(axis=0),
+            color="tab:blue",
+            alpha=0.15,
+            label=f"range of {len(metas)} trainings",
+        )
         ax.plot(trials, values.mean(axis=0), "o-", color="tab:blue", lw=2.2, label="mean")
         for k, colour, name in zip(level_keys, ("tab:orange", "tab:gray"), ("hand-coded", "random")):
             level = metas[0].get(k)

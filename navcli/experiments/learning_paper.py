@@ -31,10 +31,27 @@ POLICY_ROOMS = (TRAINING_ROOM, "landmarks-hall", "landmarks-drawn")
 POLICIES = ("learned", "hand-coded", "random")
 PAPER_STARTS = 99  # the learning paper's test starts
 PAPER_POLICIES: dict[str, dict[str, float]] = {
-    "learned": {"successes": 84, "reward": -336, "actions": 49.95, "MB": 11.41, "MLL": 21.43, "MOT": 6.52,
-                "MVL": 4.97, "MVT": 5.61},
-    "hand-coded": {"successes": 24, "reward": -858, "actions": 153.33, "MB": 4.94, "MLL": 7.32, "MOT": 18.59,
-                   "MVL": 121.96, "MVT": 0.52}}
+    "learned": {
+        "successes": 84,
+        "reward": -336,
+        "actions": 49.95,
+        "MB": 11.41,
+        "MLL": 21.43,
+        "MOT": 6.52,
+        "MVL": 4.97,
+        "MVT": 5.61,
+    },
+    "hand-coded": {
+        "successes": 24,
+        "reward": -858,
+        "actions": 153.33,
+        "MB": 4.94,
+        "MLL": 7.32,
+        "MOT": 18.59,
+        "MVL": 121.96,
+        "MVT": 0.52,
+    },
+}
 """The learning paper's Table 1 (section 6: 84 and 24 successes of 99 after 2,000 trials)."""
 PAPER_FIGURE3 = "the learned policy ahead of the hand-coded one from 99 trials on; 84 of 99 after 2,000"
 
@@ -46,13 +63,19 @@ def policies(report: Report, s: Any, out: Path, ex, verdict, scenario, condition
     from ..training.comparison import notes, parse_policy, plan, policy_table, run_all, trials_frame
     from ..training.task import task_spec
 
-    rooms = {room: (task_spec(scenario(room)), POLICIES + (("agents",) if room == TRAINING_ROOM else ()))
-             for room in s.policy_rooms}
-    jobs = {room: plan(spec, [parse_policy(p) for p in names], s.policy_runs, s.policy_starts, out / room)
-            for room, (spec, names) in rooms.items()}
+    rooms = {
+        room: (task_spec(scenario(room)), POLICIES + (("agents",) if room == TRAINING_ROOM else ()))
+        for room in s.policy_rooms
+    }
+    jobs = {
+        room: plan(spec, [parse_policy(p) for p in names], s.policy_runs, s.policy_starts, out / room)
+        for room, (spec, names) in rooms.items()
+    }
     for room in rooms:
         (out / room / "runs").mkdir(parents=True, exist_ok=True)
-    results = run_all([j for js in jobs.values() for j in js], ex)  # every room's runs in one pool: no room's tail waits
+    results = run_all(
+        [j for js in jobs.values() for j in js], ex
+    )  # every room's runs in one pool: no room's tail waits
     for room, (spec, names) in rooms.items():
         where, keys = out / room, {j.key for j in jobs[room]}
         trials = trials_frame([r for r in results if r.trials is not None and r.job.key in keys])
@@ -60,14 +83,19 @@ def policies(report: Report, s: Any, out: Path, ex, verdict, scenario, condition
         table = policy_table(trials).set_index("policy")
         trained = "the room it was trained on" if room == TRAINING_ROOM else "a room training never saw"
         report.heading(f"Learning paper, Table 1 on {room} ({trained})")
-        report.text(f"{s.policy_runs} run(s) of {s.policy_starts} fixed starts (the paper: 5 of 99); learned = the "
-                    "model bundled with navcli (Prioritized Sweeping, trained on landmarks-12); random = a uniform "
-                    "random action at every choice (our baseline). Successes scaled to 99 starts, with the Wilson 95 % "
-                    "interval of the rate over every trial; reward, actions and each action's count: means per trial "
-                    "with a bootstrap 95 % interval that resamples the starts. "
-                    + ("The paper's numbers beside (its own room); " if room == TRAINING_ROOM else
-                       "The paper has no numbers for this room; ")
-                    + f"every trial: {where / 'trials.csv'}")
+        report.text(
+            f"{s.policy_runs} run(s) of {s.policy_starts} fixed starts (the paper: 5 of 99); learned = the "
+            "model bundled with navcli (Prioritized Sweeping, trained on landmarks-12); random = a uniform "
+            "random action at every choice (our baseline). Successes scaled to 99 starts, with the Wilson 95 % "
+            "interval of the rate over every trial; reward, actions and each action's count: means per trial "
+            "with a bootstrap 95 % interval that resamples the starts. "
+            + (
+                "The paper's numbers beside (its own room); "
+                if room == TRAINING_ROOM
+                else "The paper has no numbers for this room; "
+            )
+            + f"every trial: {where / 'trials.csv'}"
+        )
         rows = []
         for policy in names:
             if policy not in table.index:  # every run of it failed: said, not hidden
@@ -83,11 +111,23 @@ def policies(report: Report, s: Any, out: Path, ex, verdict, scenario, condition
                 if math.isnan(paper):  # no number in the paper: no verdict
                     rows.append([policy, metric, "-", interval_text(m, lo, hi), ""])
                     continue
-                p_lo, p_hi = ((PAPER_STARTS * x for x in wilson_interval(round(paper), PAPER_STARTS))
-                              if metric == "successes" else (paper, paper))
-                shown = f"{paper:g} of {PAPER_STARTS} [{p_lo:.1f}, {p_hi:.1f}]" if metric == "successes" else f"{paper:g}"
-                rows.append([policy, metric, shown, interval_text(m, lo, hi),
-                             verdict((lo, hi), (p_lo, p_hi), s.policy_starts, "starts")])
+                p_lo, p_hi = (
+                    (PAPER_STARTS * x for x in wilson_interval(round(paper), PAPER_STARTS))
+                    if metric == "successes"
+                    else (paper, paper)
+                )
+                shown = (
+                    f"{paper:g} of {PAPER_STARTS} [{p_lo:.1f}, {p_hi:.1f}]" if metric == "successes" else f"{paper:g}"
+                )
+                rows.append(
+                    [
+                        policy,
+                        metric,
+                        shown,
+                        interval_text(m, lo, hi),
+                        verdict((lo, hi), (p_lo, p_hi), s.policy_starts, "starts"),
+                    ]
+                )
         report.table(["policy", "quantity", "the paper", "navcli [95 % CI]", "agreement"], rows)
         report.notes(notes(table.reset_index(), room))
         report.text(endings(trials))
@@ -107,13 +147,17 @@ def endings(trials) -> str:
     parts = []
     for policy, t in trials.groupby("policy", sort=False):
         n = t["outcome"].value_counts()
-        said = [f"{n[k]} {word}" for k, word in (("reached", "reached"), ("blocked", "blocked"), ("timeout", "cut at the action limit"))
-                if n.get(k, 0)]
+        said = [
+            f"{n[k]} {word}"
+            for k, word in (("reached", "reached"), ("blocked", "blocked"), ("timeout", "cut at the action limit"))
+            if n.get(k, 0)
+        ]
         cut = t[t["outcome"] == "timeout"]
         if len(cut) and t["reward"].notna().all() and t["reward"].sum() != 0:
             rest = t[t["outcome"] != "timeout"]["reward"]
-            said[-1] += (f" ({100 * cut['reward'].sum() / t['reward'].sum():.0f} % of its reward"
-                         + (f"; {rest.mean():.1f} a trial without them)" if len(rest) else ")"))
+            said[-1] += f" ({100 * cut['reward'].sum() / t['reward'].sum():.0f} % of its reward" + (
+                f"; {rest.mean():.1f} a trial without them)" if len(rest) else ")"
+            )
         parts.append(f"{policy}: {', '.join(said)}")
     return "How the trials ended: " + "; ".join(parts) + "."
 
@@ -126,8 +170,16 @@ def _train_one(job: tuple) -> dict:
     spec, seed, trials, every, starts, model = job
     have = int(model_file.load(model)[1].get("trials", 0)) if model.exists() else 0
     if have < trials:
-        train(spec, trials=trials, eval_every=every, eval_starts=starts, seed=seed, out=model,
-              resume=model if have else None, workers=1)
+        train(
+            spec,
+            trials=trials,
+            eval_every=every,
+            eval_starts=starts,
+            seed=seed,
+            out=model,
+            resume=model if have else None,
+            workers=1,
+        )
     return model_file.load(model)[1]
 
 
@@ -140,8 +192,10 @@ def start_figure3(s: Any, out: Path, ex, scenario) -> tuple[list[Path], dict]:
 
     spec = task_spec(scenario(TRAINING_ROOM))
     out.mkdir(parents=True, exist_ok=True)
-    models = [out / f"model-seed{k}-{s.train_trials}-every{s.eval_every}-on{s.eval_starts}.npz"
-              for k in range(1, s.train_seeds + 1)]  # one per size and seed: resumed only by it
+    models = [
+        out / f"model-seed{k}-{s.train_trials}-every{s.eval_every}-on{s.eval_starts}.npz"
+        for k in range(1, s.train_seeds + 1)
+    ]  # one per size and seed: resumed only by it
     jobs = [(spec, k, s.train_trials, s.eval_every, s.eval_starts, m) for k, m in enumerate(models, 1)]
     return models, submit_all(_train_one, jobs, ex)
 
@@ -167,22 +221,31 @@ def figure3(report: Report, s: Any, out: Path, ex, started: tuple[list[Path], di
     zero = [m["seed"] for m in metas if any(p["trials"] >= 500 and p["successes"] == 0 for p in m["curve"])]
     finals = [m["curve"][-1]["successes"] for m in metas]
     report.heading("Learning paper, Figure 3: learning curves of several trainings")
-    report.text(f"{len(metas)} trainings of {s.train_trials} trials on {TRAINING_ROOM} (seeds 1-{len(metas)}, in "
-                f"parallel workers), the greedy policy evaluated every {s.eval_every} trials on {s.eval_starts} "
-                f"fixed starts. The paper: {PAPER_FIGURE3}. navcli: after {s.train_trials} trials "
-                f"{min(finals)} to {max(finals)} of {s.eval_starts} (mean {sum(finals) / len(finals):.1f}); the "
-                f"hand-coded policy {hand}, the random policy {rand}. Trainings whose test successes passed the "
-                f"hand-coded policy's: {len(passed)} of {len(metas)}"
-                + (f" (seeds {', '.join(map(str, passed))})" if passed else "")
-                + f"; evaluations at 0 after 500 trials: {len(zero)}"
-                + (f" (seeds {', '.join(map(str, zero))})" if zero else "") + ".")
+    report.text(
+        f"{len(metas)} trainings of {s.train_trials} trials on {TRAINING_ROOM} (seeds 1-{len(metas)}, in "
+        f"parallel workers), the greedy policy evaluated every {s.eval_every} trials on {s.eval_starts} "
+        f"fixed starts. The paper: {PAPER_FIGURE3}. navcli: after {s.train_trials} trials "
+        f"{min(finals)} to {max(finals)} of {s.eval_starts} (mean {sum(finals) / len(finals):.1f}); the "
+        f"hand-coded policy {hand}, the random policy {rand}. Trainings whose test successes passed the "
+        f"hand-coded policy's: {len(passed)} of {len(metas)}"
+        + (f" (seeds {', '.join(map(str, passed))})" if passed else "")
+        + f"; evaluations at 0 after 500 trials: {len(zero)}"
+        + (f" (seeds {', '.join(map(str, zero))})" if zero else "")
+        + "."
+    )
     bundled = model_file.BUNDLED
     if (s.train_trials, s.eval_every, s.eval_starts) == (2000, 100, 99) and bundled.exists():
-        same = all(a.read_bytes() == b.read_bytes() for a, b in ((models[0], bundled),
-                                                                  (models[0].with_suffix(".json"), bundled.with_suffix(".json"))))
-        report.text(f"Seed 1's model is {'byte for byte' if same else 'NOT'} the model bundled with navcli "
-                    f"({bundled.name}).")
+        same = all(
+            a.read_bytes() == b.read_bytes()
+            for a, b in ((models[0], bundled), (models[0].with_suffix(".json"), bundled.with_suffix(".json")))
+        )
+        report.text(
+            f"Seed 1's model is {'byte for byte' if same else 'NOT'} the model bundled with navcli ({bundled.name})."
+        )
     conditions(report, out, [spec])
-    report.image(str(png.relative_to(out.parent)), "successes of the test starts against training trials, "
-                 "each training, their mean and range, with the hand-coded and random levels")
+    report.image(
+        str(png.relative_to(out.parent)),
+        "successes of the test starts against training trials, "
+        "each training, their mean and range, with the hand-coded and random levels",
+    )
     report.text(f"The models, their curves and every training trial: {out}.")

@@ -44,7 +44,8 @@ TRAP_ROOMS = ("river-bridges", "u-trap", "door-wall", "hidden-fence", "blocked-w
 # The papers' numbers (pilot paper, Table 1; learning paper, Table 1 and section 6; the thesis' robot)
 PAPER_TABLE1: dict[str, dict[str, tuple[float, float]]] = {
     "geometric": {"time_s": (297.3, 81.9), "path_cm": (1532, 429)},  # mean, standard deviation
-    "potential-field": {"time_s": (243.4, 99.1), "path_cm": (1195, 198)}}
+    "potential-field": {"time_s": (243.4, 99.1), "path_cm": (1195, 198)},
+}
 PAPER_PILOTS = ("potential-field", "geometric")
 """The pilot paper's two pilots (``--pilot`` adds a user's beside them)."""
 PAPER_GAINS = {"time_s": 18.1, "path_cm": 22.0}  # %: the potential field against the geometric pilot
@@ -73,10 +74,21 @@ class Settings:
 
 
 FULL = Settings()
-QUICK = Settings(reruns=3, sensitivity_seeds=3, sensitivity_speeds=(0.05, 0.3), sensitivity_rooms=("paper-8x8",),
-                 trap_seeds=2, policy_runs=2, policy_starts=10, policy_rooms=("landmarks-12",), train_seeds=2,
-                 train_trials=20, eval_every=10, eval_starts=10,
-                 quick=True)
+QUICK = Settings(
+    reruns=3,
+    sensitivity_seeds=3,
+    sensitivity_speeds=(0.05, 0.3),
+    sensitivity_rooms=("paper-8x8",),
+    trap_seeds=2,
+    policy_runs=2,
+    policy_starts=10,
+    policy_rooms=("landmarks-12",),
+    train_seeds=2,
+    train_trials=20,
+    eval_every=10,
+    eval_starts=10,
+    quick=True,
+)
 
 
 def verdict(navcli: tuple[float, float], paper: tuple[float, float], n: int, unit: str = "runs") -> str:
@@ -114,7 +126,7 @@ def paper_gain_interval(metric: str) -> tuple[float, float]:
     (g, sd_g), (p, sd_p) = PAPER_TABLE1["geometric"][metric], PAPER_TABLE1["potential-field"][metric]
     se_g, se_p = sd_g / math.sqrt(PAPER_RUNS), sd_p / math.sqrt(PAPER_RUNS)
     gain = 100 * (1 - p / g)
-    se = 100 * math.hypot(se_p / g, p * se_g / g ** 2)
+    se = 100 * math.hypot(se_p / g, p * se_g / g**2)
     return gain - 1.96 * se, gain + 1.96 * se
 
 
@@ -123,8 +135,14 @@ def _conditions(report: Report, out: Path, specs: list) -> None:
     from ..outputs import write_text
 
     out.mkdir(parents=True, exist_ok=True)
-    write_text(out / "conditions.json", json.dumps({"navcli_version": __version__, "configurations": [
-        {"run_id": s.run_id, **s.to_json()} for s in specs]}, indent=1) + "\n")
+    write_text(
+        out / "conditions.json",
+        json.dumps(
+            {"navcli_version": __version__, "configurations": [{"run_id": s.run_id, **s.to_json()} for s in specs]},
+            indent=1,
+        )
+        + "\n",
+    )
     report.text(f"Every parameter of these runs, with their configurations' run ids: {out / 'conditions.json'}.")
 
 
@@ -134,8 +152,15 @@ def _scenario(name: str):
     return load_scenario(SCENARIOS / f"{name}.yaml")
 
 
-def _compare(names: tuple[str, ...], reruns: int, out: Path, ex, perception: str | None = None,
-             overrides: dict | None = None, pilots: tuple[str, ...] = ()):
+def _compare(
+    names: tuple[str, ...],
+    reruns: int,
+    out: Path,
+    ex,
+    perception: str | None = None,
+    overrides: dict | None = None,
+    pilots: tuple[str, ...] = (),
+):
     """The paper's two pilots and ``pilots`` on each room with the same seeds (``navcli compare
     pilots``): the runs frame."""
     from ..analysis.tables import load_runs
@@ -154,12 +179,14 @@ def table1(report: Report, s: Settings, out: Path, ex, pilots: tuple[str, ...] =
     from ..analysis.tables import improvements, notes, pilot_table
 
     report.heading("Pilot paper, Table 1: the potential-field pilot against the geometric one")
-    report.text(f"paper-8x8 (our room in the paper's spirit; its coordinates are not given), {s.reruns} reruns per "
-                "pilot and perception, the same seeds for both pilots; the paper's pace (5 cm/s, the scenario's "
-                "robot.max_speed). Means over the reached runs with bootstrap 95 % intervals, against the paper's "
-                "mean ± 1 SD (the spread of its runs); gains paired over the seeds both reached, with bootstrap 95 % "
-                f"intervals, against the 95 % interval the paper's Table 1 gives its gain ({PAPER_RUNS} runs a pilot). "
-                "Logs: " + str(out))
+    report.text(
+        f"paper-8x8 (our room in the paper's spirit; its coordinates are not given), {s.reruns} reruns per "
+        "pilot and perception, the same seeds for both pilots; the paper's pace (5 cm/s, the scenario's "
+        "robot.max_speed). Means over the reached runs with bootstrap 95 % intervals, against the paper's "
+        "mean ± 1 SD (the spread of its runs); gains paired over the seeds both reached, with bootstrap 95 % "
+        f"intervals, against the 95 % interval the paper's Table 1 gives its gain ({PAPER_RUNS} runs a pilot). "
+        "Logs: " + str(out)
+    )
     rows: list[list[Any]] = []
     bases: list = []
     remarks: list[str | None] = []
@@ -174,29 +201,59 @@ def table1(report: Report, s: Settings, out: Path, ex, pilots: tuple[str, ...] =
             for metric in ("time_s", "path_cm"):
                 m, lo, hi = bootstrap_mean(ok[metric].to_numpy(dtype=float))
                 if pilot not in PAPER_TABLE1:  # a user's pilot: the paper has no number for it
-                    rows.append([perception, pilot, metric, "-", interval_text(m, lo, hi),
-                                 f"{int(table.loc[pilot, 'reached'])}/{int(table.loc[pilot, 'runs'])}", ""])
+                    rows.append(
+                        [
+                            perception,
+                            pilot,
+                            metric,
+                            "-",
+                            interval_text(m, lo, hi),
+                            f"{int(table.loc[pilot, 'reached'])}/{int(table.loc[pilot, 'runs'])}",
+                            "",
+                        ]
+                    )
                     continue
                 paper, sd = PAPER_TABLE1[pilot][metric]
-                rows.append([perception, pilot, metric, f"{paper:g} ± {sd:g} (SD)", interval_text(m, lo, hi),
-                             f"{int(table.loc[pilot, 'reached'])}/{int(table.loc[pilot, 'runs'])}",
-                             verdict((lo, hi), (paper - sd, paper + sd), len(ok), "reached runs")])
+                rows.append(
+                    [
+                        perception,
+                        pilot,
+                        metric,
+                        f"{paper:g} ± {sd:g} (SD)",
+                        interval_text(m, lo, hi),
+                        f"{int(table.loc[pilot, 'reached'])}/{int(table.loc[pilot, 'runs'])}",
+                        verdict((lo, hi), (paper - sd, paper + sd), len(ok), "reached runs"),
+                    ]
+                )
             remarks.append(small_sample(f"{perception}, {pilot}", len(ok), "reached runs"))
         for pilot in ("potential-field",) + pilots:
             for metric in ("time_s", "path_cm"):
                 g = imps[imps["pilot"] == pilot].loc[metric]
-                cells = interval_text(g["improvement_pct"], g["ci95_low"], g["ci95_high"], sign=True) \
+                cells = (
+                    interval_text(g["improvement_pct"], g["ci95_low"], g["ci95_high"], sign=True)
                     + f" ({int(g['pairs'])} pairs)"
+                )
                 if pilot != "potential-field":
                     rows.append([perception, f"{pilot} gain %", metric, "-", cells, "", ""])
                     continue
                 p_lo, p_hi = paper_gain_interval(metric)
-                rows.append([perception, "PF gain %", metric, f"+{PAPER_GAINS[metric]:g} [{p_lo:+.1f}, {p_hi:+.1f}]",
-                             cells, "", verdict((g["ci95_low"], g["ci95_high"]), (p_lo, p_hi), int(g["pairs"]), "pairs")])
+                rows.append(
+                    [
+                        perception,
+                        "PF gain %",
+                        metric,
+                        f"+{PAPER_GAINS[metric]:g} [{p_lo:+.1f}, {p_hi:+.1f}]",
+                        cells,
+                        "",
+                        verdict((g["ci95_low"], g["ci95_high"]), (p_lo, p_hi), int(g["pairs"]), "pairs"),
+                    ]
+                )
         remarks += notes(runs, table.reset_index(), imps.reset_index(), "geometric")
     report.table(["perception", "pilot", "quantity", "the paper", "navcli [95 % CI]", "reached", "agreement"], rows)
     report.notes(remarks)
-    report.text("Run ids and every run's numbers: " + ", ".join(str(out / p / "runs.csv") for p in ("vision", "oracle")))
+    report.text(
+        "Run ids and every run's numbers: " + ", ".join(str(out / p / "runs.csv") for p in ("vision", "oracle"))
+    )
     _conditions(report, out, bases)
 
 
@@ -206,9 +263,15 @@ def _write_runs(runs, path: Path) -> None:
     write_csv(path, runs.drop(columns=["xy"], errors="ignore"))
 
 
-VISION_CHOICES = ("{}", "{vision.routines: 0}", "{vision.line_objects: 0}", "{vision.walls: known}",
-                  "{vision.walls: felt}", "{pilot.look_cap: 0.9}",
-                  "{vision.routines: 0, vision.line_objects: 0, pilot.look_cap: 0.9}")
+VISION_CHOICES = (
+    "{}",
+    "{vision.routines: 0}",
+    "{vision.line_objects: 0}",
+    "{vision.walls: known}",
+    "{vision.walls: felt}",
+    "{pilot.look_cap: 0.9}",
+    "{vision.routines: 0, vision.line_objects: 0, pilot.look_cap: 0.9}",
+)
 """navcli's choices where the papers are silent on what the robot senses, one at a time from the
 defaults (a plan's points), with vision: every look sees all, lines joined by geometry, the
 walls known or felt, eq. 1's look capped at 0.9, and all three old choices together (navcli
@@ -223,18 +286,23 @@ def sensitivity(report: Report, s: Settings, out: Path, ex) -> None:
 
     out.mkdir(parents=True, exist_ok=True)
     rooms = ", ".join(json.dumps(str(SCENARIOS / f"{r}.yaml")) for r in s.sensitivity_rooms)  # quoted: any path
-    head = (f"# navcli reproduce: the sensitivity's plan\nversion: 1\nscenarios: [{rooms}]\n"
-            f"seeds: {s.sensitivity_seeds}\npilots: [potential-field, geometric]\n")
-    plans = {"plan.yaml": head + "perception: [vision, oracle]\ngrid:\n"
-                              f"  robot.max_speed: [{', '.join(map(str, s.sensitivity_speeds))}]\n"
-                              "  pilot.drive_while_turning: [true, false]\n",
-             "vision-choices.yaml": head + "perception: vision\npoints:\n"
-                                   + "".join(f"  - {c}\n" for c in VISION_CHOICES)}
+    head = (
+        f"# navcli reproduce: the sensitivity's plan\nversion: 1\nscenarios: [{rooms}]\n"
+        f"seeds: {s.sensitivity_seeds}\npilots: [potential-field, geometric]\n"
+    )
+    plans = {
+        "plan.yaml": head + "perception: [vision, oracle]\ngrid:\n"
+        f"  robot.max_speed: [{', '.join(map(str, s.sensitivity_speeds))}]\n"
+        "  pilot.drive_while_turning: [true, false]\n",
+        "vision-choices.yaml": head + "perception: vision\npoints:\n" + "".join(f"  - {c}\n" for c in VISION_CHOICES),
+    }
     report.heading("Pilot paper, Table 1's sensitivity (the paper states one condition)")
-    report.text(f"{s.sensitivity_seeds} seed(s) a point; the plans: {', '.join(str(out / f) for f in plans)}. The "
-                "paper has no numbers here: the column says how the potential field's gain moves with what it leaves "
-                "unstated: the robot's pace and how a turn is executed (both perceptions), then what the robot senses "
-                "(vision; each choice alone from the defaults, and navcli's three old choices together).")
+    report.text(
+        f"{s.sensitivity_seeds} seed(s) a point; the plans: {', '.join(str(out / f) for f in plans)}. The "
+        "paper has no numbers here: the column says how the potential field's gain moves with what it leaves "
+        "unstated: the robot's pace and how a turn is executed (both perceptions), then what the robot senses "
+        "(vision; each choice alone from the defaults, and navcli's three old choices together)."
+    )
     for name, text in plans.items():
         plan_file = out / name
         plan_file.write_text(text)
@@ -244,12 +312,20 @@ def sensitivity(report: Report, s: Settings, out: Path, ex) -> None:
         runs = load_sweep(table)
         runs = runs[runs["run_id"].isin({r.spec.run_id for r in planned})]  # the table keeps other plans' rows
         imps = improvements(runs, "geometric")
-        rows = [[r["condition"], r["metric"], interval_text(r["improvement_pct"], r["ci95_low"], r["ci95_high"], sign=True),
-                 int(r["pairs"])] for _, r in imps.iterrows()]  # no verdict: the paper has no number for these conditions
+        rows = [
+            [
+                r["condition"],
+                r["metric"],
+                interval_text(r["improvement_pct"], r["ci95_low"], r["ci95_high"], sign=True),
+                int(r["pairs"]),
+            ]
+            for _, r in imps.iterrows()
+        ]  # no verdict: the paper has no number for these conditions
         report.text(f"Every run: {table}.")
         report.table(["condition", "metric", "PF gain % [95 % CI]", "pairs"], rows)
-        report.notes([small_sample("every condition", int(imps["pairs"].min()), "pairs at the fewest")]
-               if len(imps) else [])
+        report.notes(
+            [small_sample("every condition", int(imps["pairs"].min()), "pairs at the fewest")] if len(imps) else []
+        )
 
 
 def traps(report: Report, s: Settings, out: Path, ex, pilots: tuple[str, ...] = ()) -> None:
@@ -257,21 +333,26 @@ def traps(report: Report, s: Settings, out: Path, ex, pilots: tuple[str, ...] = 
     runs, specs = _compare(s.trap_rooms, s.trap_seeds, out, ex, pilots=pilots)
     _write_runs(runs, out / "runs.csv")
     report.heading("Trap rooms: diverting targets (the thesis' real robot beside them)")
-    report.text(f"{s.trap_seeds} seed(s) per room and pilot; every run: {out / 'runs.csv'}. The thesis' figures "
-                "(its real robot, its rooms): 85 % reached; of runs past long obstacles 58 % needed one diverting "
-                "target and 18 % two, given without a count of runs (so each is taken as the number itself). Rates with "
-                "Wilson 95 % intervals, contacts with a bootstrap 95 % interval.")
+    report.text(
+        f"{s.trap_seeds} seed(s) per room and pilot; every run: {out / 'runs.csv'}. The thesis' figures "
+        "(its real robot, its rooms): 85 % reached; of runs past long obstacles 58 % needed one diverting "
+        "target and 18 % two, given without a count of runs (so each is taken as the number itself). Rates with "
+        "Wilson 95 % intervals, contacts with a bootstrap 95 % interval."
+    )
     rows = []
     remarks: list[str | None] = []
     for pilot in PAPER_PILOTS + pilots:
         g = runs[(runs["pilot"] == pilot) & runs["outcome"].isin(("reached", "blocked", "timeout"))]  # not interrupted
         n = len(g)
-        for key, k, paper in (("reached", int((g["outcome"] == "reached").sum()), THESIS_TRAPS["reached"]),
-                              ("needed 1 diverting target", int((g["diverting_targets"] == 1).sum()),
-                               THESIS_TRAPS["diverting_1"]),
-                              ("needed 2", int((g["diverting_targets"] == 2).sum()), THESIS_TRAPS["diverting_2"])):
+        for key, k, paper in (
+            ("reached", int((g["outcome"] == "reached").sum()), THESIS_TRAPS["reached"]),
+            ("needed 1 diverting target", int((g["diverting_targets"] == 1).sum()), THESIS_TRAPS["diverting_1"]),
+            ("needed 2", int((g["diverting_targets"] == 2).sum()), THESIS_TRAPS["diverting_2"]),
+        ):
             lo, hi = wilson_interval(k, n)
-            rows.append([pilot, key, f"{paper:.0%}", f"{k}/{n} [{lo:.0%}, {hi:.0%}]", verdict((lo, hi), (paper, paper), n)])
+            rows.append(
+                [pilot, key, f"{paper:.0%}", f"{k}/{n} [{lo:.0%}, {hi:.0%}]", verdict((lo, hi), (paper, paper), n)]
+            )
         m, lo, hi = bootstrap_mean(g["collisions"].to_numpy(dtype=float))
         rows.append([pilot, "contacts per run", "-", interval_text(m, lo, hi), ""])  # the thesis gives no number
         remarks.append(small_sample(pilot, n, "runs"))
@@ -280,8 +361,16 @@ def traps(report: Report, s: Settings, out: Path, ex, pilots: tuple[str, ...] = 
     _conditions(report, out, specs)
 
 
-def reproduce(which: str, out: Path, *, settings: Settings = FULL, jobs: int = 2, scheduler: str | None = None,
-              echo: Callable[[str], None] = print, pilots: tuple[str, ...] = ()) -> dict[str, Path]:
+def reproduce(
+    which: str,
+    out: Path,
+    *,
+    settings: Settings = FULL,
+    jobs: int = 2,
+    scheduler: str | None = None,
+    echo: Callable[[str], None] = print,
+    pilots: tuple[str, ...] = (),
+) -> dict[str, Path]:
     """Run the sections of ``which`` (``pilots``, ``learning`` or ``all``) into ``out`` and write
     ``report.md`` and ``report.html`` there; returns the files written. ``pilots`` (plugins'
     names) run beside the paper's two in Table 1 and the trap rooms."""
@@ -292,16 +381,22 @@ def reproduce(which: str, out: Path, *, settings: Settings = FULL, jobs: int = 2
     report = Report()
     report.heading("navcli reproduce: both papers' experiments beside their numbers", 1)
     if settings.quick:
-        report.text("QUICK RUN (--quick): few reruns, to check the machinery; the intervals are wide and the "
-                    "verdicts are not the reproduction's. Run without --quick for the papers' sizes.")
+        report.text(
+            "QUICK RUN (--quick): few reruns, to check the machinery; the intervals are wide and the "
+            "verdicts are not the reproduction's. Run without --quick for the papers' sizes."
+        )
     if not settings.quick and settings.train_seeds != FULL.train_seeds:
-        report.text(f"Figure 3 from {settings.train_seeds} training(s) (--train-seeds), where the full reproduction "
-                    f"runs {FULL.train_seeds}.")
-    report.text(f"navcli {__version__}; settings: {json.dumps(asdict(settings))}. A paper's number agrees when "
-                "navcli's 95 % interval of the same quantity meets the paper's own range of it: the mean ± 1 SD of "
-                "its runs where it gives an SD, the 95 % interval its Table 1 gives a gain, the Wilson interval of a "
-                "count, else the number itself. No verdict where the paper has no number; none either from fewer "
-                f"than {MIN_SAMPLE} runs (pairs, starts): too few to judge.")
+        report.text(
+            f"Figure 3 from {settings.train_seeds} training(s) (--train-seeds), where the full reproduction "
+            f"runs {FULL.train_seeds}."
+        )
+    report.text(
+        f"navcli {__version__}; settings: {json.dumps(asdict(settings))}. A paper's number agrees when "
+        "navcli's 95 % interval of the same quantity meets the paper's own range of it: the mean ± 1 SD of "
+        "its runs where it gives an SD, the 95 % interval its Table 1 gives a gain, the Wilson interval of a "
+        "count, else the number itself. No verdict where the paper has no number; none either from fewer "
+        f"than {MIN_SAMPLE} runs (pairs, starts): too few to judge."
+    )
     durations = []
     t_all, cpu_here, cpu_workers = time.perf_counter(), time.process_time(), _children_cpu()
     with executor(jobs, scheduler) as ex:
@@ -309,14 +404,26 @@ def reproduce(which: str, out: Path, *, settings: Settings = FULL, jobs: int = 2
         if which in ("learning", "all"):  # the longest runs first: Figure 3's trainings, then the rest behind
             trainings = learning_paper.start_figure3(settings, out / "figure3", ex, _scenario)
         if which in ("pilots", "all"):
-            steps += [("Table 1 (pilots)", lambda: table1(report, settings, out / "table1", ex, pilots)),
-                      ("sensitivity", lambda: sensitivity(report, settings, out / "sensitivity", ex)),
-                      ("trap rooms", lambda: traps(report, settings, out / "traps", ex, pilots))]
+            steps += [
+                ("Table 1 (pilots)", lambda: table1(report, settings, out / "table1", ex, pilots)),
+                ("sensitivity", lambda: sensitivity(report, settings, out / "sensitivity", ex)),
+                ("trap rooms", lambda: traps(report, settings, out / "traps", ex, pilots)),
+            ]
         if which in ("learning", "all"):
-            steps += [("Table 1 (policies)", lambda: learning_paper.policies(report, settings, out / "policies", ex,
-                                                                             verdict, _scenario, _conditions)),
-                      ("Figure 3", lambda: learning_paper.figure3(report, settings, out / "figure3", ex, trainings,
-                                                                  _scenario, _conditions))]
+            steps += [
+                (
+                    "Table 1 (policies)",
+                    lambda: learning_paper.policies(
+                        report, settings, out / "policies", ex, verdict, _scenario, _conditions
+                    ),
+                ),
+                (
+                    "Figure 3",
+                    lambda: learning_paper.figure3(
+                        report, settings, out / "figure3", ex, trainings, _scenario, _conditions
+                    ),
+                ),
+            ]
         for name, step in steps:
             t0 = time.perf_counter()
             echo(f"reproduce: {name} ...")
@@ -325,15 +432,19 @@ def reproduce(which: str, out: Path, *, settings: Settings = FULL, jobs: int = 2
     wall = time.perf_counter() - t_all
     here, workers = time.process_time() - cpu_here, _children_cpu() - cpu_workers
     report.heading("How long it took")
-    report.text(f"{jobs} worker(s){' on ' + scheduler if scheduler else ''}. Each section from its start to its end "
-                "in this process; Figure 3's trainings, the longest runs, start before every other section and run "
-                "beside them, so its row is only what was left of them.")
+    report.text(
+        f"{jobs} worker(s){' on ' + scheduler if scheduler else ''}. Each section from its start to its end "
+        "in this process; Figure 3's trainings, the longest runs, start before every other section and run "
+        "beside them, so its row is only what was left of them."
+    )
     report.table(["section", "wall time"], durations + [["all", f"{wall:.0f} s"]])
     if workers > 0:  # local workers (a cluster's CPU is not seen from here)
         serial = here / (here + workers)
-        report.text(f"CPU: {here:.0f} s in this process (planning, reading logs, tables, figures: the serial "
-                    f"part), {workers:.0f} s in the workers; serial share {serial:.1%}, so by Amdahl's law no "
-                    f"number of workers makes this reproduction more than {1 / serial:.0f}x faster than one.")
+        report.text(
+            f"CPU: {here:.0f} s in this process (planning, reading logs, tables, figures: the serial "
+            f"part), {workers:.0f} s in the workers; serial share {serial:.1%}, so by Amdahl's law no "
+            f"number of workers makes this reproduction more than {1 / serial:.0f}x faster than one."
+        )
     files = {"markdown": out / "report.md", "html": out / "report.html"}
     write_markdown(files["markdown"], report.markdown())
     write_text(files["html"], report.html())

@@ -62,8 +62,16 @@ MAX_RUNS = 1_000_000
 """A plan with more runs than this is refused (a typo in a grid, not an experiment)."""
 FLUSH_S = 10.0
 """Seconds between two rewrites of the results table during a sweep."""
-SUMMARY_FIELDS = ("outcome", "reason", "time_s", "path_length_m", "collisions", "camera_looks", "ticks",
-                  "diverting_targets")
+SUMMARY_FIELDS = (
+    "outcome",
+    "reason",
+    "time_s",
+    "path_length_m",
+    "collisions",
+    "camera_looks",
+    "ticks",
+    "diverting_targets",
+)
 DONE = ("reached", "timeout", "blocked")
 """Outcomes of a finished run; a row with another (``error``) is run again on resume."""
 
@@ -132,8 +140,12 @@ class PlanReader(Reader):
 
     def plan(self, d: Any, root: Path) -> Plan:
         try:
-            top = self.mapping(d, (), ("version", "scenarios", "seeds"),
-                               ("pilots", "perception", "time_limit", "params", "grid", "random", "points"))
+            top = self.mapping(
+                d,
+                (),
+                ("version", "scenarios", "seeds"),
+                ("pilots", "perception", "time_limit", "params", "grid", "random", "points"),
+            )
             ways = [k for k in ("grid", "random", "points") if k in top]
             if len(ways) > 1:
                 raise self.fail((ways[1],), "a plan has a grid, a random sample or a list of points, not more than one")
@@ -162,8 +174,11 @@ class PlanReader(Reader):
             raise PlanError(self.problems)
         both = sorted(set(fixed) & set(points[0]))
         if both:  # a grid's or sample's value would silently replace the plan's
-            self.fail(("params",), f"{', '.join(both)} set here and in {next(k for k in ('grid', 'random', 'points') if k in top)}; "
-                                   "give each parameter in one place")
+            self.fail(
+                ("params",),
+                f"{', '.join(both)} set here and in {next(k for k in ('grid', 'random', 'points') if k in top)}; "
+                "give each parameter in one place",
+            )
             raise PlanError(self.problems)
         points = [fixed | pt for pt in points]
         bases = []
@@ -171,8 +186,11 @@ class PlanReader(Reader):
             for pilot in pilots or [None]:
                 for perception in perceptions or [None]:
                     try:
-                        bases.append(RunSpec.build(sc, pilot=pilot, perception=perception, time_limit=time_limit,
-                                                   also=pilots or ()))
+                        bases.append(
+                            RunSpec.build(
+                                sc, pilot=pilot, perception=perception, time_limit=time_limit, also=pilots or ()
+                            )
+                        )
                     except NavcliError as e:
                         self.fail(("scenarios", i), str(e))
         plan = Plan(self.source, tuple(bases), tuple(points), seeds or 1)
@@ -283,21 +301,26 @@ class PlanReader(Reader):
             if isinstance(lo, list) or isinstance(hi, list):
                 raise self.fail(q, f"{name} is a list of numbers: give its values in a grid, not a range")
             if isinstance(lo, int):  # a sample between is no whole number, nor a switch
-                raise self.fail(q, f"{name} is a {'switch' if isinstance(lo, bool) else 'whole number'}: give its "
-                                   "values in a grid, not a range")
+                raise self.fail(
+                    q,
+                    f"{name} is a {'switch' if isinstance(lo, bool) else 'whole number'}: give its "
+                    "values in a grid, not a range",
+                )
             if lo > hi:
                 raise self.fail(q, f"low {lo:g} is above high {hi:g}")
             bounds[name] = (lo, hi)
         rng = np.random.default_rng(seed)
-        draws = rng.uniform([b[0] for b in bounds.values()], [b[1] for b in bounds.values()],
-                            size=(samples, len(bounds)))
+        draws = rng.uniform(
+            [b[0] for b in bounds.values()], [b[1] for b in bounds.values()], size=(samples, len(bounds))
+        )
         return [{name: float(x) for name, x in zip(bounds, row)} for row in draws]
 
     def scenarios(self, v: Any, root: Path) -> list:
         P = ("scenarios",)
         if not isinstance(v, list) or not v:
-            raise self.fail(P, "expected a non-empty list of scenario files (relative to the plan file) or bundled "
-                               "scenarios' names")
+            raise self.fail(
+                P, "expected a non-empty list of scenario files (relative to the plan file) or bundled scenarios' names"
+            )
         out: list = []
         seen: dict[str, int] = {}
         for i, f in enumerate(v):
@@ -309,8 +332,10 @@ class PlanReader(Reader):
                 self.problems += e.problems
                 continue
             if sc.sha256 in seen:  # the same runs twice, one row each
-                self.fail(P + (i,), f"{name} is the scenario of scenarios[{seen[sc.sha256]}] again "
-                                    "(each would run the same runs)")
+                self.fail(
+                    P + (i,),
+                    f"{name} is the scenario of scenarios[{seen[sc.sha256]}] again (each would run the same runs)",
+                )
                 continue
             seen[sc.sha256] = i
             out.append(sc)
@@ -335,17 +360,27 @@ def run_row(run: SweepRun) -> dict[str, Any]:
     from ..runner import run_mission
 
     spec = run.spec
-    row: dict[str, Any] = {"scenario": spec.scenario.name, "scenario_sha256": spec.scenario.sha256,
-                           "pilot": spec.pilot, "perception": spec.perception, "time_limit_s": spec.time_limit,
-                           "seed": spec.seed, "point": run.point,
-                           **{k: json.dumps(v) if isinstance(v, list) else v for k, v in run.overrides.items()}}
+    row: dict[str, Any] = {
+        "scenario": spec.scenario.name,
+        "scenario_sha256": spec.scenario.sha256,
+        "pilot": spec.pilot,
+        "perception": spec.perception,
+        "time_limit_s": spec.time_limit,
+        "seed": spec.seed,
+        "point": run.point,
+        **{k: json.dumps(v) if isinstance(v, list) else v for k, v in run.overrides.items()},
+    }
     try:
         res = run_mission(spec, out=Path(run.log) if run.log else None, record=run.log is not None)
     except Exception as e:
-        return row | {f: None for f in SUMMARY_FIELDS} | {"outcome": "error", "log": run.log or "",
-                                                           "run_id": spec.run_id, "error": f"{type(e).__name__}: {e}"}
-    return row | {f: res.summary[f] for f in SUMMARY_FIELDS} | {"log": run.log or "", "run_id": spec.run_id,
-                                                                "error": ""}
+        return (
+            row
+            | {f: None for f in SUMMARY_FIELDS}
+            | {"outcome": "error", "log": run.log or "", "run_id": spec.run_id, "error": f"{type(e).__name__}: {e}"}
+        )
+    return (
+        row | {f: res.summary[f] for f in SUMMARY_FIELDS} | {"log": run.log or "", "run_id": spec.run_id, "error": ""}
+    )
 
 
 def read_table(path: Path):
@@ -376,8 +411,14 @@ class SweepStats:
     errors: int = 0
 
 
-def run_sweep(runs: list[SweepRun], table: Path, ex: Executor, *, csv: bool = False,
-              on_row: Callable[[dict, SweepStats], None] | None = None) -> SweepStats:
+def run_sweep(
+    runs: list[SweepRun],
+    table: Path,
+    ex: Executor,
+    *,
+    csv: bool = False,
+    on_row: Callable[[dict, SweepStats], None] | None = None,
+) -> SweepStats:
     """Run what of ``runs`` is not yet in ``table`` on ``ex`` and write the table (see the module
     docstring). Rows are ordered as ``runs``; rows of other plans already in the table are kept
     after them. Ctrl-C/SIGTERM: the table is written with what finished, then re-raised."""

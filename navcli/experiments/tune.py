@@ -76,8 +76,7 @@ class TuneProblem:
 
     def key(self) -> str:
         """A short hash of the problem: a study or checkpoint of another problem is never resumed."""
-        blob = json.dumps([[b.run_id for b in self.bases], self.names, self.low, self.high, self.seeds,
-                           self.objective])
+        blob = json.dumps([[b.run_id for b in self.bases], self.names, self.low, self.high, self.seeds, self.objective])
         return hashlib.sha256(blob.encode()).hexdigest()[:12]
 
 
@@ -168,9 +167,14 @@ def evaluate(problem: TuneProblem, values: Sequence[float]) -> dict[str, Any]:
                 summary = {"outcome": "error", "ticks": 0, "time_s": spec.time_limit}
             runs.append((summary, spec.time_limit))
     reached = [s for s, _ in runs if s["outcome"] == "reached"]
-    return {"objective": objective(problem.objective, runs), "success": len(reached) / len(runs),
-            "mean_time_s": sum(s["time_s"] for s in reached) / len(reached) if reached else float("nan"),
-            "runs": len(runs), "errors": errors, **overrides}
+    return {
+        "objective": objective(problem.objective, runs),
+        "success": len(reached) / len(runs),
+        "mean_time_s": sum(s["time_s"] for s in reached) / len(reached) if reached else float("nan"),
+        "runs": len(runs),
+        "errors": errors,
+        **overrides,
+    }
 
 
 # --- Optuna: TPE and CMA-ES ------------------------------------------------------------------
@@ -185,8 +189,17 @@ class CheckpointError(NavcliError):
     """A ``--storage`` file that is not a usable checkpoint (the message names it and why)."""
 
 
-def tune_optuna(problem: TuneProblem, ex: Executor, *, algorithm: str, trials: int, storage: Path,
-                batch: int, seed: int = 1, on_trial: Callable[[dict], None] | None = None) -> list[dict]:
+def tune_optuna(
+    problem: TuneProblem,
+    ex: Executor,
+    *,
+    algorithm: str,
+    trials: int,
+    storage: Path,
+    batch: int,
+    seed: int = 1,
+    on_trial: Callable[[dict], None] | None = None,
+) -> list[dict]:
     """Run the study until it holds ``trials`` finished trials; ``batch`` trials are asked and
     evaluated at once (the workers' number). Returns the history, one dict per finished trial."""
     optuna = require("optuna", "navcli tune")
@@ -197,14 +210,21 @@ def tune_optuna(problem: TuneProblem, ex: Executor, *, algorithm: str, trials: i
     from optuna.trial import TrialState
 
     optuna.logging.set_verbosity(optuna.logging.WARNING)
-    sampler = (optuna.samplers.CmaEsSampler(seed=seed) if algorithm == "cmaes"
-               else optuna.samplers.TPESampler(seed=seed, constant_liar=batch > 1))
+    sampler = (
+        optuna.samplers.CmaEsSampler(seed=seed)
+        if algorithm == "cmaes"
+        else optuna.samplers.TPESampler(seed=seed, constant_liar=batch > 1)
+    )
     storage.parent.mkdir(parents=True, exist_ok=True)
     _check_journal(storage)
     try:  # the journal is replayed here: a damaged one fails inside Optuna, in its own ways
-        study = optuna.create_study(study_name=f"navcli-{problem.key()}", direction="maximize", sampler=sampler,
-                                    load_if_exists=True,
-                                    storage=JournalStorage(JournalFileBackend(str(storage))))
+        study = optuna.create_study(
+            study_name=f"navcli-{problem.key()}",
+            direction="maximize",
+            sampler=sampler,
+            load_if_exists=True,
+            storage=JournalStorage(JournalFileBackend(str(storage))),
+        )
     except Exception as e:
         raise CheckpointError(f"{storage}: not a usable Optuna journal ({type(e).__name__}: {e})"[:300]) from None
     for t in study.get_trials(deepcopy=False, states=(TrialState.RUNNING,)):  # left by an interrupted run
@@ -231,9 +251,15 @@ def tune_optuna(problem: TuneProblem, ex: Executor, *, algorithm: str, trials: i
             study.tell(t, r["objective"])
             if on_trial:
                 on_trial(r)
-    return [{"trial": i, "objective": t.value, **{k: t.user_attrs[k] for k in ("success", "mean_time_s", "runs",
-                                                                                "errors")}, **t.params}
-            for i, t in enumerate(finished())]
+    return [
+        {
+            "trial": i,
+            "objective": t.value,
+            **{k: t.user_attrs[k] for k in ("success", "mean_time_s", "runs", "errors")},
+            **t.params,
+        }
+        for i, t in enumerate(finished())
+    ]
 
 
 # --- DEAP: the thesis' generational GA --------------------------------------------------------
@@ -246,8 +272,7 @@ def _creator():
     return creator
 
 
-def ga_toolbox(problem: TuneProblem, ex: Executor, history: list[dict],
-               on_trial: Callable[[dict], None] | None = None):
+def ga_toolbox(problem: TuneProblem, ex: Executor, history: list[dict], on_trial: Callable[[dict], None] | None = None):
     """DEAP's toolbox for the thesis' GA (see the module docstring), its ``map`` on ``ex``."""
     require("deap", "navcli tune --algorithm ga")
     from deap import base, tools
@@ -255,8 +280,12 @@ def ga_toolbox(problem: TuneProblem, ex: Executor, history: list[dict],
     creator = _creator()
     lo, hi, n = list(problem.low), list(problem.high), len(problem.names)
     tb = base.Toolbox()
-    tb.register("individual", tools.initIterate, creator.NavcliIndividual,
-                lambda: [random.uniform(a, b) for a, b in zip(lo, hi)])
+    tb.register(
+        "individual",
+        tools.initIterate,
+        creator.NavcliIndividual,
+        lambda: [random.uniform(a, b) for a, b in zip(lo, hi)],
+    )
     tb.register("population", tools.initRepeat, list, tb.individual)
     tb.register("evaluate", functools.partial(evaluate, problem))
     tb.register("mate", tools.cxSimulatedBinaryBounded, eta=20.0, low=lo, up=hi)
@@ -293,8 +322,9 @@ def _check_journal(storage: Path) -> None:
             except (ValueError, RecursionError):
                 op = None
             if not isinstance(op, dict) or not isinstance(op.get("op_code"), int):
-                raise CheckpointError(f"{storage}:{n}: not a usable Optuna journal (a line that is not one of its "
-                                      "records)")
+                raise CheckpointError(
+                    f"{storage}:{n}: not a usable Optuna journal (a line that is not one of its records)"
+                )
 
 
 def read_checkpoint(storage: Path) -> dict | None:
@@ -316,8 +346,10 @@ def read_checkpoint(storage: Path) -> dict | None:
             raise TypeError("not a mapping with a key")
         gen = state["generation"]
         assert isinstance(gen, int) and gen >= 0, "generation"
-        assert all(isinstance(g, list) and all(isinstance(x, (int, float)) and math.isfinite(x) for x in g)
-                   for g in state["population"]), "population"
+        assert all(
+            isinstance(g, list) and all(isinstance(x, (int, float)) and math.isfinite(x) for x in g)
+            for g in state["population"]
+        ), "population"
         assert len(state["fitness"]) == len(state["population"]), "fitness"
         assert all(isinstance(f, (int, float)) for f in state["fitness"]), "fitness"
         v, internal, gauss = state["random"]
@@ -328,8 +360,15 @@ def read_checkpoint(storage: Path) -> dict | None:
     return state
 
 
-def tune_ga(problem: TuneProblem, ex: Executor, *, settings: GASettings, storage: Path, seed: int = 1,
-            on_trial: Callable[[dict], None] | None = None) -> list[dict]:
+def tune_ga(
+    problem: TuneProblem,
+    ex: Executor,
+    *,
+    settings: GASettings,
+    storage: Path,
+    seed: int = 1,
+    on_trial: Callable[[dict], None] | None = None,
+) -> list[dict]:
     """Run the GA for ``settings.generations`` generations, checkpointing to ``storage`` (JSON)
     after each; a checkpoint of the same problem and settings is resumed. Returns the history."""
     from deap import algorithms
@@ -359,12 +398,21 @@ def tune_ga(problem: TuneProblem, ex: Executor, *, settings: GASettings, storage
     while gen < settings.generations:
         # one generation per call: the first call also evaluates the initial population; later
         # calls find it evaluated, so N calls are eaSimple(ngen=N), with a checkpoint between them
-        pop, _ = algorithms.eaSimple(pop, tb, cxpb=settings.crossover, mutpb=settings.mutation, ngen=1,
-                                     verbose=False)
+        pop, _ = algorithms.eaSimple(pop, tb, cxpb=settings.crossover, mutpb=settings.mutation, ngen=1, verbose=False)
         gen += 1
-        write_text(storage, json.dumps({"key": key, "generation": gen, "population": [list(i) for i in pop],
-                                        "fitness": [i.fitness.values[0] for i in pop], "random": random.getstate(),
-                                        "history": history}))
+        write_text(
+            storage,
+            json.dumps(
+                {
+                    "key": key,
+                    "generation": gen,
+                    "population": [list(i) for i in pop],
+                    "fitness": [i.fitness.values[0] for i in pop],
+                    "random": random.getstate(),
+                    "history": history,
+                }
+            ),
+        )
     return history
 
 
@@ -384,8 +432,19 @@ def write_results(history: list[dict], problem: TuneProblem, out: Path) -> dict[
     write_csv(files["history"], df)
     best = df.loc[df["objective"].idxmax()]
     values = {n: float(best[n]) for n in problem.names}
-    write_text(files["best"], json.dumps({"objective": problem.objective, "value": float(best["objective"]),
-                                          "trial": int(best["trial"]), "params": values}, indent=2) + "\n")
+    write_text(
+        files["best"],
+        json.dumps(
+            {
+                "objective": problem.objective,
+                "value": float(best["objective"]),
+                "trial": int(best["trial"]),
+                "params": values,
+            },
+            indent=2,
+        )
+        + "\n",
+    )
     write_text(files["block"], scenario_block(values, problem.objective, float(best["objective"])))
     fig, ax = plt.subplots(figsize=(7, 4))
     ax.plot(df["trial"], df["objective"], ".", alpha=0.6, label="trial")
@@ -412,9 +471,9 @@ def scenario_block(values: dict[str, float], objective_name: str, value: float) 
     # --param navigation.alpha=1.25
     """
     lines = [f"# navcli tune: best {objective_name} {value:.6g}"]
-    in_block = [n for n in values if n.startswith("pilot.") and n[len("pilot."):] in PILOT_BLOCK]
+    in_block = [n for n in values if n.startswith("pilot.") and n[len("pilot.") :] in PILOT_BLOCK]
     if in_block:
-        lines += ["pilot:"] + [f"  {n[len('pilot.'):]}: {values[n]:.6g}" for n in in_block]
+        lines += ["pilot:"] + [f"  {n[len('pilot.') :]}: {values[n]:.6g}" for n in in_block]
     rest = [f"# --param {n}={v:.6g}" for n, v in values.items() if n not in in_block]
     if rest:
         lines += ["# not in a scenario's blocks; give them on the command line:"] + rest

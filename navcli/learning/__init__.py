@@ -20,8 +20,15 @@ from .learning_agent import LearningAgent, hand_coded_agent, table_policy
 __all__ = ["LearningAgent", "hand_coded_agent", "policy_agent", "table_policy"]
 
 
-def policy_agent(kind: str, file: str = "", params: LearningParams = LEARNING, *, max_speed: float = ROBOT.max_speed,
-                 pan_limit: float = math.radians(100.0), target_key: str | None = None) -> LearningAgent:
+def policy_agent(
+    kind: str,
+    file: str = "",
+    params: LearningParams = LEARNING,
+    *,
+    max_speed: float = ROBOT.max_speed,
+    pan_limit: float = math.radians(100.0),
+    target_key: str | None = None,
+) -> LearningAgent:
     """The agent of the Navigation policy ``kind``: ``hand-coded``, or ``learned`` from the model
     ``file`` (the bundled one when empty). Raises :class:`~.model_file.ModelError` for a bad model
     file."""
@@ -31,5 +38,10 @@ def policy_agent(kind: str, file: str = "", params: LearningParams = LEARNING, *
         raise ValueError(f"no policy agent for navigation {kind!r}")
     from .model_file import load_policy
 
-    return LearningAgent(table_policy(load_policy(Path(file) if file else None)), params=params, max_speed=max_speed,
-                         pan_limit=pan_limit, target_key=target_key)
+    return LearningAgent(
+        table_policy(load_policy(Path(file) if file else None)),
+        params=params,
+        max_speed=max_speed,
+        pan_limit=pan_limit,
+        target_key=target_key,
+    )

@@ -94,8 +94,17 @@ def most_imprecise_sector(s: Situation, pan_limit: float, target_key: str | None
     return SECTORS[max(reach, key=lambda i: (sector_imprecision(per[i]), -abs(SECTORS[i])))]
 
 
-def action_bids(action: int, s: Situation, *, bidder: str, value: float, speed: float, pan_limit: float,
-                target_key: str | None = None, side: float = 1.0) -> list[Bid]:
+def action_bids(
+    action: int,
+    s: Situation,
+    *,
+    bidder: str,
+    value: float,
+    speed: float,
+    pan_limit: float,
+    target_key: str | None = None,
+    side: float = 1.0,
+) -> list[Bid]:
     """The bids that carry out ``action`` in situation ``s``: a move at ``speed`` (m/s) and a look,
     each bid at ``value``. ``side`` (+1 left, -1 right) is MOT's side of the target."""
     bearing = target_bearing(s)

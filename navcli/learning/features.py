@@ -89,10 +89,12 @@ def discretise(f: Features, params: LearningParams = LEARNING) -> tuple[int, int
     ((0, 0, 0, 0), (4, 6, 3, 6))
     """
     p = params
-    return (bisect.bisect_right(p.distance_bounds, f.distance),
-            bisect.bisect_right(p.imprecision_bounds, f.target_imprecision),
-            bisect.bisect_right(p.count_bounds, f.count),
-            bisect.bisect_right(p.landmark_bounds, f.landmark_imprecision))
+    return (
+        bisect.bisect_right(p.distance_bounds, f.distance),
+        bisect.bisect_right(p.imprecision_bounds, f.target_imprecision),
+        bisect.bisect_right(p.count_bounds, f.count),
+        bisect.bisect_right(p.landmark_bounds, f.landmark_imprecision),
+    )
 
 
 def state_index(f: Features, params: LearningParams = LEARNING) -> int:

@@ -38,9 +38,14 @@ class LearningAgent:
 
     name = "learning-agent"
 
-    def __init__(self, policy: Policy | None = None, params: LearningParams = LEARNING,
-                 max_speed: float = ROBOT.max_speed, pan_limit: float = math.radians(100.0),
-                 target_key: str | None = None):
+    def __init__(
+        self,
+        policy: Policy | None = None,
+        params: LearningParams = LEARNING,
+        max_speed: float = ROBOT.max_speed,
+        pan_limit: float = math.radians(100.0),
+        target_key: str | None = None,
+    ):
         self.policy = policy
         self.params = params
         self.max_speed = max_speed
@@ -92,13 +97,20 @@ class LearningAgent:
             self.counts[a] += 1
         self._left -= 1
         assert self.action is not None  # chosen above, or running on
-        return action_bids(self.action, s, bidder=self.name, value=self.params.bid, speed=self.max_speed,
-                           pan_limit=self.pan_limit, target_key=self.target_key, side=self._side)
+        return action_bids(
+            self.action,
+            s,
+            bidder=self.name,
+            value=self.params.bid,
+            speed=self.max_speed,
+            pan_limit=self.pan_limit,
+            target_key=self.target_key,
+            side=self._side,
+        )
 
     def info(self) -> dict:
         """For the mission summary: the actions taken, of each kind, and their reward."""
-        return {"actions": self.actions_taken, "reward": self.reward,
-                "action_counts": dict(zip(ACTIONS, self.counts))}
+        return {"actions": self.actions_taken, "reward": self.reward, "action_counts": dict(zip(ACTIONS, self.counts))}
 
 
 def hand_coded_agent(**kw) -> LearningAgent:

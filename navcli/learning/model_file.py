@@ -130,11 +130,16 @@ def _read(path: Path) -> dict[str, np.ndarray]:
                     raise ModelError(f"{path}: its member {info.filename!r} is encrypted: not a navcli model")
                 with z.open(info) as member:
                     version = np.lib.format.read_magic(member)
-                    shape, _, dtype = (np.lib.format.read_array_header_1_0(member) if version == (1, 0)
-                                       else np.lib.format.read_array_header_2_0(member))
+                    shape, _, dtype = (
+                        np.lib.format.read_array_header_1_0(member)
+                        if version == (1, 0)
+                        else np.lib.format.read_array_header_2_0(member)
+                    )
                 if math.prod(shape) * dtype.itemsize > MAX_BYTES:
-                    raise ModelError(f"{path}: its array {info.filename.removesuffix('.npy')!r} declares {shape}: "
-                                     f"larger than a model can be ({MAX_BYTES} bytes)")
+                    raise ModelError(
+                        f"{path}: its array {info.filename.removesuffix('.npy')!r} declares {shape}: "
+                        f"larger than a model can be ({MAX_BYTES} bytes)"
+                    )
         with np.load(path, allow_pickle=False) as z:
             return {k: z[k] for k in z.files}
     except ModelError:
@@ -206,4 +211,3 @@ def load(path: Path) -> tuple[dict[str, np.ndarray], dict[str, Any]]:
 def load_policy(path: Path | None = None) -> np.ndarray:
     """The greedy policy (an action per state) of a model file, by default the bundled one."""
     return load(path or BUNDLED)[0]["policy"].astype(np.int64)
-

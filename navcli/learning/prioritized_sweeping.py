@@ -34,8 +34,18 @@ class PrioritizedSweeping:
 
     algorithm = "prioritized-sweeping"
 
-    def __init__(self, n_states: int, n_actions: int, *, gamma: float = 0.99, backups: int = 20,
-                 threshold: float = 1e-3, explore: int = 2, optimistic: float = 0.0, rng: np.random.Generator | None = None):
+    def __init__(
+        self,
+        n_states: int,
+        n_actions: int,
+        *,
+        gamma: float = 0.99,
+        backups: int = 20,
+        threshold: float = 1e-3,
+        explore: int = 2,
+        optimistic: float = 0.0,
+        rng: np.random.Generator | None = None,
+    ):
         self.n_states, self.n_actions = n_states, n_actions
         self.gamma, self.backups, self.threshold, self.explore = gamma, backups, threshold, explore
         self.optimistic = optimistic
@@ -114,9 +124,16 @@ class PrioritizedSweeping:
     def to_arrays(self) -> dict[str, np.ndarray]:
         """The model and values as arrays (counts sparse: the non-zero ``(s, a, s')`` and their counts)."""
         idx = np.nonzero(self.counts)
-        return {"count_index": np.stack(idx).astype(np.int16), "count_value": self.counts[idx],
-                "tried": self.tried, "reward_sum": self.reward_sum, "values": self.values,
-                "priority": self.priority, "policy": self.greedy_policy(), "steps": np.array(self.steps)}
+        return {
+            "count_index": np.stack(idx).astype(np.int16),
+            "count_value": self.counts[idx],
+            "tried": self.tried,
+            "reward_sum": self.reward_sum,
+            "values": self.values,
+            "priority": self.priority,
+            "policy": self.greedy_policy(),
+            "steps": np.array(self.steps),
+        }
 
     def load_arrays(self, d) -> None:
         """The inverse of :meth:`to_arrays` (shapes must agree)."""

@@ -16,8 +16,16 @@ import numpy as np
 class QLearning:
     algorithm = "q-learning"
 
-    def __init__(self, n_states: int, n_actions: int, *, alpha: float = 0.1, gamma: float = 0.99,
-                 epsilon: float = 0.1, rng: np.random.Generator | None = None):
+    def __init__(
+        self,
+        n_states: int,
+        n_actions: int,
+        *,
+        alpha: float = 0.1,
+        gamma: float = 0.99,
+        epsilon: float = 0.1,
+        rng: np.random.Generator | None = None,
+    ):
         self.n_states, self.n_actions = n_states, n_actions
         self.alpha, self.gamma, self.epsilon = alpha, gamma, epsilon
         self.rng = rng if rng is not None else np.random.default_rng(0)
@@ -47,8 +55,13 @@ class QLearning:
         return np.argmax(self.q, axis=1).astype(np.int8)
 
     def to_arrays(self) -> dict[str, np.ndarray]:
-        return {"q": self.q, "tried": self.tried, "values": self.values, "policy": self.greedy_policy(),
-                "steps": np.array(self.steps)}
+        return {
+            "q": self.q,
+            "tried": self.tried,
+            "values": self.values,
+            "policy": self.greedy_policy(),
+            "steps": np.array(self.steps),
+        }
 
     def load_arrays(self, d) -> None:
         self.q[...] = d["q"]

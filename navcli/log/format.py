@@ -40,7 +40,9 @@ CAMERA_SCENE_TOPIC = "/robot/camera"  # foxglove.SceneUpdate: the camera's field
 ROBOT_PATH_TOPIC = "/robot/path"  # foxglove.SceneUpdate: the path driven so far (ground truth)
 MEMORY_SCENE_TOPIC = "/memory/scene"  # foxglove.SceneUpdate: the visual memory (70 % cuts)
 MEMORY_SUPPORTS_TOPIC = "/memory/supports"  # foxglove.SceneUpdate: the visual memory's supports
-MAP_SCENE_TOPIC = "/map/scene"  # foxglove.SceneUpdate: the Map Manager's map (landmarks, blocked edges, diverting lines)
+MAP_SCENE_TOPIC = (
+    "/map/scene"  # foxglove.SceneUpdate: the Map Manager's map (landmarks, blocked edges, diverting lines)
+)
 MAP_REGIONS_TOPIC = "/map/regions"  # foxglove.SceneUpdate: the map's regions and beta-units
 EVENTS_TOPIC = "/events"  # foxglove.Log
 PILOT_TOPIC = "/pilot"  # navcli.Pilot
@@ -101,30 +103,60 @@ class Pilot(_Msg):
     in_corridor on a target line), the geometric pilot its rule (nearest, clearance, rule, side,
     turn_deg); a reflex (section 3.5) writes its phase."""
 
-    mode: Annotated[str, enumerated("pilot.mode", "avoid: the pilot proposes a move; idle: it proposes none; reflex: section 3.5 "
-                                   "after a bump or stall")]
-    bid: Annotated[float, Meta(ge=0.0, le=1.0, description="the pilot's motion bid in [0, 1] (eq. 9 for the potential-field pilot)")]
+    mode: Annotated[
+        str,
+        enumerated(
+            "pilot.mode",
+            "avoid: the pilot proposes a move; idle: it proposes none; reflex: section 3.5 after a bump or stall",
+        ),
+    ]
+    bid: Annotated[
+        float,
+        Meta(ge=0.0, le=1.0, description="the pilot's motion bid in [0, 1] (eq. 9 for the potential-field pilot)"),
+    ]
     look_bid: Annotated[float, Meta(ge=0.0, le=1.0, description="the pilot's look-ahead camera bid in [0, 1] (eq. 1)")]
     command: Command
     phase: Annotated[str, enumerated("pilot.phase", "the reflex's phase")] | UnsetType = UNSET
-    turn_deg: Annotated[float, Meta(description="the turn the pilot asks for, degrees, positive to the left")] | UnsetType = UNSET
-    raw_turn_deg: Annotated[float, Meta(description="eq. 7's angle before section 5's mean with the previous, degrees")] | UnsetType = UNSET
+    turn_deg: (
+        Annotated[float, Meta(description="the turn the pilot asks for, degrees, positive to the left")] | UnsetType
+    ) = UNSET
+    raw_turn_deg: (
+        Annotated[float, Meta(description="eq. 7's angle before section 5's mean with the previous, degrees")]
+        | UnsetType
+    ) = UNSET
     in_distress: Annotated[bool, Meta(description="inside a prohibited area (grown obstacle)")] | UnsetType = UNSET
-    passed: Annotated[bool, Meta(description="section 5: repulsion from obstacles behind was dropped")] | UnsetType = UNSET
+    passed: Annotated[bool, Meta(description="section 5: repulsion from obstacles behind was dropped")] | UnsetType = (
+        UNSET
+    )
     g_max: Annotated[float, Meta(description="the largest obstacle force, force units (eq. 9)")] | UnsetType = UNSET
     net: Vector | UnsetType = UNSET
     target: Vector | UnsetType = UNSET
     repulsive: Vector | UnsetType = UNSET
-    obstacles: Annotated[dict[str, ObstacleForce], Meta(
-        description="per remembered obstacle, by its memory key")] | UnsetType = UNSET
-    in_corridor: Annotated[bool, Meta(description="section 3.3: inside the safe corridor of a target line")] | UnsetType = UNSET
+    obstacles: (
+        Annotated[dict[str, ObstacleForce], Meta(description="per remembered obstacle, by its memory key")] | UnsetType
+    ) = UNSET
+    in_corridor: (
+        Annotated[bool, Meta(description="section 3.3: inside the safe corridor of a target line")] | UnsetType
+    ) = UNSET
     nearest: Annotated[str, Meta(description="memory key of the nearest prohibited area")] | UnsetType = UNSET
-    clearance: Annotated[float, Meta(description="m from the robot's centre to that area's edge (negative: inside)")] | UnsetType = UNSET
+    clearance: (
+        Annotated[float, Meta(description="m from the robot's centre to that area's edge (negative: inside)")]
+        | UnsetType
+    ) = UNSET
     rule: Annotated[str, enumerated("geometric.rule", "the geometric pilot's rule this tick")] | UnsetType = UNSET
     side: Annotated[str, enumerated("geometric.side", "the side the geometric pilot passes on")] | UnsetType = UNSET
-    blocked_by: Annotated[str, Meta(description=(
-        "memory key of the long obstacle ahead that the field cannot lead round this tick; with "
-        "pilot.blocked_report_m set, reported to the Navigation system once it has lasted the time to drive that far"))] | UnsetType = UNSET
+    blocked_by: (
+        Annotated[
+            str,
+            Meta(
+                description=(
+                    "memory key of the long obstacle ahead that the field cannot lead round this tick; with "
+                    "pilot.blocked_report_m set, reported to the Navigation system once it has lasted the time to drive that far"
+                )
+            ),
+        ]
+        | UnsetType
+    ) = UNSET
 
 
 @functools.lru_cache(maxsize=None)
@@ -140,10 +172,16 @@ def pilot_message_type(info: type[Struct] | None = None, name: str = "", about: 
     clash = sorted(set(hints) & set(Pilot.__struct_fields__))
     if clash:
         raise ValueError(f"its Info declares {', '.join(clash)}, which /pilot has already")
-    merged = msgspec.defstruct(f"Pilot+{name}", [(k, typing.Union[t, UnsetType], UNSET) for k, t in hints.items()],
-                               bases=(Pilot,), forbid_unknown_fields=True, module=__name__)
-    merged.__doc__ = (f"{Pilot.__doc__} The fields {', '.join(hints)} are the {name} pilot's own, declared by "
-                      f"the plugin ({about}).")
+    merged = msgspec.defstruct(
+        f"Pilot+{name}",
+        [(k, typing.Union[t, UnsetType], UNSET) for k, t in hints.items()],
+        bases=(Pilot,),
+        forbid_unknown_fields=True,
+        module=__name__,
+    )
+    merged.__doc__ = (
+        f"{Pilot.__doc__} The fields {', '.join(hints)} are the {name} pilot's own, declared by the plugin ({about})."
+    )
     return merged
 
 
@@ -154,7 +192,7 @@ def viewer_problems(schema: dict, path: str = "") -> list[str]:
     (base64 contentEncoding only), object, array (of those) or a ``oneOf`` of number constants.
     Empty: the viewer reads it."""
     if not isinstance(schema, dict) or schema.get("type") != "object":
-        return [f"{path or 'root'}: not \"type\": \"object\""]
+        return [f'{path or "root"}: not "type": "object"']
     if not isinstance(schema.get("properties"), dict):
         return [f"{path or 'root'}: object without properties"]
     out = []
@@ -199,8 +237,13 @@ class Action(_Msg):
     type: Annotated[str, enumerated("action.type", "what the action is")]
     heading_deg: DEG | UnsetType = UNSET
     speed: Annotated[float, Meta(description="m/s, negative backwards")] | UnsetType = UNSET
-    pan_deg: Annotated[float, Meta(description="camera pan, degrees from the heading, positive to the left")] | UnsetType = UNSET
-    purpose: Annotated[str, enumerated("look.purpose", "a look's purpose: the image-processing routine it asks for")] | UnsetType = UNSET
+    pan_deg: (
+        Annotated[float, Meta(description="camera pan, degrees from the heading, positive to the left")] | UnsetType
+    ) = UNSET
+    purpose: (
+        Annotated[str, enumerated("look.purpose", "a look's purpose: the image-processing routine it asks for")]
+        | UnsetType
+    ) = UNSET
 
 
 class ResourceBids(_Msg):
@@ -245,9 +288,18 @@ class DetectionMsg(_Msg):
 
     kind: Annotated[str, enumerated("detection.kind", "what the image showed")]
     points: list[Sighting]
-    ends: Annotated[list[bool], Meta(description=(
-        "an identified linear obstacle: per end (a, b), whether the point seen toward it is the end itself "
-        "(false: where the view cut the obstacle, which goes on past it)"))] | UnsetType = UNSET
+    ends: (
+        Annotated[
+            list[bool],
+            Meta(
+                description=(
+                    "an identified linear obstacle: per end (a, b), whether the point seen toward it is the end itself "
+                    "(false: where the view cut the obstacle, which goes on past it)"
+                )
+            ),
+        ]
+        | UnsetType
+    ) = UNSET
 
 
 class Vision(_Msg):
@@ -256,11 +308,23 @@ class Vision(_Msg):
     pan_deg: Annotated[float, Meta(description="degrees from the heading, positive to the left")]
     state: Annotated[str, enumerated("camera.state", "the camera: free, turning to a pan, or processing an image")]
     image: Annotated[bool, Meta(description="an image was taken this tick")]
-    detections: Annotated[dict[str, DetectionMsg], Meta(
-        description="by landmark id, target marker, segment:<key> or wall:<key> for an identified linear obstacle, "
-                    "or obstacle<i> for an unidentified obstacle")]
-    purpose: Annotated[str, enumerated("look.purpose", "what the look being carried out is for, the "
-                                                  "image-processing routine it runs (absent: idle)")] | UnsetType = UNSET
+    detections: Annotated[
+        dict[str, DetectionMsg],
+        Meta(
+            description="by landmark id, target marker, segment:<key> or wall:<key> for an identified linear obstacle, "
+            "or obstacle<i> for an unidentified obstacle"
+        ),
+    ]
+    purpose: (
+        Annotated[
+            str,
+            enumerated(
+                "look.purpose",
+                "what the look being carried out is for, the image-processing routine it runs (absent: idle)",
+            ),
+        ]
+        | UnsetType
+    ) = UNSET
 
 
 # --- /mission/summary -------------------------------------------------------------------------
@@ -289,10 +353,13 @@ class MissionSummary(_Msg):
     navcli_version: str
     run_id: Annotated[str, Meta(description="sha256 of the run configuration (hex)")]
     diverting_targets: Annotated[int, Meta(description="diverting targets the Rescuer set")] = 0
-    navigation: Annotated[str, Meta(description="who chose the Navigation system's actions: agents, hand-coded, "
-                                                "learned[:FILE]")] = "agents"
-    learning: Annotated[LearningSummary, Meta(description="the Learning Agent's or hand-coded policy's "
-                                                          "actions and reward")] | UnsetType = UNSET
+    navigation: Annotated[
+        str, Meta(description="who chose the Navigation system's actions: agents, hand-coded, learned[:FILE]")
+    ] = "agents"
+    learning: (
+        Annotated[LearningSummary, Meta(description="the Learning Agent's or hand-coded policy's actions and reward")]
+        | UnsetType
+    ) = UNSET
 
 
 # --- /navigation ------------------------------------------------------------------------------
@@ -343,8 +410,13 @@ class Navigation(_Msg):
     line_b: Annotated[XY, Meta(description="a line target's right end, egocentric")] | UnsetType = UNSET
 
 
-MESSAGES: dict[str, type[Struct]] = {PILOT_TOPIC: Pilot, BIDS_TOPIC: Bids, VISION_TOPIC: Vision,
-                                     SUMMARY_TOPIC: MissionSummary, NAVIGATION_TOPIC: Navigation}
+MESSAGES: dict[str, type[Struct]] = {
+    PILOT_TOPIC: Pilot,
+    BIDS_TOPIC: Bids,
+    VISION_TOPIC: Vision,
+    SUMMARY_TOPIC: MissionSummary,
+    NAVIGATION_TOPIC: Navigation,
+}
 """The JSON topics of the log and their message types."""
 
 encode = msgspec.json.Encoder().encode

@@ -29,9 +29,18 @@ class FrameRecorder:
     """Keeps a run's tables in memory (see the module docstring); :meth:`frames` makes them."""
 
     def __init__(self) -> None:
-        self.rows: dict[str, list[dict[str, Any]]] = {t: [] for t in (
-            fmt.POSE_TOPIC, fmt.ODOMETRY_TOPIC, fmt.PILOT_TOPIC, fmt.BIDS_TOPIC, fmt.VISION_TOPIC,
-            fmt.NAVIGATION_TOPIC, fmt.EVENTS_TOPIC)}
+        self.rows: dict[str, list[dict[str, Any]]] = {
+            t: []
+            for t in (
+                fmt.POSE_TOPIC,
+                fmt.ODOMETRY_TOPIC,
+                fmt.PILOT_TOPIC,
+                fmt.BIDS_TOPIC,
+                fmt.VISION_TOPIC,
+                fmt.NAVIGATION_TOPIC,
+                fmt.EVENTS_TOPIC,
+            )
+        }
         self._last_ns = -1
         self._start: tuple[Event, ...] = ()
 
@@ -49,7 +58,9 @@ class FrameRecorder:
         v, w = tick.command
         from ..analysis.logs import flatten
 
-        self.rows[fmt.PILOT_TOPIC].append(flatten(pilot_message(tick.pilot.info, v, math.degrees(w))) | {"log_time_ns": ns})
+        self.rows[fmt.PILOT_TOPIC].append(
+            flatten(pilot_message(tick.pilot.info, v, math.degrees(w))) | {"log_time_ns": ns}
+        )
         self.rows[fmt.BIDS_TOPIC].append(flatten(bids_record(tick)) | {"log_time_ns": ns})
         self.rows[fmt.VISION_TOPIC].append(flatten(vision_record(tick)) | {"log_time_ns": ns})
         if tick.navigation is not None:
@@ -71,12 +82,20 @@ class FrameRecorder:
         self._last_ns = ns
         for topic, p in ((fmt.POSE_TOPIC, truth), (fmt.ODOMETRY_TOPIC, odometry)):
             z, w = math.sin(p.theta / 2), math.cos(p.theta / 2)  # the heading as a log's quaternion gives it back
-            self.rows[topic].append({"x": p.x, "y": p.y, "theta": math.atan2(2.0 * w * z, 1.0 - 2.0 * z * z),
-                                     "frame_id": "world", "log_time_ns": ns})
+            self.rows[topic].append(
+                {
+                    "x": p.x,
+                    "y": p.y,
+                    "theta": math.atan2(2.0 * w * z, 1.0 - 2.0 * z * z),
+                    "frame_id": "world",
+                    "log_time_ns": ns,
+                }
+            )
 
     def _event(self, e: Event, ns: int) -> None:
-        self.rows[fmt.EVENTS_TOPIC].append({"level": e.level, "name": e.source, "message": e.message,
-                                            "log_time_ns": ns})
+        self.rows[fmt.EVENTS_TOPIC].append(
+            {"level": e.level, "name": e.source, "message": e.message, "log_time_ns": ns}
+        )
 
     def frames(self) -> dict[str, pd.DataFrame]:
         """The tables, one per topic that holds a row (see the module docstring)."""

@@ -21,9 +21,21 @@ from __future__ import annotations
 import json
 from typing import Any
 
-from .format import (BIDS_TOPIC, CAMERA_SCENE_TOPIC, EVENTS_TOPIC, MAP_REGIONS_TOPIC, MAP_SCENE_TOPIC,
-                     MEMORY_SCENE_TOPIC, MEMORY_SUPPORTS_TOPIC, PILOT_TOPIC, ROBOT_BODY_TOPIC, ROBOT_PATH_TOPIC,
-                     ROBOT_SCENE_TOPIC, SUMMARY_TOPIC, WORLD_SCENE_TOPIC)
+from .format import (
+    BIDS_TOPIC,
+    CAMERA_SCENE_TOPIC,
+    EVENTS_TOPIC,
+    MAP_REGIONS_TOPIC,
+    MAP_SCENE_TOPIC,
+    MEMORY_SCENE_TOPIC,
+    MEMORY_SUPPORTS_TOPIC,
+    PILOT_TOPIC,
+    ROBOT_BODY_TOPIC,
+    ROBOT_PATH_TOPIC,
+    ROBOT_SCENE_TOPIC,
+    SUMMARY_TOPIC,
+    WORLD_SCENE_TOPIC,
+)
 
 SHOWN = (WORLD_SCENE_TOPIC, ROBOT_PATH_TOPIC, ROBOT_BODY_TOPIC, CAMERA_SCENE_TOPIC, MEMORY_SCENE_TOPIC, MAP_SCENE_TOPIC)
 """The default view, legible at any time of a long run: the truth (the arena), the robot, its path and
@@ -43,30 +55,71 @@ def build(arena: tuple[float, float] = (8.0, 8.0)):
     import foxglove.layouts as fl
 
     w, h = arena
-    three_d = fl.ThreeDeePanel(title="Arena (2D top-down, frame world)", config=fl.ThreeDeeConfig(
-        follow_tf="world", follow_mode="follow-none",
-        camera_state=fl.ThreeDeeCameraState(perspective=False, distance=1.5 * max(w, h), phi=0.0, theta_offset=0.0,
-                                            target_offset=(w / 2, h / 2, 0.0)),
-        topics={t: {"visible": t in SHOWN} for t in SCENE_TOPICS}))  # type: ignore[misc]  # the SDK takes the JSON form
+    three_d = fl.ThreeDeePanel(
+        title="Arena (2D top-down, frame world)",
+        config=fl.ThreeDeeConfig(
+            follow_tf="world",
+            follow_mode="follow-none",
+            camera_state=fl.ThreeDeeCameraState(
+                perspective=False,
+                distance=1.5 * max(w, h),
+                phi=0.0,
+                theta_offset=0.0,
+                target_offset=(w / 2, h / 2, 0.0),
+            ),
+            topics={t: {"visible": t in SHOWN} for t in SCENE_TOPICS},  # type: ignore[misc]  # the SDK takes the JSON form
+        ),
+    )
 
     def plot(title: str, paths: tuple[str, ...]):
-        return fl.PlotPanel(title=title, config=fl.PlotConfig(
-            paths=[fl.PlotSeries(value=p, enabled=True, timestamp_method="receiveTime") for p in paths],
-            show_legend=True, legend_display="floating", is_synced=True, x_axis_val="timestamp"))
+        return fl.PlotPanel(
+            title=title,
+            config=fl.PlotConfig(
+                paths=[fl.PlotSeries(value=p, enabled=True, timestamp_method="receiveTime") for p in paths],
+                show_legend=True,
+                legend_display="floating",
+                is_synced=True,
+                x_axis_val="timestamp",
+            ),
+        )
 
-    return fl.Layout(content=fl.SplitContainer(direction="row", items=[
-        fl.SplitItem(proportion=1.2, content=three_d),
-        fl.SplitItem(proportion=1.0, content=fl.SplitContainer(direction="column", items=[
-            fl.SplitItem(content=plot("Bids per resource", BID_PATHS)),
-            fl.SplitItem(content=plot("Pilot forces (force units) and turn (deg)", FORCE_PATHS)),
-            fl.SplitItem(content=fl.SplitContainer(direction="row", items=[
-                fl.SplitItem(content=fl.LogPanel(title="Events", config=fl.LogConfig(topic_to_render=EVENTS_TOPIC,
-                                                                                     min_log_level=1))),
-                fl.SplitItem(content=fl.RawMessagesPanel(title="Summary", config=fl.RawMessagesConfig(
-                    topic_path=SUMMARY_TOPIC, expansion="all"))),
-            ])),
-        ])),
-    ]))
+    return fl.Layout(
+        content=fl.SplitContainer(
+            direction="row",
+            items=[
+                fl.SplitItem(proportion=1.2, content=three_d),
+                fl.SplitItem(
+                    proportion=1.0,
+                    content=fl.SplitContainer(
+                        direction="column",
+                        items=[
+                            fl.SplitItem(content=plot("Bids per resource", BID_PATHS)),
+                            fl.SplitItem(content=plot("Pilot forces (force units) and turn (deg)", FORCE_PATHS)),
+                            fl.SplitItem(
+                                content=fl.SplitContainer(
+                                    direction="row",
+                                    items=[
+                                        fl.SplitItem(
+                                            content=fl.LogPanel(
+                                                title="Events",
+                                                config=fl.LogConfig(topic_to_render=EVENTS_TOPIC, min_log_level=1),
+                                            )
+                                        ),
+                                        fl.SplitItem(
+                                            content=fl.RawMessagesPanel(
+                                                title="Summary",
+                                                config=fl.RawMessagesConfig(topic_path=SUMMARY_TOPIC, expansion="all"),
+                                            )
+                                        ),
+                                    ],
+                                )
+                            ),
+                        ],
+                    ),
+                ),
+            ],
+        )
+    )
 
 
 def sdk_json(arena: tuple[float, float] = (8.0, 8.0)) -> dict[str, Any]:
@@ -86,8 +139,10 @@ def app_json(arena: tuple[float, float] = (8.0, 8.0)) -> dict[str, Any]:
             if kind == "3D":  # seeking: the transforms preloaded, so beliefs in base_link are drawn where they were;
                 # no frame names over the robot (world, base_link and camera written across it), no line from the
                 # world's origin to the robot
-                config = config | {"scene": config.get("scene", {}) | {"transforms": {
-                    "enablePreloading": True, "showLabel": False, "lineWidth": 0}}}
+                config = config | {
+                    "scene": config.get("scene", {})
+                    | {"transforms": {"enablePreloading": True, "showLabel": False, "lineWidth": 0}}
+                }
             # Foxglove reads foxglovePanelTitle, Lichtblick lichtblickPanelTitle: both, so each shows the title
             titles = {"foxglovePanelTitle": n["title"], "lichtblickPanelTitle": n["title"]} if n.get("title") else {}
             config_by_id[key] = config | titles
@@ -98,10 +153,23 @@ def app_json(arena: tuple[float, float] = (8.0, 8.0)) -> dict[str, Any]:
             return node(first["content"])
         total = sum(i["proportion"] for i in items)
         head = node(first["content"])
-        second = node({"type": "split", "direction": n["direction"], "items": rest}) if len(rest) > 1 else node(rest[0]["content"])
-        return {"direction": n["direction"], "first": head, "second": second,
-                "splitPercentage": round(100 * first["proportion"] / total, 1)}
+        second = (
+            node({"type": "split", "direction": n["direction"], "items": rest})
+            if len(rest) > 1
+            else node(rest[0]["content"])
+        )
+        return {
+            "direction": n["direction"],
+            "first": head,
+            "second": second,
+            "splitPercentage": round(100 * first["proportion"] / total, 1),
+        }
 
     tree = node(sdk_json(arena)["content"])
-    return {"configById": config_by_id, "globalVariables": {}, "userNodes": {}, "playbackConfig": {"speed": 1},
-            "layout": tree}
+    return {
+        "configById": config_by_id,
+        "globalVariables": {},
+        "userNodes": {},
+        "playbackConfig": {"speed": 1},
+        "layout": tree,
+    }

@@ -41,7 +41,6 @@ def bids_record(t: Tick) -> dict:
     return msg
 
 
-
 def navigation_record(t: Tick) -> dict:
     """The ``/navigation`` message (a :class:`~navcli.messages.Navigation` as plain values): every
     agent's bids, what was forwarded, and why."""
@@ -73,8 +72,12 @@ def vision_record(t: Tick) -> dict:
     carried out (none while idle)."""
     pan, state, purpose = t.camera
     dets = t.detections
-    vision = {"pan_deg": math.degrees(pan), "state": state, "image": dets is not None, "detections":
-              {d.key or f"obstacle{i}": d.as_json() for i, d in enumerate(dets)} if dets else {}}
+    vision = {
+        "pan_deg": math.degrees(pan),
+        "state": state,
+        "image": dets is not None,
+        "detections": {d.key or f"obstacle{i}": d.as_json() for i, d in enumerate(dets)} if dets else {},
+    }
     if purpose is not None:
         vision["purpose"] = purpose
     return vision

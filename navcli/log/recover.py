@@ -60,8 +60,9 @@ def _lock_of_partial(src: Path) -> Lock | None:
         return Lock(src.with_name(src.name[: -len(".partial")] + ".lock"))
     except LogPathError as e:
         if "another run" in str(e):
-            raise RecoverError(f"{src}: its run is still going (it holds {src.name[:-len('.partial')]}.lock); "
-                               "stop it first") from None
+            raise RecoverError(
+                f"{src}: its run is still going (it holds {src.name[: -len('.partial')]}.lock); stop it first"
+            ) from None
         return None  # a folder we may not write a lock into: read-only recovery from elsewhere
 
 
@@ -103,33 +104,52 @@ def _recover(src: Path, out: Path) -> tuple[Path, dict]:
     if any(topic.get(m.channel_id) == fmt.SUMMARY_TOPIC for m in messages):
         raise RecoverError(f"{src}: already holds a summary; it is a complete log, rename it")
     pose_channel = next((cid for cid, t in topic.items() if t == fmt.POSE_TOPIC), None)
-    decode = DecoderFactory().decoder_for("protobuf", schemas[channels[pose_channel].schema_id]) \
-        if pose_channel is not None else None
-    poses = [(m.log_time, decode(m.data).pose.position) for m in messages if m.channel_id == pose_channel] \
-        if decode is not None else []
+    decode = (
+        DecoderFactory().decoder_for("protobuf", schemas[channels[pose_channel].schema_id])
+        if pose_channel is not None
+        else None
+    )
+    poses = (
+        [(m.log_time, decode(m.data).pose.position) for m in messages if m.channel_id == pose_channel]
+        if decode is not None
+        else []
+    )
     if not poses:
         raise RecoverError(f"{src}: no pose was written before the run died")
     poses.sort(key=lambda tp: tp[0])
     end_ns = poses[-1][0]
     messages = [m for m in messages if m.log_time <= end_ns]
     events = [m for m in messages if topic[m.channel_id] == fmt.EVENTS_TOPIC]
-    log_dec = DecoderFactory().decoder_for("protobuf", schemas[channels[events[0].channel_id].schema_id]) if events else None
+    log_dec = (
+        DecoderFactory().decoder_for("protobuf", schemas[channels[events[0].channel_id].schema_id]) if events else None
+    )
     summary = {
-        "scenario": run.get("scenario", ""), "seed": int(run.get("seed", 0)), "pilot": run.get("pilot", ""),
-        "outcome": "interrupted", "reason": RECOVERED_REASON, "time_s": end_ns / 1e9,
+        "scenario": run.get("scenario", ""),
+        "seed": int(run.get("seed", 0)),
+        "pilot": run.get("pilot", ""),
+        "outcome": "interrupted",
+        "reason": RECOVERED_REASON,
+        "time_s": end_ns / 1e9,
         "path_length_m": sum(math.hypot(b.x - a.x, b.y - a.y) for (_, a), (_, b) in zip(poses, poses[1:])),
-        "collisions": sum(1 for m in events if log_dec is not None and log_dec(m.data).message.startswith("bumper contact")),
-        "camera_looks": sum(1 for m in messages if topic[m.channel_id] == fmt.VISION_TOPIC and msgspec.json.decode(m.data).get("image")),
+        "collisions": sum(
+            1 for m in events if log_dec is not None and log_dec(m.data).message.startswith("bumper contact")
+        ),
+        "camera_looks": sum(
+            1 for m in messages if topic[m.channel_id] == fmt.VISION_TOPIC and msgspec.json.decode(m.data).get("image")
+        ),
         "ticks": sum(1 for m in messages if topic[m.channel_id] == fmt.PILOT_TOPIC),
-        "navcli_version": run.get("navcli_version", ""), "run_id": run.get("run_id", ""),
+        "navcli_version": run.get("navcli_version", ""),
+        "run_id": run.get("run_id", ""),
     }
     summary["damaged_bytes"] = lost
     with atomic(out) as tmp, tmp.open("wb") as f:  # a temporary name: never the source, <out>.partial
         w = Writer(f)
         w.start(profile="", library="navcli recover")
         schema_ids = {sid: w.register_schema(s.name, s.encoding, s.data) for sid, s in schemas.items()}
-        channel_ids = {cid: w.register_channel(c.topic, c.message_encoding, schema_ids.get(c.schema_id, 0), c.metadata)
-                       for cid, c in channels.items()}
+        channel_ids = {
+            cid: w.register_channel(c.topic, c.message_encoding, schema_ids.get(c.schema_id, 0), c.metadata)
+            for cid, c in channels.items()
+        }
         for md in metadata:
             w.add_metadata(md.name, md.metadata)
         for a in attachments:
@@ -139,7 +159,11 @@ def _recover(src: Path, out: Path) -> tuple[Path, dict]:
         schema = schema_of(MissionSummary)  # the same bytes as a normal log's
         sid = w.register_schema(schema.name, schema.encoding, schema.data)
         cid = w.register_channel(fmt.SUMMARY_TOPIC, "json", sid)
-        w.add_message(cid, end_ns, encode(msgspec.convert(
-            {k: v for k, v in summary.items() if k != "damaged_bytes"}, MissionSummary)), end_ns)
+        w.add_message(
+            cid,
+            end_ns,
+            encode(msgspec.convert({k: v for k, v in summary.items() if k != "damaged_bytes"}, MissionSummary)),
+            end_ns,
+        )
         w.finish()
     return out, summary

@@ -61,8 +61,25 @@ from . import format as fmt
 from .files import Lock, LogPathError, aside_name, check_log_path
 from .format import Bids, MissionSummary, Navigation, Pilot, Vision, encode, json_schema, pilot_message
 from .records import bids_record, navigation_record, vision_record
-from .scenes import CAMERA_AT, FOV, NO_TURN, ROBOT, PathDrawing, arena_shapes, cylinder, fan, force_arrows, grown, \
-    map_entities, memory_entities, place, region_entities, stamp, support_entities, yaw
+from .scenes import (
+    CAMERA_AT,
+    FOV,
+    NO_TURN,
+    ROBOT,
+    PathDrawing,
+    arena_shapes,
+    cylinder,
+    fan,
+    force_arrows,
+    grown,
+    map_entities,
+    memory_entities,
+    place,
+    region_entities,
+    stamp,
+    support_entities,
+    yaw,
+)
 
 if TYPE_CHECKING:
     from foxglove._foxglove_py import BaseChannel
@@ -107,9 +124,18 @@ def enums() -> dict[str, tuple[str, ...]]:
     from ..pilot.geometric import RULES, SIDES
     from ..vision.camera import KINDS, STATES as CAMERA_STATES
 
-    return {"pilot.mode": MODES, "pilot.phase": PHASES, "geometric.rule": RULES, "geometric.side": SIDES,
-            "action.type": ACTION_TYPES, "camera.state": CAMERA_STATES, "detection.kind": KINDS,
-            "mission.outcome": OUTCOMES, "rescuer.state": RESCUER_STATES, "look.purpose": PURPOSES}
+    return {
+        "pilot.mode": MODES,
+        "pilot.phase": PHASES,
+        "geometric.rule": RULES,
+        "geometric.side": SIDES,
+        "action.type": ACTION_TYPES,
+        "camera.state": CAMERA_STATES,
+        "detection.kind": KINDS,
+        "mission.outcome": OUTCOMES,
+        "rescuer.state": RESCUER_STATES,
+        "look.purpose": PURPOSES,
+    }
 
 
 def log_schema(cls: type) -> dict:
@@ -131,8 +157,15 @@ class Recorder:
     is the run's ``/pilot`` message type (a plugin pilot's adds the fields its ``Info`` declares:
     :func:`~navcli.log.format.pilot_message_type`)."""
 
-    def __init__(self, path: str | Path, *, live: bool = False, port: int = 8765, protect: tuple[str, ...] = (),
-                 pilot_message: type = Pilot):
+    def __init__(
+        self,
+        path: str | Path,
+        *,
+        live: bool = False,
+        port: int = 8765,
+        protect: tuple[str, ...] = (),
+        pilot_message: type = Pilot,
+    ):
         self.path = check_log_path(Path(path), protect)
         self.partial = self.path.with_name(self.path.name + ".partial")
         self.lock = Lock(self.path.with_name(self.path.name + ".lock"))
@@ -145,8 +178,11 @@ class Recorder:
             self.ctx = ctx  # held for the run: the channels stop logging once their context is collected
             self.writer = foxglove.open_mcap(self.partial, context=ctx, writer_options=WRITE_OPTIONS)
             try:
-                self.server = foxglove.start_server(name="navcli", port=port, context=ctx,
-                                                    capabilities=[Capability.Time]) if live else None
+                self.server = (
+                    foxglove.start_server(name="navcli", port=port, context=ctx, capabilities=[Capability.Time])
+                    if live
+                    else None
+                )
             except Exception as e:
                 self.writer.close()
                 os.unlink(self.partial)
@@ -194,16 +230,32 @@ class Recorder:
         robot's body, and the first poses."""
         sc = spec.scenario
         self._R_min = spec.params.pilot.R_min
-        self._fov = LinePrimitive(type=LinePrimitiveLineType.LineStrip, thickness=0.02, color=FOV,
-                                  points=fan(sc.camera.fov, sc.camera.range))
+        self._fov = LinePrimitive(
+            type=LinePrimitiveLineType.LineStrip, thickness=0.02, color=FOV, points=fan(sc.camera.fov, sc.camera.range)
+        )
         self.writer.write_metadata("run", spec.metadata())
-        self.writer.attach(log_time=0, create_time=0, name=Path(sc.source).name or f"{sc.name}.yaml",
-                           media_type="application/yaml", data=sc.text.encode())
+        self.writer.attach(
+            log_time=0,
+            create_time=0,
+            name=Path(sc.source).name or f"{sc.name}.yaml",
+            media_type="application/yaml",
+            data=sc.text.encode(),
+        )
         r = spec.params.robot.radius
         self._arena = arena_shapes(sc)
-        self._body = {"cylinders": [cylinder(0.0, 0.0, r, 0.0, 0.3, ROBOT)],
-                      "arrows": [ArrowPrimitive(pose=place(0, 0, z=0.32), shaft_length=r, shaft_diameter=0.04,
-                                                head_length=0.1, head_diameter=0.1, color=ROBOT)]}
+        self._body = {
+            "cylinders": [cylinder(0.0, 0.0, r, 0.0, 0.3, ROBOT)],
+            "arrows": [
+                ArrowPrimitive(
+                    pose=place(0, 0, z=0.32),
+                    shaft_length=r,
+                    shaft_diameter=0.04,
+                    head_length=0.1,
+                    head_diameter=0.1,
+                    color=ROBOT,
+                )
+            ],
+        }
         self._path = PathDrawing(pose.x, pose.y)
         self._state(0)
         self._pose_msgs(pose, odometry, 0, 0.0)
@@ -220,9 +272,20 @@ class Recorder:
         self.world_scene.log(SceneUpdate(entities=arena), log_time=ns)
         body = SceneEntity(timestamp=ts, frame_id="base_link", id="robot", frame_locked=True, **self._body)
         self.robot_body.log(SceneUpdate(entities=[body]), log_time=ns)
-        self.camera_scene.log(SceneUpdate(entities=[SceneEntity(timestamp=ts, frame_id="camera", id="camera",
-                                                                frame_locked=True, lines=[self._fov] if self._fov else [])]),
-                               log_time=ns)
+        self.camera_scene.log(
+            SceneUpdate(
+                entities=[
+                    SceneEntity(
+                        timestamp=ts,
+                        frame_id="camera",
+                        id="camera",
+                        frame_locked=True,
+                        lines=[self._fov] if self._fov else [],
+                    )
+                ]
+            ),
+            log_time=ns,
+        )
         if (path := self._path.due(ns)) is not None:
             self.robot_path.log(SceneUpdate(entities=[path]), log_time=ns)
         self._state_ns = ns
@@ -239,17 +302,37 @@ class Recorder:
         half = truth.theta / 2
         q = Quaternion(x=0.0, y=0.0, z=math.sin(half), w=math.cos(half))
         at = Vector3(x=truth.x, y=truth.y, z=0.0)
-        self.tf.log(FrameTransforms(transforms=[
-            FrameTransform(timestamp=ts, parent_frame_id="world", child_frame_id="base_link", translation=at, rotation=q),
-            FrameTransform(timestamp=ts, parent_frame_id="base_link", child_frame_id="camera", translation=CAMERA_AT,
-                           rotation=yaw(pan) if pan else NO_TURN)]), log_time=ns)
+        self.tf.log(
+            FrameTransforms(
+                transforms=[
+                    FrameTransform(
+                        timestamp=ts, parent_frame_id="world", child_frame_id="base_link", translation=at, rotation=q
+                    ),
+                    FrameTransform(
+                        timestamp=ts,
+                        parent_frame_id="base_link",
+                        child_frame_id="camera",
+                        translation=CAMERA_AT,
+                        rotation=yaw(pan) if pan else NO_TURN,
+                    ),
+                ]
+            ),
+            log_time=ns,
+        )
         self._pan = pan
         self._path.moved(truth.x, truth.y)
         half = odom.theta / 2
-        self.odom.log(PoseInFrame(timestamp=ts, frame_id="world", pose=FxPose(
-            position=Vector3(x=odom.x, y=odom.y, z=0.0),
-            orientation=Quaternion(x=0.0, y=0.0, z=math.sin(half), w=math.cos(half)) if odom.theta else NO_TURN)),
-            log_time=ns)
+        self.odom.log(
+            PoseInFrame(
+                timestamp=ts,
+                frame_id="world",
+                pose=FxPose(
+                    position=Vector3(x=odom.x, y=odom.y, z=0.0),
+                    orientation=Quaternion(x=0.0, y=0.0, z=math.sin(half), w=math.cos(half)) if odom.theta else NO_TURN,
+                ),
+            ),
+            log_time=ns,
+        )
         self.pose.log(PoseInFrame(timestamp=ts, frame_id="world", pose=FxPose(position=at, orientation=q)), log_time=ns)
         self.pose_ns = ns
 
@@ -278,8 +361,11 @@ class Recorder:
                     self._map = t.map
                     self._redraw(self.map_regions, region_entities(t.map, ns), ns)
                 if self._map is not None:
-                    self._redraw(self.map_scene, map_entities(
-                        self._map, t.navigation.target_line if t.navigation.diverting else None, ns), ns)
+                    self._redraw(
+                        self.map_scene,
+                        map_entities(self._map, t.navigation.target_line if t.navigation.diverting else None, ns),
+                        ns,
+                    )
         for e in t.events:
             self.event(e, ns)
         if ns - self._flushed_ns >= FLUSH_EVERY_NS:
@@ -301,11 +387,11 @@ class Recorder:
         self.robot_scene.log(SceneUpdate(entities=ents), log_time=ns)
 
     def event(self, e: Event, ns: int) -> None:
-        self.events.log(Log(timestamp=stamp(ns), level=_LEVEL[e.level], message=e.message, name=e.source),
-                        log_time=ns)
+        self.events.log(Log(timestamp=stamp(ns), level=_LEVEL[e.level], message=e.message, name=e.source), log_time=ns)
 
-    def finish(self, summary: dict, ns: int, poses: tuple[Pose, Pose] | None = None, *,
-               keep_serving: bool = False) -> Path:
+    def finish(
+        self, summary: dict, ns: int, poses: tuple[Pose, Pose] | None = None, *, keep_serving: bool = False
+    ) -> Path:
         """Write the summary, close the file and give it its final name. Idempotent.
 
         ``poses`` (truth, odometry) at ``ns`` are written first if no pose was written at that

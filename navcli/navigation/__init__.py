@@ -39,8 +39,19 @@ from .risk_manager import RiskManager
 from .situation import Agent, AgentSetup, Situation
 from .target_tracker import TargetTracker
 
-__all__ = ["Agent", "AgentSetup", "Communicator", "DistanceEstimator", "MapManager", "NavigationOutput",
-           "NavigationSystem", "Rescuer", "RiskManager", "Situation", "TargetTracker"]
+__all__ = [
+    "Agent",
+    "AgentSetup",
+    "Communicator",
+    "DistanceEstimator",
+    "MapManager",
+    "NavigationOutput",
+    "NavigationSystem",
+    "Rescuer",
+    "RiskManager",
+    "Situation",
+    "TargetTracker",
+]
 
 
 class NavigationOutput(NamedTuple):
@@ -70,10 +81,19 @@ class NavigationSystem:
 
     name = "navigation"
 
-    def __init__(self, params: NavigationParams = NAVIGATION, robot: RobotParams = ROBOT,
-                 pilot: PilotParams = PILOT, target_key: str = TARGET, line_target: bool = False,
-                 rng: np.random.Generator | None = None, pan_limit: float = math.radians(100.0),
-                 policy_agent: Agent | None = None, plugin_agents: tuple[Agent, ...] = (), own_agents: bool = True):
+    def __init__(
+        self,
+        params: NavigationParams = NAVIGATION,
+        robot: RobotParams = ROBOT,
+        pilot: PilotParams = PILOT,
+        target_key: str = TARGET,
+        line_target: bool = False,
+        rng: np.random.Generator | None = None,
+        pan_limit: float = math.radians(100.0),
+        policy_agent: Agent | None = None,
+        plugin_agents: tuple[Agent, ...] = (),
+        own_agents: bool = True,
+    ):
         self.params = params
         self.target_key = target_key
         self.line_target = line_target
@@ -82,7 +102,9 @@ class NavigationSystem:
         self.risk = RiskManager(params, pan_limit)
         self.estimator = DistanceEstimator(params, robot.max_speed)
         self.rescuer = Rescuer(params, rng, robot)
-        self.agents: tuple[Agent, ...] = ((self.tracker, self.risk, self.estimator) if own_agents else ()) + plugin_agents
+        self.agents: tuple[Agent, ...] = (
+            (self.tracker, self.risk, self.estimator) if own_agents else ()
+        ) + plugin_agents
         # the Learning Agent (or the hand-coded policy) replaces the three (learning-agent paper,
         # section 4); it waits for the Rescuer's initial sweep, so its actions are its own
         self.policy_agent = policy_agent
@@ -101,8 +123,9 @@ class NavigationSystem:
         """Diverting targets set so far (the mission summary's)."""
         return self.rescuer.diverting_targets
 
-    def situation(self, beliefs: Beliefs, line: tuple[Point, Point] | None = None,
-                  landmarks_of: Situation | None = None) -> Situation:
+    def situation(
+        self, beliefs: Beliefs, line: tuple[Point, Point] | None = None, landmarks_of: Situation | None = None
+    ) -> Situation:
         """What the agents see: the current target (``line``, a diverting target, replaces the
         original one), its imprecision, and the landmarks with the Map Manager's quality; those
         of ``landmarks_of``, a situation of the same tick, if given (they do not depend on the
@@ -122,15 +145,17 @@ class NavigationSystem:
         I_a = self.tracker.imprecision(spread)
         if landmarks_of is not None:
             s = landmarks_of
-            return Situation(beliefs, target, line, source, I_a, s.landmarks, s.ahead, s.quality_ahead,
-                             s.quality_around)
+            return Situation(
+                beliefs, target, line, source, I_a, s.landmarks, s.ahead, s.quality_ahead, s.quality_around
+            )
         known = dict(self.map.memory_points(beliefs))
         known.pop(TARGET, None)
         known.pop(self.target_key, None)
         ahead_lim = self._ahead_lim
         ahead = {k: p for k, p in known.items() if abs(math.atan2(p.y, p.x)) <= ahead_lim}
-        return Situation(beliefs, target, line, source, I_a, known, tuple(ahead), self.map.quality(ahead),
-                         self.map.quality(known))
+        return Situation(
+            beliefs, target, line, source, I_a, known, tuple(ahead), self.map.quality(ahead), self.map.quality(known)
+        )
 
     def bid(self, beliefs: Beliefs) -> NavigationOutput:
         """One tick of the Navigation system (see the module docstring)."""
@@ -145,14 +170,32 @@ class NavigationSystem:
             offered += agent.bid(s)
         agent_bids = tuple(offered)
         bids = tuple(self.communicator.forward(agent_bids, beliefs.time))
-        info = {"I_a": s.I_a, "risk": self.risk.risk(s), "quality_ahead": s.quality_ahead,
-                "quality_around": s.quality_around, "landmarks_known": len(s.landmarks),
-                "landmarks_ahead": len(s.ahead), "target_source": s.target_source,
-                "rescuer": self.rescuer.state, "diverting_targets": self.rescuer.diverting_targets,
-                "failures": self.rescuer.failures, "beta_units": len(self.map.network)}
+        info = {
+            "I_a": s.I_a,
+            "risk": self.risk.risk(s),
+            "quality_ahead": s.quality_ahead,
+            "quality_around": s.quality_around,
+            "landmarks_known": len(s.landmarks),
+            "landmarks_ahead": len(s.ahead),
+            "target_source": s.target_source,
+            "rescuer": self.rescuer.state,
+            "diverting_targets": self.rescuer.diverting_targets,
+            "failures": self.rescuer.failures,
+            "beta_units": len(self.map.network),
+        }
         events = tuple([(self.rescuer.name, level, msg) for level, msg in rescue.events]) if rescue.events else ()
-        return NavigationOutput(bids, agent_bids, s.aim, s.target_line, rescue.diverting is not None, events,
-                                rescue.give_up, info, self.communicator.forwarded_by, original.target)
+        return NavigationOutput(
+            bids,
+            agent_bids,
+            s.aim,
+            s.target_line,
+            rescue.diverting is not None,
+            events,
+            rescue.give_up,
+            info,
+            self.communicator.forwarded_by,
+            original.target,
+        )
 
     def _ask(self, beliefs: Beliefs, original: Situation, failed):
         """The Rescuer's word to the Map Manager: the edge of a diverting target that failed (its
@@ -167,4 +210,3 @@ class NavigationSystem:
         odo = beliefs.odometry
         tried = tuple((odo.to_local(a), odo.to_local(b), ending) for a, b, ending in self.rescuer.tried)
         return replace(self.map.snapshot(beliefs), tried=tried)
-

@@ -75,8 +75,10 @@ def _xy(p: FuzzyPoint) -> tuple[Iv, Iv]:
     """The fuzzy coordinates of ``p`` (:meth:`FuzzyPoint.coords`: each cut's disc in its box), as
     interval vectors directly."""
     x, y, radii = p.x, p.y, p.radii
-    return (Iv(tuple([x - r for r in radii]), tuple([x + r for r in radii])),
-            Iv(tuple([y - r for r in radii]), tuple([y + r for r in radii])))
+    return (
+        Iv(tuple([x - r for r in radii]), tuple([x + r for r in radii])),
+        Iv(tuple([y - r for r in radii]), tuple([y + r for r in radii])),
+    )
 
 
 def collinearity(a: tuple[float, float], b: tuple[float, float], c: tuple[float, float]) -> float:
@@ -111,8 +113,9 @@ class BetaUnit:
         return self.beta_b.width() + self.beta_c.width()
 
 
-def encode(basis: tuple[str, str, str], target: str, points: dict[str, FuzzyPoint],
-           max_collinearity: float = 0.95) -> BetaUnit | None:
+def encode(
+    basis: tuple[str, str, str], target: str, points: dict[str, FuzzyPoint], max_collinearity: float = 0.95
+) -> BetaUnit | None:
     """The beta-unit of ``target`` in the triangle ``basis``, from the fuzzy positions ``points``
     (any common frame); ``None`` for a (nearly) collinear triangle or a fuzzy determinant whose
     support spans zero.
@@ -191,8 +194,10 @@ class BetaNetwork:
             if targets is not None and target not in targets:
                 continue
             others = [k for k in ranked if k != target][: self.basis_candidates]
-            best = min(itertools.combinations(others, 3),
-                       key=lambda t: collinearity(*((viewframe[k].x, viewframe[k].y) for k in t)))
+            best = min(
+                itertools.combinations(others, 3),
+                key=lambda t: collinearity(*((viewframe[k].x, viewframe[k].y) for k in t)),
+            )
             a, b, c = sorted(best)
             basis = (a, b, c)
             unit = encode(basis, target, viewframe, self.max_collinearity)

@@ -43,5 +43,7 @@ class DistanceEstimator:
             return []
         bearing = math.atan2(s.target.y, s.target.x)
         heading, _ = orthogonal(bearing)  # the smaller turn; left on a tie
-        return [Bid(self.name, "motion", Move(heading, self.max_speed), value),
-                Bid(self.name, "camera", Look(bearing, "target"), value)]
+        return [
+            Bid(self.name, "motion", Move(heading, self.max_speed), value),
+            Bid(self.name, "camera", Look(bearing, "target"), value),
+        ]

@@ -37,8 +37,17 @@ from ..fuzzy import FuzzyPoint
 from ..geometry import Point, Pose, wrap_angle
 from ..params import CONTROL_DT, NAVIGATION, NavigationParams
 from .beta_map import BetaNetwork, collinearity
-from .regions import (Crossing, Edge, NoCrossing, Regions, blocked_edges, crossed_pairs, first_crossing, triangulate,
-                      way_out)
+from .regions import (
+    Crossing,
+    Edge,
+    NoCrossing,
+    Regions,
+    blocked_edges,
+    crossed_pairs,
+    first_crossing,
+    triangulate,
+    way_out,
+)
 
 TARGET = "target"  # the key of a point target's marker, as the visual memory holds it
 SAME_PLACE_M = 0.5
@@ -110,8 +119,11 @@ class MapManager:
             return 0
         self._images += 1
         known = self.memory_points(beliefs)
-        lines = [(o.key, o.a, o.b) for o in beliefs.obstacles if not o.is_point and not o.wall] \
-            if (self._images - 1) % SEEN_EVERY == 0 else ()  # the first image, then every fourth
+        lines = (
+            [(o.key, o.a, o.b) for o in beliefs.obstacles if not o.is_point and not o.wall]
+            if (self._images - 1) % SEEN_EVERY == 0
+            else ()
+        )  # the first image, then every fourth
         if lines:  # what the obstacles block between landmarks stays known when the memory forgets them
             marks = {k: (p.x, p.y) for k, p in known.items() if k != self.target_key}
             for e, key in crossed_pairs(marks, lines).items():
@@ -134,8 +146,9 @@ class MapManager:
     def _has_marker(self, beliefs: Beliefs) -> bool:
         """Does the memory's target marker stand for ``target_key``: a point target, or a landmark
         told of that the memory does not hold as a landmark?"""
-        return beliefs.target_at is not None and (self.target_key == TARGET or
-                                                  all(lm.key != self.target_key for lm in beliefs.landmarks))
+        return beliefs.target_at is not None and (
+            self.target_key == TARGET or all(lm.key != self.target_key for lm in beliefs.landmarks)
+        )
 
     def memory_points(self, beliefs: Beliefs) -> dict[str, FuzzyPoint]:
         """Landmarks (and the target's marker) as the visual memory holds them, in its order (what
@@ -159,7 +172,9 @@ class MapManager:
             best = recalled
         return best
 
-    def _recall(self, key: str, known: dict[str, FuzzyPoint], odo: Pose, fresh: bool = True) -> tuple[FuzzyPoint, str] | None:
+    def _recall(
+        self, key: str, known: dict[str, FuzzyPoint], odo: Pose, fresh: bool = True
+    ) -> tuple[FuzzyPoint, str] | None:
         r = self._recalled.get(key)
         if fresh and (r is None or self._tick - r.tick >= self.params.map_recall_every):
             basis = {k: p for k, p in known.items() if k != key}
@@ -196,8 +211,10 @@ class MapManager:
         best = tuple(sorted(six))
         cached = self._quality.get(best)
         if cached is None:
-            cached = max((1.0 - collinearity(*((points[k].x, points[k].y) for k in t))
-                          for t in itertools.combinations(best, 3)), default=0.0)
+            cached = max(
+                (1.0 - collinearity(*((points[k].x, points[k].y) for k in t)) for t in itertools.combinations(best, 3)),
+                default=0.0,
+            )
             self._quality[best] = cached
         return cached
 
@@ -219,22 +236,30 @@ class MapManager:
         if regions is None:
             return NoCrossing(f"{len(marks)} landmark(s) mapped, too few for regions")
         if not way_out(regions, (0.0, 0.0), known, target):  # what is known to close it in, not what failed
-            return NoCrossing("the known obstacles close in the robot's regions: every edge out is blocked", trapped=True)
+            return NoCrossing(
+                "the known obstacles close in the robot's regions: every edge out is blocked", trapped=True
+            )
         odo = beliefs.odometry
         self._where = {k: odo.to_world((float(x), float(y))) for k, (x, y) in zip(regions.ids, regions.points)}
-        again = [e for _, _, e in regions.edges() if e not in self.blocked and self._failed_before(self._place(e))] \
-            if self.failed_at else []  # failed before, under other names
+        again = (
+            [e for _, _, e in regions.edges() if e not in self.blocked and self._failed_before(self._place(e))]
+            if self.failed_at
+            else []
+        )  # failed before, under other names
         blocked = dict(self.blocked)
         for e in (*known, *again):
             blocked[e] = blocked.get(e, 0.0) + 1.0
-        sight = [(o.key, o.a, o.b) for o in beliefs.obstacles if not o.is_point] if self.params.diverting_in_sight else None
+        sight = (
+            [(o.key, o.a, o.b) for o in beliefs.obstacles if not o.is_point] if self.params.diverting_in_sight else None
+        )
         c = first_crossing(regions, (0.0, 0.0), target, blocked, self.params.blocked_cost, sight)
         if c is None:
             same = regions.region_of((0.0, 0.0)) == regions.region_of(target)
             if same:
                 return NoCrossing("the target is in the robot's region")
-            return NoCrossing("every way to the target is blocked, by known obstacles or by diverting targets that "
-                              "failed")
+            return NoCrossing(
+                "every way to the target is blocked, by known obstacles or by diverting targets that failed"
+            )
         return c
 
     def _regions(self, beliefs: Beliefs, marks: dict[str, FuzzyPoint]) -> tuple[Regions | None, dict[Edge, str]]:

@@ -135,8 +135,12 @@ def obstacle_points(obstacles: list[tuple[str, Point, Point]]) -> dict[str, Poin
     return out
 
 
-def blocked_edges(regions: Regions, lines: Sequence[tuple[str, Point, Point]], passable: float = 0.0,
-                  walls: Sequence[tuple[str, Point, Point]] = ()) -> dict[Edge, str]:
+def blocked_edges(
+    regions: Regions,
+    lines: Sequence[tuple[str, Point, Point]],
+    passable: float = 0.0,
+    walls: Sequence[tuple[str, Point, Point]] = (),
+) -> dict[Edge, str]:
     """The edges the known ``lines`` (key, end, end: the long obstacles) block, with what blocks
     each: the edges along an obstacle (both ends its points, or both within ``CROSS_MARGIN`` of
     it, as where two obstacles meet at a corner), the edges a line crosses farther than
@@ -188,8 +192,9 @@ def crossing_along(a: Point, b: Point, p: Point, q: Point, margin: float) -> boo
     return margin / L < t < 1.0 - margin / L and 0.0 <= u <= 1.0
 
 
-def crossed_pairs(points: dict[str, Point], lines: list[tuple[str, Point, Point]],
-                  margin: float = CROSS_MARGIN) -> dict[Edge, str]:
+def crossed_pairs(
+    points: dict[str, Point], lines: list[tuple[str, Point, Point]], margin: float = CROSS_MARGIN
+) -> dict[Edge, str]:
     """Every pair of ``points`` (id -> position) whose segment one of ``lines`` (key, end, end)
     crosses farther than ``margin`` from both ends (:func:`crossing_along`, for all pairs at
     once), with the key of the first such line.
@@ -242,8 +247,9 @@ def way_out(regions: Regions, robot: Point, blocked: Mapping[Edge, object], targ
     return False
 
 
-def triangulate(landmarks: dict[str, Point], virtual_distance: float = 10.0,
-                obstacles: Sequence[tuple[str, Point, Point]] = ()) -> Regions | None:
+def triangulate(
+    landmarks: dict[str, Point], virtual_distance: float = 10.0, obstacles: Sequence[tuple[str, Point, Point]] = ()
+) -> Regions | None:
     """Regions of ``landmarks`` (id -> position) and of the known linear ``obstacles`` (key, end,
     end), which enter as points (:func:`obstacle_points`); ``None`` with fewer than 3 landmarks
     in general position."""
@@ -281,8 +287,14 @@ def triangulate(landmarks: dict[str, Point], virtual_distance: float = 10.0,
     return Regions(all_ids, all_pts, tri.simplices.copy(), tri.neighbors.copy())
 
 
-def first_crossing(regions: Regions, robot: Point, target: Point, blocked: dict[Edge, float] | None = None,
-                   blocked_cost: float = 1000.0, lines: list[tuple[str, Point, Point]] | None = None) -> Crossing | None:
+def first_crossing(
+    regions: Regions,
+    robot: Point,
+    target: Point,
+    blocked: dict[Edge, float] | None = None,
+    blocked_cost: float = 1000.0,
+    lines: list[tuple[str, Point, Point]] | None = None,
+) -> Crossing | None:
     """The first edge of the cheapest path from the robot's region to the target's (arcs cost 1,
     or ``blocked_cost`` times the count in ``blocked``); ``None`` when they are the same region
     or no path is cheaper than a blocked arc.
@@ -330,8 +342,9 @@ def first_crossing(regions: Regions, robot: Point, target: Point, blocked: dict[
     return Crossing(left, right, left_at, right_at, float(dist[goal]))
 
 
-def _farthest_in_sight(regions: Regions, robot: Point, edges: list[Edge],
-                       lines: list[tuple[str, Point, Point]]) -> Edge:
+def _farthest_in_sight(
+    regions: Regions, robot: Point, edges: list[Edge], lines: list[tuple[str, Point, Point]]
+) -> Edge:
     """The last of the path's ``edges`` between two real things (landmarks or obstacle points:
     a virtual landmark may lie beyond the room's walls) whose middle the robot sees straight,
     no known line across the sight line; the first edge when none farther is."""

@@ -95,15 +95,17 @@ def _in_sight(s: Situation) -> bool:
     """Is the original target in sight on the map: known, and no known long obstacle (no wall of
     the room) across the straight way to it?"""
     aim = s.aim
-    return aim is not None and not any(segments_intersect(ORIGIN, aim, o.a, o.b) for o in s.beliefs.obstacles
-                                       if not o.is_point and not o.wall)
+    return aim is not None and not any(
+        segments_intersect(ORIGIN, aim, o.a, o.b) for o in s.beliefs.obstacles if not o.is_point and not o.wall
+    )
 
 
 class Rescuer:
     name = "rescuer"
 
-    def __init__(self, params: NavigationParams = NAVIGATION, rng: np.random.Generator | None = None,
-                 robot: RobotParams = ROBOT):
+    def __init__(
+        self, params: NavigationParams = NAVIGATION, rng: np.random.Generator | None = None, robot: RobotParams = ROBOT
+    ):
         self.params = params
         self.window_s = max(robot.time_to_drive(params.blocked_window_m), MIN_WINDOW_S)  # the blocked window, s
         self.timeout_s = max(robot.time_to_drive(params.diverting_timeout_m), MIN_WINDOW_S)  # the diverting timeout, s
@@ -157,8 +159,9 @@ class Rescuer:
             assert self._turn_to is not None  # set by the turn's start
             err = wrap_angle(self._turn_to - b.odometry.theta)
             if abs(err) > math.radians(10.0):
-                return Rescue((Bid(self.name, "motion", Move(err, 0.0), self.params.rescuer_bid),),
-                              events=tuple(events))
+                return Rescue(
+                    (Bid(self.name, "motion", Move(err, 0.0), self.params.rescuer_bid),), events=tuple(events)
+                )
             if self._scan_after_turn:
                 self._scan_after_turn = False
                 if self.params.explore_m > 0:
@@ -176,14 +179,20 @@ class Rescuer:
             o, start = b.odometry, self._drive_from
             assert start is not None  # set by the drive's start
             driven = math.hypot(o.x - start.x, o.y - start.y)
-            if (driven < self.params.explore_m and not b.bumps
-                    and len(s.landmarks) <= self._drive_known and b.pilot_blocked is None
-                    and s.time - self._drive_since < self.drive_s):
+            if (
+                driven < self.params.explore_m
+                and not b.bumps
+                and len(s.landmarks) <= self._drive_known
+                and b.pilot_blocked is None
+                and s.time - self._drive_since < self.drive_s
+            ):
                 pans = self.params.scan_pans_deg  # looking around on the way for landmarks, a pan an image
                 if looked_at(b.looked, Look(math.radians(pans[self._scan % len(pans)]), "search")):
                     self._scan += 1
                 v = self.params.rescuer_bid
-                bids: tuple[Bid, ...] = (Bid(self.name, "motion", Move(wrap_angle(start.theta - o.theta), self.speed), v),)
+                bids: tuple[Bid, ...] = (
+                    Bid(self.name, "motion", Move(wrap_angle(start.theta - o.theta), self.speed), v),
+                )
                 if self.params.rescuer_looks:
                     bids += (Bid(self.name, "camera", Look(math.radians(pans[self._scan % len(pans)]), "search"), v),)
                 return Rescue(bids, events=tuple(events))
@@ -209,15 +218,25 @@ class Rescuer:
                     # believed to be (its belief's centre) leads past it, and no failure is counted
                     self._lost_scans = 0
                     self._enter("normal", s)
-                    events.append(("warning", f"target not found in {LOST_SCANS} scans: asking the map for a way "
-                                              "toward where it is believed to be"))
+                    events.append(
+                        (
+                            "warning",
+                            f"target not found in {LOST_SCANS} scans: asking the map for a way "
+                            "toward where it is believed to be",
+                        )
+                    )
                     return self._request(s, events, ask)
                 self._start_turn(b.odometry, events, "target still lost after a scan")
                 return Rescue(events=tuple(events))
             else:
                 return Rescue(self._scan_bids(), events=tuple(events))
 
-        if self.state == "normal" and self._crossing is None and s.I_a > self.params.I_a_bar and self.params.rescuer_looks:
+        if (
+            self.state == "normal"
+            and self._crossing is None
+            and s.I_a > self.params.I_a_bar
+            and self.params.rescuer_looks
+        ):
             self.state, self._scan = "lost", 0
             events.append(("warning", f"target lost (I_a = {s.I_a:.2f} > {self.params.I_a_bar:g}): stopping to scan"))
             return Rescue(self._scan_bids(), events=tuple(events))
@@ -236,11 +255,20 @@ class Rescuer:
                 since = self._crossing_since
                 self._set_crossing(after, s)  # the same diverting target's way, one step on: not counted again,
                 self._crossing_since = since  # and its timeout runs on: the way as a whole must be done in time
-                events.append(("info", f"diverting target crossed between {crossed.left} and {crossed.right}; "
-                                       f"next: cross between {after.left} (left) and {after.right} (right)"))
+                events.append(
+                    (
+                        "info",
+                        f"diverting target crossed between {crossed.left} and {crossed.right}; "
+                        f"next: cross between {after.left} (left) and {after.right} (right)",
+                    )
+                )
                 return Rescue((), self._diverting_line(s), tuple(events))
-            events.append(("info", f"diverting target crossed between {crossed.left} and {crossed.right}: "
-                                   "back to the original target"))
+            events.append(
+                (
+                    "info",
+                    f"diverting target crossed between {crossed.left} and {crossed.right}: back to the original target",
+                )
+            )
             self._last_crossed = crossed.edge
         why = self._blocked(s, line)
         if why is None:
@@ -257,15 +285,21 @@ class Rescuer:
             again = ask(None)
             if isinstance(again, Crossing) and again.edge != tried:
                 end_u, end_v = sorted(tried)
-                events.append(("info", f"blocked ({why}) on the way across {end_u}-{end_v}: the map now leads another way"))
+                events.append(
+                    ("info", f"blocked ({why}) on the way across {end_u}-{end_v}: the map now leads another way")
+                )
                 self._clear_crossing(s, "replaced: the way seen closed")
                 self._last_crossed = None
                 return self._divert(again, s, events)
         if self._crossing is not None:
             self.failures += 1
             c = self._crossing
-            events.append(("warning", f"diverting target between {c.left} and {c.right} abandoned "
-                                      f"({why}; {self.failures} failed)"))
+            events.append(
+                (
+                    "warning",
+                    f"diverting target between {c.left} and {c.right} abandoned ({why}; {self.failures} failed)",
+                )
+            )
             abandoned = c.edge
             self._clear_crossing(s, "abandoned")
         else:
@@ -288,8 +322,13 @@ class Rescuer:
             return Rescue(events=tuple(events))
         return self._request(s, events, ask, abandoned)
 
-    def _request(self, s: Situation, events: list, ask: Callable[[Edge | None], Crossing | NoCrossing | None],
-                 abandoned: Edge | None = None) -> Rescue:
+    def _request(
+        self,
+        s: Situation,
+        events: list,
+        ask: Callable[[Edge | None], Crossing | NoCrossing | None],
+        abandoned: Edge | None = None,
+    ) -> Rescue:
         """Ask the map for a diverting target (telling it of the ``abandoned`` edge, if any) and set
         it; with none, explore, or end the mission when the map still shows no way out."""
         untold, self._untold = self._untold, None
@@ -304,8 +343,9 @@ class Rescuer:
             self._trapped = trapped
             self._explorations += 1
             if 0 < self.params.max_diverting_failures < self._explorations:  # looking around bounded as failures are
-                return self._give_up(f"the map gives no diverting target after {self._explorations - 1} looks "
-                                     f"around ({why})", events, s)
+                return self._give_up(
+                    f"the map gives no diverting target after {self._explorations - 1} looks around ({why})", events, s
+                )
             self._explore(s, events, f"no diverting target ({why})")
             return Rescue(events=tuple(events))
         return self._divert(crossing, s, events)
@@ -322,8 +362,9 @@ class Rescuer:
         self._explorations = 0
         self._set_crossing(crossing, s)
         self.diverting_targets += 1
-        events.append(("info", f"diverting target set: cross between {crossing.left} (left) and "
-                               f"{crossing.right} (right)"))
+        events.append(
+            ("info", f"diverting target set: cross between {crossing.left} (left) and {crossing.right} (right)")
+        )
         stop = Bid(self.name, "motion", STOP, self.params.rescuer_bid)
         return Rescue((stop,), self._diverting_line(s), tuple(events))
 

@@ -62,4 +62,4 @@ class RiskManager:
         r = self.risk(s)
         if r <= self.params.R_bar:
             return []
-        return [Bid(self.name, "camera", Look(self.least_known_sector(s), "search"), min(1.0, r ** self.params.gamma_R))]
+        return [Bid(self.name, "camera", Look(self.least_known_sector(s), "search"), min(1.0, r**self.params.gamma_R))]

@@ -64,8 +64,7 @@ class Agent(Protocol):
     def name(self) -> str:  # read-only: a frozen dataclass's field, or a class attribute
         ...
 
-    def bid(self, s: Situation) -> list[Bid]:
-        ...
+    def bid(self, s: Situation) -> list[Bid]: ...
 
 
 class AgentSetup(NamedTuple):

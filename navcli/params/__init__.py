@@ -19,9 +19,28 @@ from typing import Any, ClassVar, Iterator, Mapping
 
 from .declare import MAX_LIST, Declared, ParamError, ParamSet, param, parse_override, suggest
 
-__all__ = ["CLUSTERS", "CONTROL_DT", "LEARNING", "MAX_LIST", "NAVIGATION", "NAVIGATION_C2", "PILOT",
-           "ROBOT", "VISION", "Declared", "LearningParams", "NavigationParams", "ParamError", "ParamSet", "Params",
-           "PilotParams", "RobotParams", "VisionParams", "param", "parse_override"]
+__all__ = [
+    "CLUSTERS",
+    "CONTROL_DT",
+    "LEARNING",
+    "MAX_LIST",
+    "NAVIGATION",
+    "NAVIGATION_C2",
+    "PILOT",
+    "ROBOT",
+    "VISION",
+    "Declared",
+    "LearningParams",
+    "NavigationParams",
+    "ParamError",
+    "ParamSet",
+    "Params",
+    "PilotParams",
+    "RobotParams",
+    "VisionParams",
+    "param",
+    "parse_override",
+]
 
 NOISE_BOUND = 3.0
 """Sensor errors (odometry, camera) are drawn from normals clipped at this many standard deviations:
@@ -55,12 +74,14 @@ class RobotParams(ParamSet):
     group: ClassVar[str] = "robot"
 
     radius: float = param(0.25, "m", "the robot's radius (a disc)", at_least=0.05, at_most=1.0)
-    max_speed: float = param(0.3, "m/s", "full speed; the physics step holds walls up to 2 m/s (tests/test_world.py)",
-                             above=0.0, at_most=2.0)
+    max_speed: float = param(
+        0.3, "m/s", "full speed; the physics step holds walls up to 2 m/s (tests/test_world.py)", above=0.0, at_most=2.0
+    )
     max_accel: float = param(0.5, "m/s^2", "the drive's acceleration limit", above=0.0)
     max_turn_rate: float = param(math.radians(90.0), "rad/s", "the fastest turn (90 deg/s)", above=0.0)
-    max_turn_accel: float = param(math.radians(180.0), "rad/s^2", "the turn's acceleration limit (180 deg/s^2)",
-                                  above=0.0)
+    max_turn_accel: float = param(
+        math.radians(180.0), "rad/s^2", "the turn's acceleration limit (180 deg/s^2)", above=0.0
+    )
 
     def time_to_drive(self, metres: float) -> float:
         """Seconds the robot takes to drive ``metres`` at full speed: how the windows that are
@@ -82,70 +103,130 @@ class PilotParams(ParamSet):
 
     K: float = param(18.0, "force units x m^2", "eq. 2: the repulsion constant", at_most=1000.0)
     A_t: float = param(50.0, "force units", "eq. 5: the target's constant attraction", at_most=1000.0)
-    R_min: float = param(0.40, "m", "eq. 3-4: the prohibited area's radius beyond an obstacle's surface",
-                         at_least=0.01, at_most=5.0)
+    R_min: float = param(
+        0.40, "m", "eq. 3-4: the prohibited area's radius beyond an obstacle's surface", at_least=0.01, at_most=5.0
+    )
     bid_cap: float = param(0.9, "", "eq. 9: the Pilot never bids above this", at_most=1.0)
     heading_gain: float = param(1.5, "1/s", "turn rate per radian of heading error")
-    drive_while_turning: bool = param(True, "", """how a winning move is executed (section 4: "the Pilot executes
+    drive_while_turning: bool = param(
+        True,
+        "",
+        """how a winning move is executed (section 4: "the Pilot executes
         the turn of the winning bid"): on, the speed and the turn commanded together, as a Pioneer's velocity and
         heading commands do (our reading of the paper); off, stop to turn above turn_in_place, slow by cos(error)
-        below""")
-    arc_margin: float = param(0.1, "m", "clearance the body keeps along the arc of a large turn driven at speed "
-                                         "(see Pilot._arc_clear)")
-    safe_execution: bool = param(True, "", "moves are executed only if safe (section 2, see Pilot._path_clear); "
-                                           "off: as they come (navcli before)")
-    nearest_safe: bool = param(True, "", """a request not safe, with no own move that drives, is replaced by the
+        below""",
+    )
+    arc_margin: float = param(
+        0.1, "m", "clearance the body keeps along the arc of a large turn driven at speed (see Pilot._arc_clear)"
+    )
+    safe_execution: bool = param(
+        True,
+        "",
+        "moves are executed only if safe (section 2, see Pilot._path_clear); off: as they come (navcli before)",
+    )
+    nearest_safe: bool = param(
+        True,
+        "",
+        """a request not safe, with no own move that drives, is replaced by the
         nearest safe heading (15 deg steps); off: turned on the spot (navcli before: it could stand still for good,
-        facing its target past a landmark)""")
-    turn_in_place: float = param(math.radians(45.0), "rad", "above this heading error the robot stops to turn "
-                                 "(drive_while_turning off), or checks the turn's arc (on)")
-    distress_gain: float = param(1.5, "", "section 5: each offending obstacle's force is multiplied by this when "
-                                          "IN_DISTRESS")
-    distress_from_nearest: bool = param(True, "", """a linear obstacle IN_DISTRESS pushes from its nearest point
+        facing its target past a landmark)""",
+    )
+    turn_in_place: float = param(
+        math.radians(45.0),
+        "rad",
+        "above this heading error the robot stops to turn (drive_while_turning off), or checks the turn's arc (on)",
+    )
+    distress_gain: float = param(
+        1.5, "", "section 5: each offending obstacle's force is multiplied by this when IN_DISTRESS"
+    )
+    distress_from_nearest: bool = param(
+        True,
+        "",
+        """a linear obstacle IN_DISTRESS pushes from its nearest point
         (our design: from its centre, section 3.2, a corner of two fences is a sink); off: from its centre there
-        too (navcli before)""")
-    blocked_report_m: float = param(0.0, "m", """the field leading away from the target, a long obstacle its
+        too (navcli before)""",
+    )
+    blocked_report_m: float = param(
+        0.0,
+        "m",
+        """the field leading away from the target, a long obstacle its
         strongest push, while the robot could drive this far and got along the obstacle less than a third of it:
         the Pilot reports the obstacle as one it cannot easily avoid (the thesis' blocked situation); 0: no report
-        (the default: measured, it helps behind long fences and costs paper-8x8 runs; README, trap rooms)""")
+        (the default: measured, it helps behind long fences and costs paper-8x8 runs; README, trap rooms)""",
+    )
     wall_window: float = param(1.0, "m", "a room wall acts as the stretch this long nearest the robot", above=0.0)
-    line_window: float = param(3.0, "m", "a linear obstacle longer than this acts as the stretch this long nearest "
-                                         "the robot (the paper's are shorter)", above=0.0)
+    line_window: float = param(
+        3.0,
+        "m",
+        "a linear obstacle longer than this acts as the stretch this long nearest the robot (the paper's are shorter)",
+        above=0.0,
+    )
     corridor_margin: float = param(0.40, "m", "section 3.3: the safe corridor keeps this far from the line's ends")
-    backward_turn: float = param(math.radians(160.0), "rad", "section 3.5: turns larger than this are driven "
-                                 "backwards (turning the complement) ...", at_most=math.pi)
+    backward_turn: float = param(
+        math.radians(160.0),
+        "rad",
+        "section 3.5: turns larger than this are driven backwards (turning the complement) ...",
+        at_most=math.pi,
+    )
     max_backward: float = param(0.6, "m", "... while the total distance driven backwards that way stays under this")
     reflex_stop_s: float = param(0.5, "s", "section 3.5: standing still after a bump")
-    reflex_look_pans_deg: tuple[float, ...] = param((-60.0, 0.0, 60.0), "deg", "section 3.5: the looks around "
-                                                    "after a bump (pans from ahead)", at_least=-180.0, at_most=180.0)
+    reflex_look_pans_deg: tuple[float, ...] = param(
+        (-60.0, 0.0, 60.0),
+        "deg",
+        "section 3.5: the looks around after a bump (pans from ahead)",
+        at_least=-180.0,
+        at_most=180.0,
+    )
     backup_distance: float = param(0.30, "m", "section 3.5: backed up after a bump")
-    backup_speed: float = param(0.15, "m/s", "section 3.5: the speed of that backing up (at most robot.max_speed)",
-                                above=0.0)
-    reflex_phase_limit_s: float = param(4.0, "s", """a reflex phase that cannot finish (the camera kept busy) is
+    backup_speed: float = param(
+        0.15, "m/s", "section 3.5: the speed of that backing up (at most robot.max_speed)", above=0.0
+    )
+    reflex_phase_limit_s: float = param(
+        4.0,
+        "s",
+        """a reflex phase that cannot finish (the camera kept busy) is
         given up after this; the backup phase is given at least twice the time backing up takes at the speed it is
-        driven (backed into something)""", above=0.0)
-    stall_window_m: float = param(0.6, "m", """no silent stall (our design): pushing without moving starts the
+        driven (backed into something)""",
+        above=0.0,
+    )
+    stall_window_m: float = param(
+        0.6,
+        "m",
+        """no silent stall (our design): pushing without moving starts the
         reflex too, judged over the time it takes to drive this far at robot.max_speed (0.6 m: 2 s at 0.3 m/s)""",
-                                  above=0.0)
+        above=0.0,
+    )
     stall_min_distance: float = param(0.1, "m", "commanded in that window before a stall can be called", above=0.0)
-    stall_progress: float = param(0.2, "", "a stall: less than this fraction of the commanded distance moved",
-                                  at_most=1.0)
+    stall_progress: float = param(
+        0.2, "", "a stall: less than this fraction of the commanded distance moved", at_most=1.0
+    )
     look_d_max: float = param(1.0, "m", "eq. 1: d_m, the longest drive without looking ahead", above=0.0)
     look_exponent: float = param(2.0, "", "eq. 1: s, the look-ahead bid's exponent", above=0.0)
-    look_cap: float = param(1.0, "", """eq. 1's bid never above this: 1, eq. 1 as written (d_m is "the maximum distance
+    look_cap: float = param(
+        1.0,
+        "",
+        """eq. 1's bid never above this: 1, eq. 1 as written (d_m is "the maximum distance
         allowed to travel without looking ahead", so the bid reaches 1 there); 0.9 (navcli before: the cap of eq. 9's
-        motion bid)""", at_most=1.0)
-    look_ahead_cone: float = param(math.radians(30.0), "rad", "a look this close to straight ahead resets d_l of "
-                                                              "eq. 1")
-    looks: bool = param(True, "", """the Pilot bids for the camera (eq. 1's look-ahead, a reflex's looks around);
+        motion bid)""",
+        at_most=1.0,
+    )
+    look_ahead_cone: float = param(math.radians(30.0), "rad", "a look this close to straight ahead resets d_l of eq. 1")
+    looks: bool = param(
+        True,
+        "",
+        """the Pilot bids for the camera (eq. 1's look-ahead, a reflex's looks around);
         off: never (the learning paper's task: the camera is the Learning Agent's; the Pilot still avoids what the
-        memory holds)""")
-    geometric_lookahead: float = param(1.0, "m", "the geometric pilot starts to steer this far beyond the "
-                                                 "prohibited area")
-    geometric_clearance: float = param(0.05, "m", "the geometric pilot's tangents pass this far outside the "
-                                                  "prohibited area")
-    geometric_side_memory: float = param(0.5, "m", "driven with the way clear before the geometric pilot forgets "
-                                                   "the side it chose to pass on")
+        memory holds)""",
+    )
+    geometric_lookahead: float = param(
+        1.0, "m", "the geometric pilot starts to steer this far beyond the prohibited area"
+    )
+    geometric_clearance: float = param(
+        0.05, "m", "the geometric pilot's tangents pass this far outside the prohibited area"
+    )
+    geometric_side_memory: float = param(
+        0.5, "m", "driven with the way clear before the geometric pilot forgets the side it chose to pass on"
+    )
 
 
 @dataclass(frozen=True)
@@ -160,68 +241,127 @@ class NavigationParams(ParamSet):
     kappa1: float = param(0.314, "", "Target Tracker: its move bid with a precisely known target", at_most=1.0)
     alpha: float = param(1.731, "", "Target Tracker: how fast that bid falls with the target's imprecision I_a")
     kappa2: float = param(0.493, "", "Target Tracker: the look bid's peak", at_most=1.0)
-    beta: float = param(2.03, "", "Target Tracker: I_a = (eps / 2 pi) ** beta, eps the width of the heading's "
-                                  "70 % cut", above=0.0)
-    I_a_bar: float = param(0.386, "", "Target Tracker: I_a at which the look bid peaks; above it the Rescuer takes "
-                                      "over", above=0.0, below=1.0)
-    kappa: float = param(0.355, "", "Distance Estimator: its bid kappa * tanh(I_d / d), I_d the width (m) of the "
-                                    "target distance's 70 % cut, d its distance", at_most=1.0)
+    beta: float = param(
+        2.03, "", "Target Tracker: I_a = (eps / 2 pi) ** beta, eps the width of the heading's 70 % cut", above=0.0
+    )
+    I_a_bar: float = param(
+        0.386,
+        "",
+        "Target Tracker: I_a at which the look bid peaks; above it the Rescuer takes over",
+        above=0.0,
+        below=1.0,
+    )
+    kappa: float = param(
+        0.355,
+        "",
+        "Distance Estimator: its bid kappa * tanh(I_d / d), I_d the width (m) of the "
+        "target distance's 70 % cut, d its distance",
+        at_most=1.0,
+    )
     gamma_A: float = param(0.240, "", "Risk Manager: R = 1 - min(1, q_A (|A|/6)^gamma_A + q_B (|B|/6)^gamma_B)")
     gamma_B: float = param(0.521, "", "Risk Manager: the exponent of the known landmarks' term")
     gamma_R: float = param(0.054, "", "Risk Manager: its look bid R^gamma_R", above=0.0)
     R_bar: float = param(0.215, "", "Risk Manager: it bids only when R > R_bar", at_most=1.0)
-    ahead_deg: float = param(90.0, "deg", "Risk Manager: landmarks within this bearing are ahead (set A)",
-                             above=0.0, at_most=180.0)
-    communicator_window_s: float = param(0.2, "s", "the Communicator collects bids over this window; a later bid "
-                                                   "replaces an earlier one")
-    rescuer_bid: float = param(1.0, "", "the Rescuer's stop, look and turn bids: an emergency, above every other "
-                                        "bid", at_most=1.0)
-    blocked_window_m: float = param(12.0, "m", """no progress toward the target while the robot could drive this
+    ahead_deg: float = param(
+        90.0, "deg", "Risk Manager: landmarks within this bearing are ahead (set A)", above=0.0, at_most=180.0
+    )
+    communicator_window_s: float = param(
+        0.2, "s", "the Communicator collects bids over this window; a later bid replaces an earlier one"
+    )
+    rescuer_bid: float = param(
+        1.0, "", "the Rescuer's stop, look and turn bids: an emergency, above every other bid", at_most=1.0
+    )
+    blocked_window_m: float = param(
+        12.0,
+        "m",
+        """no progress toward the target while the robot could drive this
         far at robot.max_speed: blocked (our design, a distance: a slow robot is never blocked for being slow; 12 m
-        is the 40 s this window had at 0.3 m/s)""", above=0.0)
+        is the 40 s this window had at 0.3 m/s)""",
+        above=0.0,
+    )
     blocked_progress: float = param(0.5, "m", "closer to the target that counts as progress", above=0.0)
     blocked_bumps: int = param(3, "", "or this many bumps within the blocked window: blocked", at_least=1)
-    diverting_timeout_m: float = param(27.0, "m", "a diverting target not crossed while the robot could drive this "
-                                                  "far has failed (90 s at 0.3 m/s)", above=0.0)
+    diverting_timeout_m: float = param(
+        27.0,
+        "m",
+        "a diverting target not crossed while the robot could drive this far has failed (90 s at 0.3 m/s)",
+        above=0.0,
+    )
     max_diverting_failures: int = param(0, "", "failed diverting targets that end the mission; 0: no count does")
-    gives_up: bool = param(True, "", "off: the Rescuer never ends a mission (long benchmarks, tests that need a "
-                                     "long run)")
-    random_turn_deg: float = param(120.0, "deg", "with no diverting target: turn by up to this much", above=0.0,
-                                   at_most=180.0)
-    explore_m: float = param(3.0, "m", """exploring (no diverting target): turn away from the target (within half
+    gives_up: bool = param(
+        True, "", "off: the Rescuer never ends a mission (long benchmarks, tests that need a long run)"
+    )
+    random_turn_deg: float = param(
+        120.0, "deg", "with no diverting target: turn by up to this much", above=0.0, at_most=180.0
+    )
+    explore_m: float = param(
+        3.0,
+        "m",
+        """exploring (no diverting target): turn away from the target (within half
         random_turn_deg), drive up to this far looking around until a new landmark is seen, then scan (our design:
         what hides the landmarks from where the robot is blocked is a long obstacle, about 3 m in the papers'
-        rooms); 0: turn and scan in place (navcli before)""")
-    sight_ends_way: bool = param(True, "", """once a diverting target is crossed, a target in sight (no known long
+        rooms); 0: turn and scan in place (navcli before)""",
+    )
+    sight_ends_way: bool = param(
+        True,
+        "",
+        """once a diverting target is crossed, a target in sight (no known long
         obstacle across the straight way) is headed for directly; off: the map is asked for the way's next step all
-        the same (navcli before)""")
-    scan_pans_deg: tuple[float, ...] = param((-90.0, -45.0, 0.0, 45.0, 90.0), "deg", "the looks of a scan (the "
-                                             "initial sweep, a lost target)", at_least=-180.0, at_most=180.0)
-    initial_sweep: bool = param(True, "", "the Rescuer's initial sweep (thesis node 81); off: none (short "
-                                          "experiments)")
-    rescuer_looks: bool = param(True, "", """the Rescuer looks (the initial sweep, a lost target's scans, looking
+        the same (navcli before)""",
+    )
+    scan_pans_deg: tuple[float, ...] = param(
+        (-90.0, -45.0, 0.0, 45.0, 90.0),
+        "deg",
+        "the looks of a scan (the initial sweep, a lost target)",
+        at_least=-180.0,
+        at_most=180.0,
+    )
+    initial_sweep: bool = param(True, "", "the Rescuer's initial sweep (thesis node 81); off: none (short experiments)")
+    rescuer_looks: bool = param(
+        True,
+        "",
+        """the Rescuer looks (the initial sweep, a lost target's scans, looking
         around to explore); off: never, and a lost target is left to the agents (the learning paper's task, where
-        the camera is the Learning Agent's)""")
-    blocked_ends: bool = param(False, "", "the first blocked situation ends the mission blocked (the learning "
-                                          "paper's trials)")
-    reach_confident: bool = param(False, "", """the target counts as reached only when the robot is also confident
+        the camera is the Learning Agent's)""",
+    )
+    blocked_ends: bool = param(
+        False, "", "the first blocked situation ends the mission blocked (the learning paper's trials)"
+    )
+    reach_confident: bool = param(
+        False,
+        "",
+        """the target counts as reached only when the robot is also confident
         of it ("and is confident that it has reached the target"): the 70 % cut of its belief of the target wholly
-        within reach; off: the body alone""")
-    reach_imprecision: float = param(0.0, "", "> 0: and the belief's I(t) (the learning paper's I(l)) below this (a "
-                                              "stricter reading, for the sensitivity)", at_most=1.0)
-    map_encode_imprecision: float = param(0.25, "", "Map Manager: landmarks at most this imprecise are encoded",
-                                          above=0.0, at_most=1.0)
-    map_units_per_landmark: int = param(6, "", "Map Manager: beta-units kept per landmark (the sharpest)",
-                                        at_least=1)
-    map_recall_every: int = param(5, "ticks", "Map Manager: between two recalls of a landmark from the network",
-                                  at_least=1)
-    map_draw_every: int = param(100, "ticks", """between two /map/scene updates, and the last tick (10 s; our
+        within reach; off: the body alone""",
+    )
+    reach_imprecision: float = param(
+        0.0,
+        "",
+        "> 0: and the belief's I(t) (the learning paper's I(l)) below this (a stricter reading, for the sensitivity)",
+        at_most=1.0,
+    )
+    map_encode_imprecision: float = param(
+        0.25, "", "Map Manager: landmarks at most this imprecise are encoded", above=0.0, at_most=1.0
+    )
+    map_units_per_landmark: int = param(6, "", "Map Manager: beta-units kept per landmark (the sharpest)", at_least=1)
+    map_recall_every: int = param(
+        5, "ticks", "Map Manager: between two recalls of a landmark from the network", at_least=1
+    )
+    map_draw_every: int = param(
+        100,
+        "ticks",
+        """between two /map/scene updates, and the last tick (10 s; our
         design: the map changes slowly, and its snapshot triangulates the landmarks, which every 2 s cost some
-        40 us a tick; see DRAW_PERIOD)""", at_least=1)
+        40 us a tick; see DRAW_PERIOD)""",
+        at_least=1,
+    )
     virtual_distance: float = param(10.0, "m", "Map Manager: virtual landmarks beyond the hull edges", above=0.0)
     blocked_cost: float = param(1000.0, "", "Map Manager: the cost of a region arc known to be blocked", above=1.0)
-    diverting_in_sight: bool = param(True, "", "the diverting target is the farthest edge of the way the robot sees "
-                                               "straight; off: the first (navcli before)")
+    diverting_in_sight: bool = param(
+        True,
+        "",
+        "the diverting target is the farthest edge of the way the robot sees straight; off: the first (navcli before)",
+    )
 
 
 @dataclass(frozen=True)
@@ -230,37 +370,63 @@ class VisionParams(ParamSet):
 
     group: ClassVar[str] = "vision"
 
-    noise_bound: float = param(NOISE_BOUND, "standard deviations", "sensor errors are bounded at this many "
-                                                                  "standard deviations", above=0.0)
+    noise_bound: float = param(
+        NOISE_BOUND, "standard deviations", "sensor errors are bounded at this many standard deviations", above=0.0
+    )
     told_target: bool = param(True, "", "the robot is told where the target is at the start; off: it must see it")
-    routines: bool = param(True, "", "a look registers only what the routine of its purpose finds "
-                                     "(vision/routines.py), no look no image; off: every image registers all in view "
-                                     "(navcli before)")
-    line_objects: bool = param(True, "", "a fence or wall is one object, its ends fused end by end "
-                                         "(vision/visual_memory.py); off: view-cut pieces re-joined by geometry "
-                                         "(navcli before)")
-    walls: str = param("seen", "", "how the robot knows the room's walls (vision/perception.py): seen (as lines, "
-                                   "like fences), known (from the start) or felt (by the bumpers only)",
-                       choices=("seen", "known", "felt"))
+    routines: bool = param(
+        True,
+        "",
+        "a look registers only what the routine of its purpose finds "
+        "(vision/routines.py), no look no image; off: every image registers all in view "
+        "(navcli before)",
+    )
+    line_objects: bool = param(
+        True,
+        "",
+        "a fence or wall is one object, its ends fused end by end "
+        "(vision/visual_memory.py); off: view-cut pieces re-joined by geometry "
+        "(navcli before)",
+    )
+    walls: str = param(
+        "seen",
+        "",
+        "how the robot knows the room's walls (vision/perception.py): seen (as lines, "
+        "like fences), known (from the start) or felt (by the bumpers only)",
+        choices=("seen", "known", "felt"),
+    )
     heading_floor: float = param(math.radians(0.5), "rad", "the fuzzy heading's least half-spread (a pixel or so)")
     distance_floor: float = param(0.02, "m", "the fuzzy distance's least half-spread")
-    walk_bound: float = param(4.0, "standard deviations", "the per-tick odometry errors' random walk is bounded at "
-                                                          "this many deviations")
+    walk_bound: float = param(
+        4.0, "standard deviations", "the per-tick odometry errors' random walk is bounded at this many deviations"
+    )
     odometry_floor: float = param(0.005, "", "relative odometry error the memory allows for even without noise")
     bump_radius: float = param(0.10, "m", "support radius of an obstacle found by the bumpers", above=0.0)
     bump_merge: float = param(1.0, "m", "a bump this near another bump or a landmark joins it in a long obstacle")
-    line_join_gap: float = param(0.5, "m", "stretches of a fence or wall seen apart are one only if they overlap or "
-                                           "are this near")
-    forget_above: float = param(0.35, "", "I(l) above which a landmark or the target is forgotten", above=0.0,
-                                at_most=1.0)
-    forget_line_by_one_end: bool = param(False, "", """on: a linear obstacle (or wall) is forgotten when one end is
+    line_join_gap: float = param(
+        0.5, "m", "stretches of a fence or wall seen apart are one only if they overlap or are this near"
+    )
+    forget_above: float = param(
+        0.35, "", "I(l) above which a landmark or the target is forgotten", above=0.0, at_most=1.0
+    )
+    forget_line_by_one_end: bool = param(
+        False,
+        "",
+        """on: a linear obstacle (or wall) is forgotten when one end is
         above forget_above (navcli before: the near end of a fence the robot drives along blurs first, and the
-        fence went with it); off: when both are""")
-    forget_every: int = param(5, "ticks", "between two sweeps of the memory for what has become too imprecise",
-                              at_least=1)
-    draw_every: int = param(30, "ticks", """between two /memory/scene updates, and the last tick (3 s; our design:
+        fence went with it); off: when both are""",
+    )
+    forget_every: int = param(
+        5, "ticks", "between two sweeps of the memory for what has become too imprecise", at_least=1
+    )
+    draw_every: int = param(
+        30,
+        "ticks",
+        """between two /memory/scene updates, and the last tick (3 s; our design:
         drawn once a second it cost some 40 us a tick; each drawing stays where it was in the world, see
-        DRAW_PERIOD)""", at_least=1)
+        DRAW_PERIOD)""",
+        at_least=1,
+    )
 
 
 @dataclass(frozen=True)
@@ -308,14 +474,24 @@ class LearningParams(ParamSet):
 
     group: ClassVar[str] = "learning"
 
-    distance_bounds: tuple[float, ...] = param((0.9, 1.5, 3.0, 5.0), "m", "the target distance D(t)'s interval "
-                                               "bounds (5 intervals)", intervals=True)
-    imprecision_bounds: tuple[float, ...] = param((0.02, 0.04, 0.07, 0.1, 0.15, 0.25), "", "the target imprecision "
-                                                  "I(t)'s interval bounds (7 intervals)", intervals=True)
-    count_bounds: tuple[float, ...] = param((0.34, 0.67, 1.0), "", "the landmark count C-bar's interval bounds (4 "
-                                            "intervals)", intervals=True)
-    landmark_bounds: tuple[float, ...] = param((0.2, 0.35, 0.5, 0.65, 0.8, 0.95), "", "the landmark imprecision "
-                                               "I-bar's interval bounds (7 intervals)", intervals=True)
+    distance_bounds: tuple[float, ...] = param(
+        (0.9, 1.5, 3.0, 5.0), "m", "the target distance D(t)'s interval bounds (5 intervals)", intervals=True
+    )
+    imprecision_bounds: tuple[float, ...] = param(
+        (0.02, 0.04, 0.07, 0.1, 0.15, 0.25),
+        "",
+        "the target imprecision I(t)'s interval bounds (7 intervals)",
+        intervals=True,
+    )
+    count_bounds: tuple[float, ...] = param(
+        (0.34, 0.67, 1.0), "", "the landmark count C-bar's interval bounds (4 intervals)", intervals=True
+    )
+    landmark_bounds: tuple[float, ...] = param(
+        (0.2, 0.35, 0.5, 0.65, 0.8, 0.95),
+        "",
+        "the landmark imprecision I-bar's interval bounds (7 intervals)",
+        intervals=True,
+    )
     action_s: float = param(1.0, "s", "one action lasts this long", above=0.0)
     max_actions: int = param(500, "", "actions before a trial ends (the paper's 500)", at_least=1)
     bid: float = param(0.5, "", "the Learning Agent's bids for the wheels and the camera", above=0.0, at_most=1.0)
@@ -325,19 +501,41 @@ class LearningParams(ParamSet):
     explore: int = param(2, "", "tries of each action in a state before it is judged on its values")
     q_alpha: float = param(0.1, "", "Q-learning's step size", above=0.0, at_most=1.0)
     q_epsilon: float = param(0.1, "", "Q-learning's exploration rate", at_most=1.0)
-    paper_task: bool = param(True, "", "train, compare policies and the env run the paper's task (training/task.py); "
-                                       "off: navcli's first task")
-    first_sighting: bool = param(False, "", "the paper's task: the robot starts with the image of the target a look "
-                                            "from its start would give; off: it knows nothing (section 5.1)")
-    blocked_terminal: bool = param(False, "", "a blocked ending is an end state of value 0 for the learner (navcli "
-                                              "before); off: a cut, as at max_actions (training/task.py)")
+    paper_task: bool = param(
+        True,
+        "",
+        "train, compare policies and the env run the paper's task (training/task.py); off: navcli's first task",
+    )
+    first_sighting: bool = param(
+        False,
+        "",
+        "the paper's task: the robot starts with the image of the target a look "
+        "from its start would give; off: it knows nothing (section 5.1)",
+    )
+    blocked_terminal: bool = param(
+        False,
+        "",
+        "a blocked ending is an end state of value 0 for the learner (navcli "
+        "before); off: a cut, as at max_actions (training/task.py)",
+    )
 
 
 ROBOT = RobotParams()
 PILOT = PilotParams()
 NAVIGATION = NavigationParams()
-NAVIGATION_C2 = dataclasses.replace(NAVIGATION, alpha=1.231, beta=2.12, kappa1=1.0, kappa2=0.564, kappa=0.178,
-                                    gamma_A=1.377, gamma_B=4.39, gamma_R=0.707, I_a_bar=0.871, R_bar=0.906)
+NAVIGATION_C2 = dataclasses.replace(
+    NAVIGATION,
+    alpha=1.231,
+    beta=2.12,
+    kappa1=1.0,
+    kappa2=0.564,
+    kappa=0.178,
+    gamma_A=1.377,
+    gamma_B=4.39,
+    gamma_R=0.707,
+    I_a_bar=0.871,
+    R_bar=0.906,
+)
 """The thesis' GA-tuned bidding parameters for task cluster C2 (targets behind obstacles, Table 5.2)."""
 CLUSTERS = {"C1": NAVIGATION, "C2": NAVIGATION_C2}
 VISION = VisionParams()
@@ -395,7 +593,9 @@ class Params:
     def with_plugin(self, name: str, values: ParamSet) -> Params:
         """A copy holding ``values`` as the parameter set of the plugin ``name`` (replacing any)."""
         if name in self.GROUPS or "." in name or not name:
-            raise ParamError(f"{name!r} cannot name a plugin's parameters (navcli's own sets: {', '.join(self.GROUPS)})")
+            raise ParamError(
+                f"{name!r} cannot name a plugin's parameters (navcli's own sets: {', '.join(self.GROUPS)})"
+            )
         rest = tuple((n, s) for n, s in self.plugins if n != name)
         return dataclasses.replace(self, plugins=tuple(sorted(rest + ((name, values),), key=lambda p: p[0])))
 

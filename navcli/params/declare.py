@@ -84,13 +84,18 @@ class Declared:
                 return bool(value)
             raise ParamError(f"{name} is a switch: expects true or false (or 1, 0), got {value!r}"[:300])
         if self.kind in ("numbers", "intervals"):
-            if (not isinstance(value, (list, tuple)) or len(value) > MAX_LIST
-                    or not all(_is_number(v) and math.isfinite(v) for v in value)):
+            if (
+                not isinstance(value, (list, tuple))
+                or len(value) > MAX_LIST
+                or not all(_is_number(v) and math.isfinite(v) for v in value)
+            ):
                 raise ParamError(f"{name} expects a list of at most {MAX_LIST} finite numbers, got {value!r}"[:300])
             out = tuple(float(v) for v in value)
             if self.kind == "intervals" and (len(out) != self.count or any(b <= a for a, b in zip(out, out[1:]))):
-                raise ParamError(f"{name} must be {self.count} increasing numbers (the bounds of {self.count + 1} "
-                                 f"intervals), got {list(out)}")
+                raise ParamError(
+                    f"{name} must be {self.count} increasing numbers (the bounds of {self.count + 1} "
+                    f"intervals), got {list(out)}"
+                )
             for v in out:
                 self._within(name, v)
             return out
@@ -108,10 +113,12 @@ class Declared:
         return value
 
     def _within(self, name: str, v: float) -> None:
-        for bound, ok, words in ((self.at_least, v >= (self.at_least or 0), "at least"),
-                                 (self.above, v > (self.above or 0), "above"),
-                                 (self.at_most, v <= (self.at_most or 0), "at most"),
-                                 (self.below, v < (self.below or 0), "below")):
+        for bound, ok, words in (
+            (self.at_least, v >= (self.at_least or 0), "at least"),
+            (self.above, v > (self.above or 0), "above"),
+            (self.at_most, v <= (self.at_most or 0), "at most"),
+            (self.below, v < (self.below or 0), "below"),
+        ):
             if bound is not None and not ok:
                 raise ParamError(f"{name} must be {words} {bound:g}, got {v:g}")
 
@@ -139,8 +146,11 @@ class Declared:
         if self.kind == "intervals":
             return f"{self.count} increasing numbers"
         (lo, lo_open), (hi, hi_open) = self.lower, self.upper
-        text = (("(" if lo_open else "[") + f"{lo:g}" if lo is not None else "(-inf") + ", " + \
-            (f"{hi:g}" + (")" if hi_open else "]") if hi is not None else "inf)")
+        text = (
+            (("(" if lo_open else "[") + f"{lo:g}" if lo is not None else "(-inf")
+            + ", "
+            + (f"{hi:g}" + (")" if hi_open else "]") if hi is not None else "inf)")
+        )
         return {"integer": "whole number in ", "numbers": "numbers each in "}.get(self.kind, "") + text
 
     def json_schema(self, default: Any) -> dict[str, Any]:
@@ -163,9 +173,18 @@ class Declared:
         return d | {"type": "integer" if self.kind == "integer" else "number", "default": default} | bounds
 
 
-def param(default: Any, unit: str, description: str, *, at_least: float | None = _UNSET,
-          above: float | None = None, at_most: float | None = None, below: float | None = None,
-          intervals: bool = False, choices: tuple[str, ...] = ()) -> Any:
+def param(
+    default: Any,
+    unit: str,
+    description: str,
+    *,
+    at_least: float | None = _UNSET,
+    above: float | None = None,
+    at_most: float | None = None,
+    below: float | None = None,
+    intervals: bool = False,
+    choices: tuple[str, ...] = (),
+) -> Any:
     """A parameter field of a :class:`ParamSet`: its default, unit (``""`` for a pure number) and
     description, and for a number its range (at least 0 unless said otherwise; ``above`` replaces
     that lower bound, ``at_least=None`` removes it); a word's ``choices``. A default outside its
@@ -181,14 +200,25 @@ def param(default: Any, unit: str, description: str, *, at_least: float | None =
     elif isinstance(default, tuple):
         kind = "intervals" if intervals else "numbers"
     else:
-        raise TypeError(f"a parameter's default is a bool, an int, a float, a tuple of floats or a word with its "
-                        f"choices, got {default!r}")
+        raise TypeError(
+            f"a parameter's default is a bool, an int, a float, a tuple of floats or a word with its "
+            f"choices, got {default!r}"
+        )
     if at_least is _UNSET:
         at_least = 0.0 if kind in ("integer", "number") and above is None else None
     if kind in ("switch", "choice"):
         at_least = above = at_most = below = None
-    d = Declared(kind, unit, " ".join(description.split()), at_least, above, at_most, below,
-                 len(default) if kind == "intervals" else 0, tuple(choices))
+    d = Declared(
+        kind,
+        unit,
+        " ".join(description.split()),
+        at_least,
+        above,
+        at_most,
+        below,
+        len(default) if kind == "intervals" else 0,
+        tuple(choices),
+    )
     d.check("the default", default)
     return dataclasses.field(default=default, metadata={DECLARED: d})
 
@@ -209,8 +239,10 @@ class ParamSet:
         for f in dataclasses.fields(self):
             d = f.metadata.get(DECLARED)
             if d is None:
-                raise TypeError(f"{type(self).__name__}.{f.name} is not declared: make it with "
-                                f"navcli.params.param(default, unit, description, ...)")
+                raise TypeError(
+                    f"{type(self).__name__}.{f.name} is not declared: make it with "
+                    f"navcli.params.param(default, unit, description, ...)"
+                )
             value = getattr(self, f.name)
             checked = d.check(f"{prefix}.{f.name}", value)
             if checked is not value:
@@ -224,8 +256,9 @@ class ParamSet:
 
     def to_json(self) -> dict[str, Any]:
         """``{"K": 18.0, ...}``: plain JSON values (tuples as lists)."""
-        return {f.name: list(v) if isinstance(v := getattr(self, f.name), tuple) else v
-                for f in dataclasses.fields(self)}
+        return {
+            f.name: list(v) if isinstance(v := getattr(self, f.name), tuple) else v for f in dataclasses.fields(self)
+        }
 
     def changed(self, name: str, values: Mapping[str, Any]) -> ParamSet:
         """A copy with ``values`` (parameter -> value) checked and set; ``name`` is the set's
@@ -244,8 +277,11 @@ def suggest(name: str, known: Iterator[str] | list[str]) -> str:
     import difflib
 
     known = list(known)
-    close = ([k for k in known if k.endswith("." + name)] or difflib.get_close_matches(name, known, n=1)
-             or [k for k in known if k.lower() == name.lower()])
+    close = (
+        [k for k in known if k.endswith("." + name)]
+        or difflib.get_close_matches(name, known, n=1)
+        or [k for k in known if k.lower() == name.lower()]
+    )
     return f" (did you mean {close[0]}?)" if close else " (see `navcli params` for the names)"
 
 
@@ -279,6 +315,8 @@ def parse_override(item: str) -> tuple[str, Any]:
         except ValueError:
             if not listed and v.replace("-", "").replace("_", "").isalnum():
                 return name, v  # a word: a choice (the parameter's check says which words it takes)
-            raise ParamError(f"{item!r}: {v!r} is not a number" + ("" if listed else
-                             " (a list parameter takes [a, b, ...])" if "," in value else "")) from None
+            raise ParamError(
+                f"{item!r}: {v!r} is not a number"
+                + ("" if listed else " (a list parameter takes [a, b, ...])" if "," in value else "")
+            ) from None
     return name, numbers_ if listed else numbers_[0]

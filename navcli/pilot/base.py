@@ -77,8 +77,6 @@ class PilotOutput:
     blocked_by: str | None = None  # the long obstacle reported to the Navigation system as not easily avoided
 
 
-
-
 MODES = ("avoid", "idle", "reflex")
 """What a pilot does in a tick, as ``/pilot.mode`` says: proposes a move of its own, proposes none (the
 Navigation system's request is carried out), or runs a reflex (section 3.5, after a bump or a stall)."""
@@ -104,8 +102,14 @@ class Pilot:
     Info: ClassVar[Any] = None
     """A plugin's ``msgspec.Struct`` of the fields its :meth:`avoid` adds to ``/pilot``, or None."""
 
-    def __init__(self, params: PilotParams = PILOT, robot: RobotParams = ROBOT, *,
-                 own_params: ParamSet | None = None, rng: np.random.Generator | None = None):
+    def __init__(
+        self,
+        params: PilotParams = PILOT,
+        robot: RobotParams = ROBOT,
+        *,
+        own_params: ParamSet | None = None,
+        rng: np.random.Generator | None = None,
+    ):
         self.own_params = own_params
         self.rng = rng
         self.params = params
@@ -173,8 +177,9 @@ class Pilot:
         info = {"mode": "avoid" if offers else "idle", "bid": a.bid, "look_bid": look} | a.info
         if offers and a.move is not None:
             bids.insert(0, Bid(self.name, "motion", a.move, a.bid))
-        return PilotOutput(bids, info, a.arrows, events, obstacles,
-                           self._report(a.info.get("blocked_by"), beliefs.odometry, obstacles))
+        return PilotOutput(
+            bids, info, a.arrows, events, obstacles, self._report(a.info.get("blocked_by"), beliefs.odometry, obstacles)
+        )
 
     def _report(self, blocked: str | None, odom: Pose, obstacles: tuple[KnownObstacle, ...]) -> str | None:
         """The long obstacle to report as not easily avoided (our reading of the thesis' blocked
@@ -245,9 +250,11 @@ class Pilot:
         something) is escaped forwards; the paper's reflex backs up from a contact ahead."""
         if bumps:
             behind = abs(bumps[0].bearing) > math.pi / 2
-            self._start_reflex(+1.0 if behind else -1.0,
-                               f"reflex: bumper hit at bearing {math.degrees(bumps[0].bearing):.0f} deg; "
-                               f"stopping, looking around, {'driving forward' if behind else 'backing up'}")
+            self._start_reflex(
+                +1.0 if behind else -1.0,
+                f"reflex: bumper hit at bearing {math.degrees(bumps[0].bearing):.0f} deg; "
+                f"stopping, looking around, {'driving forward' if behind else 'backing up'}",
+            )
 
     def _watch_for_stall(self, touching: bool) -> None:
         """No silent stall (our design; the paper's reflex fires on a new bump only, and a contact
@@ -262,9 +269,11 @@ class Pilot:
         commanded = sum(self._commanded)
         moved = sum(self._moved)
         if commanded >= p.stall_min_distance and moved < p.stall_progress * commanded:
-            self._start_reflex(+1.0 if self._last_v < 0 else -1.0,
-                               f"reflex: stalled ({'bumper pressed, ' if touching else ''}commanded {commanded:.2f} m "
-                               f"in {self.stall_window_s:g} s, moved {moved:.2f} m)")
+            self._start_reflex(
+                +1.0 if self._last_v < 0 else -1.0,
+                f"reflex: stalled ({'bumper pressed, ' if touching else ''}commanded {commanded:.2f} m "
+                f"in {self.stall_window_s:g} s, moved {moved:.2f} m)",
+            )
 
     def _forget_motion(self) -> None:
         self._commanded.clear()
@@ -272,8 +281,11 @@ class Pilot:
 
     def _start_reflex(self, direction: float, message: str) -> None:
         p = self.params
-        self._reflex = [("stop", p.reflex_stop_s), ("look", float(len(p.reflex_look_pans_deg))),
-                        ("backup", p.backup_distance)]
+        self._reflex = [
+            ("stop", p.reflex_stop_s),
+            ("look", float(len(p.reflex_look_pans_deg))),
+            ("backup", p.backup_distance),
+        ]
         if not p.looks:
             del self._reflex[1]  # no looks around: the camera is not the Pilot's
         self._reflex_progress = 0.0
@@ -284,16 +296,19 @@ class Pilot:
 
     def _reflex_output(self, look: float, events: list[str], obstacles: tuple[KnownObstacle, ...]) -> PilotOutput:
         p = self.params
-        while self._reflex and (self._reflex_progress >= self._reflex[0][1] - 1e-9
-                                or self._phase_ticks * CONTROL_DT >= self._phase_limit(self._reflex[0][0])):
+        while self._reflex and (
+            self._reflex_progress >= self._reflex[0][1] - 1e-9
+            or self._phase_ticks * CONTROL_DT >= self._phase_limit(self._reflex[0][0])
+        ):
             self._reflex.pop(0)  # done, or given up (backing into something, the camera kept busy)
             self._reflex_progress = 0.0
             self._phase_ticks = 0
         self._phase_ticks += 1
         if not self._reflex:
             events.append("reflex done: recomputing with the obstacle that was hit")
-            return PilotOutput([], {"mode": "reflex", "phase": "done", "bid": 0.0, "look_bid": look}, [], events,
-                               obstacles)
+            return PilotOutput(
+                [], {"mode": "reflex", "phase": "done", "bid": 0.0, "look_bid": look}, [], events, obstacles
+            )
         phase = self._reflex[0][0]
         if phase == "stop":
             self._reflex_progress += CONTROL_DT  # this tick is spent standing still
@@ -304,8 +319,9 @@ class Pilot:
             bids.append(Bid(self.name, "camera", Look(pan, "obstacles"), p.bid_cap))
         elif look > 0:
             bids.append(Bid(self.name, "camera", LOOK_AHEAD, look))
-        return PilotOutput(bids, {"mode": "reflex", "phase": phase, "bid": p.bid_cap, "look_bid": look}, [], events,
-                           obstacles)
+        return PilotOutput(
+            bids, {"mode": "reflex", "phase": phase, "bid": p.bid_cap, "look_bid": look}, [], events, obstacles
+        )
 
     def _phase_limit(self, phase: str) -> float:
         """Seconds after which a reflex phase that cannot finish is given up."""
@@ -360,8 +376,14 @@ class Pilot:
             return True
         r = v / omega if omega else 0.0
         phi_end = omega * abs(err / omega) if omega else 0.0
-        points = [(r * math.sin(phi_end * k / samples), r * (1.0 - math.cos(phi_end * k / samples)))
-                  for k in range(1, samples + 1)] if omega else [(0.0, 0.0)]
+        points = (
+            [
+                (r * math.sin(phi_end * k / samples), r * (1.0 - math.cos(phi_end * k / samples)))
+                for k in range(1, samples + 1)
+            ]
+            if omega
+            else [(0.0, 0.0)]
+        )
         if ahead:
             ex, ey = points[-1]
             h = err if omega else 0.0

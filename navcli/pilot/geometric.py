@@ -98,8 +98,11 @@ class GeometricPilot(Pilot):
             c = math.hypot(q[0], q[1]) - o.radius - R  # from the prohibited area's edge
             if c < clearance:
                 best, clearance, nearest = o, c, q
-        info: dict = {"nearest": best.key if best else None, "clearance": clearance if best else None,
-                      "in_distress": clearance <= 0.0}
+        info: dict = {
+            "nearest": best.key if best else None,
+            "clearance": clearance if best else None,
+            "in_distress": clearance <= 0.0,
+        }
         if best is None:
             self._clear(driven, p.geometric_side_memory)
             return Avoidance(None, 0.0, info)
@@ -109,8 +112,11 @@ class GeometricPilot(Pilot):
             away = math.atan2(-nearest[1], -nearest[0])
             return Avoidance(Move(away, self.max_speed), cap, info | {"rule": "escape", "turn_deg": math.degrees(away)})
         h = request.heading if request is not None else 0.0
-        if request is None or clearance > p.geometric_lookahead or \
-                not ray_enters(h, best, R, clearance + R + best.radius + p.geometric_lookahead):
+        if (
+            request is None
+            or clearance > p.geometric_lookahead
+            or not ray_enters(h, best, R, clearance + R + best.radius + p.geometric_lookahead)
+        ):
             self._clear(driven, p.geometric_side_memory)
             return Avoidance(None, 0.0, info | {"rule": "clear"})
         self._clear_run = 0.0
@@ -118,8 +124,11 @@ class GeometricPilot(Pilot):
         if self._side is None:  # ...chosen once, so the robot does not dither between sides
             self._side = "right" if abs(wrap_angle(h - right)) <= abs(wrap_angle(h - left)) else "left"
         turn = right if self._side == "right" else left
-        return Avoidance(Move(turn, self.max_speed), cap,
-                         info | {"rule": "tangent", "side": self._side, "turn_deg": math.degrees(turn)})
+        return Avoidance(
+            Move(turn, self.max_speed),
+            cap,
+            info | {"rule": "tangent", "side": self._side, "turn_deg": math.degrees(turn)},
+        )
 
     def _clear(self, driven: float, memory: float) -> None:
         """The way is clear this tick, ``driven`` m after the last: forget the side once it has

@@ -71,8 +71,9 @@ def point_force(o: Point, K: float, R_min: float, radius: float = 0.0) -> tuple[
     return -o[0] / c * mag, -o[1] / c * mag, mag, distress
 
 
-def linear_force(a: Point, b: Point, K: float, R_min: float, radius: float = 0.0,
-                 distress_from_nearest: bool = False) -> tuple[float, float, float, bool]:
+def linear_force(
+    a: Point, b: Point, K: float, R_min: float, radius: float = 0.0, distress_from_nearest: bool = False
+) -> tuple[float, float, float, bool]:
     """Force of a linear obstacle ``ab`` of half-width ``radius`` (section 3.2): the magnitude of
     eq. 4 taken at the segment's nearest point (less the half-width), the direction from the
     segment's centre (Figure 6).
@@ -128,8 +129,9 @@ def wall_window(o: KnownObstacle, length: float) -> KnownObstacle:
     t = math.hypot(q[0] - ax, q[1] - ay)
     lo = min(max(t - length / 2, 0.0), L - length)
     ux, uy = (bx - ax) / L, (by - ay) / L
-    return KnownObstacle(o.key, (ax + lo * ux, ay + lo * uy), (ax + (lo + length) * ux, ay + (lo + length) * uy),
-                         o.radius, o.wall)
+    return KnownObstacle(
+        o.key, (ax + lo * ux, ay + lo * uy), (ax + (lo + length) * ux, ay + (lo + length) * uy), o.radius, o.wall
+    )
 
 
 def passable_gap(K: float, A_t: float, radius: float = 0.0) -> float:
@@ -141,6 +143,7 @@ def passable_gap(K: float, A_t: float, radius: float = 0.0) -> float:
     >>> round(passable_gap(18.0, 50.0), 3)  # 2 sqrt(0.7698 K / A_t)
     1.053
     """
+
     def push(d: float) -> float:
         best, x = 0.0, 0.0
         while x < 4.0 * d + 1.0:  # the maximum lies near x = d / sqrt(2)
@@ -202,7 +205,7 @@ def facing_numpy(obstacles: tuple[KnownObstacle, ...] | list[KnownObstacle]) -> 
     blocked = np.zeros((n, n), dtype=bool)
     if is_pt.any():
         P = A[is_pt]
-        r2 = np.array([o.radius ** 2 for o, q in zip(obstacles, is_pt) if q])
+        r2 = np.array([o.radius**2 for o, q in zip(obstacles, is_pt) if q])
         dot = cx * P[:, 0] + cy * P[:, 1]  # (n, m)
         with np.errstate(divide="ignore", invalid="ignore"):
             t = dot / L2
@@ -309,8 +312,12 @@ class Field(NamedTuple):
     bid: float
 
 
-def field(beliefs_target: Point | None, target_line: tuple[Point, Point] | None,
-          obstacles: tuple[KnownObstacle, ...] | list[KnownObstacle], p: PilotParams) -> Field:
+def field(
+    beliefs_target: Point | None,
+    target_line: tuple[Point, Point] | None,
+    obstacles: tuple[KnownObstacle, ...] | list[KnownObstacle],
+    p: PilotParams,
+) -> Field:
     """Net force, turn angle and bid for the robot at the origin (eq. 4-7 and 9, section 5)."""
     obstacles = [wall_window(o, p.wall_window if o.wall else p.line_window) for o in obstacles]
     face = facing(obstacles)
@@ -321,8 +328,9 @@ def field(beliefs_target: Point | None, target_line: tuple[Point, Point] | None,
     in_distress = False
     for o, f in zip(obstacles, face):
         a, b = o.a, o.b
-        fx, fy, mag, distress = (point_force(a, K, R_min, o.radius) if a == b else
-                                 linear_force(a, b, K, R_min, o.radius, nearest))
+        fx, fy, mag, distress = (
+            point_force(a, K, R_min, o.radius) if a == b else linear_force(a, b, K, R_min, o.radius, nearest)
+        )
         f = f or distress  # our design: the occlusion test never hides what the robot is about to touch
         forces.append(ObstacleForce(o.key, fx, fy, mag, f, distress))
         in_distress = in_distress or distress
@@ -355,8 +363,9 @@ def field(beliefs_target: Point | None, target_line: tuple[Point, Point] | None,
             rx = ry = 0.0
         nx, ny = rx + tx, ry + ty  # eq. 6
     turn = math.atan2(ny, nx) if (nx or ny) else 0.0  # eq. 7
-    return Field(tuple(forces), (tx, ty), (rx, ry), (nx, ny), turn, in_distress, passed, in_corridor,
-                 g_max, pilot_bid(g_max, p))
+    return Field(
+        tuple(forces), (tx, ty), (rx, ry), (nx, ny), turn, in_distress, passed, in_corridor, g_max, pilot_bid(g_max, p)
+    )
 
 
 class PotentialFieldPilot(Pilot):

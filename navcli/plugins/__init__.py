@@ -39,8 +39,29 @@ installed with ``[project.entry-points."navcli.pilots"] swerve = "mypackage:Swer
 from __future__ import annotations
 
 from .checker import check
-from .registry import (BUILTIN_PILOTS, BUILTIN_POLICIES, GROUPS, Component, PluginError, UnknownPlugin, find,
-                       installed, navigation, pilot)
+from .registry import (
+    BUILTIN_PILOTS,
+    BUILTIN_POLICIES,
+    GROUPS,
+    Component,
+    PluginError,
+    UnknownPlugin,
+    find,
+    installed,
+    navigation,
+    pilot,
+)
 
-__all__ = ["BUILTIN_PILOTS", "BUILTIN_POLICIES", "GROUPS", "Component", "PluginError", "UnknownPlugin", "check",
-           "find", "installed", "navigation", "pilot"]
+__all__ = [
+    "BUILTIN_PILOTS",
+    "BUILTIN_POLICIES",
+    "GROUPS",
+    "Component",
+    "PluginError",
+    "UnknownPlugin",
+    "check",
+    "find",
+    "installed",
+    "navigation",
+    "pilot",
+]

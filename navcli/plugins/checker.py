@@ -84,18 +84,34 @@ def _situations() -> list[tuple[str, Any, Any]]:
     odo = Pose(1.0, 1.0, 0.0)
     ahead = Move(0.0, 0.3)
     fence = KnownObstacle("o1", (1.0, 1.5), (1.0, -1.5), 0.025)
-    return [("open floor", Beliefs(0.0, odo, (3.0, 0.0), None, ()), ahead),
-            ("an obstacle ahead", Beliefs(0.1, odo, (3.0, 0.0), None, (KnownObstacle("o0", (0.8, 0.0), (0.8, 0.0), 0.15),)),
-             ahead),
-            ("a fence across", Beliefs(0.2, odo, (3.0, 0.2), None, (fence,)), Move(0.07, 0.3)),
-            ("a wall across", Beliefs(0.3, odo, (3.0, 0.0), None, (KnownObstacle("wall-n", (0.6, 3.0), (0.6, -3.0), 0.0,
-                                                                                 True),)), ahead),
-            ("inside a prohibited area", Beliefs(0.4, odo, (3.0, 0.0), None,
-                                                 (KnownObstacle("o2", (0.35, 0.1), (0.35, 0.1), 0.1),)), ahead),
-            ("the target behind", Beliefs(0.5, odo, (-2.0, 0.5), None, (fence,)), Move(math.pi - 0.2, 0.3)),
-            ("no target", Beliefs(0.6, odo, None, None, (fence,)), None),
-            ("a bump", Beliefs(0.7, odo, (3.0, 0.0), None, (fence,), bumps=(Bump(0.65, "obstacle 1", (2.0, 1.0), 0.0),),
-                               touching=True), ahead)]
+    return [
+        ("open floor", Beliefs(0.0, odo, (3.0, 0.0), None, ()), ahead),
+        (
+            "an obstacle ahead",
+            Beliefs(0.1, odo, (3.0, 0.0), None, (KnownObstacle("o0", (0.8, 0.0), (0.8, 0.0), 0.15),)),
+            ahead,
+        ),
+        ("a fence across", Beliefs(0.2, odo, (3.0, 0.2), None, (fence,)), Move(0.07, 0.3)),
+        (
+            "a wall across",
+            Beliefs(0.3, odo, (3.0, 0.0), None, (KnownObstacle("wall-n", (0.6, 3.0), (0.6, -3.0), 0.0, True),)),
+            ahead,
+        ),
+        (
+            "inside a prohibited area",
+            Beliefs(0.4, odo, (3.0, 0.0), None, (KnownObstacle("o2", (0.35, 0.1), (0.35, 0.1), 0.1),)),
+            ahead,
+        ),
+        ("the target behind", Beliefs(0.5, odo, (-2.0, 0.5), None, (fence,)), Move(math.pi - 0.2, 0.3)),
+        ("no target", Beliefs(0.6, odo, None, None, (fence,)), None),
+        (
+            "a bump",
+            Beliefs(
+                0.7, odo, (3.0, 0.0), None, (fence,), bumps=(Bump(0.65, "obstacle 1", (2.0, 1.0), 0.0),), touching=True
+            ),
+            ahead,
+        ),
+    ]
 
 
 def _pilot_problems(c: Component) -> list[str]:
@@ -115,8 +131,10 @@ def _pilot_problems(c: Component) -> list[str]:
         try:
             pilot = c.cls(PILOT, ROBOT, own_params=own, rng=np.random.default_rng(0))
         except Exception as e:
-            return [f"cannot be made as navcli makes it, cls(PilotParams(), RobotParams(), own_params=..., rng=...): "
-                    f"{type(e).__name__}: {e}"]
+            return [
+                f"cannot be made as navcli makes it, cls(PilotParams(), RobotParams(), own_params=..., rng=...): "
+                f"{type(e).__name__}: {e}"
+            ]
         for what, beliefs, request in _situations():
             try:
                 out = pilot.decide(beliefs, request)
@@ -142,8 +160,10 @@ def _pilot_problems(c: Component) -> list[str]:
             except (msgspec.ValidationError, TypeError) as e:
                 problems.append(f"{what}: its /pilot message breaks the schema its Info declares: {e}")
     if not problems and outputs[0] != outputs[1]:
-        problems.append("two instances fed the same situations decided differently: draw random numbers from "
-                        "self.rng (the run's generator), never from a global one")
+        problems.append(
+            "two instances fed the same situations decided differently: draw random numbers from "
+            "self.rng (the run's generator), never from a global one"
+        )
     return problems
 
 
@@ -208,9 +228,13 @@ def _mission_problems(c: Component) -> list[str]:
 
     for perception in ("oracle", "vision"):
         try:
-            spec = RunSpec.build(sc, perception=perception, time_limit=CHECK_SECONDS,
-                                 pilot=c.name if c.kind == "pilot" else None,
-                                 navigation=c.name if c.kind == "policy" else None)
+            spec = RunSpec.build(
+                sc,
+                perception=perception,
+                time_limit=CHECK_SECONDS,
+                pilot=c.name if c.kind == "pilot" else None,
+                navigation=c.name if c.kind == "policy" else None,
+            )
             advance(Mission(spec, snapshots=False), [check_tick])
         except NavcliError as e:
             problems.append(f"a {CHECK_SECONDS:g} s mission in {CHECK_SCENARIO} ({perception}): {e}")

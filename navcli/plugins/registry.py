@@ -164,8 +164,9 @@ def _distribution(ep: importlib.metadata.EntryPoint) -> tuple[str, str]:
 def _from_entry_point(kind: Kind, name: str, eps: tuple[importlib.metadata.EntryPoint, ...]) -> Component:
     if len(eps) > 1:
         owners = ", ".join(f"{d} {v}" for d, v in map(_distribution, eps))
-        raise UnknownPlugin(f"the {kind} {name!r} is declared by several installed packages ({owners}): "
-                            "uninstall all but one")
+        raise UnknownPlugin(
+            f"the {kind} {name!r} is declared by several installed packages ({owners}): uninstall all but one"
+        )
     ep = eps[0]
     dist, version = _distribution(ep)
     origin = f"entry point {ep.name} = {ep.value} of {dist} {version}"
@@ -232,8 +233,9 @@ def _from_module(kind: Kind, name: str) -> Component:
             module = importlib.import_module(module_name)
     except ModuleNotFoundError as e:
         if e.name and (module_name == e.name or module_name.startswith(e.name + ".")):
-            raise UnknownPlugin(f"{name!r}: no module {e.name!r} among the installed packages or in the current "
-                                "folder") from None
+            raise UnknownPlugin(
+                f"{name!r}: no module {e.name!r} among the installed packages or in the current folder"
+            ) from None
         raise failed(Component(kind, name, None, origin, "unknown"), e, "cannot be imported") from e
     except UnknownPlugin:
         raise
@@ -258,9 +260,11 @@ def find(kind: Kind, name: str) -> Component:
     problems = contract_problems(c)
     if problems:  # an installed package that is broken is its fault; a module:Class that is no pilot, the name's
         error = PluginError if c.origin.startswith("entry point") else UnknownPlugin
-        raise error(f"{c.label} is no {kind}: {problems[0]}" + (f" (and {len(problems) - 1} more problems)"
-                                                                if len(problems) > 1 else "")
-                    + f"; `navcli plugins check {kind} {name}` lists what it gets wrong")
+        raise error(
+            f"{c.label} is no {kind}: {problems[0]}"
+            + (f" (and {len(problems) - 1} more problems)" if len(problems) > 1 else "")
+            + f"; `navcli plugins check {kind} {name}` lists what it gets wrong"
+        )
     return c
 
 
@@ -281,9 +285,11 @@ def locate(kind: Kind, name: str) -> Component:
     ours = ", ".join(BUILTIN_PILOTS if kind == "pilot" else BUILTIN_POLICIES + ("learned:FILE",))
     installed = ", ".join(sorted(eps)) or "none"
     example = "mypackage.pilots:MyPilot" if kind == "pilot" else "mypackage.policies:MyPolicy"
-    raise UnknownPlugin(f"unknown {WORDS[kind]} {name!r}: not one of navcli's ({ours}), not an entry point "
-                        f"{GROUPS[kind]} of an installed package (installed: {installed}), and not "
-                        f"module:Class (e.g. {example})")
+    raise UnknownPlugin(
+        f"unknown {WORDS[kind]} {name!r}: not one of navcli's ({ours}), not an entry point "
+        f"{GROUPS[kind]} of an installed package (installed: {installed}), and not "
+        f"module:Class (e.g. {example})"
+    )
 
 
 def pilot(name: str) -> Component:
@@ -315,8 +321,9 @@ def navigation(value: str) -> tuple[Component, ...]:
 def installed(kind: Kind) -> list[Component | tuple[str, str]]:
     """navcli's own components of ``kind`` and every installed package's, each found (or, for one
     that cannot be, its name and why)."""
-    out: list[Component | tuple[str, str]] = [find(kind, n) for n in (BUILTIN_PILOTS if kind == "pilot"
-                                                                       else BUILTIN_POLICIES)]
+    out: list[Component | tuple[str, str]] = [
+        find(kind, n) for n in (BUILTIN_PILOTS if kind == "pilot" else BUILTIN_POLICIES)
+    ]
     for name in sorted(entry_points(kind)):
         try:
             out.append(find(kind, name))
@@ -336,8 +343,10 @@ def failed(c: Component, e: BaseException, doing: str = "raised") -> PluginError
         f = (mine or frames)[-1]
         where = f" at {Path(f.filename).name}:{f.lineno} in {f.name}"
     what = f"{type(e).__name__}: {e}".strip().splitlines()[0][:300] if str(e) else type(e).__name__
-    return PluginError(f"{c.label} {doing}: {what}{where}. The fault is the plugin's, not navcli's: "
-                       f"`navcli plugins check {c.kind} {c.name}` tests it against navcli's contract; {HINT}")
+    return PluginError(
+        f"{c.label} {doing}: {what}{where}. The fault is the plugin's, not navcli's: "
+        f"`navcli plugins check {c.kind} {c.name}` tests it against navcli's contract; {HINT}"
+    )
 
 
 def _root(c: Component) -> Path | None:
@@ -387,9 +396,11 @@ def undeclared(c: Component, info: dict[str, Any]) -> str:
     """Why a plugin pilot's ``info`` cannot go into ``/pilot``: the fields neither navcli's log
     format nor its ``Info`` declares."""
     extra = sorted(set(info) - (pilot_fields(c) or frozenset()))
-    return (f"{c.label} wrote {', '.join(extra)} into /pilot, which its Info does not declare: declare every "
-            f"field its avoid() returns in its class's Info (a msgspec.Struct); `navcli plugins check pilot "
-            f"{c.name}` shows what else it gets wrong")
+    return (
+        f"{c.label} wrote {', '.join(extra)} into /pilot, which its Info does not declare: declare every "
+        f"field its avoid() returns in its class's Info (a msgspec.Struct); `navcli plugins check pilot "
+        f"{c.name}` shows what else it gets wrong"
+    )
 
 
 def with_params(params: Any, components: Iterable[Component]) -> Any:

@@ -10,12 +10,55 @@ docs/scenario-format.md).
 from __future__ import annotations
 
 from .loader import load_scenario, parse_scenario
-from .model import (MAX_ID, MAX_ITEMS, NAME_RE, PILOT_BLOCK, RANGES, SUPPORTED_VERSIONS, Arena, ArenaObject, CameraSpec,
-                    Circle, Landmark, MissionSpec, Noise, Obstacle, Range, RobotSpec, Scenario, Segment, Target)
+from .model import (
+    MAX_ID,
+    MAX_ITEMS,
+    NAME_RE,
+    PILOT_BLOCK,
+    RANGES,
+    SUPPORTED_VERSIONS,
+    Arena,
+    ArenaObject,
+    CameraSpec,
+    Circle,
+    Landmark,
+    MissionSpec,
+    Noise,
+    Obstacle,
+    Range,
+    RobotSpec,
+    Scenario,
+    Segment,
+    Target,
+)
 from .schema import json_schema
 from .yaml_reader import MAX_BYTES, MAX_PROBLEMS, Problem, ScenarioError
 
-__all__ = ["MAX_BYTES", "MAX_ID", "MAX_ITEMS", "MAX_PROBLEMS", "NAME_RE", "PILOT_BLOCK", "RANGES", "SUPPORTED_VERSIONS",
-           "Arena", "ArenaObject", "CameraSpec", "Circle", "Landmark", "MissionSpec", "Noise", "Obstacle", "Problem",
-           "Range", "RobotSpec", "Scenario", "ScenarioError", "Segment", "Target", "json_schema", "load_scenario",
-           "parse_scenario"]
+__all__ = [
+    "MAX_BYTES",
+    "MAX_ID",
+    "MAX_ITEMS",
+    "MAX_PROBLEMS",
+    "NAME_RE",
+    "PILOT_BLOCK",
+    "RANGES",
+    "SUPPORTED_VERSIONS",
+    "Arena",
+    "ArenaObject",
+    "CameraSpec",
+    "Circle",
+    "Landmark",
+    "MissionSpec",
+    "Noise",
+    "Obstacle",
+    "Problem",
+    "Range",
+    "RobotSpec",
+    "Scenario",
+    "ScenarioError",
+    "Segment",
+    "Target",
+    "json_schema",
+    "load_scenario",
+    "parse_scenario",
+]

@@ -18,8 +18,24 @@ from ..geometry import Point
 from .. import NavcliError
 from ..params import CLUSTERS, NavigationParams, ParamError, Params
 from ..plugins import registry
-from .model import (FIELDS, MAX_ID, MAX_ITEMS, NAME_RE, SUPPORTED_VERSIONS, Arena, CameraSpec, Circle, Landmark,
-                    MissionSpec, Noise, Obstacle, RobotSpec, Scenario, Segment, Target)
+from .model import (
+    FIELDS,
+    MAX_ID,
+    MAX_ITEMS,
+    NAME_RE,
+    SUPPORTED_VERSIONS,
+    Arena,
+    CameraSpec,
+    Circle,
+    Landmark,
+    MissionSpec,
+    Noise,
+    Obstacle,
+    RobotSpec,
+    Scenario,
+    Segment,
+    Target,
+)
 from . import bundled
 from .yaml_reader import MAX_BYTES, Invalid, Problem, Reader, ScenarioError, parse_yaml, read_bounded, type_name
 
@@ -37,7 +53,6 @@ def parse_scenario(text: str, source: str = "<string>") -> Scenario:
     """Validate YAML text as a scenario (``source`` names it in messages)."""
     data, lines = parse_yaml(text, source)
     return ScenarioReader(source, lines).scenario(data, text)
-
 
 
 class ScenarioReader(Reader):
@@ -58,8 +73,12 @@ class ScenarioReader(Reader):
         """The mapping of the block ``name`` at ``path``: every required field of it there, no field
         the format does not declare (:data:`~navcli.scenario.model.FIELDS`)."""
         fields = FIELDS[name]
-        return self.mapping(v, path, tuple(k for k, f in fields.items() if f.required),
-                            tuple(k for k, f in fields.items() if not f.required))
+        return self.mapping(
+            v,
+            path,
+            tuple(k for k, f in fields.items() if f.required),
+            tuple(k for k, f in fields.items() if not f.required),
+        )
 
     def field(self, m: dict, block: str, key: str, path: tuple) -> Any:
         """Field ``key`` of the block ``block`` read from the mapping ``m`` (at ``path``) as its
@@ -105,16 +124,36 @@ class ScenarioReader(Reader):
         if self.problems:
             raise ScenarioError(self.problems)
         params = Params().override(robot_params | pilot_params | nav_params)
-        defaults = Params().flat()  # a cluster sets every bidding parameter: those it leaves at navcli's are not the file's
+        defaults = (
+            Params().flat()
+        )  # a cluster sets every bidding parameter: those it leaves at navcli's are not the file's
         named = set(robot_params) | set(pilot_params) | self.named_navigation
-        given = frozenset(k for k, v in (robot_params | pilot_params | nav_params).items() if k in named or defaults[k] != v)
-        sc = Scenario(version, name, description, arena, robot, target, obstacles, landmarks,
-                      mission, noise, camera, params)
+        given = frozenset(
+            k for k, v in (robot_params | pilot_params | nav_params).items() if k in named or defaults[k] != v
+        )
+        sc = Scenario(
+            version, name, description, arena, robot, target, obstacles, landmarks, mission, noise, camera, params
+        )
         self.placement(sc)
         if self.problems:
             raise ScenarioError(self.problems)
-        return Scenario(version, name, description, arena, robot, target, obstacles, landmarks,
-                        mission, noise, camera, params, source=self.source, text=text, given=given)
+        return Scenario(
+            version,
+            name,
+            description,
+            arena,
+            robot,
+            target,
+            obstacles,
+            landmarks,
+            mission,
+            noise,
+            camera,
+            params,
+            source=self.source,
+            text=text,
+            given=given,
+        )
 
     def version(self, v: Any) -> int:
         if isinstance(v, bool) or not isinstance(v, int):
@@ -126,7 +165,9 @@ class ScenarioReader(Reader):
     def name(self, v: Any) -> str:
         s = self.text(v, ("name",))
         if not NAME_RE.fullmatch(s):
-            raise self.fail(("name",), f"{s[:80]!r} may hold only a-z, 0-9 and '-', 1 to 64 of them (it names log files)")
+            raise self.fail(
+                ("name",), f"{s[:80]!r} may hold only a-z, 0-9 and '-', 1 to 64 of them (it names log files)"
+            )
         return s
 
     def arena(self, v: Any) -> Arena:
@@ -138,13 +179,16 @@ class ScenarioReader(Reader):
         """The start, and the robot parameters the block sets (``radius``, ``max_speed``)."""
         P = ("robot",)
         m = self.block(v, "robot", P)
-        spec = RobotSpec(start=self.field(m, "robot", "start", P),
-                         heading=math.radians(self.field(m, "robot", "heading_deg", P)))
+        spec = RobotSpec(
+            start=self.field(m, "robot", "start", P), heading=math.radians(self.field(m, "robot", "heading_deg", P))
+        )
         return spec, self.params_of(m, "robot", P)
 
     def params_of(self, m: dict, block: str, path: tuple) -> dict[str, float]:
         """The parameters the block ``block`` sets (its fields of kind ``param``), by their names."""
-        return {f.param: self.field(m, block, k, path) for k, f in FIELDS[block].items() if f.kind == "param" and k in m}
+        return {
+            f.param: self.field(m, block, k, path) for k, f in FIELDS[block].items() if f.kind == "param" and k in m
+        }
 
     def target(self, v: Any, landmarks: tuple[Landmark, ...]) -> Target:
         P = ("target",)
@@ -230,15 +274,24 @@ class ScenarioReader(Reader):
         P = ("noise",)
         m = self.block(v, "noise", P)
         get = {k: self.field(m, "noise", k, P) for k in FIELDS["noise"]}
-        return Noise(get["odometry"], math.radians(get["vision_heading_deg"]), get["vision_distance"],
-                     math.radians(get["odometry_drift_deg_per_m"]))
+        return Noise(
+            get["odometry"],
+            math.radians(get["vision_heading_deg"]),
+            get["vision_distance"],
+            math.radians(get["odometry_drift_deg_per_m"]),
+        )
 
     def camera(self, v: Any) -> CameraSpec:
         P = ("camera",)
         m = self.block(v, "camera", P)
         get = {k: self.field(m, "camera", k, P) for k in FIELDS["camera"]}
-        return CameraSpec(math.radians(get["fov_deg"]), get["range"], math.radians(get["pan_limit_deg"]),
-                          math.radians(get["pan_speed_deg"]), get["look_time"])
+        return CameraSpec(
+            math.radians(get["fov_deg"]),
+            get["range"],
+            math.radians(get["pan_limit_deg"]),
+            math.radians(get["pan_speed_deg"]),
+            get["look_time"],
+        )
 
     def pilot(self, v: Any) -> dict[str, float]:
         """The pilot parameters the block sets."""
@@ -288,8 +341,11 @@ class ScenarioReader(Reader):
         P = ("target", "at") if t.kind == "point" else ("target", "landmark")
         name = f"[{p[0]:g}, {p[1]:g}]" if t.kind == "point" else f"landmark {t.landmark!r}"
         if min(p[0], p[1], W - p[0], H - p[1]) < r - reach:
-            self.fail(P, f"the target {name} is too close to a wall: the robot (radius {r:g} m) "
-                         f"cannot come within its reach ({reach:g} m)")
+            self.fail(
+                P,
+                f"the target {name} is too close to a wall: the robot (radius {r:g} m) "
+                f"cannot come within its reach ({reach:g} m)",
+            )
         for o in sc.objects:
             if o.kind not in ("circle", "segment", "landmark") or (o.kind == "landmark" and o.key == t.landmark):
                 continue
@@ -297,8 +353,11 @@ class ScenarioReader(Reader):
             if c < r - reach or (t.kind == "landmark" and c < 0):
                 what = f"obstacles[{o.key[1:]}]" if o.kind != "landmark" else f"landmark {o.key!r}"
                 inside = "lies inside" if c < 0 else "is too close to"
-                self.fail(P, f"the target {name} {inside} {what}: the robot (radius {r:g} m) cannot "
-                             f"come within its reach ({reach:g} m)")
+                self.fail(
+                    P,
+                    f"the target {name} {inside} {what}: the robot (radius {r:g} m) cannot "
+                    f"come within its reach ({reach:g} m)",
+                )
 
     def placement(self, sc: Scenario) -> None:
         """Every point inside the arena; the robot's start clear of walls, obstacles, landmarks."""
@@ -306,8 +365,11 @@ class ScenarioReader(Reader):
 
         def inside(p: Point, path: tuple) -> None:
             if not (0 <= p[0] <= W and 0 <= p[1] <= H):
-                self.fail(path, f"point [{p[0]:g}, {p[1]:g}] lies outside the {W:g} m x {H:g} m arena "
-                                f"(expected 0 <= x <= {W:g} and 0 <= y <= {H:g})")
+                self.fail(
+                    path,
+                    f"point [{p[0]:g}, {p[1]:g}] lies outside the {W:g} m x {H:g} m arena "
+                    f"(expected 0 <= x <= {W:g} and 0 <= y <= {H:g})",
+                )
 
         inside(sc.robot.start, ("robot", "start"))
         if sc.target.kind == "point":
@@ -329,8 +391,11 @@ class ScenarioReader(Reader):
         def within_walls(p: Point, radius: float, path: tuple, what: str) -> None:
             out = -min(p[0], p[1], W - p[0], H - p[1]) + radius
             if out > 1e-9:
-                self.fail(path, f"{what} of radius {radius:g} m at [{p[0]:g}, {p[1]:g}] sticks {out:.3g} m through "
-                                f"a wall (expected at least {radius:g} m from every wall)")
+                self.fail(
+                    path,
+                    f"{what} of radius {radius:g} m at [{p[0]:g}, {p[1]:g}] sticks {out:.3g} m through "
+                    f"a wall (expected at least {radius:g} m from every wall)",
+                )
 
         for i, o in enumerate(sc.obstacles):
             if isinstance(o, Circle):
@@ -342,8 +407,11 @@ class ScenarioReader(Reader):
         s, r = sc.robot.start, sc.params.robot.radius
         P = ("robot", "start")
         if min(s[0], s[1], W - s[0], H - s[1]) < r and not self.problems:
-            self.fail(P, f"the robot (radius {r:g} m) at [{s[0]:g}, {s[1]:g}] overlaps a wall "
-                         f"(expected at least {r:g} m from every wall)")
+            self.fail(
+                P,
+                f"the robot (radius {r:g} m) at [{s[0]:g}, {s[1]:g}] overlaps a wall "
+                f"(expected at least {r:g} m from every wall)",
+            )
         for thing in sc.objects:
             if thing.kind in ("circle", "segment", "landmark") and thing.clearance(s) < r:
                 what = f"obstacles[{thing.key[1:]}]" if thing.kind != "landmark" else f"landmark {thing.key!r}"

@@ -73,8 +73,9 @@ def _param(name: str) -> Field:
     lo, lo_open = d.lower
     hi, _ = d.upper
     assert lo is not None and hi is not None  # the parameters a scenario sets are bounded
-    return Field(f"{d.description} (the parameter {name})", Range(lo, hi, d.unit, lo_open), default, kind="param",
-                 param=name)
+    return Field(
+        f"{d.description} (the parameter {name})", Range(lo, hi, d.unit, lo_open), default, kind="param", param=name
+    )
 
 
 POINT = Range(0.0, 100.0, "m")
@@ -94,59 +95,104 @@ FIELDS: dict[str, dict[str, Field]] = {
         "noise": Field("the sensors' errors; 0 turns a source off", default={}, kind="block"),
         "camera": Field("the camera on its pan unit", default={}, kind="block"),
         "pilot": Field("the pilot's parameters of the pilot paper", default={}, kind="block"),
-        "navigation": Field("the Navigation system's parameters: a cluster, and any navigation.* parameter by name",
-                            default={}, kind="block")},
-    "arena": {"width": Field("the room's width", Range(1.0, 100.0, "m"), required=True),
-              "height": Field("the room's height", Range(1.0, 100.0, "m"), required=True)},
-    "robot": {"start": Field("where the robot starts, clear of every obstacle, landmark and wall by its radius",
-                             required=True, kind="point"),
-              "heading_deg": Field("its heading at the start, counter-clockwise from +x", Range(-360.0, 360.0, "deg"),
-                                   default=0.0),
-              "radius": _param("robot.radius"), "max_speed": _param("robot.max_speed")},
-    "target": {"at": Field("a point target", kind="point"), "landmark": Field("the landmark with this id", kind="id"),
-               "line": Field("a diverting target: the line [[x, y], [x, y]] to cross", kind="line"),
-               "tolerance": Field("how close to a point (or to a landmark's body, with the robot's) counts as reached",
-                                  Range(0.01, 10.0, "m"), default=0.3)},
-    "circle": {"center": Field("a point obstacle's centre", required=True, kind="point"),
-               "radius": Field("its radius", Range(0.01, 50.0, "m"), required=True)},
-    "segment": {"from": Field("a linear obstacle's one end", required=True, kind="point"),
-                "to": Field("its other end", required=True, kind="point"),
-                "thickness": Field("its physical width", Range(0.01, 1.0, "m"), default=0.05)},
-    "landmark": {"id": Field(f"1 to {MAX_ID} printable characters, unique", required=True, kind="id"),
-                 "at": Field("where it stands", required=True, kind="point"),
-                 "radius": Field("its radius", Range(0.01, 5.0, "m"), default=0.15)},
-    "mission": {"pilot": Field("potential-field, geometric, an installed plugin's name, or module:Class",
-                               default=BUILTIN_PILOTS[0], kind="text"),
-                "time_limit": Field("simulated seconds before the mission ends as timeout", Range(0.1, 86_400.0, "s"),
-                                    default=900.0),  # a tick at least, up to a simulated day
-                "seed": Field("the run's seed; rerun i of a comparison uses one derived from it and i",
-                              Range(0, 2 ** 64 - 1), default=1, kind="integer"),
-                "perception": Field("vision (the camera and visual memory) or oracle (ground truth)",
-                                    default=PERCEPTIONS[0], kind="choice", choices=PERCEPTIONS)},
+        "navigation": Field(
+            "the Navigation system's parameters: a cluster, and any navigation.* parameter by name",
+            default={},
+            kind="block",
+        ),
+    },
+    "arena": {
+        "width": Field("the room's width", Range(1.0, 100.0, "m"), required=True),
+        "height": Field("the room's height", Range(1.0, 100.0, "m"), required=True),
+    },
+    "robot": {
+        "start": Field(
+            "where the robot starts, clear of every obstacle, landmark and wall by its radius",
+            required=True,
+            kind="point",
+        ),
+        "heading_deg": Field(
+            "its heading at the start, counter-clockwise from +x", Range(-360.0, 360.0, "deg"), default=0.0
+        ),
+        "radius": _param("robot.radius"),
+        "max_speed": _param("robot.max_speed"),
+    },
+    "target": {
+        "at": Field("a point target", kind="point"),
+        "landmark": Field("the landmark with this id", kind="id"),
+        "line": Field("a diverting target: the line [[x, y], [x, y]] to cross", kind="line"),
+        "tolerance": Field(
+            "how close to a point (or to a landmark's body, with the robot's) counts as reached",
+            Range(0.01, 10.0, "m"),
+            default=0.3,
+        ),
+    },
+    "circle": {
+        "center": Field("a point obstacle's centre", required=True, kind="point"),
+        "radius": Field("its radius", Range(0.01, 50.0, "m"), required=True),
+    },
+    "segment": {
+        "from": Field("a linear obstacle's one end", required=True, kind="point"),
+        "to": Field("its other end", required=True, kind="point"),
+        "thickness": Field("its physical width", Range(0.01, 1.0, "m"), default=0.05),
+    },
+    "landmark": {
+        "id": Field(f"1 to {MAX_ID} printable characters, unique", required=True, kind="id"),
+        "at": Field("where it stands", required=True, kind="point"),
+        "radius": Field("its radius", Range(0.01, 5.0, "m"), default=0.15),
+    },
+    "mission": {
+        "pilot": Field(
+            "potential-field, geometric, an installed plugin's name, or module:Class",
+            default=BUILTIN_PILOTS[0],
+            kind="text",
+        ),
+        "time_limit": Field(
+            "simulated seconds before the mission ends as timeout", Range(0.1, 86_400.0, "s"), default=900.0
+        ),  # a tick at least, up to a simulated day
+        "seed": Field(
+            "the run's seed; rerun i of a comparison uses one derived from it and i",
+            Range(0, 2**64 - 1),
+            default=1,
+            kind="integer",
+        ),
+        "perception": Field(
+            "vision (the camera and visual memory) or oracle (ground truth)",
+            default=PERCEPTIONS[0],
+            kind="choice",
+            choices=PERCEPTIONS,
+        ),
+    },
     # noise * NOISE_BOUND < 1, so a clipped error never turns a distance or a scale negative
-    "noise": {"odometry": Field("relative standard deviation of travelled distance and turned angle",
-                                Range(0.0, 0.3), default=0.02),
-              "odometry_drift_deg_per_m": Field("standard deviation of the heading's drift per metre driven (a "
-                                                "per-run rate and a per-tick part)", Range(0.0, 10.0, "deg/m"),
-                                                default=0.0),
-              "vision_heading_deg": Field("standard deviation of a measured heading", Range(0.0, 20.0, "deg"),
-                                          default=2.0),
-              "vision_distance": Field("relative standard deviation of a measured distance", Range(0.0, 0.3),
-                                       default=0.05)},
-    "camera": {"fov_deg": Field("the field of view", Range(0.0, 360.0, "deg", lo_open=True), default=60.0),
-               "range": Field("how far it sees", Range(0.1, 100.0, "m"), default=6.0),
-               "pan_limit_deg": Field("how far the pan unit turns either side of ahead", Range(0.0, 180.0, "deg"),
-                                      default=100.0),
-               "pan_speed_deg": Field("the pan unit's speed", Range(0.0, 3600.0, "deg/s", lo_open=True), default=90.0),
-               "look_time": Field("image processing per look, the camera busy meanwhile", Range(0.0, 10.0, "s"),
-                                  default=0.3)},
+    "noise": {
+        "odometry": Field(
+            "relative standard deviation of travelled distance and turned angle", Range(0.0, 0.3), default=0.02
+        ),
+        "odometry_drift_deg_per_m": Field(
+            "standard deviation of the heading's drift per metre driven (a per-run rate and a per-tick part)",
+            Range(0.0, 10.0, "deg/m"),
+            default=0.0,
+        ),
+        "vision_heading_deg": Field("standard deviation of a measured heading", Range(0.0, 20.0, "deg"), default=2.0),
+        "vision_distance": Field("relative standard deviation of a measured distance", Range(0.0, 0.3), default=0.05),
+    },
+    "camera": {
+        "fov_deg": Field("the field of view", Range(0.0, 360.0, "deg", lo_open=True), default=60.0),
+        "range": Field("how far it sees", Range(0.1, 100.0, "m"), default=6.0),
+        "pan_limit_deg": Field(
+            "how far the pan unit turns either side of ahead", Range(0.0, 180.0, "deg"), default=100.0
+        ),
+        "pan_speed_deg": Field("the pan unit's speed", Range(0.0, 3600.0, "deg/s", lo_open=True), default=90.0),
+        "look_time": Field("image processing per look, the camera busy meanwhile", Range(0.0, 10.0, "s"), default=0.3),
+    },
     "pilot": {"K": _param("pilot.K"), "A_t": _param("pilot.A_t"), "R_min": _param("pilot.R_min")},
 }
 """Every field of the format by block (``scenario`` the top level; ``circle``, ``segment`` and
 ``landmark`` the items of the lists); the ``navigation`` block's are its parameters'."""
 
-RANGES: dict[str, Range] = {"point": POINT} | {f"{block}.{key}": f.range for block, fields in FIELDS.items()
-                                               for key, f in fields.items() if f.range is not None}
+RANGES: dict[str, Range] = {"point": POINT} | {
+    f"{block}.{key}": f.range for block, fields in FIELDS.items() for key, f in fields.items() if f.range is not None
+}
 """Every number field's range, by its field (``circle.radius`` for ``obstacles[i].circle.radius``)."""
 PILOT_BLOCK = tuple(FIELDS["pilot"])
 """The parameters a scenario's ``pilot:`` block sets (each ``pilot.<key>``)."""
@@ -280,8 +326,12 @@ class Scenario:
     def walls(self) -> tuple[tuple[str, Point, Point], ...]:
         """The arena's four walls as (name, from, to), counter-clockwise from the south wall."""
         W, H = self.arena.width, self.arena.height
-        return (("wall-s", (0.0, 0.0), (W, 0.0)), ("wall-e", (W, 0.0), (W, H)),
-                ("wall-n", (W, H), (0.0, H)), ("wall-w", (0.0, H), (0.0, 0.0)))
+        return (
+            ("wall-s", (0.0, 0.0), (W, 0.0)),
+            ("wall-e", (W, 0.0), (W, H)),
+            ("wall-n", (W, H), (0.0, H)),
+            ("wall-w", (0.0, H), (0.0, 0.0)),
+        )
 
     @property
     def objects(self) -> tuple[ArenaObject, ...]:

@@ -13,8 +13,13 @@ from .yaml_reader import MAX_SCALAR
 
 PILOT_NAME = rf"^{NAME_RE.pattern}$|^[^\s:]+:[A-Za-z_][A-Za-z0-9_.]*$"
 """What a pilot's name can be: an installed plugin's (the registry's rule) or ``module:Class``."""
-POINT_SCHEMA = {"type": "array", "description": "[x, y] in metres, inside the arena", "minItems": 2, "maxItems": 2,
-                "items": {"type": "number", "minimum": POINT.lo, "maximum": POINT.hi}}
+POINT_SCHEMA = {
+    "type": "array",
+    "description": "[x, y] in metres, inside the arena",
+    "minItems": 2,
+    "maxItems": 2,
+    "items": {"type": "number", "minimum": POINT.lo, "maximum": POINT.hi},
+}
 
 
 def json_schema() -> dict[str, Any]:
@@ -33,51 +38,107 @@ def json_schema() -> dict[str, Any]:
                 d |= {"maximum": f.range.hi, ("exclusiveMinimum" if f.range.lo_open else "minimum"): f.range.lo}
             return d
         kinds: dict[str, dict[str, Any]] = {
-            "point": POINT_SCHEMA, "line": {"type": "array", "minItems": 2, "maxItems": 2, "items": POINT_SCHEMA},
+            "point": POINT_SCHEMA,
+            "line": {"type": "array", "minItems": 2, "maxItems": 2, "items": POINT_SCHEMA},
             "id": {"type": ["string", "integer"], "minLength": 1, "maxLength": MAX_ID},
-            "text": {"type": "string", "maxLength": MAX_SCALAR}, "choice": {"enum": list(f.choices)}}
+            "text": {"type": "string", "maxLength": MAX_SCALAR},
+            "choice": {"enum": list(f.choices)},
+        }
         return d | kinds[f.kind]
 
     def block(which: str, /, **special: dict) -> dict[str, Any]:
         fields = FIELDS[which]
         props = {k: special.get(k) or value(f) for k, f in fields.items()}
-        return {"type": "object", "properties": props, "additionalProperties": False,
-                "required": [k for k, f in fields.items() if f.required]}
+        return {
+            "type": "object",
+            "properties": props,
+            "additionalProperties": False,
+            "required": [k for k, f in fields.items() if f.required],
+        }
 
-    target = block("target") | {"description": FIELDS["scenario"]["target"].description,
-                                "oneOf": [{"required": [k]} for k in ("at", "landmark", "line")]}
+    target = block("target") | {
+        "description": FIELDS["scenario"]["target"].description,
+        "oneOf": [{"required": [k]} for k in ("at", "landmark", "line")],
+    }
     top = FIELDS["scenario"]
     return {
         "$schema": "http://json-schema.org/draft-07/schema#",
         "$id": "https://navcli/scenario-v1.schema.json",
         "title": "navcli scenario, version 1",
         "description": "Metres, seconds, degrees in keys ending _deg. Write exponents with a point and a sign "
-                       "(1.0e-3): YAML 1.1 reads 1e-3 as text.",
-        **block("scenario",
-                version={"const": 1, "description": top["version"].description},
-                name={"type": "string", "pattern": f"^{SCENARIO_NAME_RE.pattern}$", "not": {"pattern": "\n"},  # no trailing newline
-                      "description": top["name"].description},
-                arena=block("arena"), robot=block("robot"), target=target,
-                obstacles={"type": "array", "maxItems": MAX_ITEMS, "description": top["obstacles"].description,
-                           "items": {"oneOf": [
-                               {"type": "object", "properties": {"circle": block("circle")}, "required": ["circle"],
-                                "additionalProperties": False},
-                               {"type": "object", "properties": {"segment": block("segment")}, "required": ["segment"],
-                                "additionalProperties": False}]}},
-                landmarks={"type": "array", "maxItems": MAX_ITEMS, "description": top["landmarks"].description,
-                           "items": block("landmark")},
-                mission=block("mission", pilot={"type": "string", "pattern": PILOT_NAME,
-                                                "examples": list(BUILTIN_PILOTS),
-                                                "description": FIELDS["mission"]["pilot"].description,
-                                                "default": BUILTIN_PILOTS[0]}),
-                noise=block("noise"), camera=block("camera"), pilot=block("pilot"),
-                navigation={"type": "object", "additionalProperties": False, "required": [],
-                            "description": top["navigation"].description,
-                            "properties": {"cluster": {"enum": list(CLUSTERS), "description": "the thesis' GA-tuned "
-                                           "bidding parameters: C1 (default, targets reachable directly) or C2 (behind "
-                                           "obstacles)"}}
-                            | {k: d.json_schema(default) for k, d, default in NavigationParams.declarations()
-                               if d.kind not in ("numbers", "intervals")}}),
+        "(1.0e-3): YAML 1.1 reads 1e-3 as text.",
+        **block(
+            "scenario",
+            version={"const": 1, "description": top["version"].description},
+            name={
+                "type": "string",
+                "pattern": f"^{SCENARIO_NAME_RE.pattern}$",
+                "not": {"pattern": "\n"},  # no trailing newline
+                "description": top["name"].description,
+            },
+            arena=block("arena"),
+            robot=block("robot"),
+            target=target,
+            obstacles={
+                "type": "array",
+                "maxItems": MAX_ITEMS,
+                "description": top["obstacles"].description,
+                "items": {
+                    "oneOf": [
+                        {
+                            "type": "object",
+                            "properties": {"circle": block("circle")},
+                            "required": ["circle"],
+                            "additionalProperties": False,
+                        },
+                        {
+                            "type": "object",
+                            "properties": {"segment": block("segment")},
+                            "required": ["segment"],
+                            "additionalProperties": False,
+                        },
+                    ]
+                },
+            },
+            landmarks={
+                "type": "array",
+                "maxItems": MAX_ITEMS,
+                "description": top["landmarks"].description,
+                "items": block("landmark"),
+            },
+            mission=block(
+                "mission",
+                pilot={
+                    "type": "string",
+                    "pattern": PILOT_NAME,
+                    "examples": list(BUILTIN_PILOTS),
+                    "description": FIELDS["mission"]["pilot"].description,
+                    "default": BUILTIN_PILOTS[0],
+                },
+            ),
+            noise=block("noise"),
+            camera=block("camera"),
+            pilot=block("pilot"),
+            navigation={
+                "type": "object",
+                "additionalProperties": False,
+                "required": [],
+                "description": top["navigation"].description,
+                "properties": {
+                    "cluster": {
+                        "enum": list(CLUSTERS),
+                        "description": "the thesis' GA-tuned "
+                        "bidding parameters: C1 (default, targets reachable directly) or C2 (behind "
+                        "obstacles)",
+                    }
+                }
+                | {
+                    k: d.json_schema(default)
+                    for k, d, default in NavigationParams.declarations()
+                    if d.kind not in ("numbers", "intervals")
+                },
+            },
+        ),
     }
 
 
@@ -90,14 +151,25 @@ def reference_table() -> str:
             if f.kind in ("block", "list"):
                 continue
             where = key if block == "scenario" else f"{block}.{key}"
-            default = "required" if f.required else "-" if f.default is None else "empty" if f.default == "" else \
-                f"`{f.default}`" if not isinstance(f.default, float) else f"`{f.default:g}`"
+            default = (
+                "required"
+                if f.required
+                else "-"
+                if f.default is None
+                else "empty"
+                if f.default == ""
+                else f"`{f.default}`"
+                if not isinstance(f.default, float)
+                else f"`{f.default:g}`"
+            )
             r = f.range
             lo = "" if r is None else ("> " if r.lo_open else "≥ ") + f"{r.lo:g}"
             hi = "" if r is None else f"≤ {r.hi:d}" if isinstance(r.hi, int) else f"≤ {r.hi:g}"
             unit = (r.unit or "-") if r is not None else "m" if f.kind in ("point", "line") else "-"
             rows.append(f"| `{where}` | {f.description} | {default} | {lo} | {hi} | {unit} |")
     r = POINT
-    rows.append(f"| `point` | any coordinate of a point above, before it is checked against the arena | - | "
-                f"≥ {r.lo:g} | ≤ {r.hi:g} | {r.unit} |")
+    rows.append(
+        f"| `point` | any coordinate of a point above, before it is checked against the arena | - | "
+        f"≥ {r.lo:g} | ≤ {r.hi:g} | {r.unit} |"
+    )
     return "\n".join(rows) + "\n"

@@ -21,6 +21,7 @@ from .. import NavcliError
 from ..geometry import Point
 from .model import RANGES
 
+
 # --- Refusals ------------------------------------------------------------------------------
 @dataclass(frozen=True)
 class Problem:
@@ -64,14 +65,13 @@ MAX_DIGITS = 30
 """Longest plain number (characters); a longer one cannot be a seed or a size."""
 MAX_PROBLEMS = 20
 """Problems printed for one file; the rest are counted."""
-_NOT_YAML_CHARS = re.compile("[^\x09\x0A\x0D\x20-\x7E\x85\xA0-\uD7FF\uE000-\uFFFD\U00010000-\U0010FFFF]")
+_NOT_YAML_CHARS = re.compile("[^\x09\x0a\x0d\x20-\x7e\x85\xa0-\ud7ff\ue000-\ufffd\U00010000-\U0010ffff]")
 _CONTROL = re.compile("[\x00-\x08\x0b-\x1f\x7f-\x9f]")
 _SURROGATE = re.compile("[\ud800-\udfff]")
 _LONG_NUMBER = re.compile(r"^[-+]?[0-9_.,:]+([eE][-+]?[0-9]+)?$")
 _Loader = getattr(yaml, "CSafeLoader", yaml.SafeLoader)
 """libyaml's safe loader when PyYAML was built with it (about 10x faster, and its nodes keep
 their line); PyYAML's pure-Python safe loader otherwise. Both refuse every ``!!python`` tag."""
-
 
 
 def read_bounded(path: str | Path, max_bytes: int, what: str, error: type[ScenarioError]) -> str:
@@ -95,7 +95,7 @@ def read_bounded(path: str | Path, max_bytes: int, what: str, error: type[Scenar
     try:
         return data.decode("utf-8")
     except UnicodeDecodeError as e:
-        line = data[:e.start].count(b"\n") + 1
+        line = data[: e.start].count(b"\n") + 1
         raise error([Problem(str(p), line, "", f"is not UTF-8 text (byte 0x{data[e.start]:02x})")]) from None
 
 
@@ -124,7 +124,7 @@ def _bounded(text: str, source: str) -> None:
     except yaml.YAMLError as e:
         if _Loader is not yaml.SafeLoader:
             mark = getattr(e, "problem_mark", None) or getattr(e, "context_mark", None)
-            read = text[:mark.index + 1] if mark is not None and mark.index is not None else text
+            read = text[: mark.index + 1] if mark is not None and mark.index is not None else text
             try:
                 _walk_events(yaml.SafeLoader(read), source)
             except yaml.YAMLError:
@@ -157,17 +157,29 @@ def _walk_events(loader: Any, source: str) -> None:
                     sizes[anchor] = nodes - before
             elif isinstance(ev, yaml.ScalarEvent):
                 if len(ev.value) > MAX_SCALAR:
-                    raise _refuse(source, line, f"holds a value of {len(ev.value):,} characters (at most {MAX_SCALAR:,})")
+                    raise _refuse(
+                        source, line, f"holds a value of {len(ev.value):,} characters (at most {MAX_SCALAR:,})"
+                    )
                 if not ev.style and len(ev.value) > MAX_DIGITS and _LONG_NUMBER.match(ev.value):
-                    raise _refuse(source, line, f"holds a number of {len(ev.value)} characters, too large for any field")
+                    raise _refuse(
+                        source, line, f"holds a number of {len(ev.value)} characters, too large for any field"
+                    )
                 nodes += 1
                 if ev.anchor is not None:
                     sizes[ev.anchor] = 1
             elif isinstance(ev, yaml.AliasEvent):
                 if ev.anchor not in sizes:
                     inside = any(a == ev.anchor for a, _ in open_)
-                    raise _refuse(source, line, f"the alias *{ev.anchor} " + (
-                        "refers to the value that holds it (a loop)" if inside else "names no anchor defined before it"))
+                    raise _refuse(
+                        source,
+                        line,
+                        f"the alias *{ev.anchor} "
+                        + (
+                            "refers to the value that holds it (a loop)"
+                            if inside
+                            else "names no anchor defined before it"
+                        ),
+                    )
                 nodes += sizes[ev.anchor]
             if nodes > MAX_NODES:
                 raise _refuse(source, line, f"holds more than {MAX_NODES:,} values (aliases expanded)")
@@ -205,7 +217,16 @@ def parse_yaml(text: str, source: str) -> tuple[Any, dict[tuple, int]]:
         raise ScenarioError([Problem(source, None, "", "the file is empty (expected a scenario mapping)")])
     if not isinstance(root, yaml.MappingNode):
         kind = "a list" if isinstance(root, yaml.SequenceNode) else "a single value"
-        raise ScenarioError([Problem(source, root.start_mark.line + 1, "", f"the file holds {kind}, expected a mapping of scenario fields")])
+        raise ScenarioError(
+            [
+                Problem(
+                    source,
+                    root.start_mark.line + 1,
+                    "",
+                    f"the file holds {kind}, expected a mapping of scenario fields",
+                )
+            ]
+        )
     lines: dict[tuple, int] = {(): root.start_mark.line + 1}
     problems: list[Problem] = []
 
@@ -216,10 +237,16 @@ def parse_yaml(text: str, source: str) -> tuple[Any, dict[tuple, int]]:
                 key = k.value
                 if not isinstance(key, str) or k.tag != "tag:yaml.org,2002:str":  # a list, a number, ~, true ...
                     shown = f" ({key!r} is read as {k.tag.rsplit(':', 1)[-1]})" if isinstance(key, str) else ""
-                    problems.append(Problem(source, k.start_mark.line + 1, _dotted(path), f"a key must be a name{shown}"))
+                    problems.append(
+                        Problem(source, k.start_mark.line + 1, _dotted(path), f"a key must be a name{shown}")
+                    )
                     continue
                 if key in seen and (id(node), id(k)) in own:  # written twice; a key a merge (<<) gave may be overridden
-                    problems.append(Problem(source, k.start_mark.line + 1, _dotted(path + (key,)), "appears twice in the same mapping"))
+                    problems.append(
+                        Problem(
+                            source, k.start_mark.line + 1, _dotted(path + (key,)), "appears twice in the same mapping"
+                        )
+                    )
                 if (id(node), id(k)) in own:
                     seen.add(key)
                 lines[path + (key,)] = k.start_mark.line + 1
@@ -273,8 +300,10 @@ def _own_keys(root: yaml.Node | None) -> set[tuple[int, int]]:
 
 
 _NUMBER_TAGS = ("tag:yaml.org,2002:int", "tag:yaml.org,2002:float")
-_PLAIN_NUMBER = re.compile(r"^[-+]?(0|[1-9][0-9]*)$|^[-+]?([0-9]+\.[0-9]*|\.[0-9]+)([eE][-+]?[0-9]+)?$"
-                           r"|^[-+]?\.(inf|Inf|INF)$|^\.(nan|NaN|NAN)$")
+_PLAIN_NUMBER = re.compile(
+    r"^[-+]?(0|[1-9][0-9]*)$|^[-+]?([0-9]+\.[0-9]*|\.[0-9]+)([eE][-+]?[0-9]+)?$"
+    r"|^[-+]?\.(inf|Inf|INF)$|^\.(nan|NaN|NAN)$"
+)
 """The numbers YAML 1.1 and 1.2 read alike: decimal integers without a leading zero, decimal
 fractions, infinities and NaN (the last two refused later by the fields' ranges)."""
 
@@ -317,8 +346,10 @@ def _number_hint(v: Any) -> str:
         if v.strip().lower() in ("nan", "inf", "-inf", "+inf", "infinity", "-infinity"):
             return ""
         if "e" in v.lower():
-            return ("; YAML 1.1 reads a number written like 1e-3 as text: write it with a point and a signed "
-                    "exponent, 1.0e-3 or 1.0e+3 (or plainly, 0.001)")
+            return (
+                "; YAML 1.1 reads a number written like 1e-3 as text: write it with a point and a signed "
+                "exponent, 1.0e-3 or 1.0e+3 (or plainly, 0.001)"
+            )
         if v.strip().lstrip("+-")[:1] == "0":
             return f"; write it in decimal without a leading zero ({float(v.replace('_', '')):g}), unquoted"
     return ""

@@ -97,11 +97,18 @@ def parse_policy(text: str) -> Policy:
     try:
         found = navigation(text)
     except UnknownPlugin as e:
-        raise PolicyError(f"unknown policy {text!r} (expected learned, learned:FILE, hand-coded, agents, random, one action "
-                          f"everywhere: {', '.join(CONSTANT)}, or a Navigation policy plugin: {e})") from None
+        raise PolicyError(
+            f"unknown policy {text!r} (expected learned, learned:FILE, hand-coded, agents, random, one action "
+            f"everywhere: {', '.join(CONSTANT)}, or a Navigation policy plugin: {e})"
+        ) from None
     if any(not c.builtin for c in found):
-        return Policy(text, "plugin", None, " and ".join(c.label for c in found if not c.builtin)
-                      + (" beside the bidding agents" if len(found) > 1 else ""))
+        return Policy(
+            text,
+            "plugin",
+            None,
+            " and ".join(c.label for c in found if not c.builtin)
+            + (" beside the bidding agents" if len(found) > 1 else ""),
+        )
     kind, file = found[0].name.partition(":")[0], found[0].argument
     if kind == "agents":
         return Policy(text, kind, None, "the Navigation system's bidding agents")
@@ -112,8 +119,10 @@ def parse_policy(text: str) -> Policy:
     from ..learning import model_file
 
     arrays, meta = model_file.load(Path(file) if file else model_file.BUNDLED)
-    about = (f"{'the bundled model: ' if not file else ''}{meta.get('algorithm', 'unknown algorithm')}, "
-             f"{meta.get('trials', '?')} trials on {meta.get('scenario', '?')}, seed {meta.get('seed', '?')}")
+    about = (
+        f"{'the bundled model: ' if not file else ''}{meta.get('algorithm', 'unknown algorithm')}, "
+        f"{meta.get('trials', '?')} trials on {meta.get('scenario', '?')}, seed {meta.get('seed', '?')}"
+    )
     return Policy(text, kind, arrays["policy"].astype(np.int8).tobytes(), about)
 
 
@@ -148,8 +157,9 @@ def job_key(spec: RunSpec, policy: Policy, run: int, starts: tuple[Start, ...]) 
     else:
         nav = "learned" if policy.kind in CONSTANT else policy.label if policy.kind == "plugin" else policy.kind
     # (a constant table is a table like a learned one's, in the key too; a plugin's identity is in the run id)
-    blob = json.dumps([spec.replace(navigation=nav).run_id, table, run,
-                       [dataclasses.asdict(s) for s in starts]], sort_keys=True)
+    blob = json.dumps(
+        [spec.replace(navigation=nav).run_id, table, run, [dataclasses.asdict(s) for s in starts]], sort_keys=True
+    )
     return hashlib.sha256(blob.encode()).hexdigest()
 
 
@@ -164,7 +174,9 @@ def plan(spec: RunSpec, policies: list[Policy], runs: int, starts: int, out: Pat
         st = run_starts(base, r)
         for p in policies:
             key = job_key(spec, p, r, st)
-            jobs.append(Job(spec, p, r, st, key, str(out / "runs" / f"{file_name(p.label, 'policy')}-run{r}-{key[:12]}.json")))
+            jobs.append(
+                Job(spec, p, r, st, key, str(out / "runs" / f"{file_name(p.label, 'policy')}-run{r}-{key[:12]}.json"))
+            )
     return jobs
 
 
@@ -179,10 +191,27 @@ def done_trials(job: Job) -> list[dict] | None:
     return d["trials"]
 
 
-def _record(i: int, start: Start, outcome: str, time_s: float, actions: int | None = None,
-            reward: float | None = None, counts: tuple[int, ...] | None = None) -> dict:
-    rec = {"start": i, "x": start.x, "y": start.y, "heading": start.heading, "seed": start.seed,
-           "outcome": outcome, "success": outcome == "reached", "time_s": time_s, "actions": actions, "reward": reward}
+def _record(
+    i: int,
+    start: Start,
+    outcome: str,
+    time_s: float,
+    actions: int | None = None,
+    reward: float | None = None,
+    counts: tuple[int, ...] | None = None,
+) -> dict:
+    rec = {
+        "start": i,
+        "x": start.x,
+        "y": start.y,
+        "heading": start.heading,
+        "seed": start.seed,
+        "outcome": outcome,
+        "success": outcome == "reached",
+        "time_s": time_s,
+        "actions": actions,
+        "reward": reward,
+    }
     rec.update({name: (counts[k] if counts is not None else None) for k, name in enumerate(ACTIONS)})
     return rec
 
@@ -228,8 +257,15 @@ def run_job(job: Job) -> dict:
         trials = run_trials(job)
     except Exception as e:
         return {"key": job.key, "error": f"{type(e).__name__}: {e}"}
-    return {"key": job.key, "policy": job.policy.label, "about": job.policy.about, "run": job.run,
-            "scenario": job.spec.scenario.name, "scenario_sha256": job.spec.scenario.sha256, "trials": trials}
+    return {
+        "key": job.key,
+        "policy": job.policy.label,
+        "about": job.policy.about,
+        "run": job.run,
+        "scenario": job.spec.scenario.name,
+        "scenario_sha256": job.spec.scenario.sha256,
+        "trials": trials,
+    }
 
 
 @dataclass(frozen=True)
@@ -283,10 +319,24 @@ def trials_frame(results: list[Result]):
     """Every trial as a row (policy, run, start, outcome, reward, actions, MB ... MVT, time_s, ...)."""
     import pandas as pd
 
-    rows = [{"policy": r.job.policy.label, "run": r.job.run} | t for r in results if r.trials is not None
-            for t in r.trials]
-    cols = ["policy", "run", "start", "x", "y", "heading", "seed", "outcome", "success", "actions", "reward",
-            *ACTIONS, "time_s"]
+    rows = [
+        {"policy": r.job.policy.label, "run": r.job.run} | t for r in results if r.trials is not None for t in r.trials
+    ]
+    cols = [
+        "policy",
+        "run",
+        "start",
+        "x",
+        "y",
+        "heading",
+        "seed",
+        "outcome",
+        "success",
+        "actions",
+        "reward",
+        *ACTIONS,
+        "time_s",
+    ]
     return pd.DataFrame(rows, columns=cols)
 
 
@@ -317,8 +367,12 @@ def policy_table(trials, about: dict[str, str] | None = None):
     for policy, g in runs.groupby("policy", sort=False):
         t = trials[trials["policy"] == policy]
         starts = int(g["starts"].iloc[0])
-        row: dict[str, Any] = {"policy": policy, "about": (about or {}).get(policy, ""), "runs": len(g),
-                               "starts": starts}
+        row: dict[str, Any] = {
+            "policy": policy,
+            "about": (about or {}).get(policy, ""),
+            "runs": len(g),
+            "starts": starts,
+        }
         k, n = int(t["success"].sum()), len(t)
         lo, hi = wilson_interval(k, n)
         row["successes"], row["successes_lo"], row["successes_hi"] = (starts * x for x in (k / n, lo, hi))
@@ -353,14 +407,22 @@ def markdown(table, scenario: str = "") -> str:
     starts = int(table["starts"].max()) if len(table) else 0
     runs = int(table["runs"].max()) if len(table) else 0
     head = ["policy", f"successes (of {starts})", "reward / trial", "actions / trial", *ACTIONS, "time / trial (s)"]
-    lines = [f"### Policies{' on ' + scenario if scenario else ''}", "",
-             "| " + " | ".join(head) + " |", "| --- |" + " ---: |" * (len(head) - 1)]
+    lines = [
+        f"### Policies{' on ' + scenario if scenario else ''}",
+        "",
+        "| " + " | ".join(head) + " |",
+        "| --- |" + " ---: |" * (len(head) - 1),
+    ]
     for r in table.itertuples():
         lines.append(f"| {r.policy} | " + " | ".join(_cell(r, m) for m in METRICS) + " |")
-    lines += ["", f"{runs} run(s) of the same {starts} starts (a run changes the missions' seeds). Successes per run, "
-                  "in brackets the Wilson 95 % interval of the success rate over every trial, in starts; reward, "
-                  "actions, the count of each action and time are means per trial, failures included, in brackets a "
-                  "bootstrap 95 % interval that resamples the starts; n/a: the policy chooses no actions.", ""]
+    lines += [
+        "",
+        f"{runs} run(s) of the same {starts} starts (a run changes the missions' seeds). Successes per run, "
+        "in brackets the Wilson 95 % interval of the success rate over every trial, in starts; reward, "
+        "actions, the count of each action and time are means per trial, failures included, in brackets a "
+        "bootstrap 95 % interval that resamples the starts; n/a: the policy chooses no actions.",
+        "",
+    ]
     lines += [f"- {r.policy}: {r.about}" for r in table.itertuples() if r.about] + [""]
     remarks = notes(table, scenario)
     if remarks:

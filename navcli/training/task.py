@@ -67,8 +67,13 @@ from ..runner import Observer, advance, close_log, open_log, recording
 from ..scenario import Scenario
 from ..learning.actions import REWARDS
 
-PAPER_TASK = {"vision.told_target": False, "pilot.looks": False, "navigation.rescuer_looks": False,
-              "navigation.blocked_ends": True, "navigation.reach_confident": True}
+PAPER_TASK = {
+    "vision.told_target": False,
+    "pilot.looks": False,
+    "navigation.rescuer_looks": False,
+    "navigation.blocked_ends": True,
+    "navigation.reach_confident": True,
+}
 """The conditions of the paper's task (module docstring), by parameter: a preset, under the
 scenario's and the command line's values (:func:`task_spec`)."""
 START_CLEARANCE = 0.3  # m between the robot's body and any wall, landmark or obstacle at a start
@@ -99,7 +104,7 @@ def random_starts(spec: RunSpec, n: int, seed: int) -> list[Start]:
         x, y = rng.uniform(r, a.width - r), rng.uniform(r, a.height - r)
         if math.dist((x, y), scenario.target.point) < START_MIN_DISTANCE or not _clear(scenario, (x, y), r):
             continue
-        heading, trial_seed = float(rng.uniform(-math.pi, math.pi)), int(rng.integers(2 ** 31))
+        heading, trial_seed = float(rng.uniform(-math.pi, math.pi)), int(rng.integers(2**31))
         if in_view and not target_in_view(scenario, (float(x), float(y))):
             continue
         out.append(Start(float(x), float(y), heading, trial_seed))
@@ -156,7 +161,9 @@ class NavigationTask:
         self.observers: list[Observer] = []  # told of every tick of every trial, after the log (the env's drawing)
         self.actions = 0
         self.outcome: str | None = None
-        self.terminal = False  # the last step ended the trial in an end state (the target, or blocked in the paper's task)
+        self.terminal = (
+            False  # the last step ended the trial in an end state (the target, or blocked in the paper's task)
+        )
 
     def reset(self, start: Start, log: Path | None = None) -> int:
         """Start a trial at ``start``; runs the initial sweep; returns the first belief state.
@@ -167,8 +174,13 @@ class NavigationTask:
         self.close("interrupted", "a new trial began")
         spec = spec_at(self.base, start)
         p = spec.params
-        agent = LearningAgent(None, p.learning, max_speed=p.robot.max_speed, pan_limit=spec.scenario.camera.pan_limit,
-                              target_key=spec.scenario.target.landmark)
+        agent = LearningAgent(
+            None,
+            p.learning,
+            max_speed=p.robot.max_speed,
+            pan_limit=spec.scenario.camera.pan_limit,
+            target_key=spec.scenario.target.landmark,
+        )
         m = Mission(spec, policy_agent=agent, snapshots=log is not None)
         if p.learning.first_sighting and p.learning.paper_task:
             m.perception.glimpse_target(m.world.pose)
@@ -204,7 +216,9 @@ class NavigationTask:
         reached = m.outcome == "reached"
         ended = not reached and (m.outcome is not None or self.actions >= self.params.max_actions)
         blocked = m.outcome == "blocked" and self.base.params.navigation.blocked_ends
-        self.terminal = reached or (blocked and self.params.blocked_terminal)  # a blocked ending is a cut (module docstring)
+        self.terminal = reached or (
+            blocked and self.params.blocked_terminal
+        )  # a blocked ending is a cut (module docstring)
         if reached or ended:
             self.outcome = m.outcome or "timeout"
             self.close("timeout", f"{self.actions} actions without reaching the target")

@@ -70,8 +70,13 @@ class TrialResult:
         return reward_of(self.counts)
 
 
-def run_trial(task: NavigationTask, start: Start, choose: Callable[[int], int],
-              learn: Callable[[int, int, float, int, bool], None] | None = None, log: Path | None = None) -> TrialResult:
+def run_trial(
+    task: NavigationTask,
+    start: Start,
+    choose: Callable[[int], int],
+    learn: Callable[[int, int, float, int, bool], None] | None = None,
+    log: Path | None = None,
+) -> TrialResult:
     """One trial from ``start``, actions chosen by ``choose(state)``; ``learn(s, a, r, s', terminal)``
     hears every step (terminal: the target reached, or blocked in the paper's task); with ``log``
     every tick is recorded there (MCAP)."""
@@ -115,8 +120,16 @@ def make_learner(algorithm: str, spec: RunSpec, seed: int):
     p = spec.params.learning
     rng = np.random.default_rng([seed, 1])
     if algorithm == "prioritized-sweeping":
-        return PrioritizedSweeping(N_STATES, len(ACTIONS), gamma=p.gamma, backups=p.backups, threshold=p.threshold,
-                                   explore=p.explore, optimistic=0.0, rng=rng)
+        return PrioritizedSweeping(
+            N_STATES,
+            len(ACTIONS),
+            gamma=p.gamma,
+            backups=p.backups,
+            threshold=p.threshold,
+            explore=p.explore,
+            optimistic=0.0,
+            rng=rng,
+        )
     if algorithm == "q-learning":
         return QLearning(N_STATES, len(ACTIONS), alpha=p.q_alpha, gamma=p.gamma, epsilon=p.q_epsilon, rng=rng)
     raise ValueError(f"unknown algorithm {algorithm!r} (expected one of: {', '.join(ALGORITHMS)})")
@@ -196,14 +209,27 @@ def _resumed_policy(resume: Path, p) -> tuple[int, np.ndarray]:
     except (TypeError, KeyError, ValueError, OverflowError):
         policy = None
     if policy is None or policy.shape != (N_STATES,) or policy.min() < 0 or policy.max() >= len(ACTIONS):
-        raise ModelError(f"{resume}: a pending evaluation of its metadata is not a policy of {len(ACTIONS)} "
-                         f"actions for each of {N_STATES} states")
+        raise ModelError(
+            f"{resume}: a pending evaluation of its metadata is not a policy of {len(ACTIONS)} "
+            f"actions for each of {N_STATES} states"
+        )
     return n, policy.astype(np.int8)
 
 
-def train(spec: RunSpec, *, trials: int = 2000, eval_every: int = 100, eval_starts: int = 99, seed: int = 1,
-          algorithm: str = "prioritized-sweeping", out: Path, resume: Path | None = None, workers: int = 2,
-          log: str = "summary", on_trial: Callable[[int, TrialResult, Training], None] | None = None) -> Training:
+def train(
+    spec: RunSpec,
+    *,
+    trials: int = 2000,
+    eval_every: int = 100,
+    eval_starts: int = 99,
+    seed: int = 1,
+    algorithm: str = "prioritized-sweeping",
+    out: Path,
+    resume: Path | None = None,
+    workers: int = 2,
+    log: str = "summary",
+    on_trial: Callable[[int, TrialResult, Training], None] | None = None,
+) -> Training:
     """Train to ``trials`` trials in all (see the module docstring): a resumed training goes on
     from the trials of its file to that total (our design: what a user asks for is the model's size,
     and the same command completes an interrupted training). Writes ``out`` (.npz + .json),
@@ -222,15 +248,22 @@ def train(spec: RunSpec, *, trials: int = 2000, eval_every: int = 100, eval_star
         if "seed" not in meta or "trials" not in meta:
             raise model_file.ModelError(f"{resume}: not saved by a training (no seed or trials); cannot resume it")
         if meta.get("algorithm") != algorithm or meta.get("scenario_sha256") != spec.scenario.sha256:
-            raise model_file.ModelError(f"{resume}: made by {meta.get('algorithm')} on another scenario or "
-                                        f"with another algorithm; cannot resume it here")
-        differ = [f"--{k.replace('_', '-')} {meta[k]}" for k, v in (("eval_every", eval_every), ("eval_starts", eval_starts))
-                  if k in meta and meta[k] != v]
+            raise model_file.ModelError(
+                f"{resume}: made by {meta.get('algorithm')} on another scenario or "
+                f"with another algorithm; cannot resume it here"
+            )
+        differ = [
+            f"--{k.replace('_', '-')} {meta[k]}"
+            for k, v in (("eval_every", eval_every), ("eval_starts", eval_starts))
+            if k in meta and meta[k] != v
+        ]
         if differ:  # its curve would mix evaluations of two kinds
             raise model_file.ModelError(f"{resume}: was trained with {' and '.join(differ)}; resume it with the same")
         if int(meta["trials"]) >= trials:
-            raise model_file.ModelError(f"{resume}: already holds {meta['trials']} trials; --trials is the total to "
-                                        f"reach: give more than {meta['trials']}")
+            raise model_file.ModelError(
+                f"{resume}: already holds {meta['trials']} trials; --trials is the total to "
+                f"reach: give more than {meta['trials']}"
+            )
         learner.load_arrays(arrays)
         seed = result.seed = int(meta["seed"])
         result.trials = result.saved = result.saved_at_start = int(meta["trials"])
@@ -274,8 +307,14 @@ def train(spec: RunSpec, *, trials: int = 2000, eval_every: int = 100, eval_star
         while pending and (block or all(f.done() for f in pending[0][2])):
             n, _, fs = pending.pop(0)
             rs = collect(fs)
-            result.curve.append(Point(n, sum(r.success for r in rs), float(np.mean([r.reward for r in rs])),
-                                      float(np.mean([r.actions for r in rs]))))
+            result.curve.append(
+                Point(
+                    n,
+                    sum(r.success for r in rs),
+                    float(np.mean([r.reward for r in rs])),
+                    float(np.mean([r.actions for r in rs])),
+                )
+            )
         if hand and (block or all(f.done() for f in hand)):
             hs = collect(hand)
             result.hand_coded = sum(r.success for r in hs)
@@ -292,13 +331,25 @@ def train(spec: RunSpec, *, trials: int = 2000, eval_every: int = 100, eval_star
 
     def save() -> None:
         """The model as it is between trials, with what a resume needs to go on as if never stopped."""
-        meta = {"algorithm": algorithm, "scenario": spec.scenario.name, "scenario_sha256": spec.scenario.sha256,
-                "seed": seed, "trials": result.trials, "eval_every": eval_every, "eval_starts": eval_starts,
-                "eval_seed": EVAL_SEED, "params": spec.params.to_json(), "curve": [asdict(p) for p in result.curve],
-                "hand_coded": result.hand_coded, "hand_coded_reward": result.hand_coded_reward,
-                "random": result.random, "random_reward": result.random_reward,
-                "outcomes": result.outcomes, "learner_rng": learner.rng.bit_generator.state,
-                "pending_evaluations": [{"trials": n, "policy": p.tolist()} for n, p, _ in pending]}
+        meta = {
+            "algorithm": algorithm,
+            "scenario": spec.scenario.name,
+            "scenario_sha256": spec.scenario.sha256,
+            "seed": seed,
+            "trials": result.trials,
+            "eval_every": eval_every,
+            "eval_starts": eval_starts,
+            "eval_seed": EVAL_SEED,
+            "params": spec.params.to_json(),
+            "curve": [asdict(p) for p in result.curve],
+            "hand_coded": result.hand_coded,
+            "hand_coded_reward": result.hand_coded_reward,
+            "random": result.random,
+            "random_reward": result.random_reward,
+            "outcomes": result.outcomes,
+            "learner_rng": learner.rng.bit_generator.state,
+            "pending_evaluations": [{"trials": n, "policy": p.tolist()} for n, p, _ in pending],
+        }
         with deferred():
             model_file.save(out, learner, meta)
             result.saved, result.saved_in = result.trials, out
@@ -328,15 +379,31 @@ def train(spec: RunSpec, *, trials: int = 2000, eval_every: int = 100, eval_star
                         start = random_starts(spec, 1, np.random.SeedSequence([seed, i]).generate_state(1)[0])[0]
                         t0 = time.perf_counter()
                         try:
-                            r = run_trial(task, start, learner.act, learner.observe,
-                                          log=log_dir / f"trial-{i:05d}.mcap" if log == "full" else None)
+                            r = run_trial(
+                                task,
+                                start,
+                                learner.act,
+                                learner.observe,
+                                log=log_dir / f"trial-{i:05d}.mcap" if log == "full" else None,
+                            )
                         finally:
                             task.close("interrupted", "training stopped")  # a trial's log is never left half-written
                         result.train_s += time.perf_counter() - t0
                         result.trials += 1
                         result.outcomes[r.outcome] = result.outcomes.get(r.outcome, 0) + 1
-                        writer.writerow([i, f"{start.x:.3f}", f"{start.y:.3f}", f"{math.degrees(start.heading):.1f}",
-                                         start.seed, r.outcome, r.actions, f"{r.reward:g}", *r.counts])
+                        writer.writerow(
+                            [
+                                i,
+                                f"{start.x:.3f}",
+                                f"{start.y:.3f}",
+                                f"{math.degrees(start.heading):.1f}",
+                                start.seed,
+                                r.outcome,
+                                r.actions,
+                                f"{r.reward:g}",
+                                *r.counts,
+                            ]
+                        )
                         rows.flush()
                         if result.trials % eval_every == 0 or result.trials == end:
                             evaluate_later(pool, result.trials, learner.greedy_policy())
@@ -361,13 +428,33 @@ def write_curve(result: Training, out: Path) -> None:
     csv_path, png_path = curve_paths(out)
     with atomic(csv_path) as tmp, tmp.open("w", newline="") as f:
         w = csv.writer(f)
-        w.writerow(["trials", "successes", "reward_per_trial", "actions_per_trial", "hand_coded_successes",
-                    "hand_coded_reward_per_trial", "random_successes", "random_reward_per_trial"])
+        w.writerow(
+            [
+                "trials",
+                "successes",
+                "reward_per_trial",
+                "actions_per_trial",
+                "hand_coded_successes",
+                "hand_coded_reward_per_trial",
+                "random_successes",
+                "random_reward_per_trial",
+            ]
+        )
         hc_reward = "" if result.hand_coded_reward is None else f"{result.hand_coded_reward:.2f}"
         r_reward = "" if result.random_reward is None else f"{result.random_reward:.2f}"
         for p in result.curve:
-            w.writerow([p.trials, p.successes, f"{p.reward:.2f}", f"{p.actions:.2f}", result.hand_coded, hc_reward,
-                        result.random, r_reward])
+            w.writerow(
+                [
+                    p.trials,
+                    p.successes,
+                    f"{p.reward:.2f}",
+                    f"{p.actions:.2f}",
+                    result.hand_coded,
+                    hc_reward,
+                    result.random,
+                    r_reward,
+                ]
+            )
     import matplotlib
 
     matplotlib.use("Agg")
@@ -377,8 +464,14 @@ def write_curve(result: Training, out: Path) -> None:
     fig, (ax, ax2) = plt.subplots(1, 2, figsize=(10, 4))
     # the hand-coded level is drawn over the learned curve, dashed and in a colour of its own, so it
     # shows where the two meet (they often do: 95 against 97 of 99)
-    ax.plot(trials, [p.successes for p in result.curve], "o-", color="tab:blue", zorder=2,
-            label=f"learned ({result.algorithm})")
+    ax.plot(
+        trials,
+        [p.successes for p in result.curve],
+        "o-",
+        color="tab:blue",
+        zorder=2,
+        label=f"learned ({result.algorithm})",
+    )
     for level, colour, name in ((result.hand_coded, "tab:orange", "hand-coded"), (result.random, "tab:gray", "random")):
         if level is not None:
             ax.axhline(level, color=colour, ls="--", lw=2, zorder=3, label=f"{name} ({level})")
@@ -389,10 +482,18 @@ def write_curve(result: Training, out: Path) -> None:
     ax.set_title("Successes of the test starts (Figure 3)")
     ax.legend(loc="lower right")
     # where successes do not separate the policies, their cost does: reward per test trial
-    ax2.plot(trials, [p.reward for p in result.curve], "o-", color="tab:blue", zorder=2,
-             label=f"learned ({result.algorithm})")
-    for reward, colour, name in ((result.hand_coded_reward, "tab:orange", "hand-coded"),
-                                 (result.random_reward, "tab:gray", "random")):
+    ax2.plot(
+        trials,
+        [p.reward for p in result.curve],
+        "o-",
+        color="tab:blue",
+        zorder=2,
+        label=f"learned ({result.algorithm})",
+    )
+    for reward, colour, name in (
+        (result.hand_coded_reward, "tab:orange", "hand-coded"),
+        (result.random_reward, "tab:gray", "random"),
+    ):
         if reward is not None:
             ax2.axhline(reward, color=colour, ls="--", lw=2, zorder=3, label=f"{name} ({reward:.0f})")
     ax2.set_xlabel("training trials")

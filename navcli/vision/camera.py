@@ -47,12 +47,12 @@ SEGMENT_SAMPLES = 40  # at most this many samples per linear obstacle
 VIEW_MARGIN = 1e-3  # rad: the field of view widened by this much to choose the samples worth testing
 
 
-
 def segment_steps(a: Point, b: Point) -> int:
     """How many steps segment ``ab`` is sampled in for visibility: its samples are
     ``a + (b - a) k / n`` for ``k = 0 .. n``, about ``SEGMENT_STEP`` apart, at most
     ``SEGMENT_SAMPLES`` steps."""
     return max(1, min(SEGMENT_SAMPLES, math.ceil(math.hypot(b[0] - a[0], b[1] - a[1]) / SEGMENT_STEP)))
+
 
 class Sighting(NamedTuple):
     """One measured point: fuzzy egocentric heading (rad) and distance (m); one per point in an
@@ -86,8 +86,12 @@ class Detection(NamedTuple):
             c = [tuple(v * k for v in cut) for cut in x.cuts]
             return {"lo0": c[0][0], "lo70": c[2][0], "core": (c[3][0] + c[3][1]) / 2, "hi70": c[2][1], "hi0": c[0][1]}
 
-        out: dict[str, object] = {"kind": self.kind, "points": [{"heading_deg": f(p.heading.value, 180 / math.pi),
-                                              "distance_m": f(p.distance)} for p in self.points]}
+        out: dict[str, object] = {
+            "kind": self.kind,
+            "points": [
+                {"heading_deg": f(p.heading.value, 180 / math.pi), "distance_m": f(p.distance)} for p in self.points
+            ],
+        }
         if self.ends:
             out["ends"] = list(self.ends)
         return out
@@ -183,8 +187,9 @@ class Camera:
         return sees
 
     # -- the pan unit
-    def step(self, time: float, pose: Pose, request: Look | None, dt: float,
-             known: Container[str] = ()) -> list[Detection] | None:
+    def step(
+        self, time: float, pose: Pose, request: Look | None, dt: float, known: Container[str] = ()
+    ) -> list[Detection] | None:
         """Advance the camera by one control tick at ``time``; return detections when an image is taken.
 
         ``request`` is the winning look (ignored while the camera processes an image); ``pose``
@@ -224,8 +229,7 @@ class Camera:
         return None
 
     # -- the image
-    def capture(self, pose: Pose, purpose: LookPurpose = EVERYTHING,
-                known: Container[str] = ()) -> list[Detection]:
+    def capture(self, pose: Pose, purpose: LookPurpose = EVERYTHING, known: Container[str] = ()) -> list[Detection]:
         """The objects the routine of ``purpose`` registers in the image taken now from ``pose``
         (:func:`.routines.registers`; ``EVERYTHING``: all in view), measured with noise."""
         sees = self.sight(pose)
@@ -255,8 +259,9 @@ class Camera:
                     out.append(Detection(o.key, o.kind, (self.measure(pose, o.a),), o.radius))
         return out
 
-    def line_of(self, pose: Pose, o: ArenaObject, sees: Callable[[float, float, str], bool], key: str,
-                kind: str) -> Detection | None:
+    def line_of(
+        self, pose: Pose, o: ArenaObject, sees: Callable[[float, float, str], bool], key: str, kind: str
+    ) -> Detection | None:
         """A linear obstacle in the image as one identified object: its extremities in view
         toward ``a`` and toward ``b`` (the first and last of its samples that ``sees`` passes,
         :meth:`visible_runs`' sampling), each flagged as the obstacle's own end or not; one
@@ -280,8 +285,9 @@ class Camera:
         pb = self.measure(pose, (ax + (bx - ax) * last / n, ay + (by - ay) * last / n))
         return Detection(key, kind, (pa, pb), o.radius, ends)
 
-    def visible_runs(self, pose: Pose, o: ArenaObject, sees: Callable[[float, float, str], bool]
-                     ) -> list[tuple[Point, ...]]:
+    def visible_runs(
+        self, pose: Pose, o: ArenaObject, sees: Callable[[float, float, str], bool]
+    ) -> list[tuple[Point, ...]]:
         """The parts of a linear obstacle in view (``sees``: the image's :meth:`sight`), as the
         end points of each visible stretch.
 

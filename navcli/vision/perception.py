@@ -55,11 +55,32 @@ class _Senses:
         self._bumps: tuple[Bump, ...] = ()
         self._touching = False
 
-    def _beliefs(self, time: float, odometry: Pose, target, line, obstacles, spread: float,
-                 landmarks: tuple[KnownLandmark, ...] = (), target_at: FuzzyPoint | None = None,
-                 target_seen: float = 0.0) -> Beliefs:
-        return Beliefs(time, odometry, target, line, tuple(obstacles), spread, self._looked, self._bumps,
-                       self._touching, landmarks, target_at, target_seen)
+    def _beliefs(
+        self,
+        time: float,
+        odometry: Pose,
+        target,
+        line,
+        obstacles,
+        spread: float,
+        landmarks: tuple[KnownLandmark, ...] = (),
+        target_at: FuzzyPoint | None = None,
+        target_seen: float = 0.0,
+    ) -> Beliefs:
+        return Beliefs(
+            time,
+            odometry,
+            target,
+            line,
+            tuple(obstacles),
+            spread,
+            self._looked,
+            self._bumps,
+            self._touching,
+            landmarks,
+            target_at,
+            target_seen,
+        )
 
     @property
     def camera_state(self) -> tuple[float, str, str | None]:
@@ -79,8 +100,9 @@ class _Senses:
         nothing, without a memory."""
         return ()
 
-    def moved(self, before: Pose, after: Pose, bumps: tuple[Bump, ...], touching: bool = False,
-              slip: float = 0.0) -> None:
+    def moved(
+        self, before: Pose, after: Pose, bumps: tuple[Bump, ...], touching: bool = False, slip: float = 0.0
+    ) -> None:
         """Odometry says the robot went from ``before`` to ``after``; ``bumps`` began and the
         bumper was ``touching`` during the tick; ``slip`` (m) is how far it may have slid along
         what it touched, unmeasured."""
@@ -103,19 +125,23 @@ class OraclePerception(_Senses):
         super().__init__(scenario, rng, params)
         # everything physical the camera could ever see, landmarks keyed as the memory keys them
         order = {"circle": 0, "segment": 0, "landmark": 1, "wall": 2}  # obstacles, landmarks, walls
-        self._objects = [(f"L{o.key}" if o.kind == "landmark" else o.key, o.a, o.b, o.radius, o.kind == "wall")
-                         for o in sorted(self.camera.objects, key=lambda o: order.get(o.kind, 3))
-                         if o.kind != "target"]
+        self._objects = [
+            (f"L{o.key}" if o.kind == "landmark" else o.key, o.a, o.b, o.radius, o.kind == "wall")
+            for o in sorted(self.camera.objects, key=lambda o: order.get(o.kind, 3))
+            if o.kind != "target"
+        ]
 
     def observe(self, time: float, truth: Pose, odometry: Pose) -> Beliefs:
         seen = [KnownObstacle(k, truth.to_local(a), truth.to_local(b), r, w) for k, a, b, r, w in self._objects]
         t = self.scenario.target
         line = (truth.to_local(t.line[0]), truth.to_local(t.line[1])) if t.line else None
-        landmarks = tuple(KnownLandmark(lm.id, FuzzyPoint(*truth.to_local(lm.at), _CRISP), time)
-                          for lm in self.scenario.landmarks)
+        landmarks = tuple(
+            KnownLandmark(lm.id, FuzzyPoint(*truth.to_local(lm.at), _CRISP), time) for lm in self.scenario.landmarks
+        )
         target = truth.to_local(t.point)
-        return self._beliefs(time, odometry, target, line, seen, 0.0, landmarks,
-                             None if line else FuzzyPoint(*target, _CRISP), time)
+        return self._beliefs(
+            time, odometry, target, line, seen, 0.0, landmarks, None if line else FuzzyPoint(*target, _CRISP), time
+        )
 
 
 class VisionPerception(_Senses):
@@ -123,8 +149,9 @@ class VisionPerception(_Senses):
 
     name = "vision"
 
-    def __init__(self, scenario: Scenario, rng: np.random.Generator, params: VisionParams = VISION,
-                 robot: RobotParams = ROBOT):
+    def __init__(
+        self, scenario: Scenario, rng: np.random.Generator, params: VisionParams = VISION, robot: RobotParams = ROBOT
+    ):
         super().__init__(scenario, rng, params)
         self.robot = robot
         self.memory = VisualMemory(scenario.noise.odometry, params, heading_drift=scenario.noise.heading_drift)
@@ -140,7 +167,9 @@ class VisionPerception(_Senses):
         self._target_key = t.landmark if t.kind == "landmark" else "target"
         if params.walls == "known":  # told of the room at the start, as of the target: never forgotten
             for key, a, b in scenario.walls:
-                m = self.memory.add(f"wall:{key}", "wall", [start.to_local(a), start.to_local(b)], 0.0, told, prior=True)
+                m = self.memory.add(
+                    f"wall:{key}", "wall", [start.to_local(a), start.to_local(b)], 0.0, told, prior=True
+                )
                 m.exact = (True, True)
         self._anchors = anchors(scenario)
         self._ticks = 0
@@ -223,8 +252,9 @@ class VisionPerception(_Senses):
         """The memory as values, for the log."""
         return self.memory.snapshot()
 
-    def moved(self, before: Pose, after: Pose, bumps: tuple[Bump, ...], touching: bool = False,
-              slip: float = 0.0) -> None:
+    def moved(
+        self, before: Pose, after: Pose, bumps: tuple[Bump, ...], touching: bool = False, slip: float = 0.0
+    ) -> None:
         """Move the memory by the odometry; widen it by ``slip``; add what the bumpers found (at
         the robot's rim, in the direction of the contact); forget what became too imprecise."""
         super().moved(before, after, bumps, touching, slip)
@@ -238,8 +268,10 @@ class VisionPerception(_Senses):
             # hit in the physics step that felt it, and the overlap the physics allows
             depth = self.robot.max_speed * PHYSICS_DT + COLLISION_SLOP
             for b in bumps:
-                mem.add_bump(Spot(r * math.cos(b.bearing), r * math.sin(b.bearing), self.params.bump_radius + depth,
-                                  0.0), self.params.bump_radius / 2)
+                mem.add_bump(
+                    Spot(r * math.cos(b.bearing), r * math.sin(b.bearing), self.params.bump_radius + depth, 0.0),
+                    self.params.bump_radius / 2,
+                )
         self._ticks += 1
         if self._ticks % self.params.forget_every == 0:  # imprecision creeps: twice a second is enough
             mem.forget()
@@ -263,8 +295,10 @@ def anchors(scenario: Scenario) -> dict[str, tuple[str | None, str | None]]:
     for o in scenario.objects:
         if o.kind != "segment":
             continue
-        ends = tuple(next((lm.id for lm in scenario.landmarks
-                           if math.dist(p, lm.at) <= lm.radius + o.radius + ANCHOR_GAP), None) for p in (o.a, o.b))
+        ends = tuple(
+            next((lm.id for lm in scenario.landmarks if math.dist(p, lm.at) <= lm.radius + o.radius + ANCHOR_GAP), None)
+            for p in (o.a, o.b)
+        )
         if ends != (None, None):
             out[f"segment:{o.key}"] = (ends[0], ends[1])
     return out
@@ -279,4 +313,3 @@ def make_perception(name: str, scenario: Scenario, rng: np.random.Generator, par
     if name == "vision":
         return VisionPerception(scenario, rng, params.vision, params.robot)
     raise ValueError(f"unknown perception {name!r} (expected vision or oracle)")
-

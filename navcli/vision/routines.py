@@ -61,8 +61,7 @@ EVERYTHING: LookPurpose = "everything"
 """The purpose of an image under ``vision.routines`` 0: every object in view, as before."""
 
 
-def registers(purpose: LookPurpose, kind: str, key: str, known: Container[str],
-              target: Container[str]) -> Registered:
+def registers(purpose: LookPurpose, kind: str, key: str, known: Container[str], target: Container[str]) -> Registered:
     """How a look for ``purpose`` registers an object of ``kind`` (a scenario object's:
     ``landmark``, ``target`` (a marker), ``circle``, ``segment`` or ``wall``) whose key is
     ``key``, when the memory holds the keys ``known`` and the target's keys are ``target``

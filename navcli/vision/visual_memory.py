@@ -183,8 +183,9 @@ class VisualMemory:
     _n: int = 0
     heading_drift: float = 0.0
 
-    def add(self, key: str, kind: str, points: list[tuple[float, float]], radius: float, r0: float,
-            prior: bool = False) -> Memory:
+    def add(
+        self, key: str, kind: str, points: list[tuple[float, float]], radius: float, r0: float, prior: bool = False
+    ) -> Memory:
         """Put an object the robot was told of at egocentric ``points``, known to within ``r0``."""
         m = Memory(key, kind, [Spot(x, y, r0, 0.0) for x, y in points], radius, prior)
         self.items[key] = m
@@ -278,8 +279,10 @@ class VisualMemory:
 
     def snapshot(self) -> tuple[Remembered, ...]:
         """What is remembered now, as values that outlive the next tick."""
-        return tuple(Remembered(m.key, m.kind, tuple((s.x, s.y, s.radius(CUT), s.r0) for s in m.spots))
-                     for m in self.items.values())
+        return tuple(
+            Remembered(m.key, m.kind, tuple((s.x, s.y, s.radius(CUT), s.r0) for s in m.spots))
+            for m in self.items.values()
+        )
 
     def forget(self) -> list[str]:
         """Drop what has become too imprecise (not what the robot was told); return the keys:
@@ -289,9 +292,16 @@ class VisualMemory:
         every ten seconds). ``forget_line_by_one_end`` 1 restores the old rule."""
         lim = self.params.forget_above
         whole = not self.params.forget_line_by_one_end
-        gone = [k for k, m in self.items.items() if not m.prior and (
-            min(s.point().imprecision() for s in m.spots) > lim if whole and len(m.spots) == 2
-            else m.imprecision() > lim)]
+        gone = [
+            k
+            for k, m in self.items.items()
+            if not m.prior
+            and (
+                min(s.point().imprecision() for s in m.spots) > lim
+                if whole and len(m.spots) == 2
+                else m.imprecision() > lim
+            )
+        ]
         for k in gone:
             del self.items[k]
         self.forgotten += gone
@@ -320,12 +330,16 @@ class VisualMemory:
         """A landmark newly identified at ``s``: the plain point obstacles that may be it
         (:func:`_same_point`) were that landmark seen by the obstacle routine, which does not
         identify landmarks (:mod:`.routines`); they are dropped."""
-        for k in [k for k, m in self.items.items() if m.kind in ("obstacle", "bump") and len(m.spots) == 1
-                  and _same_point(m.spots[0], s)]:
+        for k in [
+            k
+            for k, m in self.items.items()
+            if m.kind in ("obstacle", "bump") and len(m.spots) == 1 and _same_point(m.spots[0], s)
+        ]:
             del self.items[k]
 
-    def _observe_line(self, key: str, kind: str, spots: list[Spot], ends: tuple[bool, ...], radius: float,
-                      time: float) -> None:
+    def _observe_line(
+        self, key: str, kind: str, spots: list[Spot], ends: tuple[bool, ...], radius: float, time: float
+    ) -> None:
         """Fold a sighting of the identified linear obstacle ``key`` in, end by end, like landmarks.
 
         ``spots`` are the extremities seen toward its ends ``a`` and ``b`` (one spot: one sample,
@@ -368,8 +382,11 @@ class VisualMemory:
             return
         if len(spots) == 1:
             s = spots[0]
-            points = [m for m in self.items.values()
-                      if m.kind in ("obstacle", "bump") and len(m.spots) == 1 and _same_point(m.spots[0], s)]
+            points = [
+                m
+                for m in self.items.values()
+                if m.kind in ("obstacle", "bump") and len(m.spots) == 1 and _same_point(m.spots[0], s)
+            ]
             if points:
                 m = min(points, key=lambda m: math.hypot(m.spots[0].x - s.x, m.spots[0].y - s.y))
                 m.spots[0] = fuse(m.spots[0], s)
@@ -381,9 +398,13 @@ class VisualMemory:
 
     def _drop_points_on(self, ends: list[Spot]) -> None:
         """The points and bumps that lie on a new linear obstacle between ``ends`` were it: dropped."""
-        for k in [k for k, m in self.items.items() if m.kind in ("obstacle", "bump") and len(m.spots) == 1
-                  and line_pieces.near_line(m.spots[0], ends, 0.0)]:  # on it, between its ends
+        for k in [
+            k
+            for k, m in self.items.items()
+            if m.kind in ("obstacle", "bump") and len(m.spots) == 1 and line_pieces.near_line(m.spots[0], ends, 0.0)
+        ]:  # on it, between its ends
             del self.items[k]
+
 
 def _copy(s: Spot) -> Spot:
     """A spot of its own at the same place (:meth:`VisualMemory.move` moves every spot it holds

@@ -31,7 +31,7 @@ def test_a_cell_adds_its_magnitude_to_the_sectors_its_enlarged_angle_covers():
     # a cell 1.5 m ahead and one 0.5 m to the left; r_rs = 0.4: gamma = asin(0.4 / d)
     cells = np.array([[1.5, 0.0], [0.0, 0.5]])
     h = vfh.primary_histogram(cells, 0.0, N, 5.0, 1.5, 0.4)
-    m_far, m_near = 5.0 - 1.5 * 1.5 ** 2, 5.0 - 1.5 * 0.25  # a - b d^2
+    m_far, m_near = 5.0 - 1.5 * 1.5**2, 5.0 - 1.5 * 0.25  # a - b d^2
     g_far, g_near = math.degrees(math.asin(0.4 / 1.5)), math.degrees(math.asin(0.4 / 0.5))  # 15.5, 53.1 deg
     for k in range(N):
         deg = math.degrees(((k * ALPHA + math.pi) % (2 * math.pi)) - math.pi)
@@ -122,7 +122,9 @@ def test_in_missions_it_reaches_the_target_round_the_obstacles_without_a_contact
 
     room = load_scenario(Path(__import__("navcli").__file__).parent / "data" / "scenarios" / "paper-8x8.yaml")
     for perception in ("oracle", "vision"):
-        spec = RunSpec.build(room, pilot="vfh_pilot:VFHPilot", perception=perception, overrides={"robot.max_speed": 0.3})
+        spec = RunSpec.build(
+            room, pilot="vfh_pilot:VFHPilot", perception=perception, overrides={"robot.max_speed": 0.3}
+        )
         s = run_mission(spec, record=False).summary
         assert s["outcome"] == "reached" and s["collisions"] == 0, (perception, s)
         # no wandering: within half again the way round both fences' north-west ends (0.3 m out), the

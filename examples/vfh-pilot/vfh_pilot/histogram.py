@@ -181,14 +181,16 @@ def sector_distance(c1: int, c2: int, n: int) -> int:
     return min(d, n - d)
 
 
-def choose(cands: list[int], target: int, heading: int, previous: int | None, mu: tuple[float, float, float],
-           n: int) -> int:
+def choose(
+    cands: list[int], target: int, heading: int, previous: int | None, mu: tuple[float, float, float], n: int
+) -> int:
     """The candidate of least cost ``mu1 D(c, target) + mu2 D(c, heading) + mu3 D(c, previous)``
     (the last term left out before a first choice); the first of equals.
 
     >>> choose([18, 31, 25], 25, 0, None, (5.0, 2.0, 2.0), 72)  # toward the target: 0 + 2 x 25
     25
     """
+
     def cost(c: int) -> float:
         g = mu[0] * sector_distance(c, target, n) + mu[1] * sector_distance(c, heading, n)
         return g + (mu[2] * sector_distance(c, previous, n) if previous is not None else 0.0)

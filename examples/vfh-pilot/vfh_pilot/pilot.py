@@ -48,33 +48,66 @@ from . import histogram as vfh
 class VFHParams(ParamSet):
     """VFH+'s parameters: ``--param vfh.<name>=<value>`` (installed under the name ``vfh``)."""
 
-    sector_deg: float = param(5.0, "deg", "alpha: the width of a sector of the polar histogram (VFH+: 5 deg, 72 "
-                                          "sectors)", above=0.5, at_most=45.0)
+    sector_deg: float = param(
+        5.0,
+        "deg",
+        "alpha: the width of a sector of the polar histogram (VFH+: 5 deg, 72 sectors)",
+        above=0.5,
+        at_most=45.0,
+    )
     cell_m: float = param(0.1, "m", "the certainty grid's cell (VFH: 10 cm)", at_least=0.02, at_most=0.5)
-    window_m: float = param(1.6, "m", "the active window's radius, (w_s - 1) / 2 cells (VFH: 33 x 33 cells of 10 cm)",
-                            above=0.1, at_most=10.0)
-    a: float = param(5.0, "", "a of m = c*^2 (a - b d^2): a cell's magnitude at the robot; b follows from "
-                              "a - b (window_m)^2 = 1", above=1.0, at_most=1000.0)
-    safety_m: float = param(0.05, "m", "d_s: the distance kept from obstacles beyond the robot's radius and the "
-                                      "clearance navcli's execution keeps (r_rs = robot.radius + pilot.arc_margin + "
-                                      "d_s)", at_most=2.0)
+    window_m: float = param(
+        1.6,
+        "m",
+        "the active window's radius, (w_s - 1) / 2 cells (VFH: 33 x 33 cells of 10 cm)",
+        above=0.1,
+        at_most=10.0,
+    )
+    a: float = param(
+        5.0,
+        "",
+        "a of m = c*^2 (a - b d^2): a cell's magnitude at the robot; b follows from a - b (window_m)^2 = 1",
+        above=1.0,
+        at_most=1000.0,
+    )
+    safety_m: float = param(
+        0.05,
+        "m",
+        "d_s: the distance kept from obstacles beyond the robot's radius and the "
+        "clearance navcli's execution keeps (r_rs = robot.radius + pilot.arc_margin + "
+        "d_s)",
+        at_most=2.0,
+    )
     tau_low: float = param(5.0, "", "the binary histogram's low threshold: a sector below it is free")
-    tau_high: float = param(10.0, "", """the binary histogram's high threshold: a sector above it is blocked (between
+    tau_high: float = param(
+        10.0,
+        "",
+        """the binary histogram's high threshold: a sector above it is blocked (between
         the two: as the step before). Ours, by measurement (paper-8x8, 6 reruns each perception): a 5 cm fence
         0.3 m away fills a sector with some 15 (three cells of m = 4.9: VFH's sonar counts raise c* where ours
         is 1), so 10/20 let the robot graze fence ends (3 contacts a run with ground truth, 651 s); 5/10 none,
-        300 s""")
-    wide_sectors: int = param(16, "", "s_max: an opening of more sectors than this is wide (VFH+: 16 of 5 deg)",
-                              at_least=2, at_most=360)
+        300 s""",
+    )
+    wide_sectors: int = param(
+        16, "", "s_max: an opening of more sectors than this is wide (VFH+: 16 of 5 deg)", at_least=2, at_most=360
+    )
     mu_target: float = param(5.0, "", "mu1: the cost of a candidate's distance (in sectors) to the target direction")
     mu_heading: float = param(2.0, "", "mu2: the cost of its distance to the robot's heading")
     mu_previous: float = param(2.0, "", "mu3: the cost of its distance to the direction chosen the step before")
-    slow_density: float = param(40.0, "", "h_m: the density in the direction of travel at which the speed falls to "
-                                          "its least (VFH's speed rule)", above=0.0)
+    slow_density: float = param(
+        40.0,
+        "",
+        "h_m: the density in the direction of travel at which the speed falls to its least (VFH's speed rule)",
+        above=0.0,
+    )
     min_speed: float = param(0.25, "", "the least speed, a fraction of robot.max_speed", above=0.0, at_most=1.0)
-    clip_at_target: bool = param(True, "", """cells farther than the target (by more than r_rs) are left out of the
+    clip_at_target: bool = param(
+        True,
+        "",
+        """cells farther than the target (by more than r_rs) are left out of the
         histogram (ours: a target within the window's reach of a wall, as paper-8x8's is 0.8 m from two walls, is
-        otherwise behind a blocked sector for good); off: VFH+'s window alone""")
+        otherwise behind a blocked sector for good); off: VFH+'s window alone""",
+    )
 
 
 class VFHInfo(msgspec.Struct):
@@ -87,8 +120,7 @@ class VFHInfo(msgspec.Struct):
     density_ahead: Annotated[float, msgspec.Meta(description="the primary histogram in the heading's sector")]
     density_max: Annotated[float, msgspec.Meta(description="the primary histogram's largest sector")]
     blocked_sectors: Annotated[int, msgspec.Meta(description="sectors blocked in the masked histogram")]
-    target_blocked: Annotated[bool, msgspec.Meta(description="the target direction is blocked in the masked "
-                                                             "histogram")]
+    target_blocked: Annotated[bool, msgspec.Meta(description="the target direction is blocked in the masked histogram")]
 
 
 class VFHPilot(Pilot):
@@ -97,8 +129,14 @@ class VFHPilot(Pilot):
     Params = VFHParams
     Info = VFHInfo
 
-    def __init__(self, params: PilotParams = PILOT, robot: RobotParams = ROBOT, *,
-                 own_params: ParamSet | None = None, rng: np.random.Generator | None = None):
+    def __init__(
+        self,
+        params: PilotParams = PILOT,
+        robot: RobotParams = ROBOT,
+        *,
+        own_params: ParamSet | None = None,
+        rng: np.random.Generator | None = None,
+    ):
         super().__init__(params, robot, own_params=own_params or VFHParams(), rng=rng)
         p = self.vfh = self.own_params if isinstance(self.own_params, VFHParams) else VFHParams()
         self.n = max(8, round(360.0 / p.sector_deg))
@@ -142,9 +180,15 @@ class VFHPilot(Pilot):
         target = int(vfh.sector_of(theta + wanted, self.n)) if wanted is not None else heading
         runs = vfh.openings(masked)
         cands = vfh.candidates(runs, target, p.wide_sectors, self.n)
-        info = {"target_sector": target, "openings": len(runs), "candidates": len(cands),
-                "density_ahead": float(primary[heading]), "density_max": float(primary.max()),
-                "blocked_sectors": int(masked.sum()), "target_blocked": bool(masked[target])}
+        info = {
+            "target_sector": target,
+            "openings": len(runs),
+            "candidates": len(cands),
+            "density_ahead": float(primary[heading]),
+            "density_max": float(primary.max()),
+            "blocked_sectors": int(masked.sum()),
+            "target_blocked": bool(masked[target]),
+        }
         if request is None or request.speed <= 0.0:
             self._previous = None
             return Avoidance(None, 0.0, info | {"chosen_sector": -1})
@@ -156,7 +200,9 @@ class VFHPilot(Pilot):
         turn = wrap_angle(chosen * self.alpha - theta)
         speed = self.max_speed * vfh.speed_factor(float(primary[heading]), p.slow_density, p.min_speed)
         info |= {"chosen_sector": chosen, "turn_deg": math.degrees(turn)}
-        agrees = abs(wrap_angle(turn - request.heading)) <= self.alpha and speed >= min(request.speed, self.max_speed) - 1e-9
+        agrees = (
+            abs(wrap_angle(turn - request.heading)) <= self.alpha and speed >= min(request.speed, self.max_speed) - 1e-9
+        )
         if agrees:
             return Avoidance(None, 0.0, info)  # the request is VFH+'s own choice: let it through
         return Avoidance(Move(turn, speed), self.params.bid_cap, info)

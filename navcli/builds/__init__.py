@@ -56,7 +56,7 @@ class PureFinder:
         return None
 
 
-def _library(here: str) -> str | None:
+def library(here: str) -> str | None:
     """The compiled modules' shared library, if this install has one."""
     for suffix in EXTENSION_SUFFIXES:
         if os.path.isfile(lib := os.path.join(here, f"{GROUP}__mypyc{suffix}")):
@@ -68,8 +68,8 @@ def choose() -> str:
     """Set up and return the build this process runs. In a source checkout (an editable install)
     a compiled module whose source changed since the build must not run as its old self: then
     pure Python, said once on stderr and passed on to child processes (workers run the same code)."""
-    here = os.path.dirname(os.path.abspath(__file__))
-    lib = _library(here)
+    here = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))  # navcli/
+    lib = library(here)
     if os.environ.get("NAVCLI_PURE", "") not in ("", "0"):
         sys.meta_path.insert(0, PureFinder())
         return "pure" if lib else "pure-only"
@@ -79,8 +79,11 @@ def choose() -> str:
         built = os.path.getmtime(lib)
         stale = [m for m in MODULES if os.path.getmtime(os.path.join(here, *m.split(".")) + ".py") > built]
         if stale:
-            print(f"navcli: {', '.join(stale[:3])}{' ...' if len(stale) > 3 else ''} changed since the compiled build:"
-                  " running pure Python (`python -m pip install -e .` rebuilds)", file=sys.stderr)
+            print(
+                f"navcli: {', '.join(stale[:3])}{' ...' if len(stale) > 3 else ''} changed since the compiled build:"
+                " running pure Python (`python -m pip install -e .` rebuilds)",
+                file=sys.stderr,
+            )
             os.environ["NAVCLI_PURE"] = "1"
             sys.meta_path.insert(0, PureFinder())
             return "pure"
