@@ -34,6 +34,14 @@ def _alive(pid: int) -> bool:
     return state not in ("Z", "X")
 
 
+def _long_comparison(out) -> tuple[dict[str, str], list[str]]:
+    """The environment and command of a comparison long enough to be stopped in the middle: 20
+    reruns of paper-8x8 on two workers, writing into ``out``."""
+    env = dict(os.environ, PYTHONPATH=f"{ROOT}{os.pathsep}{os.environ.get('PYTHONPATH', '')}")
+    cmd = [sys.executable, "-m", "navcli", "compare", "pilots", str(SCENARIOS / "paper-8x8.yaml")]
+    return env, [*cmd, "--reruns", "20", "--jobs", "2", "--out", str(out)]
+
+
 @pytest.mark.skipif(not Path("/proc/self/task").exists(), reason="needs Linux /proc")
 @pytest.mark.parametrize("to", ["main", "group"])
 @pytest.mark.parametrize(
@@ -47,21 +55,7 @@ def test_a_signal_stops_compare_and_all_its_workers(tmp_path, sig, code, words, 
     """To the main process (a scheduler's kill) or to the whole process group (a terminal's Ctrl-C,
     which reaches the workers too): exit 128 + the signal, one line, no worker left, and the runs
     under way logged as ended by that signal."""
-    env = dict(os.environ, PYTHONPATH=f"{ROOT}{os.pathsep}{os.environ.get('PYTHONPATH', '')}")
-    cmd = [
-        sys.executable,
-        "-m",
-        "navcli",
-        "compare",
-        "pilots",
-        str(SCENARIOS / "paper-8x8.yaml"),
-        "--reruns",
-        "20",
-        "--jobs",
-        "2",
-        "--out",
-        str(tmp_path),
-    ]
+    env, cmd = _long_comparison(tmp_path)
     # its own process group, with SIGINT's default disposition as in a terminal (a shell may start
     # background jobs ignoring it)
     proc = subprocess.Popen(
@@ -109,21 +103,7 @@ def test_a_signal_stops_compare_and_all_its_workers(tmp_path, sig, code, words, 
 def test_a_worker_whose_parent_died_stops_itself(tmp_path):
     """SIGKILL of the main process (nothing of it runs to stop the pool): the workers notice within
     about a second that their parent is gone and stop themselves."""
-    env = dict(os.environ, PYTHONPATH=f"{ROOT}{os.pathsep}{os.environ.get('PYTHONPATH', '')}")
-    cmd = [
-        sys.executable,
-        "-m",
-        "navcli",
-        "compare",
-        "pilots",
-        str(SCENARIOS / "paper-8x8.yaml"),
-        "--reruns",
-        "20",
-        "--jobs",
-        "2",
-        "--out",
-        str(tmp_path),
-    ]
+    env, cmd = _long_comparison(tmp_path)
     proc = subprocess.Popen(cmd, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
     try:
         deadline = time.monotonic() + 30
