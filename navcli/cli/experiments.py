@@ -434,10 +434,10 @@ def reproduce(
                 raise ConfigError(f"{name} is one of the paper's two pilots, which reproduce runs anyway")
     out_folder(out, ("report.md", "report.html"))
     t0 = time.perf_counter()
+    settings = QUICK if quick else FULL
+    if train_seeds is not None:
+        settings = dataclasses.replace(settings, train_seeds=train_seeds)
     with on_stop(f"what finished is kept in {out}; run the same command again to go on"):
-        settings = QUICK if quick else FULL
-        if train_seeds is not None:
-            settings = dataclasses.replace(settings, train_seeds=train_seeds)
         files = run_all_sections(
             which,
             out,

@@ -265,7 +265,12 @@ def bench(
 
         spec = build_spec(scenario or Path("landmarks-12"), param, task=True)
         training_benchmark(
-            spec, actions=actions, trials=trials, eval_starts=eval_starts, seed=seed or 1, echo=typer.echo
+            spec,
+            actions=actions,
+            trials=trials,
+            eval_starts=eval_starts,
+            seed=1 if seed is None else seed,
+            echo=typer.echo,
         )
         return
     spec = build_spec(scenario or Path("paper-8x8"), param, seed=seed, pilot=pilot, perception=choice(perception))

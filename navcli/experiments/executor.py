@@ -283,8 +283,16 @@ def submit_all(
     >>> _ = submit_all(order.append, ["a", "bbb", "cc"], SerialExecutor(), cost=len)
     >>> order
     ['bbb', 'cc', 'a']
+
+    Interrupted while submitting, it stops what it submitted (:func:`_stop`) and re-raises.
     """
-    return {ex.submit(fn, items[i]): i for i in _ranked(items, cost)}
+    futures: dict[Future, int] = {}
+    try:
+        for i in _ranked(items, cost):
+            futures[ex.submit(fn, items[i])] = i
+    except BaseException as e:
+        _stop(futures, ex, e)
+    return futures
 
 
 def collect(futures: dict[Future, int], ex: Executor, on_done: Callable[[int, Future], None]) -> None:
@@ -301,28 +309,20 @@ def collect(futures: dict[Future, int], ex: Executor, on_done: Callable[[int, Fu
 
 
 def run_each(
-    fn: Callable[[Any], Any],
-    items: Sequence[Any],
-    ex: Executor,
-    on_done: Callable[[int, Future], None],
-    cost: Callable[[Any], float] | None = None,
+    fn: Callable[[Any], Any], items: Sequence[Any], ex: Executor, on_done: Callable[[int, Future], None]
 ) -> None:
-    """Submit ``fn(item)`` for every item (the costliest first, :func:`submit_all`) and call
-    ``on_done(index, future)`` as each finishes (in the order they finish; the future holds the
-    result or the exception). A :class:`SerialExecutor` runs and reports each before the next.
+    """Submit ``fn(item)`` for every item and call ``on_done(index, future)`` as each finishes (in
+    the order they finish; the future holds the result or the exception). A
+    :class:`SerialExecutor` runs and reports each before the next.
 
     On Ctrl-C or SIGTERM the runs not yet finished are cancelled (local workers stopped, see
     :meth:`LocalPool.stop`) and the interruption is re-raised."""
     with interruptible():
         if isinstance(ex, SerialExecutor):  # one at a time, each reported before the next starts
-            for i in _ranked(items, cost):
-                on_done(i, ex.submit(fn, items[i]))
+            for i, item in enumerate(items):
+                on_done(i, ex.submit(fn, item))
             return
-        try:
-            futures = submit_all(fn, items, ex, cost)
-        except BaseException as e:
-            _stop({}, ex, e)
-        collect(futures, ex, on_done)
+        collect(submit_all(fn, items, ex), ex, on_done)
 
 
 def _ranked(items: Sequence[Any], cost: Callable[[Any], float] | None) -> list[int]:

@@ -73,9 +73,8 @@ def policies(report: Report, s: Any, out: Path, ex, verdict, scenario, condition
     }
     for room in rooms:
         (out / room / "runs").mkdir(parents=True, exist_ok=True)
-    results = run_all(
-        [j for js in jobs.values() for j in js], ex
-    )  # every room's runs in one pool: no room's tail waits
+    # every room's runs in one pool: no room's tail waits
+    results = run_all([j for js in jobs.values() for j in js], ex)
     for room, (spec, names) in rooms.items():
         where, keys = out / room, {j.key for j in jobs[room]}
         trials = trials_frame([r for r in results if r.trials is not None and r.job.key in keys])
