@@ -9,10 +9,17 @@ wall. Bumper contacts come out as :class:`Bump` events; the robot's own belief o
 comes from :class:`Odometry`, which sees the true motion through the scenario's noise.
 
 Cost (our design): a control tick is PHYSICS_SUBSTEPS pymunk steps, and pymunk's own work is a
-small part of it; what costs is Python called per step. So per step Python runs only the servo
-(one callback) and reads the position once; contacts are followed by a collision handler
-(``begin``/``separate``), which runs Python only when a contact starts or ends, instead of
-polling the robot's arbiters every step (the robot often slides along a wall for seconds).
+small part of it (Chipmunk's solver is under 1 % of a mission's time); what costs is Python called
+per step. So per step Python runs only the servo (one callback) and reads the position once;
+contacts are followed by a collision handler (``begin``/``separate``), which runs Python only when
+a contact starts or ends, instead of polling the robot's arbiters every step (the robot often
+slides along a wall for seconds). The step, the servo and the position read call Chipmunk's
+functions through pymunk's cffi library (``pymunk._chipmunk.lib``) on the space's and the body's
+handles: the very calls pymunk's ``Space.step`` and ``Body`` properties make, without their Python
+around them (the lock for objects added in callbacks, which this world never does; argument
+checks; a ``Vec2d`` per read), which cost a third of a tick's physics. The same numbers come out:
+:func:`check_handles` says at the start that the handles are there, and the golden runs would show
+any difference.
 """
 
 from __future__ import annotations
@@ -21,6 +28,7 @@ import math
 
 import numpy as np
 import pymunk
+from pymunk._chipmunk import lib as chipmunk
 
 from .beliefs import Bump
 from .geometry import Pose, motion_between, wrap_angle
@@ -32,6 +40,16 @@ WALL_THICKNESS = 0.10  # m; walls sit outside the arena, their inner face on the
 BUMP_REARM = 1.0  # s without touching a thing before touching it again counts as a new bump
 ROBOT_MASS = 20.0  # kg
 ROBOT = 1  # the robot shape's pymunk collision type: its contacts, with anything, go to the bumper
+
+
+def check_handles(space: pymunk.Space, body: pymunk.Body) -> tuple[object, object]:
+    """The Chipmunk handles of ``space`` and ``body`` that :meth:`World.step` steps and reads
+    directly, checked to be what pymunk's own methods use (a pymunk release that renames them fails
+    here, at the start of a run, with its version)."""
+    cp_space, cp_body = getattr(space, "_space", None), getattr(body, "_body", None)
+    if cp_space is None or cp_body is None or chipmunk.cpBodyGetSpace(cp_body) != cp_space:
+        raise RuntimeError(f"pymunk {pymunk.version} keeps its Chipmunk handles elsewhere than navcli.world expects")
+    return cp_space, cp_body
 
 
 class Odometry:
@@ -123,6 +141,7 @@ class World:
         space.add(body, robot_shape)
         space.on_collision(ROBOT, None, begin=self._begin, separate=self._separate)
         self.body = body
+        self._cp_space, self._cp_body = check_handles(space, body)
         self._trail = (0.0, body.position.x, body.position.y)  # metres travelled, and where that was summed to
         self.odometry = Odometry(self.pose, scenario.noise.odometry, rng, scenario.noise.heading_drift)
 
@@ -140,9 +159,10 @@ class World:
 
     def _drive(self, body: pymunk.Body, gravity, damping, dt) -> None:
         """The wheels' velocity servo, called by pymunk before it solves the contacts."""
-        c, s = math.cos(body.angle), math.sin(body.angle)
-        body.velocity = (self._v * c, self._v * s)
-        body.angular_velocity = self._w
+        cp = self._cp_body
+        a = chipmunk.cpBodyGetAngle(cp)  # body.angle, .velocity, .angular_velocity without pymunk's wrappers
+        chipmunk.cpBodySetVelocity(cp, (self._v * math.cos(a), self._v * math.sin(a)))
+        chipmunk.cpBodySetAngularVelocity(cp, self._w)
 
     @property
     def time(self) -> float:
@@ -160,8 +180,8 @@ class World:
         cached = self._pose
         if cached is not None and cached[0] == self._substeps:
             return cached[1]
-        p = self.body.position
-        pose = Pose(p.x, p.y, wrap_angle(self.body.angle))
+        p = chipmunk.cpBodyGetPosition(self._cp_body)
+        pose = Pose(p.x, p.y, wrap_angle(chipmunk.cpBodyGetAngle(self._cp_body)))
         self._pose = (self._substeps, pose)
         return pose
 
@@ -190,7 +210,7 @@ class World:
         dt = PHYSICS_DT
         dv, dw = lim.max_accel * dt, lim.max_turn_accel * dt
         start = self.pose
-        body, space, contacts = self.body, self.space, self._contacts
+        cp_space, cp_body, contacts = self._cp_space, self._cp_body, self._contacts
         bumps: list[Bump] = []
         self._bumps = bumps
         touching = False
@@ -198,9 +218,10 @@ class World:
         for _ in range(PHYSICS_SUBSTEPS):
             self._v += min(max(v - self._v, -dv), dv)
             self._w += min(max(omega - self._w, -dw), dw)
-            space.step(dt)  # calls _drive, and _begin/_separate when a contact starts or ends
+            # Space.step's call: runs _drive, and _begin/_separate when a contact starts or ends
+            chipmunk.cpSpaceStep(cp_space, dt)
             self._substeps += 1
-            p = body.position
+            p = chipmunk.cpBodyGetPosition(cp_body)
             path += math.hypot(p.x - x, p.y - y)
             x, y = p.x, p.y
             self._trail = (path, x, y)  # one assignment: a stop between two steps leaves it whole

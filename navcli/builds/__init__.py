@@ -33,6 +33,15 @@ MODULES = (
     "navigation.distance_estimator",
     "navigation.communicator",
     "log.records",
+    "pilot.base",
+    "beliefs",
+    "navigation.map_manager",
+    "navigation.beta_map",
+    "navigation.rescuer",
+    "learning.features",
+    "learning.actions",
+    "learning.learning_agent",
+    "mission",
 )
 GROUP = "_compiled"  # the shared library of them all: navcli/_compiled__mypyc.<suffix>
 

@@ -43,6 +43,7 @@ from dataclasses import dataclass, field
 from typing import Any, ClassVar
 
 import numpy as np
+from mypy_extensions import mypyc_attr
 
 from ..beliefs import Beliefs, Bump, KnownObstacle
 from ..bidding import Bid, Look, Move, looked_at
@@ -88,6 +89,7 @@ LOOK_AHEAD = Look(0.0, "obstacles")  # the look-ahead of eq. 1 (a value: one ser
 MAX_STALL_WINDOW_S = 30.0  # s: the stall watch's longest window (0.6 m takes 60 s at 1 cm/s)
 
 
+@mypyc_attr(allow_interpreted_subclasses=True)  # compiled (navcli.builds); plugins subclass it
 class Pilot:
     """Shared pilot machinery (see the module docstring); ``avoid`` proposes nothing here.
 
