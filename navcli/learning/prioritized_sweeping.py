@@ -26,6 +26,8 @@ Parameters (``gamma``, ``k``, ``threshold``, ``explore``) are :class:`~navcli.pa
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 
@@ -50,12 +52,15 @@ class PrioritizedSweeping:
         self.gamma, self.backups, self.threshold, self.explore = gamma, backups, threshold, explore
         self.optimistic = optimistic
         self.rng = rng if rng is not None else np.random.default_rng(0)
-        self.counts = np.zeros((n_states, n_actions, n_states + 1), dtype=np.int32)  # last column: the goal
+        # N(s, a, s'), the last column the goal: floats holding whole numbers, so that the backups'
+        # products with V run on BLAS without a cast (saved as integers: to_arrays)
+        self.counts = np.zeros((n_states, n_actions, n_states + 1))
         self.tried = np.zeros((n_states, n_actions), dtype=np.int64)  # N(s, a)
+        self._tried = [[0] * n_actions for _ in range(n_states)]  # N(s, a) again, as Python ints for the sweeps
+        self._into: list[dict[int, list[int]]] = [{} for _ in range(n_states + 1)]  # s -> {pred: N(pred, a, s) per a}
         self.reward_sum = np.zeros((n_states, n_actions))
         self.values = np.zeros(n_states + 1)  # V; the goal's stays 0
         self.priority = np.zeros(n_states)
-        self.predecessors: list[set[int]] = [set() for _ in range(n_states + 1)]
         self.steps = 0
 
     # -- the model
@@ -63,11 +68,22 @@ class PrioritizedSweeping:
         """``R(s, a) + gamma sum_s' P(s'|s, a) V(s')`` per action; with ``optimism`` an action
         tried fewer than ``explore`` times is worth ``optimistic``; without, an action never
         tried is worth -inf."""
-        n = self.tried[s]
-        q = (self.reward_sum[s] + self.gamma * (self.counts[s] @ self.values)) / np.maximum(n, 1)
-        q[n == 0] = -np.inf
-        if optimism:
-            q[n < self.explore] = self.optimistic
+        return np.array(self._q(s, optimism))
+
+    def _q(self, s: int, optimism: bool = True) -> list[float]:
+        """:meth:`q_values` as a list: with five actions numpy's per-call cost outweighs the
+        arithmetic, so only the sum over successors runs in numpy (the same float64 operations
+        in the same order, so the same bits as the array expression)."""
+        expected = (self.counts[s] @ self.values).tolist()  # sum_s' N(s, a, s') V(s')
+        reward = self.reward_sum[s].tolist()
+        q = []
+        for a, n in enumerate(self._tried[s]):
+            if optimism and n < self.explore:
+                q.append(self.optimistic)
+            elif n == 0:
+                q.append(-math.inf)
+            else:
+                q.append((reward[a] + self.gamma * expected[a]) / n)  # n = max(N(s, a), 1)
         return q
 
     # -- learning
@@ -76,31 +92,40 @@ class PrioritizedSweeping:
         (``s_next`` is then ignored). A step cut short (a time limit) is an ordinary step."""
         col = self.n_states if terminal or s_next is None else int(s_next)
         self.counts[s, a, col] += 1
-        self.predecessors[col].add(s)
+        self._into[col].setdefault(s, [0] * self.n_actions)[a] += 1
         self.tried[s, a] += 1
+        self._tried[s][a] += 1
         self.reward_sum[s, a] += r
         self.steps += 1
         self.priority[s] = np.inf  # the state just left goes to the top
         self.sweep()
 
     def sweep(self, backups: int | None = None) -> int:
-        """Up to ``backups`` (default k) backups, highest priority first; returns how many were made."""
+        """Up to ``backups`` (default k) backups, highest priority first; returns how many were made.
+
+        A predecessor's priority is raised in plain Python from the sparse counts ``_into`` (the
+        same divisions, maximum and product as the array expression ``(N[pred, :, s] /
+        max(N(pred, a), 1)).max() * delta``, each exact in IEEE arithmetic, so the same bits):
+        a state has a handful of predecessors, where numpy's fancy indexing cost more than the
+        arithmetic (our design, measured by the training benchmark)."""
         done = 0
+        priority, values, threshold, into, tried = self.priority, self.values, self.threshold, self._into, self._tried
         for _ in range(self.backups if backups is None else backups):
-            s = int(self.priority.argmax())
-            if self.priority[s] <= self.threshold:
+            s = int(priority.argmax())
+            if priority[s] <= threshold:
                 break
-            self.priority[s] = 0.0
-            old = self.values[s]
-            self.values[s] = self.q_values(s).max()
+            priority[s] = 0.0
+            old = values[s]
+            values[s] = max(self._q(s))
             done += 1
-            delta = abs(self.values[s] - old)
-            preds = self.predecessors[s]
-            if delta <= self.threshold or not preds:
+            delta = float(abs(values[s] - old))
+            preds = into[s]
+            if delta <= threshold or not preds:
                 continue
-            pred = np.fromiter(preds, dtype=np.int64, count=len(preds))
-            p = (self.counts[pred, :, s] / np.maximum(self.tried[pred], 1)).max(axis=1) * delta
-            self.priority[pred] = np.maximum(self.priority[pred], np.where(p > self.threshold, p, 0.0))
+            for pred, to_s in preds.items():
+                p = max([c / (n if n > 1 else 1) for c, n in zip(to_s, tried[pred])]) * delta
+                if p > threshold and p > priority[pred]:
+                    priority[pred] = p
         return done
 
     # -- acting
@@ -126,7 +151,7 @@ class PrioritizedSweeping:
         idx = np.nonzero(self.counts)
         return {
             "count_index": np.stack(idx).astype(np.int16),
-            "count_value": self.counts[idx],
+            "count_value": self.counts[idx].astype(np.int32),
             "tried": self.tried,
             "reward_sum": self.reward_sum,
             "values": self.values,
@@ -140,10 +165,11 @@ class PrioritizedSweeping:
         self.counts[...] = 0
         i = d["count_index"].astype(np.int64)
         self.counts[i[0], i[1], i[2]] = d["count_value"]
-        self.predecessors = [set() for _ in range(self.n_states + 1)]
-        for a, b in zip(i[0].tolist(), i[2].tolist()):
-            self.predecessors[b].add(a)
+        self._into = [{} for _ in range(self.n_states + 1)]
+        for s, a, s2, c in zip(*i.tolist(), d["count_value"].tolist()):
+            self._into[s2].setdefault(s, [0] * self.n_actions)[a] = c
         self.tried[...] = d["tried"]
+        self._tried = self.tried.tolist()
         self.reward_sum[...] = d["reward_sum"]
         self.values[...] = d["values"]
         self.priority[...] = d["priority"]
