@@ -347,6 +347,38 @@ def test_the_model_file_round_trips_and_refuses_garbage(tmp_path):
     assert model_file.load_policy().shape == (980,)  # the bundled model loads
 
 
+def test_an_evaluation_takes_over_only_the_trials_a_greedy_policy_would_repeat():
+    """The trainer reuses a test trial when the new greedy policy chooses the same action in every
+    state the trial visited. Run for real: a policy changed everywhere else runs the very same
+    trials; a change in one visited state sends back exactly the trials that visited it."""
+    from navcli import load_scenario
+    from navcli.learning.features import N_STATES
+    from navcli.training.task import random_starts, task_spec
+    from navcli.training.trainer import EvaluationMemo, evaluate
+
+    spec = task_spec(load_scenario(SCENARIOS / "landmarks-12.yaml"), {"learning.max_actions": 6})
+    starts = random_starts(spec, 3, 5)
+    policy = np.random.default_rng(0).integers(0, 5, N_STATES).astype(np.int8)
+    first = evaluate(spec, policy, starts)
+    memo = EvaluationMemo()
+    for i, r in enumerate(first):
+        memo.remember(i, policy, r)
+    seen = set().union(*(r.visited for r in first))
+    assert all(r.visited for r in first) and len(seen) < N_STATES
+    elsewhere = policy.copy()
+    unseen = [s for s in range(N_STATES) if s not in seen]
+    elsewhere[unseen] = (elsewhere[unseen] + 1) % 5
+    assert all(memo.reusable(i, elsewhere) is r for i, r in enumerate(first))
+    again = evaluate(spec, elsewhere, starts)  # what the memo claims, run
+    assert [(r.outcome, r.actions, r.counts, r.visited) for r in again] == [
+        (r.outcome, r.actions, r.counts, r.visited) for r in first
+    ]
+    s0 = first[0].visited[0]
+    changed = policy.copy()
+    changed[s0] = (changed[s0] + 1) % 5
+    assert [memo.reusable(i, changed) is None for i in range(3)] == [s0 in r.visited for r in first]
+
+
 def test_run_refuses_a_bad_navigation(tmp_path):
     from typer.testing import CliRunner
 

@@ -120,7 +120,9 @@ def train(
             raise typer.Exit(exit_code(e)) from None
     typer.echo(
         f"{res.trials} trials ({res.trials - (res.saved_at_start or 0)} now) in {time.perf_counter() - t0:.0f} s: training {res.train_s:.0f} s, "
-        f"evaluations {res.eval_s:.0f} s " + ("in this process" if jobs == 1 else f"of worker time on {jobs} workers")
+        f"evaluations {res.eval_s:.0f} s "
+        + ("in this process" if jobs == 1 else f"of worker time on {jobs} workers")
+        + f" ({res.eval_trials} trials run, {res.eval_reused} repeated by a greedy policy and taken over)"
     )
     typer.echo(f"training outcomes: {res.outcomes}")
     typer.echo("trials  successes/{}  reward/trial  actions/trial".format(eval_starts))

@@ -249,8 +249,8 @@ def training_benchmark(
             out=Path(tmp) / "bench.npz",
         )
         wall = time.perf_counter() - t0
-    evals = 4 * eval_starts  # the untrained and the last policy, the hand-coded and the random one
-    per_trial, per_eval = r.train_s / trials, r.eval_s / evals
+    evals = r.eval_trials  # the untrained and the last policy, the hand-coded and the random one (less those reused)
+    per_trial, per_eval = r.train_s / trials, r.eval_s / max(evals, 1)
     default_evals = (2000 // 100 + 1 + 2) * 99
     echo(
         f"{'training':12s} {trials} trials in {wall:.1f} s (with {evals} evaluation trials): {per_trial:.2f} s a "
@@ -258,8 +258,8 @@ def training_benchmark(
     )
     echo(
         f"{'2,000 trials':12s} {2000 * per_trial / 60:8.1f} min of learning trials (extrapolated from {trials}), "
-        f"and {default_evals * per_eval / 60:.1f} min of CPU for a default training's {default_evals} evaluation "
-        f"trials (in worker processes, beside the learning)"
+        f"and at most {default_evals * per_eval / 60:.1f} min of CPU for a default training's {default_evals} "
+        f"evaluation trials (in worker processes, beside the learning; fewer run where a greedy policy repeats a trial)"
     )
     return {
         "actions_per_s": per_s,

@@ -7,7 +7,9 @@ every action. Every ``eval_every`` trials its greedy policy runs the same fixed 
 (:data:`EVAL_SEED`, whatever the training seed), in worker processes while training goes on
 (``workers=1``: in this process, between trials); the hand-coded policy runs them once for its
 level. The model is saved after every evaluation, with the learning curve so far, so an
-interrupted training resumes from its file (``--resume``).
+interrupted training resumes from its file (``--resume``). A test start whose last greedy trial
+the new greedy policy would repeat exactly (the same action in every state it visited) is not run
+again: its result is taken over (:class:`EvaluationMemo`; the curve is the same to the last bit).
 
 Resuming gives what the uninterrupted training would have, bit for bit (arrays, curve, trials CSV):
 the file holds, beside the learner's arrays, the state of its random generator (``learner_rng``)
@@ -60,6 +62,7 @@ class TrialResult:
     outcome: str
     actions: int
     counts: tuple[int, ...]
+    visited: tuple[int, ...] = field(default=(), compare=False)  # the belief states it chose an action in, sorted
 
     @property
     def success(self) -> bool:
@@ -84,14 +87,16 @@ def run_trial(
     m = task.mission
     assert m is not None  # reset made it
     counts = [0] * len(ACTIONS)
+    visited = set()
     while task.outcome is None and m.outcome is None:
         a = choose(s)
+        visited.add(s)
         s2, r, _, _ = task.step(a)
         counts[a] += 1
         if learn is not None:
             learn(s, a, r, s2, task.terminal)
         s = s2
-    return TrialResult(task.outcome or m.outcome or "interrupted", task.actions, tuple(counts))
+    return TrialResult(task.outcome or m.outcome or "interrupted", task.actions, tuple(counts), tuple(sorted(visited)))
 
 
 RANDOM_STREAM = 7  # the random policy's generator of a trial: [the start's seed, this]
@@ -163,12 +168,57 @@ class Training:
     random_reward: float | None = None  # and its mean reward per trial
     train_s: float = 0.0  # wall time in training trials (this process)
     eval_s: float = 0.0  # summed wall time of the evaluations (worker processes beside training; this one if workers=1)
+    eval_trials: int = 0  # the evaluation trials run (in eval_s)
+    eval_reused: int = 0  # and those a greedy policy would have repeated, taken from an earlier evaluation
     wall_s: float = 0.0
     outcomes: dict[str, int] = field(default_factory=dict)
     end: int = 0  # the trials this training goes to (those of the file resumed and the new ones)
     saved_at_start: int | None = None  # the trials of the file resumed
     saved: int | None = None  # the trials of the model file last saved (or resumed), None before any
     saved_in: Path | None = None  # that file
+
+
+class EvaluationMemo:
+    """The last greedy trial from each test start, to be reused (our design). A trial is a
+    function of its start and of the actions chosen in the belief states it visits: its mission is
+    seeded by the start alone, and a table policy's choice depends on the state alone. A later
+    greedy policy that chooses the same actions in every state the trial visited therefore runs
+    the same trial, to the last bit, and its result is taken instead of running it again.
+
+    >>> memo = EvaluationMemo()
+    >>> memo.remember(0, np.array([1, 2, 3]), TrialResult("reached", 2, (1, 1, 0), visited=(0, 2)))
+    >>> memo.reusable(0, np.array([1, 0, 3])).outcome  # state 1 was never visited
+    'reached'
+    >>> memo.reusable(0, np.array([1, 2, 4])) is None  # state 2 was: another trial
+    True
+    """
+
+    def __init__(self) -> None:
+        self._last: dict[int, tuple[np.ndarray, np.ndarray, TrialResult]] = {}  # start: states, actions, result
+
+    def remember(self, start: int, policy: np.ndarray, result: TrialResult) -> None:
+        """``result``, the trial of ``policy`` from test start number ``start``."""
+        states = np.array(result.visited, dtype=np.int64)
+        self._last[start] = (states, policy[states], result)
+
+    def reusable(self, start: int, policy: np.ndarray) -> TrialResult | None:
+        """The remembered trial from ``start`` if ``policy`` would run it again, else None."""
+        last = self._last.get(start)
+        if last is None or not np.array_equal(policy[last[0]], last[1]):
+            return None
+        return last[2]
+
+
+@dataclass
+class _Batch:
+    """Some test starts of an evaluation (their numbers), run in a job (``future``) or ``reused``."""
+
+    starts: list[int]
+    future: Future | None = None
+    reused: list[TrialResult] | None = None
+
+    def done(self) -> bool:
+        return self.future is None or self.future.done()
 
 
 def _eval_job(spec: RunSpec, policy: np.ndarray | None, starts: list[Start]) -> tuple[list[TrialResult], float]:
@@ -288,25 +338,48 @@ def train(
     from ..experiments.executor import executor, interruptible
 
     chunks = max(1, workers)
-    pending: list[tuple[int, np.ndarray, list[Future]]] = []  # evaluations running: trials, policy, chunks
-    hand: list[Future] = []
-    rand: list[Future] = []
+    pending: list[tuple[int, np.ndarray, list[_Batch]]] = []  # evaluations running: trials, policy, batches
+    hand: list[_Batch] = []
+    rand: list[_Batch] = []
+    memo = EvaluationMemo()  # the greedy policy's last trial from each test start
 
-    def submit(pool, policy: np.ndarray | None) -> list[Future]:
-        return [pool.submit(_eval_job, spec, policy, test[i::chunks]) for i in range(chunks)]
+    def submit(pool, policy: np.ndarray | None, reuse: bool = False) -> list[_Batch]:
+        """``policy`` from the test starts, in ``chunks`` jobs; with ``reuse``, a start whose last
+        greedy trial the policy would repeat (:class:`EvaluationMemo`) is not run again."""
+        again: dict[int, TrialResult] = {}
+        if reuse and policy is not None:
+            for i in range(len(test)):
+                if (r := memo.reusable(i, policy)) is not None:
+                    again[i] = r
+        todo = [i for i in range(len(test)) if i not in again]
+        batches = [_Batch(list(again), reused=list(again.values()))] if again else []
+        for k in range(chunks):
+            if todo[k::chunks]:
+                starts = todo[k::chunks]
+                batches.append(_Batch(starts, pool.submit(_eval_job, spec, policy, [test[i] for i in starts])))
+        return batches
 
-    def collect(futures: list[Future]) -> list[TrialResult]:
-        res = []
-        for f in futures:
-            r, dt = f.result()
-            res += r
-            result.eval_s += dt
-        return res
+    def collect(batches: list[_Batch], policy: np.ndarray | None = None) -> list[TrialResult]:
+        """The results of ``batches`` in the test starts' order; a greedy ``policy``'s are remembered."""
+        got: dict[int, TrialResult] = {}
+        for b in batches:
+            if b.future is None:
+                rs = b.reused or []
+                result.eval_reused += len(rs)
+            else:
+                rs, dt = b.future.result()
+                result.eval_s += dt
+                result.eval_trials += len(rs)
+                if policy is not None:
+                    for i, r in zip(b.starts, rs):
+                        memo.remember(i, policy, r)
+            got.update(zip(b.starts, rs))
+        return [got[i] for i in sorted(got)]
 
     def harvest(block: bool) -> None:
-        while pending and (block or all(f.done() for f in pending[0][2])):
-            n, _, fs = pending.pop(0)
-            rs = collect(fs)
+        while pending and (block or all(b.done() for b in pending[0][2])):
+            n, policy, batches = pending.pop(0)
+            rs = collect(batches, policy)
             result.curve.append(
                 Point(
                     n,
@@ -315,19 +388,20 @@ def train(
                     float(np.mean([r.actions for r in rs])),
                 )
             )
-        if hand and (block or all(f.done() for f in hand)):
+        if hand and (block or all(b.done() for b in hand)):
             hs = collect(hand)
             result.hand_coded = sum(r.success for r in hs)
             result.hand_coded_reward = float(np.mean([r.reward for r in hs]))
             hand.clear()
-        if rand and (block or all(f.done() for f in rand)):
+        if rand and (block or all(b.done() for b in rand)):
             rs = collect(rand)
             result.random = sum(r.success for r in rs)
             result.random_reward = float(np.mean([r.reward for r in rs]))
             rand.clear()
 
     def evaluate_later(pool, n: int, policy: np.ndarray) -> None:
-        pending.append((n, policy, submit(pool, policy)))
+        harvest(False)  # the evaluations done so far, first: what they ran may be reused
+        pending.append((n, policy, submit(pool, policy, reuse=True)))
 
     def save() -> None:
         """The model as it is between trials, with what a resume needs to go on as if never stopped."""
@@ -407,7 +481,6 @@ def train(
                         rows.flush()
                         if result.trials % eval_every == 0 or result.trials == end:
                             evaluate_later(pool, result.trials, learner.greedy_policy())
-                            harvest(False)
                             if result.trials < end:  # the last save waits for the last evaluations (below)
                                 save()
                         if on_trial:
