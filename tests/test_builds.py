@@ -5,6 +5,7 @@ sources (``NAVCLI_PURE=1``), which must run the same missions to the last bit; a
 from __future__ import annotations
 
 import os
+import re
 import subprocess
 import sys
 
@@ -93,11 +94,17 @@ def test_the_compiled_modules_worked_examples_hold_in_their_pure_python_sources(
     assert " passed" in r.stdout
 
 
-def test_bench_training_gives_the_learning_tasks_throughput_and_a_trainings_time():
-    r = CliRunner().invoke(app, ["bench", "--training", "--trials", "1", "--eval-starts", "1", "--actions", "5"])
+def test_bench_training_gives_the_learning_tasks_throughput_and_a_whole_trainings_time():
+    args = ["bench", "--training", "--trials", "3", "--eval-starts", "2", "--actions", "5", "--jobs", "1"]
+    r = CliRunner().invoke(app, args)
     assert r.exit_code == 0, r.output
     lines = {line.split()[0]: line for line in r.output.splitlines() if line.strip()}
     assert "actions/s" in lines["env.step"] and "5 actions" in lines["env.step"]
-    assert "1 trials in" in lines["training"] and "s a learning trial" in lines["training"]
-    assert "min of learning trials (extrapolated from 1)" in lines["2,000"]
-    assert "2277 evaluation trials" in lines["2,000"]  # (2000 / 100 + 1 + 2) x 99
+    training = lines["training"]
+    assert "3 trials in" in training and "evaluation every 3 trials on 2 starts" in training
+    # evaluated: the untrained policy, the one after 3 trials, the hand-coded and the random one, 2 starts each
+    m = re.search(r"8 evaluation trials: (\d+) run in .* (\d+) taken over", training)
+    assert m is not None, training
+    run, taken_over = int(m[1]), int(m[2])
+    assert run + taken_over == 8 and run >= 6  # the hand-coded and random policies' 4, and the untrained one's 2
+    assert "extrapolated" not in r.output
