@@ -252,12 +252,10 @@ def training_benchmark(
             out=Path(tmp) / "bench.npz",
         )
         wall = time.perf_counter() - t0
-    # the untrained policy's, each every-th one's (the last always), the hand-coded and the random policy's
-    evaluations = -(-trials // every) + 1 + 2
     echo(
         f"{'training':12s} {trials} trials in {wall:.1f} s wall ({workers} worker{'s' if workers > 1 else ''}; "
         f"evaluation every {every} trials on {eval_starts} starts): the learning trials {r.train_s:.1f} s "
-        f"(serial, {r.train_s / trials:.3f} s a trial), {evaluations * eval_starts} evaluation trials: "
+        f"(serial, {r.train_s / trials:.3f} s a trial), {r.eval_trials + r.eval_reused} evaluation trials: "
         f"{r.eval_trials} run in {r.eval_s:.1f} s of worker time, {r.eval_reused} taken over"
     )
     return {
