@@ -26,11 +26,15 @@ from __future__ import annotations
 
 import math
 import signal
+import types
 import threading
 import time
 from typing import Any, Callable
 
+import msgspec
+
 from ..bidding import PURPOSES, RESOURCES, SYSTEMS, Bid, Look, Move
+from ..pilot import Avoidance, Pilot, PilotOutput
 from .registry import Component, PluginError, failed
 
 
@@ -40,6 +44,10 @@ class TooSlow(BaseException):
     plugin's :class:`~.registry.PluginError`."""
 
 
+class Overran(PluginError):
+    """A plugin's call took more than ``robot.decision_limit_s`` of wall-clock time."""
+
+
 class Deadline:
     """The wall-clock limit of one plugin's calls (see the module docstring): ``call(fn, *args)``
     runs ``fn`` under it. ``limit_s`` is ``robot.decision_limit_s``."""
@@ -47,21 +55,21 @@ class Deadline:
     def __init__(self, c: Component, limit_s: float) -> None:
         self.c = c
         self.limit_s = limit_s
+        _install()
 
-    def call(self, fn: Callable[..., Any], *args: Any, at: Any = None, doing: str = "raised", **kw: Any) -> Any:
-        """``fn(*args, **kw)``, raising what it raises as the plugin's, ``doing`` it (``at``: the
-        plugin's function to name for a fault with no line of the plugin's in its traceback, a call
-        its signature refused; ``fn`` by default)."""
+    def call(self, fn: Callable[..., Any], *args: Any) -> Any:
+        """``fn(*args)``, raising what it raises as the plugin's (``fn``: the plugin's function, named
+        for a fault with no line of the plugin's in its traceback, a call its signature refused)."""
         alarm = _arm(self.limit_s)
         t0 = time.monotonic()
         try:
-            out = fn(*args, **kw)
+            out = fn(*args)
         except TooSlow:
             raise self.too_slow() from None
         except PluginError:
             raise
         except Exception as e:
-            raise failed(self.c, e, doing, at=fn if at is None else at) from e
+            raise failed(self.c, e, at=fn) from e
         finally:
             if alarm:
                 _disarm()
@@ -69,8 +77,20 @@ class Deadline:
             raise self.too_slow()
         return out
 
-    def too_slow(self) -> PluginError:
-        return PluginError(
+    def make(self, cls: Any, *args: Any, **kw: Any) -> Any:
+        """``cls(*args, **kw)``, the plugin's class made, under :meth:`call`'s guard."""
+        try:
+            return self.call(lambda: cls(*args, **kw))
+        except Overran:
+            raise
+        except PluginError as e:
+            cause = e.__cause__
+            if cause is None:
+                raise
+            raise failed(self.c, cause, "could not be made", at=cls) from cause
+
+    def too_slow(self) -> Overran:
+        return Overran(
             f"{self.c.label} took more than robot.decision_limit_s = {self.limit_s:g} s of wall-clock time "
             f"for one decision, and was stopped. The fault is the plugin's, not navcli's (a slow plugin may be "
             f"given more: --param robot.decision_limit_s=SECONDS)"
@@ -93,16 +113,24 @@ def _on_alarm(signum: int, frame: Any) -> None:
         previous(signum, frame)
 
 
-def _arm(limit_s: float) -> bool:
-    """Start the timer of a call that may take ``limit_s``: in the main thread, where another alarm
-    is not already pending (that alarm is left to come; the call is then timed when it returns).
-    True when armed."""
-    if threading.current_thread() is not threading.main_thread():
-        return False
+def _install() -> None:
+    """Put :func:`_on_alarm` in front of the SIGALRM handler there is, in the main thread (where a
+    handler can be set): once for each run's plugins (a worker process's own handler, set when it
+    starts, then stands behind it)."""
+    if threading.get_ident() != threading.main_thread().ident:
+        return
     handler = signal.getsignal(signal.SIGALRM)
     if handler is not _on_alarm:
         _previous[0] = handler
         signal.signal(signal.SIGALRM, _on_alarm)
+
+
+def _arm(limit_s: float) -> bool:
+    """Start the timer of a call that may take ``limit_s``: in the main thread, where :func:`_install`
+    put our handler and no other alarm is pending (that alarm is left to come; the call is then
+    timed when it returns). True when armed."""
+    if threading.get_ident() != threading.main_thread().ident:
+        return False
     pending, interval = signal.setitimer(signal.ITIMER_REAL, limit_s)
     if pending:  # someone else's alarm is pending: theirs, not ours
         signal.setitimer(signal.ITIMER_REAL, pending, interval)
@@ -118,8 +146,9 @@ def _disarm() -> None:
 
 # --- what a plugin returns ----------------------------------------------------------------------
 def _number(x: object) -> bool:
-    """A finite int or float (numpy's float64 is one; a bool, numpy's float32, a string are not)."""
-    return (type(x) is float or isinstance(x, (float, int)) and not isinstance(x, bool)) and math.isfinite(x)
+    """A finite float or int, as the log's encoder writes one (a numpy scalar, a bool, a string are
+    not: ``float(x)`` makes one)."""
+    return (type(x) is float or type(x) is int) and math.isfinite(x)
 
 
 def move_problem(m: object, max_speed: float) -> str | None:
@@ -133,24 +162,73 @@ def move_problem(m: object, max_speed: float) -> str | None:
     return None
 
 
-def avoidance_problem(a: object, bid_cap: float, max_speed: float) -> str | None:
+def avoidance_problem(a: object, bid_cap: float, max_speed: float, schemas: Any) -> str | None:
     """What is wrong with ``a`` as what a pilot's ``avoid`` returns, or None."""
-    from ..pilot import Avoidance
-
     if not isinstance(a, Avoidance):
         return f"returned {_short(a)}, not a navcli.pilot.Avoidance"
     if a.move is not None:
         problem = move_problem(a.move, max_speed)
         if problem is not None:
             return f"returned {problem}"
-    if not (_number(a.bid) and 0.0 <= a.bid <= bid_cap + 1e-12):
-        return f"returned a bid of {a.bid!r}, not a number in [0, pilot.bid_cap = {bid_cap:g}]"
-    if type(a.info) is not dict or not all(type(k) is str for k in a.info):
-        return f"returned an info of {_short(a.info)}, not a dict of field names (str) to values"
+    if not _number(a.bid):
+        return f"returned a bid of {_short(a.bid)}, not a finite number"
+    if a.bid > bid_cap + 1e-12:
+        return f"returned a motion bid of {a.bid:g}, above the Pilot's cap {bid_cap:g} (pilot.bid_cap)"
+    if a.bid < 0.0:
+        return f"returned a motion bid of {a.bid:g}, below 0"
+    if type(a.info) is not dict:
+        return f"returned an info of {_short(a.info)}, not a dict of /pilot's field names to values"
+    problem = info_problem(a.info, schemas)
+    if problem is not None:
+        return f"returned {problem}"
     if a.arrows and not all(
         isinstance(r, tuple) and len(r) == 3 and type(r[0]) is str and _number(r[1]) and _number(r[2]) for r in a.arrows
     ):
         return f"returned arrows {_short(a.arrows)}, not a list of (name, fx, fy) with finite numbers"
+    return None
+
+
+def info_type(c: Component) -> Any:
+    """What a pilot plugin's ``info`` may hold, as a ``msgspec.Struct`` to convert it to: every
+    ``/pilot`` field of its log's (its ``Info``'s and navcli's) but the command, each optional,
+    an enumerated one as a ``Literal`` of its values (the log's schema holds them as ``enum``).
+    msgspec takes what its encoder writes: a numpy scalar is refused here as the log would refuse
+    it. Fields that none declares are left to the run (``registry.undeclared`` names them)."""
+    import typing
+
+    import msgspec
+
+    from ..log.format import ENUM
+    from ..pilot import ENUMERATIONS
+
+    def literal(t: Any) -> Any:
+        if typing.get_origin(t) is typing.Annotated:
+            for meta in typing.get_args(t)[1:]:
+                name = (getattr(meta, "extra_json_schema", None) or {}).get(ENUM)
+                if name is not None:
+                    return typing.Literal[tuple(ENUMERATIONS[name])]
+            return t
+        if typing.get_origin(t) in (typing.Union, types.UnionType):
+            return typing.Union[tuple(literal(a) for a in typing.get_args(t))]
+        return t
+
+    hints = typing.get_type_hints(c.pilot_message(), include_extras=True)
+    fields = [
+        (k, typing.Union[literal(t), msgspec.UnsetType], msgspec.UNSET) for k, t in hints.items() if k != "command"
+    ]
+    return msgspec.defstruct(f"PilotInfo+{c.group}", fields)
+
+
+def info_problem(info: dict[str, Any], kind: Any) -> str | None:
+    """What is wrong with a pilot's ``info`` as ``/pilot`` fields (``kind``: :func:`info_type`), or
+    None."""
+    for k in info:
+        if type(k) is not str:
+            return f"an info with the key {k!r}: /pilot's field names are text"
+    try:
+        msgspec.convert({k: v for k, v in info.items() if v is not None}, kind)
+    except msgspec.ValidationError as e:
+        return f"an info that breaks the log's /pilot schema: {e}"
     return None
 
 
@@ -200,23 +278,20 @@ def pilot_class(c: Component, limit_s: float) -> type:
     """The class navcli runs ``c``'s pilot as: a subclass of it whose ``avoid`` (and ``decide``,
     ``execute``, where the plugin replaces navcli's) are guarded and checked (module docstring).
     Its name and module are the plugin class's."""
-    from ..pilot import Pilot
-
     cls = c.cls
     deadline = Deadline(c, limit_s)
+    schemas = info_type(c)
     own = {m for m in ("avoid", "decide", "execute") if getattr(cls, m) is not getattr(Pilot, m)}
 
     def avoid(self: Any, beliefs: Any, obstacles: Any, request: Any) -> Any:
         method = cls.avoid
         a = deadline.call(method, self, beliefs, obstacles, request)
-        problem = avoidance_problem(a, self.params.bid_cap, self.max_speed)
+        problem = avoidance_problem(a, self.params.bid_cap, self.max_speed, schemas)
         if problem is not None:
             raise wrong(c, method, problem)
         return a
 
     def decide(self: Any, beliefs: Any, request: Any = None) -> Any:
-        from ..pilot import PilotOutput
-
         method = cls.decide
         out = deadline.call(method, self, beliefs, request)
         problem = None if isinstance(out, PilotOutput) else f"returned {_short(out)}, not a navcli.pilot.PilotOutput"
@@ -224,8 +299,11 @@ def pilot_class(c: Component, limit_s: float) -> type:
             problem = bid_problem(b, SYSTEMS[0], self.max_speed)
             if problem is not None:
                 break
-        if problem is None and (type(out.info) is not dict or not all(type(k) is str for k in out.info)):
-            problem = f"returned an info of {_short(out.info)}, not a dict of field names (str) to values"
+        if problem is None and type(out.info) is not dict:
+            problem = f"returned an info of {_short(out.info)}, not a dict of /pilot's field names to values"
+        if problem is None:
+            problem = info_problem(out.info, schemas)
+            problem = f"returned {problem}" if problem is not None else None
         if problem is not None:
             raise wrong(c, method, problem)
         return out
@@ -288,7 +366,7 @@ def agent_name(c: Component, agent: Any, taken: set[str]) -> str:
 def make_pilot(c: Component, limit_s: float, *args: Any, **kw: Any) -> Any:
     """An instance of ``c``'s pilot as navcli runs it (:func:`pilot_class`), made with ``args`` and
     ``kw``."""
-    return Deadline(c, limit_s).call(pilot_class(c, limit_s), *args, at=c.cls.__init__, doing="could not be made", **kw)
+    return Deadline(c, limit_s).make(pilot_class(c, limit_s), *args, **kw)
 
 
 def make_agents(components: tuple[Component, ...], setup: Any, limit_s: float) -> tuple[Agent, ...]:
@@ -297,9 +375,7 @@ def make_agents(components: tuple[Component, ...], setup: Any, limit_s: float) -
     parameters."""
     agents: list[Agent] = []
     for c in components:
-        made = Deadline(c, limit_s).call(
-            c.cls, setup._replace(own_params=setup.params.plugin(c.group)), at=c.cls, doing="could not be made"
-        )
+        made = Deadline(c, limit_s).make(c.cls, setup._replace(own_params=setup.params.plugin(c.group)))
         name = agent_name(c, made, {a.name for a in agents})
         agents.append(Agent(c, made, name, limit_s, setup.params.robot.max_speed))
     return tuple(agents)

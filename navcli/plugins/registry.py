@@ -460,14 +460,18 @@ def _inside(filename: str, root: Path) -> bool:
 
 
 def definition(fn: Any) -> str:
-    """``file.py:LINE`` where the function (or method) ``fn`` is defined, or ''."""
+    """``file.py:LINE`` where the function (or method; for a class, its ``__init__``) ``fn`` is
+    defined, or ''."""
+    fn = vars(fn).get("__init__", fn) if isinstance(fn, type) else fn
     code = getattr(inspect.unwrap(getattr(fn, "__func__", fn)), "__code__", None)
     return f"{Path(code.co_filename).name}:{code.co_firstlineno}" if code is not None else ""
 
 
 def _root(c: Component) -> Path | None:
-    """The folder (a package) or file (a module) of ``c``'s code."""
-    module = sys.modules.get(c.cls.__module__.split(".")[0]) if c.cls is not None else None
+    """The folder (a package) or file (a module) of ``c``'s code (a class of navcli's own named as
+    ``module:Class``: its module's file, never the whole of navcli)."""
+    top = c.cls.__module__.split(".")[0] if c.cls is not None else ""
+    module = sys.modules.get(c.cls.__module__ if top == "navcli" else top) if c.cls is not None else None
     file = getattr(module, "__file__", None)
     if not file:
         return None
