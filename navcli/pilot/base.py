@@ -153,8 +153,9 @@ class Pilot:
         the Navigation system's motion ``request`` (or None). Returns an :class:`Avoidance`: a
         :class:`~navcli.bidding.Move` (heading in rad, speed at most ``self.max_speed``) with a bid
         in [0, ``params.bid_cap``] (0 or no move: the request is carried out, when safe), and
-        ``info``, the quantities behind it for ``/pilot`` (its fields, or the class's ``Info``'s).
-        Here: nothing."""
+        ``info``, the quantities behind it for ``/pilot`` (its fields, or the class's ``Info``'s),
+        every number a finite ``float`` or ``int``. A plugin's is called through
+        :mod:`navcli.plugins.boundary`, which checks all this. Here: nothing."""
         return Avoidance(None, 0.0, {})
 
     # -- per tick

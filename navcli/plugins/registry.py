@@ -21,8 +21,13 @@ with an :class:`~navcli.navigation.situation.AgentSetup`. Either may declare ``P
 ``Info`` (a ``msgspec.Struct``: the fields it adds to ``/pilot`` every tick).
 
 A plugin's identity (name, version, origin) is part of its runs' configuration and so of their
-run id; an exception raised in its code is reported as the plugin's (:class:`PluginError`, exit
-1), never as navcli's.
+run id; an exception raised in its code, a wrong return or a hung decision is reported as the
+plugin's (:class:`PluginError`, exit 1; :mod:`.boundary` guards every call into it), never as
+navcli's.
+
+A plugin named by its file is imported under a private module name (``navcli_plugin_<hash of its
+path>``), and again when the file changes; one imported as a module whose source has changed since
+is refused (:func:`locate`).
 """
 
 from __future__ import annotations
