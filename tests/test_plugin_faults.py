@@ -341,3 +341,11 @@ def test_an_edited_module_plugin_is_refused_where_it_cannot_be_reloaded(plugin, 
             registry.pilot("faultymod:Named")
     finally:
         sys.modules.pop("faultymod", None)
+
+
+def test_plugins_check_runs_a_policy_through_the_same_boundary(plugin):
+    folder, source = plugin
+    problems = check("policy", "faulty.py:BidsNone")
+    at = line_of("def bid", source, "class BidsNone")
+    assert problems and all(f"its bid() (defined at faulty.py:{at}) returned None, not a list" in p for p in problems)
+    assert check("policy", "faulty.py:BadName")[0].startswith("cannot be made as navcli makes it")

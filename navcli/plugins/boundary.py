@@ -78,7 +78,8 @@ class Deadline:
         return out
 
     def make(self, cls: Any, *args: Any, **kw: Any) -> Any:
-        """``cls(*args, **kw)``, the plugin's class made, under :meth:`call`'s guard."""
+        """``cls(*args, **kw)``, the plugin's class (or navcli's subclass of it) made, under
+        :meth:`call`'s guard."""
         try:
             return self.call(lambda: cls(*args, **kw))
         except Overran:
@@ -87,7 +88,7 @@ class Deadline:
             cause = e.__cause__
             if cause is None:
                 raise
-            raise failed(self.c, cause, "could not be made", at=cls) from cause
+            raise failed(self.c, cause, "could not be made", at=self.c.cls) from cause
 
     def too_slow(self) -> Overran:
         return Overran(
