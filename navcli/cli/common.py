@@ -37,16 +37,22 @@ app = typer.Typer(
 
 def _print_version(value: bool) -> None:
     if value:
-        from .. import __version__
+        from .. import BUILD, __version__, builds
 
-        typer.echo(f"navcli {__version__}")
+        typer.echo(f"navcli {__version__}, {builds.describe(BUILD)}")
         raise typer.Exit()
 
 
 @app.callback()
 def _options(
     version: Annotated[
-        bool, typer.Option("--version", callback=_print_version, is_eager=True, help="Print navcli's version and exit.")
+        bool,
+        typer.Option(
+            "--version",
+            callback=_print_version,
+            is_eager=True,
+            help="Print navcli's version and build (compiled or pure Python) and exit.",
+        ),
     ] = False,
 ) -> None:
     pass

@@ -265,6 +265,9 @@ def bench(
     actions: Annotated[int, typer.Option(min=1, max=1_000_000, help="With --training: env.step calls timed.")] = 300,
 ) -> None:
     """Real-time factor (simulated s per wall s) of a full mission, with logging on and off."""
+    from .. import BUILD, builds
+
+    typer.echo(f"build: {builds.describe(BUILD)}")
     if occlusion:
         from ..experiments.bench import occlusion_benchmark
 
