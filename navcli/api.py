@@ -34,7 +34,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Iterable, Mapping, Sequence
 
-from .arguments import COMMON, MAX_JOBS, checked, either, instance, listing, names_to_values, path
+from .checks.arguments import COMMON, MAX_JOBS, checked, either, instance, listing, names_to_values, path
 from .config import RunSpec
 from .log import format as fmt
 from .scenario import Scenario, load_scenario
@@ -54,7 +54,7 @@ ARGUMENTS = COMMON | {
     "scenarios": listing(_SCENARIO, "scenarios (files, bundled names or Scenarios)"),
     "plan": either(path, names_to_values, what="a plan: its file, or the same as a dict"),
 }
-"""Every argument of the functions below, checked at each call (:mod:`navcli.arguments`)."""
+"""Every argument of the functions below, checked at each call (:mod:`navcli.checks.arguments`)."""
 api = checked(ARGUMENTS)
 
 

@@ -19,7 +19,7 @@ from typing import TYPE_CHECKING, Annotated, Any, Iterator, Optional
 import typer
 
 from .. import NavcliError
-from ..arguments import MAX_JOBS
+from ..checks.arguments import MAX_JOBS
 from ..params import PERCEPTIONS
 from .errors import about
 
@@ -216,8 +216,8 @@ def progress_bar(*columns: Any) -> Any:
 
 
 def require_extra(module: str, what: str) -> Any:
-    """Import a library of the cluster extra, or refuse saying what to install (exit 1)."""
-    from ..experiments.executor import require
+    """Import a library of an optional extra, or refuse saying what to install (exit 2)."""
+    from ..checks.extras import require
 
     return require(module, what)
 

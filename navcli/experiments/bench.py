@@ -214,6 +214,9 @@ def training_benchmark(
 
     import numpy as np
 
+    from ..checks.extras import require
+
+    require("gymnasium", "navcli bench --training")  # the Gymnasium environment's step is what is timed
     from ..envs.landmark_navigation import LandmarkNavigationEnv
     from ..learning.actions import ACTIONS
     from ..training.trainer import train

@@ -22,7 +22,7 @@ import os
 from collections.abc import Mapping
 from typing import Any, Callable, TypeVar, cast
 
-from . import NavcliError
+from .. import NavcliError
 
 Check = Callable[[Any], "str | None"]
 F = TypeVar("F", bound=Callable[..., Any])
