@@ -12,6 +12,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Callable, Sequence
 
+from .checks.arguments import COMMON, checked, flag, function, instance, optional, whole
 from .config import RunSpec
 from .signals import Terminated, deferred
 from .mission import Event, Mission, Tick
@@ -140,6 +141,19 @@ class Pacer:
             time.sleep(lag)
 
 
+ARGUMENTS = COMMON | {
+    "spec": instance(RunSpec, what="a RunSpec (navcli.spec builds one from a scenario)"),
+    "record": flag,
+    "live": flag,
+    "keep_serving": flag,
+    "port": whole(0, 65535, "a port"),
+    "on_tick": optional(function),
+    "on_open": optional(function),
+}
+"""The arguments of :func:`run_mission`, checked at each call (:mod:`navcli.checks.arguments`)."""
+
+
+@checked(ARGUMENTS)
 def run_mission(
     spec: RunSpec,
     *,

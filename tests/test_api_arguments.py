@@ -58,6 +58,10 @@ REFUSED = [
     ("compare", ([ARENA],), {"jobs": 2.0}, "jobs=2.0"),
     ("compare", ([ARENA],), {"out": 5}, "out=5"),
     ("compare", ([ARENA],), {"params": [("pilot.K", 3)]}, "params=[('pilot.K', 3)]"),
+    ("load_scenario", (3,), {}, "path=3: expected a path"),
+    ("parse_scenario", (b"arena: {}",), {}, "text=b'arena: {}': expected the YAML text (a str), got bytes"),
+    ("parse_scenario", ("arena: {}",), {"source": None}, "source=None"),
+    ("run_mission", (ARENA,), {}, "spec='"),
     ("sweep", (3,), {}, "plan=3"),
     ("sweep", (None,), {}, "plan=None"),
     ("sweep", ("plans/x.yaml",), {"jobs": 0}, "jobs=0"),
@@ -78,10 +82,17 @@ def test_a_wrong_argument_is_refused_naming_it(tmp_path, monkeypatch, name, args
 def test_every_public_function_is_checked():
     from navcli.api import ARGUMENTS
 
-    for name in ("run", "compare", "sweep", "spec"):
+    from navcli.runner import ARGUMENTS as RUNNER
+    from navcli.scenario.loader import ARGUMENTS as LOADER
+
+    for name, table in [(n, ARGUMENTS) for n in ("run", "compare", "sweep", "spec")] + [
+        ("run_mission", RUNNER),
+        ("load_scenario", LOADER),
+        ("parse_scenario", LOADER),
+    ]:
         fn = getattr(navcli, name)
         assert hasattr(fn, "__wrapped__"), name  # the checking wrapper
-        assert set(inspect.signature(fn).parameters) <= ARGUMENTS.keys()
+        assert set(inspect.signature(fn).parameters) <= table.keys()
 
 
 def test_an_argument_without_a_declared_check_is_refused_at_definition():
