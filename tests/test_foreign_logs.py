@@ -169,8 +169,9 @@ def test_recover_refuses_a_whole_log_and_keeps_refusing_to_overwrite(tmp_path, g
     log = shutil.copy(good_log, tmp_path / "whole.mcap")
     r = cli("recover", str(log))
     assert r.exit_code == 2 and "a complete log" in r.output and "nothing to recover" in r.output, r.output
+    assert "--out" not in r.output  # a refusal of the input, not of the output
     cut_log = _tail_cut(good_log, tmp_path / "cut.mcap")
     r = cli("recover", str(cut_log), "--out", str(log))
-    assert r.exit_code == 2 and "--force" in r.output, r.output
+    assert r.exit_code == 2 and f"error: --out: {log}: exists" in r.output and "--force" in r.output, r.output
     assert Path(log).read_bytes() == good_log.read_bytes()
     assert cli("recover", str(cut_log), "--out", str(log), "--force").exit_code == 0

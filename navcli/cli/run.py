@@ -321,6 +321,7 @@ def recover(
     """Make a readable log of a run killed outright: its complete chunks (all but at most the last
     simulated second), marked interrupted, "recovered after an abrupt end". A log cut short after
     its summary (its end lost, so no reader opens it) is rebuilt whole, with its own outcome."""
+    from ..log.files import LogPathError
     from ..log.recover import recover as recover_log
 
     if not partial.is_file():
@@ -336,7 +337,7 @@ def recover(
                 else "not a regular file"
             )
         )
-    with about("--out"):
+    with about("--out", LogPathError):  # the log to write; the other refusals are about PARTIAL
         path, s = recover_log(partial, out, overwrite=force)
     if s["damaged_bytes"]:
         say(
