@@ -107,6 +107,8 @@ def test_an_argument_without_a_declared_check_is_refused_at_definition():
 def test_good_arguments_pass_and_a_path_or_tuple_is_as_good_as_a_str_or_list(tmp_path):
     r = navcli.run(Path(ARENA), seed=3, time_limit=1, params={"pilot.K": 20}, observers=(), log=tmp_path / "a.mcap")
     assert r.summary["seed"] == 3 and r.log == tmp_path / "a.mcap" and r.log.exists()
+    spec = navcli.spec(navcli.load_scenario(ARENA), seed=4, time_limit=1.0)  # a Scenario
+    assert navcli.run(spec).summary["seed"] == 4  # a RunSpec
     df = navcli.compare((ARENA,), ("geometric",), reruns=1, time_limit=1.0, jobs=1)
     assert len(df) == 1 and list(df["pilot"]) == ["geometric"]
 
