@@ -176,7 +176,7 @@ def test_the_reports_own_files_are_recognised_so_the_command_can_run_again(done)
     from navcli.outputs import check_folder, navcli_wrote
 
     out, _ = done
-    check_folder(out, ("report.md", "report.html"))  # raises if either were taken for a user's file
+    check_folder(out, ("report.md", "report.html"), overwrite=True)  # raises if either were taken for a user's file
     assert navcli_wrote(out / "table1" / "conditions.json")
     (out / "mine.html").write_text("<html>mine</html>")
     assert not navcli_wrote(out / "mine.html")

@@ -35,7 +35,7 @@ import pandas as pd
 
 from ..log.format import POSE_TOPIC
 from .files import write_csv, write_markdown
-from .logs import LogError, config_columns, path_length, read_log
+from .logs import LogError, config_columns, path_length, read_log, require
 from .stats import MIN_SAMPLE, RESAMPLES, small_sample, wilson_interval
 
 METRICS = {"time_s": "time (s)", "path_cm": "path length (cm)"}
@@ -144,15 +144,8 @@ def load_sweep(path: str | Path) -> pd.DataFrame:
 
 def _run_row(path: Path) -> dict:
     """One run's row of :func:`load_runs`; :class:`LogError` for a log it cannot count."""
-    log = read_log(path, topics=[POSE_TOPIC])
+    log = require(read_log(path, topics=[POSE_TOPIC]), POSE_TOPIC)
     s = log.summary
-    if not s:
-        raise LogError(
-            f"{path}: no /mission/summary (the run was killed before it could close its log; "
-            "`navcli recover` makes a readable log of a .partial)"
-        )
-    if POSE_TOPIC not in log.topics:
-        raise LogError(f"{path}: no /robot/pose")
     poses = log[POSE_TOPIC]
     walked = path_length(poses)
     last = float(poses["time_s"].iloc[-1])

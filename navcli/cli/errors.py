@@ -8,7 +8,7 @@ code  meaning
       some runs of a batch raised one (the rest are kept), or a plugin failed (said as that
       plugin's, with its name: :class:`~navcli.plugins.PluginError`)
 2     bad input: a :class:`~navcli.NavcliError` (a refused scenario, plan, model, log, option or
-      output path), or a Dask scheduler that cannot be reached
+      output path), or a Dask scheduler that cannot be reached, or an optional extra not installed
 3     ``run``: the mission ended without reaching its target (timeout, blocked)
 130   interrupted by Ctrl-C; 143: stopped by SIGTERM (the shell's convention, 128 + the signal)
 141   the reader of the output went away (``navcli params | head``), as if killed by SIGPIPE

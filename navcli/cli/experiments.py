@@ -88,12 +88,12 @@ def compare_pilots(
     from ..experiments.compare import plan, run_on
     from ..outputs import check_file
 
-    out_folder(out, REPORT_FILES)
+    out_folder(out, REPORT_FILES, force=True)  # resumed: its table is remade from every planned run
     work = plan(specs, names, reruns, out)
     with about("--out"):
         for j in work:  # a file at a log's path is a log of navcli's (resumed or rerun), never a user's
             if Path(j.log).exists() or Path(j.log).is_symlink():
-                check_file(Path(j.log), (".mcap",), "log")
+                check_file(Path(j.log), (".mcap",), "log", overwrite=True)  # kept if complete
     t0 = time.perf_counter()
     failed: list = []
     ran = 0
@@ -170,7 +170,7 @@ def compare_policies(
         chosen = [parse_policy(n) for n in names]
     from ..training.comparison import TABLE_FILES
 
-    out_folder(out, TABLE_FILES)
+    out_folder(out, TABLE_FILES, force=True)  # resumed: the table is remade from every run
     out_folder(out / "runs")
     (out / "runs").mkdir(parents=True, exist_ok=True)
     work = plan(spec, chosen, runs, starts, out)
@@ -225,7 +225,9 @@ def sweep(
 
     p = load_plan(plan)
     out = out_folder(
-        out or Path("logs") / "sweep" / plan.stem, ("results.parquet",) + (("results.csv",) if csv else ())
+        out or Path("logs") / "sweep" / plan.stem,
+        ("results.parquet",) + (("results.csv",) if csv else ()),
+        force=True,  # resumed: the runs already in the table are kept
     )
     runs = plan_runs(p, None if no_logs else out)
     table = out / "results.parquet"
@@ -332,12 +334,13 @@ def tune(
     require_extra("deap" if algorithm == "ga" else "optuna", "navcli tune")
     from ..experiments.tune import RESULT_FILES
 
-    out_folder(out, RESULT_FILES)
+    out_folder(out, RESULT_FILES, force=True)  # resumed: remade from the study's every trial
     storage = out_file(
         storage or out / ("ga.json" if algorithm == "ga" else "study.journal"),
         (".json",) if algorithm == "ga" else (".journal", ".log"),
         "study file",
         "--storage",
+        force=True,  # an existing study is resumed, not replaced
     )
     count = 0
 
@@ -432,7 +435,7 @@ def reproduce(
         for name in extra:
             if find_pilot(name).builtin:
                 raise ConfigError(f"{name} is one of the paper's two pilots, which reproduce runs anyway")
-    out_folder(out, ("report.md", "report.html"))
+    out_folder(out, ("report.md", "report.html"), force=True)  # resumed: remade from all it holds
     t0 = time.perf_counter()
     settings = QUICK if quick else FULL
     if train_seeds is not None:
