@@ -77,7 +77,12 @@ def policies(report: Report, s: Any, out: Path, ex, verdict, scenario, condition
     results = run_all([j for js in jobs.values() for j in js], ex)
     for room, (spec, names) in rooms.items():
         where, keys = out / room, {j.key for j in jobs[room]}
-        trials = trials_frame([r for r in results if r.trials is not None and r.job.key in keys])
+        mine = [r for r in results if r.job.key in keys]
+        failed = _failed(room, mine)
+        report.errored(
+            [f"Learning paper, Table 1: {line}" for line in failed.values()], sum(r.trials is None for r in mine)
+        )
+        trials = trials_frame([r for r in mine if r.trials is not None])
         write_csv(where / "trials.csv", trials)
         table = policy_table(trials).set_index("policy")
         trained = "the room it was trained on" if room == TRAINING_ROOM else "a room training never saw"
@@ -93,19 +98,23 @@ def policies(report: Report, s: Any, out: Path, ex, verdict, scenario, condition
                 if room == TRAINING_ROOM
                 else "The paper has no numbers for this room; "
             )
-            + f"every trial: {where / 'trials.csv'}"
+            + f"every trial: {where / 'trials.csv'}. Successes' intervals count a start's trials that repeat "
+            "identically over the runs once; a policy with runs that ended in error gets no verdict."
         )
         rows = []
         for policy in names:
             if policy not in table.index:  # every run of it failed: said, not hidden
-                rows.append([policy, "-", "-", "no trial finished (see the runs' errors)", ""])
+                rows.append([policy, "-", "-", "no trial finished (see the runs' errors)", "no verdict"])
                 continue
+            bad = sum(r.trials is None for r in mine if r.job.policy.label == policy)
             paper_row = PAPER_POLICIES.get(policy, {}) if room == TRAINING_ROOM else {}
             for metric in ("successes", "reward", "actions", *ACTIONS):
                 if policy == "agents" and metric not in ("successes",):
                     continue  # the bidding agents choose no actions
                 scale = PAPER_STARTS / s.policy_starts if metric == "successes" else 1.0
                 m, lo, hi = (table.loc[policy, k] * scale for k in (metric, f"{metric}_lo", f"{metric}_hi"))
+                if metric == "successes":  # the rate's interval over the distinct trials
+                    lo, hi = (PAPER_STARTS * x for x in _distinct_rate(trials[trials["policy"] == policy]))
                 paper = paper_row.get(metric, math.nan)
                 if math.isnan(paper):  # no number in the paper: no verdict
                     rows.append([policy, metric, "-", interval_text(m, lo, hi), ""])
@@ -124,13 +133,37 @@ def policies(report: Report, s: Any, out: Path, ex, verdict, scenario, condition
                         metric,
                         shown,
                         interval_text(m, lo, hi),
-                        verdict((lo, hi), (p_lo, p_hi), s.policy_starts, "starts"),
+                        verdict((lo, hi), (p_lo, p_hi), s.policy_starts, "starts", errored=bad),
                     ]
                 )
         report.table(["policy", "quantity", "the paper", "navcli [95 % CI]", "agreement"], rows)
-        report.notes(notes(table.reset_index(), room))
+        report.notes(notes(table.reset_index(), room) + list(failed.values()))
         report.text(endings(trials))
         conditions(report, where, [spec])
+
+
+TRIAL_IDENTITY = ("start", "outcome", "success", "actions", "reward", *ACTIONS, "time_s")
+"""What makes two trials of a policy the same result: a start's trial repeated alike in every
+number over the runs counts once in a verdict (the runs change only the missions' seeds)."""
+
+
+def _distinct_rate(trials) -> tuple[float, float]:
+    """The Wilson 95 % interval of a policy's success rate over its distinct trials (:data:`TRIAL_IDENTITY`)."""
+    d = trials[~trials[list(TRIAL_IDENTITY)].astype(str).duplicated()]
+    return wilson_interval(int(d["success"].sum()), len(d))
+
+
+def _failed(room: str, results: list) -> dict[str, str]:
+    """Per policy whose runs on ``room`` raised: how many of its runs, and why."""
+    from ..analysis.tables import why
+
+    out = {}
+    for policy in dict.fromkeys(r.job.policy.label for r in results):
+        runs = [r for r in results if r.job.policy.label == policy]
+        bad = [r.error for r in runs if r.trials is None]
+        if bad:
+            out[policy] = f"{room}, {policy}: {len(bad)} of {len(runs)} runs ended in error: {why(bad)}"
+    return out
 
 
 def endings(trials) -> str:
