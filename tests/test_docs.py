@@ -177,3 +177,20 @@ def test_the_readmes_results_and_the_results_page_are_made_from_the_checked_in_r
     assert (DOCS / "results" / "index.md").read_text(encoding="utf-8") == page
     readme = (ROOT / "README.md").read_text(encoding="utf-8")
     assert make_results.between_markers(readme) == table
+
+
+def test_the_results_page_is_not_older_than_the_code_it_reports():
+    """The page's report must be of a commit no later commit changes ``navcli/`` after (but its
+    documentation files), made from committed sources; `python docs/make_results.py --check` says
+    why not and the command that remakes it."""
+    from navcli.experiments.provenance import checkout
+
+    if not checkout(ROOT):
+        pytest.skip("not a git checkout: the report's commit cannot be checked")
+    sys.path.insert(0, str(DOCS))
+    try:
+        import make_results
+    finally:
+        sys.path.remove(str(DOCS))
+    problems = make_results.check()
+    assert not problems, "docs/results is stale:\n" + "\n".join(problems)

@@ -313,7 +313,8 @@ def improvements(runs: pd.DataFrame, baseline: str, once: bool = False) -> pd.Da
             other = g[(g["pilot"] == pilot) & g["reached"]].set_index("seed")
             seeds = base.index.intersection(other.index).sort_values()  # sorted: the bootstrap's draws follow it
             if once:
-                both = base.loc[seeds, list(IDENTITY)].join(other.loc[seeds, list(IDENTITY)], rsuffix="_pilot")
+                cols = list(IDENTITY)
+                both = pd.concat([base.loc[seeds, cols].add_prefix("base."), other.loc[seeds, cols]], axis=1)
                 seeds = seeds[~both.astype(str).duplicated().to_numpy()]
             for metric in METRICS:
                 b = base.loc[seeds, metric].to_numpy(float)

@@ -29,13 +29,15 @@ SOURCES = ("navcli",) + tuple(f":(exclude,glob)navcli/**/{pattern}" for pattern 
 UNKNOWN = "unknown"
 
 
-def git(root: Path, *args: str) -> str | None:
-    """``git -C root ARGS``' output, stripped; None when git, the checkout or the object is missing."""
+def git(root: Path, *args: str, strip: bool = True) -> str | None:
+    """``git -C root ARGS``' output (stripped); None when git, the checkout or the object is missing."""
     try:
         r = subprocess.run(["git", "-C", str(root), *args], capture_output=True, text=True, timeout=60)
     except OSError:
         return None
-    return r.stdout.strip() if r.returncode == 0 else None
+    if r.returncode != 0:
+        return None
+    return r.stdout.strip() if strip else r.stdout
 
 
 def checkout(root: Path = ROOT) -> bool:
@@ -74,7 +76,9 @@ def record(command: Sequence[str] | None, root: Path = ROOT) -> dict[str, Any]:
     here = checkout(root)
     commit = (git(root, "rev-parse", "HEAD") if here else None) or UNKNOWN
     tracked = git(root, "status", "--porcelain", "--untracked-files=no") if here else None
-    sources = git(root, "status", "--porcelain", "--untracked-files=normal", "--", *SOURCES) if here else None
+    sources = (
+        git(root, "status", "--porcelain", "--untracked-files=normal", "--", *SOURCES, strip=False) if here else None
+    )
     return {
         "command": list(command) if command is not None else None,
         "navcli_version": __version__,
