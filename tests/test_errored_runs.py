@@ -263,12 +263,12 @@ def test_reproduce_exits_4_when_its_report_counts_errored_runs(errored, code, mo
 def test_a_policy_whose_runs_errored_is_counted_and_not_judged():
     from types import SimpleNamespace as NS
 
-    from navcli.experiments.learning_paper import _failed
+    from navcli.training.comparison import failures
 
     def result(policy: str, error: str | None):
         return NS(job=NS(policy=NS(label=policy)), trials=None if error else [{}], error=error or "")
 
-    failed = _failed("room", [result("learned", None), result("learned", "KeyError: x"), result("random", None)])
+    failed = failures([result("learned", None), result("learned", "KeyError: x"), result("random", None)], "room")
     assert failed == {"learned": "room, learned: 1 of 2 runs ended in error: KeyError: x (1 run)"}
 
 
@@ -281,3 +281,33 @@ def test_every_batch_commands_help_states_the_exit_code():
 def _table(md: str) -> list[list[str]]:
     lines = [ln for ln in md.splitlines() if ln.startswith("| ") and not ln.startswith("| ---")]
     return [[c.strip() for c in ln.strip("|").split("|")] for ln in lines[1:]]
+
+
+def test_a_policys_successes_count_a_starts_identical_trials_once():
+    from navcli.analysis.stats import wilson_interval
+    from navcli.experiments.learning_paper import TRIAL_IDENTITY, _distinct_rate
+
+    trial = {k: 0 for k in TRIAL_IDENTITY} | {"outcome": "reached", "success": True}
+    same = [trial | {"start": s, "run": r} for r in range(2) for s in range(3)]  # 2 runs alike: 3 trials
+    assert _distinct_rate(pd.DataFrame(same)) == wilson_interval(3, 3)
+    differ = [t | {"reward": t["run"]} for t in same]  # the runs differ: 6 trials
+    assert _distinct_rate(pd.DataFrame(differ)) == wilson_interval(6, 6)
+
+
+def test_compare_policies_exits_4_and_its_table_says_which_runs_errored_and_why(tmp_path, monkeypatch):
+    from navcli.training import comparison
+
+    real = comparison.run_trials
+
+    def run_trials(job):
+        if job.run == 1:
+            raise KeyError("deliberate")
+        return real(job)
+
+    monkeypatch.setattr(comparison, "run_trials", run_trials)
+    args = ["compare", "policies", "landmarks-12", "--policy", "random", "--runs", "2", "--starts", "2"]
+    r = CliRunner().invoke(app, [*args, "--jobs", "1", "--out", str(tmp_path / "p")])
+    assert r.exit_code == EXIT_RUNS_ERRORED, r.output
+    assert "1 of 2 runs ended in error" in r.output
+    md = (tmp_path / "p" / "policies.md").read_text()
+    assert "- random: 1 of 2 runs ended in error: KeyError: 'deliberate' (1 run)" in md

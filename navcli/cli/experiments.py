@@ -193,7 +193,7 @@ def compare_policies(
     errors = [r for r in results if r.trials is None]
     for r in errors:
         say(f"  failed: {r.job.policy.label} run {r.job.run}: {r.error}")
-    files = write_table([r for r in results if r.trials is not None], out, spec.scenario.name)
+    files = write_table(results, out, spec.scenario.name)
     typer.echo("")
     typer.echo(without_mark(files["markdown"].read_text()))
     typer.echo(f"wrote {', '.join(str(p) for p in files.values())}")

@@ -60,7 +60,7 @@ def policies(report: Report, s: Any, out: Path, ex, verdict, scenario, condition
     """Table 1 on each room of ``s.policy_rooms`` (the report's ``verdict``, ``scenario`` loader and
     ``conditions`` writer are the caller's)."""
     from ..analysis.files import write_csv
-    from ..training.comparison import notes, parse_policy, plan, policy_table, run_all, trials_frame
+    from ..training.comparison import failures, notes, parse_policy, plan, policy_table, run_all, trials_frame
     from ..training.task import task_spec
 
     rooms = {
@@ -78,7 +78,7 @@ def policies(report: Report, s: Any, out: Path, ex, verdict, scenario, condition
     for room, (spec, names) in rooms.items():
         where, keys = out / room, {j.key for j in jobs[room]}
         mine = [r for r in results if r.job.key in keys]
-        failed = _failed(room, mine)
+        failed = failures(mine, room)
         report.errored(
             [f"Learning paper, Table 1: {line}" for line in failed.values()], sum(r.trials is None for r in mine)
         )
@@ -151,19 +151,6 @@ def _distinct_rate(trials) -> tuple[float, float]:
     """The Wilson 95 % interval of a policy's success rate over its distinct trials (:data:`TRIAL_IDENTITY`)."""
     d = trials[~trials[list(TRIAL_IDENTITY)].astype(str).duplicated()]
     return wilson_interval(int(d["success"].sum()), len(d))
-
-
-def _failed(room: str, results: list) -> dict[str, str]:
-    """Per policy whose runs on ``room`` raised: how many of its runs, and why."""
-    from ..analysis.tables import why
-
-    out = {}
-    for policy in dict.fromkeys(r.job.policy.label for r in results):
-        runs = [r for r in results if r.job.policy.label == policy]
-        bad = [r.error for r in runs if r.trials is None]
-        if bad:
-            out[policy] = f"{room}, {policy}: {len(bad)} of {len(runs)} runs ended in error: {why(bad)}"
-    return out
 
 
 def endings(trials) -> str:
