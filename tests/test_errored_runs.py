@@ -311,3 +311,31 @@ def test_compare_policies_exits_4_and_its_table_says_which_runs_errored_and_why(
     assert "1 of 2 runs ended in error" in r.output
     md = (tmp_path / "p" / "policies.md").read_text()
     assert "- random: 1 of 2 runs ended in error: KeyError: 'deliberate' (1 run)" in md
+
+
+def test_figure_3_draws_the_trainings_that_finished_and_counts_one_that_raised(tmp_path):
+    from concurrent.futures import Future
+
+    from navcli.experiments.executor import SerialExecutor
+    from navcli.experiments.learning_paper import figure3
+
+    curve = [{"trials": t, "successes": s, "reward": -10.0 * t} for t, s in ((10, 1), (20, 3))]
+    good, bad = Future(), Future()
+    good.set_result({"seed": 1, "curve": curve, "hand_coded": 2, "random": 0})
+    bad.set_exception(RuntimeError("deliberate"))
+    report = Report()
+    out = tmp_path / "figure3"
+    out.mkdir()
+    figure3(
+        report,
+        rp.QUICK,
+        out,
+        SerialExecutor(),
+        ([out / "m1.npz", out / "m2.npz"], {good: 0, bad: 1}),
+        rp._scenario,
+        rp._conditions,
+    )
+    md = report.markdown()
+    assert "1 of 2 trainings ended in error (seeds 2): RuntimeError: deliberate" in md
+    assert "1 trainings of" in md and "(seeds 1, in parallel" in md and (out / "figure3.png").exists()
+    assert report.error_count == 1
