@@ -18,7 +18,13 @@ count (successes of 99); the number itself where the paper gives nothing more. n
 stay in their quantity's range (:mod:`navcli.analysis.stats`: Wilson for rates, a bootstrap for
 means). Where the paper has no number there is no verdict; where navcli has fewer than
 :data:`~navcli.analysis.stats.MIN_SAMPLE` runs (pairs, starts), the verdict says it has too few to
-judge. ``--quick`` runs every section with few reruns (:data:`QUICK`) to check the machinery in
+judge. Identical reruns count once (:func:`navcli.analysis.tables.distinct_runs`: ground-truth
+runs repeat one run whatever the seed), in a verdict's interval and its count. A set that holds a
+run that ended in ``error`` gets no verdict (our choice: judging the rest would judge a set the
+errors chose); every table counts such runs as not reached, its notes say why, the top of the
+report lists them all, and ``source.json`` counts them (``navcli reproduce`` then exits 4).
+The report's first paragraph and ``source.json`` say where it comes from
+(:mod:`~navcli.experiments.provenance`: the command line, commit, build and libraries). ``--quick`` runs every section with few reruns (:data:`QUICK`) to check the machinery in
 minutes; its intervals are wide and the report says so at the top.
 """
 
@@ -99,7 +105,7 @@ def verdict(
     (low, high; a point when they are equal)? None when ``errored`` of the runs behind it ended in
     error: a set that lost runs to errors is not judged.
 
-    >>> verdict((250.1, 250.4), (297.3 - 81.9, 297.3 + 81.9), 45)  # deterministic runs, within the spread
+    >>> verdict((250.1, 250.4), (297.3 - 81.9, 297.3 + 81.9), 45)  # 45 distinct runs, within the spread
     'agrees'
     >>> verdict((140.0, 150.0), (215.4, 379.2), 45)
     "does not agree (the paper's is above)"
@@ -482,7 +488,8 @@ def reproduce(
         "navcli's 95 % interval of the same quantity meets the paper's own range of it: the mean ± 1 SD of "
         "its runs where it gives an SD, the 95 % interval its Table 1 gives a gain, the Wilson interval of a "
         "count, else the number itself. No verdict where the paper has no number; none either from fewer "
-        f"than {MIN_SAMPLE} runs (pairs, starts): too few to judge."
+        f"than {MIN_SAMPLE} runs (pairs, starts): too few to judge (identical reruns count as one), nor on a "
+        "set that holds a run that ended in error."
     )
     durations = []
     t_all, cpu_here, cpu_workers = time.perf_counter(), time.process_time(), _children_cpu()
