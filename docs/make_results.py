@@ -67,8 +67,9 @@ def command(source: dict) -> str:
     argv = source["command"]
     if argv is None:
         return "navcli.experiments.reproduce.reproduce (from Python)"
-    text = argv if isinstance(argv, str) else shlex.join(argv)  # a string: a report kept before argv was recorded
-    return text.replace(source["dir"], "DIR")
+    if isinstance(argv, str):  # a report kept before argv was recorded
+        return argv.replace(source["dir"], "DIR")
+    return shlex.join(a.replace(source["dir"], "DIR") for a in argv)
 
 
 def render() -> tuple[str, str]:

@@ -194,3 +194,26 @@ def test_the_results_page_is_not_older_than_the_code_it_reports():
         sys.path.remove(str(DOCS))
     problems = make_results.check()
     assert not problems, "docs/results is stale:\n" + "\n".join(problems)
+
+
+def test_the_page_names_the_recorded_command_with_its_folder_as_dir(tmp_path, monkeypatch):
+    sys.path.insert(0, str(DOCS))
+    try:
+        import make_results
+    finally:
+        sys.path.remove(str(DOCS))
+    import json
+
+    run = tmp_path / "run dir"  # a space: the command is quoted as a shell would need it
+    source = {
+        "command": ["navcli", "reproduce", "all", "--out", str(run), "--jobs", "2"],
+        "commit": "0123456789abcdef0123456789abcdef01234567",
+        "commit_date": "2026-12-06",
+        "dir": str(run),
+    }
+    monkeypatch.setattr(make_results, "KEPT", tmp_path)
+    (tmp_path / "source.json").write_text(json.dumps(source))
+    (tmp_path / "report.md").write_text(f"# navcli reproduce\n\nLogs: {run}/table1\n")
+    page, _ = make_results.render()
+    assert "Made by `navcli reproduce all --out DIR --jobs 2` at commit `0123456` (2026-12-06)" in page
+    assert "Logs: DIR/table1" in page
