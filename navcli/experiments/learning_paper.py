@@ -228,20 +228,40 @@ def figure3(report: Report, s: Any, out: Path, ex, started: tuple[list[Path], di
 
     spec = task_spec(scenario(TRAINING_ROOM))
     models, futures = started
-    metas: list[dict] = [{}] * len(models)
+    results: list[dict] = [{}] * len(models)
+    errors: dict[int, str] = {}
 
     def done(i: int, f) -> None:
-        metas[i] = f.result()
+        try:
+            results[i] = f.result()
+        except Exception as e:  # a training that raised: counted and said, the others drawn
+            errors[i + 1] = f"{type(e).__name__}: {e}"
 
     collect(futures, ex, done)
+    report.heading("Learning paper, Figure 3: learning curves of several trainings")
+    if errors:
+        from ..analysis.tables import why
+
+        line = (
+            f"{len(errors)} of {len(models)} trainings ended in error (seeds {', '.join(map(str, sorted(errors)))}): "
+        )
+        report.errored([f"Figure 3: {line}{why(list(errors.values()))}"], len(errors))
+        report.notes([line + why(list(errors.values()))])
+    metas = [m for m in results if m]
+    if not metas:
+        report.text("No training finished: no figure.")
+        return
     png = learning_curves(metas, out / "figure3.png")
     hand, rand = metas[0].get("hand_coded"), metas[0].get("random")
     passed = [m["seed"] for m in metas if hand is not None and any(p["successes"] > hand for p in m["curve"])]
     zero = [m["seed"] for m in metas if any(p["trials"] >= 500 and p["successes"] == 0 for p in m["curve"])]
     finals = [m["curve"][-1]["successes"] for m in metas]
-    report.heading("Learning paper, Figure 3: learning curves of several trainings")
+    seeds = [int(m["seed"]) for m in metas]
+    named = (
+        f"1-{len(seeds)}" if len(seeds) > 1 and seeds == list(range(1, len(seeds) + 1)) else ", ".join(map(str, seeds))
+    )
     report.text(
-        f"{len(metas)} trainings of {s.train_trials} trials on {TRAINING_ROOM} (seeds 1-{len(metas)}, in "
+        f"{len(metas)} trainings of {s.train_trials} trials on {TRAINING_ROOM} (seeds {named}, in "
         f"parallel workers), the greedy policy evaluated every {s.eval_every} trials on {s.eval_starts} "
         f"fixed starts. The paper: {PAPER_FIGURE3}. navcli: after {s.train_trials} trials "
         f"{min(finals)} to {max(finals)} of {s.eval_starts} (mean {sum(finals) / len(finals):.1f}); the "
@@ -253,7 +273,7 @@ def figure3(report: Report, s: Any, out: Path, ex, started: tuple[list[Path], di
         + "."
     )
     bundled = model_file.BUNDLED
-    if (s.train_trials, s.eval_every, s.eval_starts) == (2000, 100, 99) and bundled.exists():
+    if (s.train_trials, s.eval_every, s.eval_starts) == (2000, 100, 99) and bundled.exists() and 1 not in errors:
         same = all(
             a.read_bytes() == b.read_bytes()
             for a, b in ((models[0], bundled), (models[0].with_suffix(".json"), bundled.with_suffix(".json")))
