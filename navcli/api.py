@@ -199,29 +199,10 @@ def _jobs(jobs: int | None) -> int:
 def summary_row(spec: RunSpec) -> dict[str, Any]:
     """A run without a log (in a worker): its row, as :func:`navcli.analysis.tables.load_runs`
     makes one from a log (its configuration and summary; no poses)."""
-    from .analysis.logs import config_columns
+    from .analysis.tables import summary_row as row
     from .runner import run_mission
 
-    s = run_mission(spec, record=False).summary
-    return {
-        "run_id": spec.run_id,
-        "scenario": s["scenario"],
-        "pilot": s["pilot"],
-        "seed": s["seed"],
-        "scenario_sha256": spec.scenario.sha256,
-        "perception": spec.perception,
-        "time_limit_s": spec.time_limit,
-        "outcome": s["outcome"],
-        "reached": s["outcome"] == "reached",
-        "time_s": s["time_s"],
-        "path_m": s["path_length_m"],
-        "path_cm": 100.0 * s["path_length_m"],
-        "collisions": s["collisions"],
-        "camera_looks": s["camera_looks"],
-        "ticks": s["ticks"],
-        "diverting_targets": s["diverting_targets"],
-        "navigation": s["navigation"],
-    } | config_columns(spec.to_json())
+    return row(run_mission(spec, record=False).summary, spec.to_json(), spec.run_id)
 
 
 @api

@@ -59,9 +59,11 @@ JSON_KEYS = (
     {"key", "generation", "population"},
     {"key", "policy", "trials"},
     {"navcli_version", "configurations"},
+    {"navcli_version", "command", "commit"},
 )
 """The keys that mark a JSON file navcli writes: a layout (app, SDK), a model's metadata, tune's
-best values, the GA's checkpoint, a policy comparison's run, reproduce's conditions."""
+best values, the GA's checkpoint, a policy comparison's run, reproduce's conditions and its
+report's provenance (``source.json``)."""
 
 
 def navcli_wrote(path: Path) -> bool:
