@@ -1,5 +1,5 @@
 """What guarding a plugin's calls costs a control tick (navcli.plugins.boundary): the same plugin
-pilot (the potential-field pilot, subclassed as a plugin: its ``avoid`` and ``Info`` the paper's)
+pilot (its ``avoid`` the potential-field pilot's, with its ``/pilot`` fields)
 run as navcli runs a plugin, every call guarded and its result checked, against the bare class
 navcli would run without the boundary, alternated, over the same mission.
 
@@ -29,14 +29,19 @@ from navcli.plugins import boundary, registry  # noqa: E402
 from navcli.scenario import load_scenario  # noqa: E402
 
 PLUGIN = """
-from navcli.pilot import PotentialFieldPilot
+from navcli.pilot import Pilot, PotentialFieldPilot
 
 
-class Paper(PotentialFieldPilot):
+class Paper(Pilot):
     def __init__(self, params, robot, *, own_params=None, rng=None):
-        super().__init__(params, robot)
+        super().__init__(params, robot, own_params=own_params, rng=rng)
+        self.field = PotentialFieldPilot(params, robot)
+
+    def avoid(self, beliefs, obstacles, request):
+        return self.field.avoid(beliefs, obstacles, request)
 """
-"""The plugin: navcli's potential-field pilot, subclassed as a plugin pilot (made as navcli makes one)."""
+"""The plugin: a plugin pilot (a subclass of ``Pilot``, as the compiled build allows) whose ``avoid``
+is the paper's potential field's."""
 
 
 def ticks_us(spec: RunSpec, bare: bool) -> float:
@@ -46,7 +51,7 @@ def ticks_us(spec: RunSpec, bare: bool) -> float:
     if bare:
         c = registry.pilot(spec.pilot)
         p = spec.params
-        m.pilot = c.cls(p.pilot, p.robot, own_params=None, rng=None)
+        m.pilot = c.cls(p.pilot, p.robot)
     t0 = time.perf_counter()
     while m.outcome is None:
         m.step()

@@ -1,12 +1,16 @@
 """The results page (docs/results/index.md) and the README's table of what reproduces, made from a
 ``navcli reproduce`` report, never pasted.
 
-    python docs/make_results.py DIR --command "navcli reproduce --quick --out DIR"
+    python docs/make_results.py DIR
 
-copies ``DIR/report.md`` to ``docs/results/report/report.md`` with the command that made it and the
-commit checked out (``source.json``), then writes the page and the README's table from that copy.
-``python docs/make_results.py`` alone remakes them from the copy checked in; tests/test_docs.py
-checks that what is checked in is what this script makes.
+copies ``DIR/report.md`` and ``DIR/source.json`` (the report's provenance, as ``navcli reproduce``
+wrote it: its command line, commit, build and libraries) to ``docs/results/report/``, then writes
+the page and the README's table from that copy. ``python docs/make_results.py`` alone remakes them
+from the copy checked in; tests/test_docs.py checks that what is checked in is what this script
+makes. ``python docs/make_results.py --check`` exits 1, saying why and the command that remakes
+it, when the report checked in is older than the code it reports
+(:func:`navcli.experiments.provenance.stale`: a commit after the report's changes ``navcli/``
+outside its documentation files, or the report was made from uncommitted changes); a test runs it.
 """
 
 from __future__ import annotations
@@ -14,8 +18,9 @@ from __future__ import annotations
 import argparse
 import json
 import re
+import shlex
 import shutil
-import subprocess
+import sys
 from pathlib import Path
 
 DOCS = Path(__file__).resolve().parent
@@ -57,6 +62,16 @@ def summary_table(report: str) -> str:
     return "\n".join(lines) + "\n"
 
 
+def command(source: dict) -> str:
+    """The command that made the kept report, its folder written ``DIR``."""
+    argv = source["command"]
+    if argv is None:
+        return "navcli.experiments.reproduce.reproduce (from Python)"
+    if isinstance(argv, str):  # a report kept before argv was recorded
+        return argv.replace(source["dir"], "DIR")
+    return shlex.join(a.replace(source["dir"], "DIR") for a in argv)
+
+
 def render() -> tuple[str, str]:
     """(the results page, the README's table) from the report kept in docs/results/report/."""
     source = json.loads((KEPT / "source.json").read_text(encoding="utf-8"))
@@ -77,7 +92,8 @@ def render() -> tuple[str, str]:
                     if quick
                     else ""
                 )
-                + f"Made by `{source['command']}` at commit `{source['commit']}` ({source['date']}), and turned into this page "
+                + f"Made by `{command(source)}` at commit `{source['commit'][:7]}` "
+                f"({source.get('commit_date') or source['date']}), and turned into this page "
                 "by `python docs/make_results.py`; nothing here is typed by hand. How each experiment is built: "
                 "[reproducing both papers](../tutorials/reproducing.md).",
                 "",
@@ -106,24 +122,37 @@ def write() -> None:
     (ROOT / "README.md").write_text(readme, encoding="utf-8")
 
 
+def check() -> list[str]:
+    """Why the kept report no longer stands for the code checked out, with the command that remakes
+    it; empty when it stands."""
+    from navcli.experiments.provenance import stale
+
+    source = json.loads((KEPT / "source.json").read_text(encoding="utf-8"))
+    problems = stale(source, ROOT)
+    if problems:
+        problems.append(
+            f"remake it: {command(source)} && python docs/make_results.py DIR (DIR: a new folder; then commit "
+            "docs/results/ and README.md)"
+        )
+    return problems
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("dir", nargs="?", type=Path, help="a `navcli reproduce --out` folder to take the report from")
-    ap.add_argument("--command", help="the command that made it (stated on the page)")
+    ap.add_argument("--check", action="store_true", help="exit 1 when the kept report is older than its code")
     a = ap.parse_args()
+    if a.check:
+        problems = check()
+        for line in problems:
+            print(f"docs/results is stale: {line}", file=sys.stderr)
+        sys.exit(1 if problems else 0)
     if a.dir is not None:
-        if not a.command:
-            ap.error("--command: say which command made the report")
+        if not (a.dir / "source.json").is_file():
+            ap.error(f"{a.dir}: no source.json (a report of `navcli reproduce`, which records its provenance there)")
         KEPT.mkdir(parents=True, exist_ok=True)
         shutil.copyfile(a.dir / "report.md", KEPT / "report.md")
-        commit = subprocess.run(
-            ["git", "rev-parse", "--short", "HEAD"], cwd=ROOT, capture_output=True, text=True, check=True
-        ).stdout.strip()
-        date = subprocess.run(
-            ["git", "log", "-1", "--format=%cs"], cwd=ROOT, capture_output=True, text=True, check=True
-        ).stdout.strip()
-        source = {"command": a.command, "commit": commit, "date": date, "dir": str(a.dir.resolve())}
-        (KEPT / "source.json").write_text(json.dumps(source, indent=1) + "\n", encoding="utf-8")
+        shutil.copyfile(a.dir / "source.json", KEPT / "source.json")
     write()
 
 

@@ -34,6 +34,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Iterable, Mapping, Sequence
 
+from .checks.arguments import COMMON, MAX_JOBS, checked, either, instance, listing, names_to_values, path
 from .config import RunSpec
 from .log import format as fmt
 from .scenario import Scenario, load_scenario
@@ -45,7 +46,19 @@ if TYPE_CHECKING:
 
 __all__ = ["Run", "compare", "run", "spec", "sweep"]
 
+_SCENARIO = either(path, instance(Scenario, what=""), what="a scenario: its file or bundled name, or a Scenario")
+ARGUMENTS = COMMON | {
+    "scenario": either(
+        _SCENARIO, instance(RunSpec, what=""), what="a scenario (its file or bundled name, a Scenario) or a RunSpec"
+    ),
+    "scenarios": listing(_SCENARIO, "scenarios (files, bundled names or Scenarios)"),
+    "plan": either(path, names_to_values, what="a plan: its file, or the same as a dict"),
+}
+"""Every argument of the functions below, checked at each call (:mod:`navcli.checks.arguments`)."""
+api = checked(ARGUMENTS)
 
+
+@api
 def spec(
     scenario: str | Path | Scenario | RunSpec,
     *,
@@ -140,6 +153,7 @@ class Run:
         return self.frames[fmt.EVENTS_TOPIC]
 
 
+@api
 def run(
     scenario: str | Path | Scenario | RunSpec,
     *,
@@ -151,11 +165,14 @@ def run(
     params: Mapping[str, Any] | None = None,
     observers: Sequence[Observer] = (),
     log: str | Path | None = None,
+    overwrite: bool = False,
 ) -> Run:
     """Run one mission (see :func:`spec` for the choices) and return its :class:`Run`, its tables
     kept in memory. ``observers`` see every tick; one that returns ``False`` stops the run
-    (``interrupted``). ``log``: also write the MCAP log there (none by default). Ctrl-C stops the
-    run and is raised again, as an exception in a plugin is (its :class:`~navcli.plugins.PluginError`)."""
+    (``interrupted``). ``log``: also write the MCAP log there (none by default); an existing log
+    there is refused unless ``overwrite``, before the run. Ctrl-C stops the run and is raised again,
+    as an exception in a plugin is (its :class:`~navcli.plugins.PluginError`)."""
+    from .log.files import check_log_path
     from .log.frames import FrameRecorder
     from .runner import run_mission
 
@@ -168,46 +185,27 @@ def run(
         time_limit=time_limit,
         params=params,
     )
+    out = None if log is None else check_log_path(Path(log), overwrite=overwrite, ask="overwrite=True")
     frames = FrameRecorder()
     t0 = time.perf_counter()
-    res = run_mission(
-        s, out=Path(log) if log is not None else None, record=log is not None, observers=[frames, *observers]
-    )
+    res = run_mission(s, out=out, record=out is not None, observers=[frames, *observers], overwrite=overwrite)
     return Run(s, res.summary, frames.frames(), res.log, time.perf_counter() - t0)
 
 
 def _jobs(jobs: int | None) -> int:
-    return jobs or os.cpu_count() or 1
+    return jobs or min(os.cpu_count() or 1, MAX_JOBS)
 
 
 def summary_row(spec: RunSpec) -> dict[str, Any]:
     """A run without a log (in a worker): its row, as :func:`navcli.analysis.tables.load_runs`
     makes one from a log (its configuration and summary; no poses)."""
-    from .analysis.logs import config_columns
+    from .analysis.tables import summary_row as row
     from .runner import run_mission
 
-    s = run_mission(spec, record=False).summary
-    return {
-        "run_id": spec.run_id,
-        "scenario": s["scenario"],
-        "pilot": s["pilot"],
-        "seed": s["seed"],
-        "scenario_sha256": spec.scenario.sha256,
-        "perception": spec.perception,
-        "time_limit_s": spec.time_limit,
-        "outcome": s["outcome"],
-        "reached": s["outcome"] == "reached",
-        "time_s": s["time_s"],
-        "path_m": s["path_length_m"],
-        "path_cm": 100.0 * s["path_length_m"],
-        "collisions": s["collisions"],
-        "camera_looks": s["camera_looks"],
-        "ticks": s["ticks"],
-        "diverting_targets": s["diverting_targets"],
-        "navigation": s["navigation"],
-    } | config_columns(spec.to_json())
+    return row(run_mission(spec, record=False).summary, spec.to_json(), spec.run_id)
 
 
+@api
 def compare(
     scenarios: Sequence[str | Path | Scenario],
     pilots: Sequence[str] = ("potential-field", "geometric"),
@@ -245,6 +243,7 @@ def compare(
     return load_runs(paths=[j.log for j in work]).drop(columns=["xy"])
 
 
+@api
 def sweep(
     plan: str | Path | Mapping[str, Any], *, jobs: int | None = None, out: str | Path | None = None
 ) -> pd.DataFrame:

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import NamedTuple
+from typing import Callable, NamedTuple
 
 ALPHAS = (0.0, 0.3, 0.7, 1.0)
 """The membership levels whose cuts are kept: the support, the two levels of the papers' features, the core."""
@@ -134,7 +134,7 @@ class Fuzzy:
         return lo <= x <= hi
 
     # -- arithmetic, level by level
-    def _zip(self, other: Fuzzy, f) -> Fuzzy:
+    def _zip(self, other: Fuzzy, f: Callable[[Interval, Interval], Interval]) -> Fuzzy:
         return Fuzzy(tuple(f(a, b) for a, b in zip(self.cuts, other.cuts)))
 
     def __add__(self, other: Fuzzy | float) -> Fuzzy:

@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -33,6 +34,9 @@ from .vision.camera import Detection
 from .vision.perception import make_perception
 from .vision.visual_memory import Remembered
 from .world import World
+
+if TYPE_CHECKING:
+    from .learning.learning_agent import LearningAgent
 
 OUTCOMES = ("reached", "timeout", "blocked", "interrupted", "error")
 COMPONENTS = ("odometry", "camera", "rescuer", "plugins")
@@ -91,7 +95,7 @@ class Tick:
 class Mission:
     """A scenario being run with one configuration."""
 
-    def __init__(self, spec: RunSpec, policy_agent=None, snapshots: bool = True):
+    def __init__(self, spec: RunSpec, policy_agent: LearningAgent | None = None, snapshots: bool = True):
         """``policy_agent`` replaces the agent of ``spec.navigation`` (a trainer's Learning Agent).
         ``snapshots=False`` leaves out the visual memory and map snapshots that only a log draws
         (``Tick.memory``/``Tick.map`` stay None): runs without a log skip the map's triangulations."""
@@ -235,13 +239,13 @@ class Mission:
 
     def _record(
         self,
-        command,
-        bids,
+        command: tuple[float, float],
+        bids: tuple[Bid, ...],
         nav: NavigationOutput,
-        winners,
+        winners: dict[Resource, Bid | None],
         pilot_out: PilotOutput,
         bumps: list[Bump],
-        detections,
+        detections: list[Detection] | None,
         beliefs: Beliefs,
     ) -> Tick:
         world = self.world
@@ -339,7 +343,7 @@ class Mission:
         if say:
             self._pending.append(Event(self.world.time, "mission", "warning", reason))
 
-    def summary(self) -> dict:
+    def summary(self) -> dict[str, Any]:
         """The ``/mission/summary`` record (the log format in the README)."""
         w = self.world
         learning = {"learning": self.policy_agent.info()} if self.policy_agent is not None else {}

@@ -12,6 +12,11 @@ sentence, an output that
   ``--out``): a file is replaced only by a newer one of its own kind, recognised by its content
   (:func:`navcli_wrote`), never one the command could not have written; the same holds for every
   file a command writes into a folder (:func:`check_folder`);
+* exists at all, unless the user asked for it to be replaced (:data:`FORCE`: ``--force`` on the
+  command line, ``overwrite=True`` from Python): a finished log, figure or table is never lost
+  to a second command that happens to name it (:class:`OutputExists`). The commands that resume
+  (``compare``, ``sweep``, ``tune``, ``reproduce``) keep what their folder holds instead, and remake
+  their tables from all of it;
 * lies in a folder that cannot be made or written (its nearest existing ancestor must be a
   folder this process may write into).
 
@@ -54,9 +59,11 @@ JSON_KEYS = (
     {"key", "generation", "population"},
     {"key", "policy", "trials"},
     {"navcli_version", "configurations"},
+    {"navcli_version", "command", "commit"},
 )
 """The keys that mark a JSON file navcli writes: a layout (app, SDK), a model's metadata, tune's
-best values, the GA's checkpoint, a policy comparison's run, reproduce's conditions."""
+best values, the GA's checkpoint, a policy comparison's run, reproduce's conditions and its
+report's provenance (``source.json``)."""
 
 
 def navcli_wrote(path: Path) -> bool:
@@ -114,6 +121,20 @@ class OutputError(NavcliError):
     """An output path a command must not write; the message says why, naming the path."""
 
 
+FORCE = "--force"
+"""How the command line asks for an existing output to be replaced; the Python API's is
+``overwrite=True`` (each check takes the words of its caller, ``ask``)."""
+
+
+class OutputExists(OutputError):
+    """An output file that exists and was not asked to be replaced; the message says how to ask."""
+
+
+def refuse_existing(path: Path, what: str, ask: str = FORCE) -> OutputExists:
+    """The refusal of an existing output ``path`` (a ``what``), naming ``ask``: for ``raise``."""
+    return OutputExists(f"{path}: exists; a {what} is not replaced unless asked ({ask} replaces it)")
+
+
 def _writable_folder(folder: Path, shown: Path) -> None:
     """Refuse unless ``folder`` is, or could be made as, a folder this process can write into."""
     probe = folder
@@ -129,9 +150,12 @@ def _writable_folder(folder: Path, shown: Path) -> None:
         raise OutputError(f"{shown}: the folder {probe} cannot be written")
 
 
-def check_file(path: Path, suffixes: tuple[str, ...], what: str = "file") -> Path:
+def check_file(
+    path: Path, suffixes: tuple[str, ...], what: str = "file", *, overwrite: bool = False, ask: str = FORCE
+) -> Path:
     """``path`` if a command may write the ``what`` (a file named ``*<suffix>``, one of
-    ``suffixes``) there, else :class:`OutputError` saying why. Nothing is created."""
+    ``suffixes``) there, else :class:`OutputError` saying why. An existing file is refused
+    (:class:`OutputExists`, naming ``ask``) unless ``overwrite``. Nothing is created."""
     path = Path(path)
     text = str(path)
     if text.endswith(os.sep) or (path.exists() and path.is_dir()):
@@ -154,16 +178,19 @@ def check_file(path: Path, suffixes: tuple[str, ...], what: str = "file") -> Pat
                 f"{path}: exists and is not a {path.suffix.lower()} file navcli writes; "
                 f"it is not replaced (choose another name)"
             )
+        if not overwrite:
+            raise refuse_existing(path, what, ask)
         if not os.access(path, os.W_OK):
             raise OutputError(f"{path}: cannot be replaced (no permission)")
     _writable_folder(path.parent, path)
     return path
 
 
-def check_folder(path: Path, files: tuple[str, ...] = ()) -> Path:
+def check_folder(path: Path, files: tuple[str, ...] = (), *, overwrite: bool = False, ask: str = FORCE) -> Path:
     """``path`` if a command may write its files into this folder (existing or to be made), else
     :class:`OutputError`. ``files``: the names (glob patterns) the command writes there; each that
-    exists must be a file navcli wrote (:func:`check_file`). Nothing is created."""
+    exists must be a file navcli wrote, and is refused unless ``overwrite`` (:func:`check_file`).
+    Nothing is created."""
     path = Path(path)
     if path.exists() and not path.is_dir():
         raise OutputError(f"{path}: is a file; give a folder")
@@ -171,7 +198,7 @@ def check_folder(path: Path, files: tuple[str, ...] = ()) -> Path:
     if path.is_dir():
         for pattern in files:
             for f in sorted(path.glob(pattern)):
-                check_file(f, (f.suffix.lower(),), f"{f.suffix.lower()[1:]} file")
+                check_file(f, (f.suffix.lower(),), f"{f.suffix.lower()[1:]} file", overwrite=overwrite, ask=ask)
     return path
 
 

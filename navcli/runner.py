@@ -12,6 +12,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Callable, Sequence
 
+from .checks.arguments import COMMON, checked, flag, function, instance, optional, whole
 from .config import RunSpec
 from .signals import Terminated, deferred
 from .mission import Event, Mission, Tick
@@ -32,7 +33,9 @@ class RunResult:
         return self.summary["time_s"] / self.wall_s if self.wall_s > 0 else float("inf")
 
 
-def open_log(spec: RunSpec, mission: Mission, path: Path, *, live: bool = False, port: int = 8765):
+def open_log(
+    spec: RunSpec, mission: Mission, path: Path, *, live: bool = False, port: int = 8765, overwrite: bool = False
+):
     """The log of ``mission`` at ``path``, begun: the configuration, the first pose and the events of
     the start. The scenario's own file is protected from being overwritten by it. (foxglove is
     imported here, only when a log is written.)"""
@@ -41,7 +44,12 @@ def open_log(spec: RunSpec, mission: Mission, path: Path, *, live: bool = False,
     from .plugins import pilot
 
     recorder = Recorder(
-        path, live=live, port=port, protect=(spec.scenario.source,), pilot_message=pilot(spec.pilot).pilot_message()
+        path,
+        live=live,
+        port=port,
+        protect=(spec.scenario.source,),
+        pilot_message=pilot(spec.pilot).pilot_message(),
+        overwrite=overwrite,
     )
     try:
         w = mission.world
@@ -133,6 +141,19 @@ class Pacer:
             time.sleep(lag)
 
 
+ARGUMENTS = COMMON | {
+    "spec": instance(RunSpec, what="a RunSpec (navcli.spec builds one from a scenario)"),
+    "record": flag,
+    "live": flag,
+    "keep_serving": flag,
+    "port": whole(0, 65535, "a port"),
+    "on_tick": optional(function),
+    "on_open": optional(function),
+}
+"""The arguments of :func:`run_mission`, checked at each call (:mod:`navcli.checks.arguments`)."""
+
+
+@checked(ARGUMENTS)
 def run_mission(
     spec: RunSpec,
     *,
@@ -144,6 +165,7 @@ def run_mission(
     on_open: Callable[[Recorder], None] | None = None,
     keep_serving: bool = False,
     observers: Sequence[Observer] = (),
+    overwrite: bool = False,
 ) -> RunResult:
     """Run the configuration ``spec`` to its end and return its summary.
 
@@ -158,12 +180,13 @@ def run_mission(
     for its viewers, until the caller's ``recorder.stop_serving()``. A ``KeyboardInterrupt`` ends the run as ``interrupted`` (:class:`Terminated`: by
     SIGTERM) and is re-raised after the log is closed; any other exception ends it as ``error``
     and is re-raised likewise. A log path that cannot be written raises
-    :class:`~navcli.log.writer.LogPathError` before the mission starts.
+    :class:`~navcli.log.writer.LogPathError` before the mission starts, and so does an existing
+    log there unless ``overwrite``.
     """
     path = (out or spec.default_log_path()) if record or live else None
     mission = Mission(spec, snapshots=path is not None)
     _tell(observers, "begin", mission)
-    recorder = open_log(spec, mission, path, live=live, port=port) if path is not None else None
+    recorder = open_log(spec, mission, path, live=live, port=port, overwrite=overwrite) if path is not None else None
     told: list[Observer] = [recording(recorder)] if recorder else []
     told += ([on_tick] if on_tick else []) + list(observers)
     t0 = time.perf_counter()

@@ -157,7 +157,7 @@ class World:
         self.space.add(shape)
         self._names[shape] = name
 
-    def _drive(self, body: pymunk.Body, gravity, damping, dt) -> None:
+    def _drive(self, body: pymunk.Body, gravity: pymunk.Vec2d, damping: float, dt: float) -> None:
         """The wheels' velocity servo, called by pymunk before it solves the contacts."""
         cp = self._cp_body
         a = chipmunk.cpBodyGetAngle(cp)  # body.angle, .velocity, .angular_velocity without pymunk's wrappers
@@ -236,7 +236,7 @@ class World:
         a, b = arbiter.shapes
         return (b, 0) if a.body is self.body else (a, 1)
 
-    def _begin(self, arbiter: pymunk.Arbiter, space: pymunk.Space, data) -> None:
+    def _begin(self, arbiter: pymunk.Arbiter, space: pymunk.Space, data: object) -> None:
         """A contact starts (inside the step, after pymunk moved the body): a bump, unless the same
         thing was let go of less than BUMP_REARM ago."""
         other, mine = self._other(arbiter)
@@ -254,7 +254,7 @@ class World:
         self.bumps += 1
         self._bumps.append(Bump(now, self._names[other], (q.x, q.y), bearing))
 
-    def _separate(self, arbiter: pymunk.Arbiter, space: pymunk.Space, data) -> None:
+    def _separate(self, arbiter: pymunk.Arbiter, space: pymunk.Space, data: object) -> None:
         """A contact ended during this step: the thing was last touched at the end of the step before."""
         other, _ = self._other(arbiter)
         self._contacts.discard(other)

@@ -126,7 +126,9 @@ def test_a_killed_runs_partial_is_kept_aside_and_a_locked_log_refused(tmp_path):
         Recorder(out)
     rec.finish(summary, 0)
     assert not (tmp_path / "run.mcap.lock").exists()
-    Recorder(out).finish(summary, 0)  # free again
+    with pytest.raises(LogPathError, match="--force replaces it"):  # free, but finished: never replaced unasked
+        Recorder(out)
+    Recorder(out, overwrite=True).finish(summary, 0)
 
 
 @pytest.mark.parametrize(

@@ -177,3 +177,43 @@ def test_the_readmes_results_and_the_results_page_are_made_from_the_checked_in_r
     assert (DOCS / "results" / "index.md").read_text(encoding="utf-8") == page
     readme = (ROOT / "README.md").read_text(encoding="utf-8")
     assert make_results.between_markers(readme) == table
+
+
+def test_the_results_page_is_not_older_than_the_code_it_reports():
+    """The page's report must be of a commit no later commit changes ``navcli/`` after (but its
+    documentation files), made from committed sources; `python docs/make_results.py --check` says
+    why not and the command that remakes it."""
+    from navcli.experiments.provenance import checkout
+
+    if not checkout(ROOT):
+        pytest.skip("not a git checkout: the report's commit cannot be checked")
+    sys.path.insert(0, str(DOCS))
+    try:
+        import make_results
+    finally:
+        sys.path.remove(str(DOCS))
+    problems = make_results.check()
+    assert not problems, "docs/results is stale:\n" + "\n".join(problems)
+
+
+def test_the_page_names_the_recorded_command_with_its_folder_as_dir(tmp_path, monkeypatch):
+    sys.path.insert(0, str(DOCS))
+    try:
+        import make_results
+    finally:
+        sys.path.remove(str(DOCS))
+    import json
+
+    run = tmp_path / "run dir"  # a space: the command is quoted as a shell would need it
+    source = {
+        "command": ["navcli", "reproduce", "all", "--out", str(run), "--jobs", "2"],
+        "commit": "0123456789abcdef0123456789abcdef01234567",
+        "commit_date": "2026-12-06",
+        "dir": str(run),
+    }
+    monkeypatch.setattr(make_results, "KEPT", tmp_path)
+    (tmp_path / "source.json").write_text(json.dumps(source))
+    (tmp_path / "report.md").write_text(f"# navcli reproduce\n\nLogs: {run}/table1\n")
+    page, _ = make_results.render()
+    assert "Made by `navcli reproduce all --out DIR --jobs 2` at commit `0123456` (2026-12-06)" in page
+    assert "Logs: DIR/table1" in page

@@ -16,6 +16,8 @@ import time
 
 import jsonschema
 import pytest
+
+import navcli
 from typer.testing import CliRunner
 
 from navcli.analysis.logs import read_log
@@ -123,6 +125,11 @@ def _run_cli(*args):
     return CliRunner().invoke(app, ["run", "open-arena", "--seed", "1", "--time-limit", "3", *args])
 
 
+COMPILED = {"TextBid": ("raised: TypeError: float object expected; got str", "return Avoidance(Move(0.0, 0.2), '0.5'")}
+"""What the compiled build says instead (its Avoidance checks its fields' types when it is made: in the
+plugin's own line), where the pure build's boundary finds the fault in what avoid returned."""
+
+
 @pytest.mark.parametrize(
     "cls, words, at",
     [
@@ -137,6 +144,8 @@ def _run_cli(*args):
 )
 def test_a_wrong_return_or_call_is_the_plugins_fault_at_its_method(plugin, cls, words, at):
     folder, source = plugin
+    if cls in COMPILED and navcli.BUILD == "compiled":  # mypyc's Avoidance refuses it where it is made
+        words, at = COMPILED[cls]
     r = _run_cli("--pilot", f"faulty.py:{cls}", "--out", "x.mcap")
     assert r.exit_code == 1, r.output
     line = r.output.strip().splitlines()[-1]

@@ -97,7 +97,7 @@ def test_unknown_baseline_unreadable_log_and_one_pilot_are_said(three_pairs, tmp
     assert "none of these runs' (potential-field)" in r.output
     r = report(tmp_path / "runs", "--out", tmp_path / "rep", "--baseline", "geometric")
     assert r.exit_code == 0, r.output
-    assert f"skipped {tmp_path / 'runs' / 'broken.mcap'}: not a readable MCAP log" in r.output
+    assert f"skipped {tmp_path / 'runs' / 'broken.mcap'}: not an MCAP file" in r.output
     assert "baseline 'geometric' is not among the pilots of these runs (potential-field)" in r.output
 
 

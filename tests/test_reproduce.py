@@ -4,6 +4,7 @@ records it names (recomputed here from the logs' summaries, not from navcli's ta
 from __future__ import annotations
 
 import csv
+import json
 import re
 import statistics
 from dataclasses import replace
@@ -16,7 +17,7 @@ from conftest import ROOT
 from navcli.analysis import read_log
 from navcli.analysis.files import MARK
 from navcli.cli import app
-from navcli.experiments.reproduce import FULL, QUICK, reproduce
+from navcli.experiments.reproduce import FULL, QUICK, REPORT_FILES, reproduce
 from navcli.learning.actions import ACTIONS
 
 TINY = replace(
@@ -61,7 +62,13 @@ def _rows(md: str, heading: str) -> list[list[str]]:
 
 
 def _mean(cell: str) -> float:
-    return float(cell.split(" [")[0])
+    return float(cell.split(" ")[0])
+
+
+def _identity(summary: dict) -> tuple:
+    """What makes two runs' results the same: every number of their summaries."""
+    keys = ("outcome", "time_s", "path_length_m", "collisions", "camera_looks", "ticks", "diverting_targets")
+    return tuple(summary[k] for k in keys)
 
 
 def test_the_pilots_table_is_the_mean_of_the_logs_it_names(done):
@@ -75,14 +82,14 @@ def test_the_pilots_table_is_the_mean_of_the_logs_it_names(done):
         summaries = [read_log(p, topics=[]).summary for p in logs]
         for pilot in PILOTS:
             mine = [s for s in summaries if s["pilot"] == pilot]
-            reached = [s for s in mine if s["outcome"] == "reached"]
+            reached = list({_identity(s): s for s in mine if s["outcome"] == "reached"}.values())  # identical: once
             time_row = next(r for r in rows if r[:3] == [perception, pilot, "time_s"])
             path_row = next(r for r in rows if r[:3] == [perception, pilot, "path_cm"])
             assert _mean(time_row[4]) == pytest.approx(statistics.mean(s["time_s"] for s in reached), abs=0.05 + 1e-9)
             assert _mean(path_row[4]) == pytest.approx(
                 statistics.mean(100 * s["path_length_m"] for s in reached), abs=0.05 + 1e-9
             )
-            assert time_row[5] == f"{len(reached)}/{len(mine)}"
+            assert time_row[5] == f"{sum(s['outcome'] == 'reached' for s in mine)}/{len(mine)}"
 
 
 def test_the_trap_table_counts_the_logs_outcomes_and_diverting_targets(done):
@@ -159,10 +166,11 @@ def test_train_seeds_sets_figure_3s_trainings_and_nothing_else(args, want, monke
     assert seen == [want]
 
 
-def _written(out: Path) -> dict[str, Path]:
+def _written(out: Path, errored_runs: int = 0) -> dict[str, Path]:
     out.mkdir(parents=True, exist_ok=True)
     (out / "report.md").write_text("# report\n")
-    return {"markdown": out / "report.md", "html": out / "report.html"}
+    (out / "source.json").write_text(json.dumps({"errored_runs": errored_runs}))
+    return {"markdown": out / "report.md", "html": out / "report.html", "source": out / "source.json"}
 
 
 def test_train_seeds_below_one_is_refused():
@@ -176,7 +184,7 @@ def test_the_reports_own_files_are_recognised_so_the_command_can_run_again(done)
     from navcli.outputs import check_folder, navcli_wrote
 
     out, _ = done
-    check_folder(out, ("report.md", "report.html"))  # raises if either were taken for a user's file
+    check_folder(out, REPORT_FILES, overwrite=True)  # raises if one were taken for a user's file
     assert navcli_wrote(out / "table1" / "conditions.json")
     (out / "mine.html").write_text("<html>mine</html>")
     assert not navcli_wrote(out / "mine.html")
@@ -253,3 +261,19 @@ def test_too_few_runs_give_no_verdict_and_the_notes_say_so(done):
         "the policies on landmarks-12: only 3 starts; with fewer than 10 its 95 % intervals are too uncertain to trust"
         in md
     )
+
+
+def test_the_report_records_its_provenance_and_that_no_run_errored(done):
+    import navcli
+    from navcli.experiments import provenance
+
+    out, md = done
+    source = json.loads((out / "source.json").read_text())
+    assert source["command"] is None  # TINY: settings no command line gives
+    assert source["build"] == navcli.BUILD and source["errored_runs"] == 0
+    assert source["libraries"] == provenance.libraries() and source["dir"] == str(out.resolve())
+    if provenance.checkout(ROOT):
+        assert len(source["commit"]) == 40 and isinstance(source["dirty"], bool)
+    lines = md.splitlines()
+    assert lines[3].startswith("Made from Python") and f"the {navcli.BUILD} build" in lines[3]
+    assert "No run ended in error." in md.split("\n## ", 1)[0]  # at the top

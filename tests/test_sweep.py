@@ -299,7 +299,7 @@ def test_report_reads_a_sweep_table_and_pairs_the_pilots_per_point(tmp_path):
     assert (tmp_path / "table.md").exists() and not list(tmp_path.glob("*.png"))  # no poses: no plots
     bad = tmp_path / "other.csv"
     bad.write_text("a,b\n1,2\n")
-    res = CliRunner().invoke(app, ["report", str(bad)])
+    res = CliRunner().invoke(app, ["report", str(bad), "--out", str(tmp_path / "other")])  # (table.md is there)
     assert res.exit_code == 2 and "not a sweep results table" in res.output
 
 

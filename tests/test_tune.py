@@ -182,7 +182,7 @@ def test_a_missing_library_is_named_with_what_to_install(tiny, monkeypatch):
 
     monkeypatch.setitem(sys.modules, "optuna", None)  # as if not installed: importing it raises ImportError
     res = CliRunner().invoke(app, ["tune", str(tiny), "--param", "pilot.K=1:2"])
-    assert res.exit_code == 1 and "needs optuna: pip install 'navcli[cluster]'" in res.output
+    assert res.exit_code == 2 and "needs optuna, which is not installed: pip install 'navcli[cluster]'" in res.output
 
 
 @pytest.mark.parametrize(

@@ -53,6 +53,7 @@ def cli_markdown(level: int = 2) -> str:
             lines.append(f"{'#' * (level + depth - 1)} {ctx.command_path}\n")
         lines.append(f"```text\n{cmd.get_usage(ctx).strip()}\n```\n")
         lines.extend(_escape(p) + "\n" for p in _paragraphs(cmd.help or ""))
+        lines.extend(_escape(p) + "\n" for p in _paragraphs(getattr(cmd, "epilog", None) or ""))
         records = [
             (kind, r)
             for kind in ("argument", "option")

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import json
 import math
+import os
 import stat
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -25,11 +26,13 @@ from mcap.reader import make_reader
 from mcap_protobuf.decoder import DecoderFactory
 
 from .. import NavcliError
-from ..log.format import SUMMARY_TOPIC
+from ..log.format import SUMMARY_FIELDS, SUMMARY_TOPIC, TOPIC_SCHEMAS, topic_encoding
 
 POSE_SCHEMAS = ("foxglove.PoseInFrame", "foxglove.FrameTransforms")
 INT64 = (-(2**63), 2**63 - 1)
 LOG_LEVELS = {0: "unknown", 1: "debug", 2: "info", 3: "warning", 4: "error", 5: "fatal"}
+MAGIC = b"\x89MCAP0\r\n"
+"""What an MCAP file begins and ends with (the format's magic)."""
 
 
 class LogError(NavcliError):
@@ -155,9 +158,47 @@ SUMMARY_NUMBERS = ("seed", "time_s", "path_length_m", "collisions", "camera_look
 by name, not met later as a string in a sum)."""
 
 
+def whole_mcap(path: Path) -> Path:
+    """``path`` if it begins and ends as an MCAP file does, else :class:`LogError` saying what is
+    missing: an empty file, another kind of file, or one cut short (its end, the footer that
+    indexes it, is missing: ``navcli recover`` rebuilds it from the records before the cut)."""
+    with path.open("rb") as f:
+        size = os.fstat(f.fileno()).st_size
+        head = f.read(len(MAGIC))
+        f.seek(max(0, size - len(MAGIC)))
+        tail = f.read(len(MAGIC))
+    if size == 0:
+        raise LogError(f"{path}: an empty file, not a log")
+    if head != MAGIC:
+        raise LogError(f"{path}: not an MCAP file (it does not begin with MCAP's magic bytes)")
+    if tail != MAGIC or size < 2 * len(MAGIC):
+        raise LogError(
+            f"{path}: cut short: the end of the file (MCAP's footer) is missing, so it cannot be read "
+            f"(`navcli recover {path}` rebuilds a log from what it holds)"
+        )
+    return path
+
+
+def check_channel(path: Path, topic: str, schema: str, encoding: str) -> None:
+    """Refuse (:class:`LogError`) a channel on one of navcli's topics whose schema or encoding is
+    not the one navcli writes there (:data:`~navcli.log.format.TOPIC_SCHEMAS`): a log written
+    elsewhere under navcli's topic names, which would be misread."""
+    want = TOPIC_SCHEMAS.get(topic)
+    if want is None:
+        return
+    ok = schema == want or (want.startswith("navcli.") and schema.startswith(want + "+"))
+    if not ok or encoding != topic_encoding(want):
+        raise LogError(
+            f"{path}: {topic} holds {encoding or 'unencoded'} messages of schema {schema or 'none'!r}, not navcli's "
+            f"({topic_encoding(want)} {want}): not a navcli log"
+        )
+
+
 def read_log(path: str | Path, topics: Iterable[str] | None = None) -> RunLog:
-    """Read ``path`` into a :class:`RunLog` (only ``topics`` if given)."""
-    path = regular(Path(path))
+    """Read ``path`` into a :class:`RunLog` (only ``topics`` if given). A file that is no whole
+    MCAP file (:func:`whole_mcap`), has a navcli topic of another schema (:func:`check_channel`)
+    or a summary without one of its fields is refused with :class:`LogError` saying so."""
+    path = whole_mcap(regular(Path(path)))
     rows: dict[str, list[dict]] = {}
     metadata: dict[str, dict[str, str]] = {}
     attachments: dict[str, bytes] = {}
@@ -165,7 +206,7 @@ def read_log(path: str | Path, topics: Iterable[str] | None = None) -> RunLog:
     try:
         with path.open("rb") as f:
             reader = make_reader(f, decoder_factories=[DecoderFactory()])
-            for schema, channel, message, decoded in _decoded(reader, want):
+            for schema, channel, message, decoded in _decoded(reader, want, path):
                 row = _row(schema.name if schema else "", channel.message_encoding, message.data, decoded)
                 row["log_time_ns"] = message.log_time
                 rows.setdefault(channel.topic, []).append(row)
@@ -175,11 +216,16 @@ def read_log(path: str | Path, topics: Iterable[str] | None = None) -> RunLog:
                 attachments[a.name] = a.data
     except FileNotFoundError:
         raise LogError(f"{path}: no such file") from None
+    except LogError:
+        raise
     except Exception as e:  # the mcap reader raises many kinds on a damaged file
         raise LogError(f"{path}: not a readable MCAP log ({type(e).__name__}: {e})") from None
     frames = topic_frames(rows)
     summary_rows = rows.get(SUMMARY_TOPIC, [])
     summary = {k: v for k, v in summary_rows[-1].items() if k != "log_time_ns"} if summary_rows else {}
+    lacking = [k for k in SUMMARY_FIELDS if summary and k not in summary]
+    if lacking:
+        raise LogError(f"{path}: its summary lacks {', '.join(lacking)} (a damaged or foreign log)")
     for k in SUMMARY_NUMBERS:
         v = summary.get(k, 0)
         if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
@@ -199,17 +245,24 @@ def topic_frames(rows: dict[str, list[dict]]) -> dict[str, pd.DataFrame]:
     return frames
 
 
-def _decoded(reader, topics):
-    """(schema, channel, message, decoded-or-None): protobuf decoded, JSON left as bytes."""
+def _decoded(reader, topics, path: Path):
+    """(schema, channel, message, decoded-or-None): protobuf decoded, JSON left as bytes; each
+    channel checked once (:func:`check_channel`)."""
     factory = DecoderFactory()
     decoders: dict[int, Any] = {}
+    seen: set[int] = set()
     for schema, channel, message in reader.iter_messages(topics=topics, log_time_order=False):
+        if channel.id not in seen:
+            seen.add(channel.id)
+            check_channel(path, channel.topic, schema.name if schema else "", channel.message_encoding)
         if channel.message_encoding == "json":
             yield schema, channel, message, None
             continue
         dec = decoders.get(channel.schema_id)
         if dec is None:
             dec = factory.decoder_for(channel.message_encoding, schema)
+            if dec is None:
+                raise LogError(f"{path}: {channel.topic}: no decoder for {channel.message_encoding!r} messages")
             decoders[channel.schema_id] = dec
         yield schema, channel, message, dec(message.data)
 
@@ -218,15 +271,18 @@ def scene_messages(path: str | Path, topic: str, decode: bool = True):
     """``(log time ns, SceneUpdate)`` of every message on a scene ``topic``, in log order; with
     ``decode=False`` the raw bytes and a decoder instead, so a caller that wants one message
     decodes only that one."""
-    with regular(Path(path)).open("rb") as f:
+    path = whole_mcap(regular(Path(path)))
+    with path.open("rb") as f:
         reader = make_reader(f)
         factory = DecoderFactory()
         decoders: dict[int, Any] = {}
         for schema, channel, message in reader.iter_messages(topics=[topic]):
             dec = decoders.get(channel.schema_id)
             if dec is None:
+                check_channel(path, channel.topic, schema.name if schema else "", channel.message_encoding)
                 dec = decoders[channel.schema_id] = factory.decoder_for(channel.message_encoding, schema)
-            assert dec is not None, f"no decoder for {channel.message_encoding}"  # scene topics are protobuf
+                if dec is None:
+                    raise LogError(f"{path}: {topic}: no decoder for {channel.message_encoding!r} messages")
             yield message.log_time, (dec(message.data) if decode else (dec, message.data))
 
 
@@ -234,3 +290,17 @@ def path_length(poses: pd.DataFrame) -> float:
     """Length in metres of the polyline through ``x``, ``y`` of a pose DataFrame."""
     dx, dy = poses["x"].diff().fillna(0.0), poses["y"].diff().fillna(0.0)
     return float((dx * dx + dy * dy).pow(0.5).sum())
+
+
+def require(log: RunLog, *topics: str, scenario: bool = False) -> RunLog:
+    """``log`` if it is a complete navcli log with ``topics`` (and, with ``scenario``, its
+    scenario attached), else :class:`LogError` listing all that is missing."""
+    missing = [] if log.summary else [f"{SUMMARY_TOPIC} (the run never closed its log)"]
+    missing += [t for t in topics if t not in log.topics or log.topics[t].empty]
+    if "run" not in log.metadata:
+        missing.append("the run's metadata (navcli's 'run' record)")
+    if scenario and not log.attachments:
+        missing.append("the scenario attachment")
+    if missing:
+        raise LogError(f"{log.path}: not a complete navcli log: no {'; no '.join(missing)}")
+    return log

@@ -15,7 +15,7 @@ from collections import deque
 from pathlib import Path
 
 from ..log.format import MAP_REGIONS_TOPIC, MAP_SCENE_TOPIC, POSE_TOPIC
-from .logs import LogError, read_log, scene_messages
+from .logs import LogError, read_log, require, scene_messages
 from .plots import draw_arena, save_figure
 
 LOOP, LIST = 1, 2  # foxglove.LinePrimitive's types (0 is a strip)
@@ -49,7 +49,7 @@ def plot_map(log_path: str | Path, out: str | Path) -> Path:
     import matplotlib.pyplot as plt
 
     path = Path(log_path)
-    log = read_log(path, topics=[POSE_TOPIC])  # with the attached scenario
+    log = require(read_log(path, topics=[POSE_TOPIC]), POSE_TOPIC, scenario=True)
     found = last_map(path)
     if found is None:
         raise LogError(f"{path}: no /map/scene in this log (written by navcli runs with the Navigation system)")

@@ -28,7 +28,7 @@ import pandas as pd
 from .. import NavcliError
 from ..log.format import BIDS_TOPIC, MEMORY_SCENE_TOPIC, MEMORY_SUPPORTS_TOPIC, PILOT_TOPIC, POSE_TOPIC
 from .files import atomic
-from .logs import LogError, read_log, scene_messages
+from .logs import read_log, require, scene_messages
 from .plots import draw_arena
 
 FORCE_SCALE = 100.0  # force units per metre of arrow, as in the log's /robot/scene
@@ -258,9 +258,8 @@ def render(
         raise RenderError(f"{out}: the video must end in .gif or .mp4")
     if speed <= 0 or fps <= 0:
         raise RenderError("--speed and the frame rate must be positive")
-    log = read_log(log_path, topics=[POSE_TOPIC, PILOT_TOPIC, BIDS_TOPIC])
-    if POSE_TOPIC not in log.topics or not log.attachments:
-        raise LogError(f"{log_path}: no poses or no attached scenario: not a navcli run log")
+    topics = (POSE_TOPIC, PILOT_TOPIC, BIDS_TOPIC)
+    log = require(read_log(log_path, topics=topics), *topics, scenario=True)
     sc = log.scenario
     poses, pilot, bids = log[POSE_TOPIC], log[PILOT_TOPIC], log[BIDS_TOPIC]
     t_end = float(poses["time_s"].iloc[-1])

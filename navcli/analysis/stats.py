@@ -7,6 +7,10 @@ warning every comparison gives when a sample is too small to trust them.
   of counts never gets a negative bound, as a t-interval over a few runs does). Observations that
   come in groups (a start's trials over the runs of ``compare policies``, which share the start)
   are resampled group by group, so correlated trials are not counted as independent.
+- Identical reruns are one observation (our design): a verdict (``navcli reproduce``) counts runs
+  whose summaries are alike in every number (:data:`navcli.analysis.tables.IDENTITY`: ground-truth
+  perception has no noise, so its reruns repeat one run) once, in its interval and its sample size,
+  and says how many runs were distinct. The tables of ``compare`` and ``report`` count every run.
 - Fewer than :data:`MIN_SAMPLE` observations (runs, pairs, starts): the interval is still given,
   and :func:`small_sample` says, in the same words in every comparison, that it is too uncertain
   to trust.

@@ -28,14 +28,14 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
-from typing import Sequence
+from typing import Any, Mapping, Sequence
 
 import numpy as np
 import pandas as pd
 
 from ..log.format import POSE_TOPIC
 from .files import write_csv, write_markdown
-from .logs import LogError, config_columns, path_length, read_log
+from .logs import LogError, config_columns, path_length, read_log, require
 from .stats import MIN_SAMPLE, RESAMPLES, small_sample, wilson_interval
 
 METRICS = {"time_s": "time (s)", "path_cm": "path length (cm)"}
@@ -128,6 +128,8 @@ def load_sweep(path: str | Path) -> pd.DataFrame:
             runs[column] = absent
     runs["reached"] = runs["outcome"] == "reached"
     runs["path_cm"] = 100.0 * runs["path_length_m"]
+    if "error" in runs:  # a run that raised has no summary: its error is why it ended
+        runs["reason"] = runs["error"].where(runs["outcome"] == "error", runs.get("reason", ""))
     keys = ["scenario", "scenario_sha256", "pilot", "perception", "time_limit_s", "seed"] + [
         f"params.{c}" for c in swept
     ]
@@ -144,15 +146,8 @@ def load_sweep(path: str | Path) -> pd.DataFrame:
 
 def _run_row(path: Path) -> dict:
     """One run's row of :func:`load_runs`; :class:`LogError` for a log it cannot count."""
-    log = read_log(path, topics=[POSE_TOPIC])
+    log = require(read_log(path, topics=[POSE_TOPIC]), POSE_TOPIC)
     s = log.summary
-    if not s:
-        raise LogError(
-            f"{path}: no /mission/summary (the run was killed before it could close its log; "
-            "`navcli recover` makes a readable log of a .partial)"
-        )
-    if POSE_TOPIC not in log.topics:
-        raise LogError(f"{path}: no /robot/pose")
     poses = log[POSE_TOPIC]
     walked = path_length(poses)
     last = float(poses["time_s"].iloc[-1])
@@ -164,8 +159,19 @@ def _run_row(path: Path) -> dict:
         raise LogError(f"{path}: summary time {s['time_s']} s disagrees with its last pose ({last} s)")
     config = log.config
     run_id = s.get("run_id") or log.metadata.get("run", {}).get("run_id")
+    return (
+        {"log": str(path)}
+        | summary_row(s, config, run_id)
+        | {"poses_path_m": walked, "xy": poses[["x", "y"]].to_numpy()}
+    )
+
+
+def summary_row(summary: Mapping[str, Any], config: Mapping[str, Any], run_id: str | None) -> dict[str, Any]:
+    """A run's row from its summary and its configuration (:meth:`navcli.config.RunSpec.to_json`):
+    what :func:`load_runs` reads from a log, and what ``navcli.compare`` without logs makes in its
+    workers; ``reason`` says why a run ended (an error's message)."""
+    s = summary
     return {
-        "log": str(path),
         "run_id": run_id,
         "scenario": s["scenario"],
         "pilot": s["pilot"],
@@ -174,6 +180,7 @@ def _run_row(path: Path) -> dict:
         "perception": config.get("perception"),
         "time_limit_s": config.get("time_limit_s"),
         "outcome": s["outcome"],
+        "reason": s.get("reason", ""),
         "reached": s["outcome"] == "reached",
         "time_s": s["time_s"],
         "path_m": s["path_length_m"],
@@ -182,9 +189,8 @@ def _run_row(path: Path) -> dict:
         "camera_looks": s["camera_looks"],
         "ticks": s["ticks"],
         "diverting_targets": s.get("diverting_targets", 0),
-        "poses_path_m": walked,
-        "xy": poses[["x", "y"]].to_numpy(),
-    } | config_columns(config)
+        "navigation": s.get("navigation", "agents"),
+    } | config_columns(dict(config))
 
 
 CONFIG = ["scenario", "scenario_sha256", "perception", "time_limit_s"]
@@ -222,6 +228,20 @@ def _conditions(runs: pd.DataFrame) -> pd.DataFrame:
             labels[key] = f"{scenario} ({d['perception']} perception{''.join(', ' + e for e in extra)})"
     runs["condition"] = [labels[tuple(r)] for r in k[keys].itertuples(index=False)]
     return runs
+
+
+IDENTITY = ("outcome", "time_s", "path_cm", "collisions", "camera_looks", "ticks", "diverting_targets")
+"""What makes two runs of one pilot and condition the same result: their summaries' outcome and
+numbers. Runs alike in all of them are identical reruns (ground-truth perception has no noise, so
+every seed gives the same run) and count as one sample in a verdict (:func:`distinct_runs`)."""
+
+
+def distinct_runs(runs: pd.DataFrame) -> pd.DataFrame:
+    """``runs`` with identical reruns (the same pilot, condition and :data:`IDENTITY`) kept once:
+    the first of each, in order."""
+    keys = [c for c in ("scenario", "scenario_sha256", "perception", "pilot", *IDENTITY) if c in runs]
+    keys += sorted(c for c in runs if c.startswith("params."))
+    return runs[~runs[keys].astype(str).duplicated()]
 
 
 def counted(runs: pd.DataFrame) -> pd.DataFrame:
@@ -274,15 +294,21 @@ def pilot_table(runs: pd.DataFrame) -> pd.DataFrame:
     return pd.DataFrame(out)
 
 
-def improvements(runs: pd.DataFrame, baseline: str) -> pd.DataFrame:
+def improvements(runs: pd.DataFrame, baseline: str, once: bool = False) -> pd.DataFrame:
     """Per condition, pilot (other than ``baseline``) and metric: the paired improvement over the
-    baseline in %, its bootstrap 95 % CI, the permutation p-value, and the number of pairs."""
+    baseline in %, its bootstrap 95 % CI, the permutation p-value, and the number of pairs.
+    ``once``: identical pairs (both runs alike in :data:`IDENTITY` at two seeds) count as one pair,
+    as a verdict counts them."""
     out = []
     for condition, g in _conditions(runs).groupby("condition", sort=True):
         base = g[(g["pilot"] == baseline) & g["reached"]].set_index("seed")
         for pilot in sorted(set(g["pilot"]) - {baseline}):
             other = g[(g["pilot"] == pilot) & g["reached"]].set_index("seed")
             seeds = base.index.intersection(other.index).sort_values()  # sorted: the bootstrap's draws follow it
+            if once:
+                cols = list(IDENTITY)
+                both = pd.concat([base.loc[seeds, cols].add_prefix("base."), other.loc[seeds, cols]], axis=1)
+                seeds = seeds[~both.astype(str).duplicated().to_numpy()]
             for metric in METRICS:
                 b = base.loc[seeds, metric].to_numpy(float)
                 p = other.loc[seeds, metric].to_numpy(float)
@@ -322,6 +348,7 @@ def notes(
     """What the table cannot say, in words: skipped logs, interrupted runs left out, an unknown
     baseline, a single pilot, too few pairs for the test, no reached run."""
     out = [f"skipped {path}: {why}" for path, why in skipped]
+    out += error_notes(runs)
     pilots = sorted(set(runs["pilot"]))
     for r in table.itertuples():
         if r.interrupted:
@@ -348,6 +375,39 @@ def notes(
                 note += f", and the paired test cannot reach p < 0.05 (its least p is 2/2^{pairs} = {2 / 2**pairs:.3g})"
             out.append(note)
     return out
+
+
+def why(reasons: Sequence[str]) -> str:
+    """The reasons runs ended, each once with how many runs it ended, the commonest first.
+
+    >>> why(["TypeError: x", "ValueError: y", "TypeError: x"])
+    'TypeError: x (2 runs); ValueError: y (1 run)'
+    """
+    counts = pd.Series([r or "no reason given" for r in reasons], dtype=object).value_counts(sort=False)
+    ranked = sorted(counts.items(), key=lambda kv: (-kv[1], str(kv[0])))
+    return "; ".join(f"{r} ({n} run{'s' if n != 1 else ''})" for r, n in ranked)
+
+
+def error_notes(runs: pd.DataFrame) -> list[str]:
+    """One note per condition and pilot with runs that ended in ``error`` (navcli's or a plugin's
+    failure, not the pilot's way of failing): how many, of how many runs, and why."""
+    if not (runs["outcome"] == "error").any():
+        return []
+    out = []
+    for (condition, pilot), g in _conditions(runs).groupby(["condition", "pilot"], sort=True):
+        bad = g[g["outcome"] == "error"]
+        if len(bad):
+            reasons = bad["reason"] if "reason" in bad else pd.Series("", index=bad.index)
+            out.append(
+                f"{condition}, {pilot}: {len(bad)} of {len(g)} runs ended in error (counted as not reached; "
+                f"seeds {', '.join(str(x) for x in bad['seed'])}): {why([str(r) for r in reasons.fillna('')])}"
+            )
+    return out
+
+
+def errored(runs: pd.DataFrame) -> int:
+    """How many of ``runs`` ended in ``error``."""
+    return int((runs["outcome"] == "error").sum())
 
 
 def paired_improvement(base: np.ndarray, pilot: np.ndarray, seed: int = 0) -> tuple[float, float, float, float]:
@@ -442,7 +502,10 @@ def markdown(table: pd.DataFrame, imps: pd.DataFrame, remarks: Sequence[str] = (
                 if not r.runs
                 else f"{100 * r.success_rate:.0f} % [{100 * r.success_ci_low:.0f}, {100 * r.success_ci_high:.0f}]"
             )
-            lines.append(f"| {r.pilot} | {r.reached}/{r.runs} | {rate} | {t} | {ts} | {p} | {ps} | {tl} | {c} | {k} |")
+            errors = f" ({r.outcome_error} errored)" if r.outcome_error else ""
+            lines.append(
+                f"| {r.pilot} | {r.reached}/{r.runs}{errors} | {rate} | {t} | {ts} | {p} | {ps} | {tl} | {c} | {k} |"
+            )
         lines += [
             "",
             "| pilot | reached | blocked | timeout | error | diverting targets avg | runs with 0 / 1 / 2 / 3+ |",

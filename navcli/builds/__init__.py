@@ -73,6 +73,32 @@ def library(here: str) -> str | None:
     return None
 
 
+STALE = "NAVCLI_STALE_MODULES"  # set by choose() beside NAVCLI_PURE: which sources outran the build
+
+
+WHY = {
+    "compiled": "the hot modules compiled by mypyc",
+    "pure": "pure Python, the compiled modules installed but not run",
+    "pure-only": "pure Python: this install has no compiled modules (built without mypyc or a C compiler,"
+    " or with NAVCLI_PURE_BUILD; see docs/howto/speed.md)",
+}
+"""What each build is, in words: ``navcli --version`` and ``navcli bench`` say it."""
+
+
+def describe(build: str) -> str:
+    """The build in a line, with why it runs when it is not the compiled one.
+
+    >>> describe("compiled")
+    'compiled (the hot modules compiled by mypyc)'
+    """
+    why = WHY[build]
+    if build == "pure" and os.environ.get(STALE, ""):
+        why += f" ({os.environ[STALE]} changed since the build: `python -m pip install -e .` rebuilds)"
+    elif build == "pure":
+        why += " (NAVCLI_PURE is set)"
+    return f"{build} ({why})"
+
+
 def choose() -> str:
     """Set up and return the build this process runs. In a source checkout (an editable install)
     a compiled module whose source changed since the build must not run as its old self: then
@@ -88,12 +114,14 @@ def choose() -> str:
         built = os.path.getmtime(lib)
         stale = [m for m in MODULES if os.path.getmtime(os.path.join(here, *m.split(".")) + ".py") > built]
         if stale:
+            named = f"{', '.join(stale[:3])}{' ...' if len(stale) > 3 else ''}"
             print(
-                f"navcli: {', '.join(stale[:3])}{' ...' if len(stale) > 3 else ''} changed since the compiled build:"
-                " running pure Python (`python -m pip install -e .` rebuilds)",
+                f"navcli: {named} changed since the compiled build: running pure Python"
+                " (`python -m pip install -e .` rebuilds)",
                 file=sys.stderr,
             )
             os.environ["NAVCLI_PURE"] = "1"
+            os.environ[STALE] = named
             sys.meta_path.insert(0, PureFinder())
             return "pure"
     return "compiled"

@@ -19,6 +19,7 @@ from typing import TYPE_CHECKING, Annotated, Any, Iterator, Optional
 import typer
 
 from .. import NavcliError
+from ..checks.arguments import MAX_JOBS
 from ..params import PERCEPTIONS
 from .errors import about
 
@@ -37,16 +38,22 @@ app = typer.Typer(
 
 def _print_version(value: bool) -> None:
     if value:
-        from .. import __version__
+        from .. import BUILD, __version__, builds
 
-        typer.echo(f"navcli {__version__}")
+        typer.echo(f"navcli {__version__}, {builds.describe(BUILD)}")
         raise typer.Exit()
 
 
 @app.callback()
 def _options(
     version: Annotated[
-        bool, typer.Option("--version", callback=_print_version, is_eager=True, help="Print navcli's version and exit.")
+        bool,
+        typer.Option(
+            "--version",
+            callback=_print_version,
+            is_eager=True,
+            help="Print navcli's version and build (compiled or pure Python) and exit.",
+        ),
     ] = False,
 ) -> None:
     pass
@@ -61,8 +68,6 @@ SCENARIO_HELP = "A scenario YAML file, or a bundled scenario's name (`navcli sce
 SCENARIOS_HELP = "Scenario YAML files, or bundled scenarios' names (`navcli scenarios` lists them; a file wins)"
 MAX_SEED = 2**64 - 1
 """The largest seed (numpy's SeedSequence takes any; the log stores an unsigned 64-bit one)."""
-MAX_JOBS = 256
-"""Most local worker processes (each forks the whole of navcli: some 100 MB)."""
 
 
 def finite(value: Optional[float]) -> Optional[float]:
@@ -171,21 +176,34 @@ def check_model(navigation: str) -> None:
                 load_policy(Path(c.argument) if c.argument else None)
 
 
-def out_file(path: Path, suffixes: tuple[str, ...], what: str, option: str = "--out") -> Path:
-    """``path`` checked as an output file before any work (:func:`navcli.outputs.check_file`)."""
+ForceOption = Annotated[
+    bool,
+    typer.Option(
+        "--force",
+        help="Replace the output files if they exist (a file of navcli's only; without --force an existing one "
+        "is refused, and nothing is run).",
+    ),
+]
+
+
+def out_file(path: Path, suffixes: tuple[str, ...], what: str, option: str = "--out", *, force: bool = False) -> Path:
+    """``path`` checked as an output file before any work (:func:`navcli.outputs.check_file`); an
+    existing one is refused, naming ``--force``, unless ``force``."""
     from ..outputs import check_file
 
     with about(option):
-        return check_file(path, suffixes, what)
+        return check_file(path, suffixes, what, overwrite=force)
 
 
-def out_folder(path: Path, files: tuple[str, ...] = (), option: str = "--out") -> Path:
+def out_folder(path: Path, files: tuple[str, ...] = (), option: str = "--out", *, force: bool = False) -> Path:
     """``path`` checked as an output folder before any work, with the ``files`` (names, glob
-    patterns) the command writes there (:func:`navcli.outputs.check_folder`)."""
+    patterns) the command writes there (:func:`navcli.outputs.check_folder`); one of them that
+    exists is refused, naming ``--force``, unless ``force`` (a command that resumes passes True:
+    it keeps what its folder holds and remakes its tables from all of it)."""
     from ..outputs import check_folder
 
     with about(option):
-        return check_folder(path, files)
+        return check_folder(path, files, overwrite=force)
 
 
 def progress_bar(*columns: Any) -> Any:
@@ -204,8 +222,8 @@ def progress_bar(*columns: Any) -> Any:
 
 
 def require_extra(module: str, what: str) -> Any:
-    """Import a library of the cluster extra, or refuse saying what to install (exit 1)."""
-    from ..experiments.executor import require
+    """Import a library of an optional extra, or refuse saying what to install (exit 2)."""
+    from ..checks.extras import require
 
     return require(module, what)
 

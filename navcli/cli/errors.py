@@ -5,12 +5,14 @@ code  meaning
 ====  =========================================================================================
 0     success (``run``: the mission reached its target)
 1     an internal error (a bug, said so in one line; ``NAVCLI_DEBUG=1`` shows its traceback), or
-      some runs of a batch raised one (the rest are kept), or a plugin failed: its code raised,
-      returned what navcli does not take, or overran ``robot.decision_limit_s`` (said as that
-      plugin's, with its name and the file and line in it: :class:`~navcli.plugins.PluginError`)
+      a plugin failed: its code raised, returned what navcli does not take, or overran
+      ``robot.decision_limit_s`` (said as that plugin's, with its name and the file and line in
+      it: :class:`~navcli.plugins.PluginError`)
 2     bad input: a :class:`~navcli.NavcliError` (a refused scenario, plan, model, log, option or
-      output path), or a Dask scheduler that cannot be reached
+      output path), or a Dask scheduler that cannot be reached, or an optional extra not installed
 3     ``run``: the mission ended without reaching its target (timeout, blocked)
+4     ``compare``, ``sweep``, ``reproduce``: every table and report was written, but some runs
+      ended in ``error``; the tables count them and say why, and the command lists them
 130   interrupted by Ctrl-C; 143: stopped by SIGTERM (the shell's convention, 128 + the signal)
 141   the reader of the output went away (``navcli params | head``), as if killed by SIGPIPE
 ====  =========================================================================================
@@ -31,7 +33,12 @@ import typer
 from .. import NavcliError
 from ..signals import exit_code, stopped_by
 
-EXIT_INTERNAL, EXIT_BAD_INPUT, EXIT_FAILED_MISSION, EXIT_PIPE = 1, 2, 3, 128 + 13
+EXIT_INTERNAL, EXIT_BAD_INPUT, EXIT_FAILED_MISSION, EXIT_RUNS_ERRORED, EXIT_PIPE = 1, 2, 3, 4, 128 + 13
+RUNS_ERRORED_HELP = (
+    f"Exits {EXIT_RUNS_ERRORED} when some runs ended in error (everything is still written; the tables "
+    "count those runs and say why)."
+)
+"""How the batch commands' ``--help`` states :data:`EXIT_RUNS_ERRORED`."""
 
 
 def say(msg: str) -> None:

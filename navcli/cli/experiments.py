@@ -33,13 +33,13 @@ from .common import (
     progress_bar,
     require_extra,
 )
-from .errors import EXIT_INTERNAL, about, on_stop, refuse, say
+from .errors import EXIT_RUNS_ERRORED, RUNS_ERRORED_HELP, about, on_stop, refuse, say
 from .views import write_tables
 
 app.add_typer(compare_app, name="compare")
 
 
-@compare_app.command("pilots")
+@compare_app.command("pilots", epilog=RUNS_ERRORED_HELP)
 def compare_pilots(
     scenarios: Annotated[list[Path], typer.Argument(metavar="SCENARIOS", help=SCENARIOS_HELP + ".")],
     reruns: Annotated[int, typer.Option(min=1, max=10_000, help="Reruns per scenario and pilot (the paper: 45).")] = 45,
@@ -88,12 +88,12 @@ def compare_pilots(
     from ..experiments.compare import plan, run_on
     from ..outputs import check_file
 
-    out_folder(out, REPORT_FILES)
+    out_folder(out, REPORT_FILES, force=True)  # resumed: its table is remade from every planned run
     work = plan(specs, names, reruns, out)
     with about("--out"):
         for j in work:  # a file at a log's path is a log of navcli's (resumed or rerun), never a user's
             if Path(j.log).exists() or Path(j.log).is_symlink():
-                check_file(Path(j.log), (".mcap",), "log")
+                check_file(Path(j.log), (".mcap",), "log", overwrite=True)  # kept if complete
     t0 = time.perf_counter()
     failed: list = []
     ran = 0
@@ -119,9 +119,13 @@ def compare_pilots(
         why = r.message if r.message.startswith(r.outcome) else f"{r.outcome}: {r.message}".rstrip(": ")
         typer.echo(f"  failed: {j.scenario.name} {j.pilot} seed {j.seed}: {why} ({r.job.log})")
     write_tables(out, names[-1], out, [j.log for j in work])  # the runs planned, not every log under --out
+    errors = sum(r.outcome == "error" for r in failed)
+    if errors:
+        say(f"{errors} of {len(work)} runs ended in error: the table counts them as not reached, and its notes say why")
+        raise typer.Exit(EXIT_RUNS_ERRORED)
 
 
-@compare_app.command("policies")
+@compare_app.command("policies", epilog=RUNS_ERRORED_HELP)
 def compare_policies(
     scenario: Annotated[
         Path, typer.Argument(metavar="SCENARIO", help=SCENARIO_HELP + " (the paper's setting: landmarks-12).")
@@ -170,7 +174,7 @@ def compare_policies(
         chosen = [parse_policy(n) for n in names]
     from ..training.comparison import TABLE_FILES
 
-    out_folder(out, TABLE_FILES)
+    out_folder(out, TABLE_FILES, force=True)  # resumed: the table is remade from every run
     out_folder(out / "runs")
     (out / "runs").mkdir(parents=True, exist_ok=True)
     work = plan(spec, chosen, runs, starts, out)
@@ -189,15 +193,16 @@ def compare_policies(
     errors = [r for r in results if r.trials is None]
     for r in errors:
         say(f"  failed: {r.job.policy.label} run {r.job.run}: {r.error}")
-    files = write_table([r for r in results if r.trials is not None], out, spec.scenario.name)
+    files = write_table(results, out, spec.scenario.name)
     typer.echo("")
     typer.echo(without_mark(files["markdown"].read_text()))
     typer.echo(f"wrote {', '.join(str(p) for p in files.values())}")
     if errors:
-        raise typer.Exit(EXIT_INTERNAL)
+        say(f"{len(errors)} of {len(work)} runs ended in error")
+        raise typer.Exit(EXIT_RUNS_ERRORED)
 
 
-@app.command()
+@app.command(epilog=RUNS_ERRORED_HELP)
 def sweep(
     plan: Annotated[
         Path,
@@ -225,7 +230,9 @@ def sweep(
 
     p = load_plan(plan)
     out = out_folder(
-        out or Path("logs") / "sweep" / plan.stem, ("results.parquet",) + (("results.csv",) if csv else ())
+        out or Path("logs") / "sweep" / plan.stem,
+        ("results.parquet",) + (("results.csv",) if csv else ()),
+        force=True,  # resumed: the runs already in the table are kept
     )
     runs = plan_runs(p, None if no_logs else out)
     table = out / "results.parquet"
@@ -248,7 +255,7 @@ def sweep(
     )
     typer.echo(f"wrote {table}" + (f" and {table.with_suffix('.csv')}" if csv else ""))
     if stats.errors:
-        raise typer.Exit(EXIT_INTERNAL)
+        raise typer.Exit(EXIT_RUNS_ERRORED)
 
 
 @app.command()
@@ -332,12 +339,13 @@ def tune(
     require_extra("deap" if algorithm == "ga" else "optuna", "navcli tune")
     from ..experiments.tune import RESULT_FILES
 
-    out_folder(out, RESULT_FILES)
+    out_folder(out, RESULT_FILES, force=True)  # resumed: remade from the study's every trial
     storage = out_file(
         storage or out / ("ga.json" if algorithm == "ga" else "study.journal"),
         (".json",) if algorithm == "ga" else (".journal", ".log"),
         "study file",
         "--storage",
+        force=True,  # an existing study is resumed, not replaced
     )
     count = 0
 
@@ -384,16 +392,19 @@ def tune(
     typer.echo(f"wrote {', '.join(str(p) for p in files.values())}; study in {storage}")
 
 
-@app.command()
+@app.command(epilog=RUNS_ERRORED_HELP)
 def reproduce(
     which: Annotated[str, typer.Argument(metavar="[pilots|learning|all]", help="Which paper's experiments.")] = "all",
     quick: Annotated[
         bool,
         typer.Option("--quick", help="Few reruns (minutes on 2 cores), to check the machinery; the report says so."),
     ] = False,
-    out: Annotated[Path, typer.Option(help="Folder for the runs, report.md, report.html and the PNGs.")] = Path(
-        "logs/reproduce"
-    ),
+    out: Annotated[
+        Path,
+        typer.Option(
+            help="Folder for the runs, report.md, report.html, source.json (the command, commit, build and libraries) and the PNGs."
+        ),
+    ] = Path("logs/reproduce"),
     train_seeds: Annotated[
         Optional[int],
         typer.Option(
@@ -420,7 +431,7 @@ def reproduce(
     intervals beside the papers', saying what agrees (the pilot paper's Table 1 with both
     perceptions and its sensitivity, the trap rooms' diverting targets, the learning paper's Table 1
     and Figure 3). What earlier runs left in --out is kept: the same command resumes."""
-    from ..experiments.reproduce import FULL, QUICK, SECTIONS, reproduce as run_all_sections
+    from ..experiments.reproduce import FULL, QUICK, REPORT_FILES, SECTIONS, reproduce as run_all_sections
 
     if which not in (*SECTIONS, "all"):
         raise refuse(f"{which!r}: expected pilots, learning or all")
@@ -432,7 +443,7 @@ def reproduce(
         for name in extra:
             if find_pilot(name).builtin:
                 raise ConfigError(f"{name} is one of the paper's two pilots, which reproduce runs anyway")
-    out_folder(out, ("report.md", "report.html"))
+    out_folder(out, REPORT_FILES, force=True)  # resumed: remade from all it holds
     t0 = time.perf_counter()
     settings = QUICK if quick else FULL
     if train_seeds is not None:
@@ -448,4 +459,10 @@ def reproduce(
             pilots=tuple(extra),
         )
     typer.echo(without_mark(files["markdown"].read_text()))
-    typer.echo(f"wrote {files['markdown']} and {files['html']} in {time.perf_counter() - t0:.0f} s")
+    typer.echo(f"wrote {', '.join(str(f) for f in files.values())} in {time.perf_counter() - t0:.0f} s")
+    import json
+
+    errors = json.loads(files["source"].read_text())["errored_runs"]
+    if errors:
+        say(f"{errors} runs ended in error: the report counts them, says why, and judges no set that holds one")
+        raise typer.Exit(EXIT_RUNS_ERRORED)

@@ -9,7 +9,7 @@ from typing import Annotated, Optional
 import typer
 
 from ..signals import exit_code, stopped_by
-from .common import MAX_JOBS, MAX_SEED, SCENARIO_HELP, ParamOption, app, build_spec, progress_bar
+from .common import MAX_JOBS, MAX_SEED, SCENARIO_HELP, ForceOption, ParamOption, app, build_spec, progress_bar
 from .errors import about, refuse, say
 
 
@@ -54,6 +54,7 @@ def train(
         ),
     ] = "summary",
     param: ParamOption = None,
+    force: ForceOption = False,
 ) -> None:
     """Train the Learning Agent (learning-agent paper, section 6): trials from seeded random starts,
     the greedy policy evaluated on fixed starts, the model saved (resumable) with its learning curve.
@@ -80,7 +81,8 @@ def train(
         with about("--resume"):
             load(resume)  # the input refused before the output is looked at
     with about("--out"):
-        check_out(out)
+        # a training resumed into its own model file replaces it, as --resume asks
+        check_out(out, overwrite=force or (resume is not None and _same(out, resume)))
         if log == "full":
             check_folder(trials_paths(out)[1])
     t0 = time.perf_counter()
@@ -135,3 +137,11 @@ def train(
         f"wrote {out}, {out.with_suffix('.json')}, {curve_csv}, {curve_png}, {trials_csv}"
         + (f" and the trial logs in {trial_logs}/" if log == "full" else "")
     )
+
+
+def _same(a: Path, b: Path) -> bool:
+    """Do ``a`` and ``b`` name one file (both existing), or the same path?"""
+    try:
+        return a.samefile(b)
+    except OSError:
+        return a.resolve() == b.resolve()

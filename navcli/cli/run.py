@@ -18,6 +18,7 @@ from .common import (
     PilotOption,
     app,
     build_spec,
+    ForceOption,
     check_model,
     choice,
     finite,
@@ -69,6 +70,7 @@ def run(
     navigation: Annotated[
         str, typer.Option(metavar="POLICY", help=NAVIGATION_HELP[0].upper() + NAVIGATION_HELP[1:] + ".")
     ] = "agents",
+    force: ForceOption = False,
 ) -> None:
     """Run one mission, record it to an MCAP log and print how it ended."""
     spec = build_spec(
@@ -89,7 +91,7 @@ def run(
     from .common import MissionProgress
 
     with about("--out"):
-        out = check_log_path(out if out is not None else spec.default_log_path(), (str(scenario),))
+        out = check_log_path(out if out is not None else spec.default_log_path(), (str(scenario),), overwrite=force)
     # a kill from a scheduler ends the run like Ctrl-C: the log closed, marked interrupted; neither is
     # raised inside a pymunk callback, where it would be lost
     signal.signal(signal.SIGTERM, raising(Terminated))
@@ -109,7 +111,16 @@ def run(
 
     progress = MissionProgress(spec.time_limit, spec.scenario.name)
     try:
-        res = run_mission(spec, out=out, live=live, port=port, on_tick=progress, on_open=opened, keep_serving=live)
+        res = run_mission(
+            spec,
+            out=out,
+            live=live,
+            port=port,
+            on_tick=progress,
+            on_open=opened,
+            keep_serving=live,
+            overwrite=force,
+        )
     except KeyboardInterrupt as e:  # Ctrl-C or SIGTERM: the log was closed by run_mission
         progress.close()
         say(
@@ -265,6 +276,9 @@ def bench(
     actions: Annotated[int, typer.Option(min=1, max=1_000_000, help="With --training: env.step calls timed.")] = 300,
 ) -> None:
     """Real-time factor (simulated s per wall s) of a full mission, with logging on and off."""
+    from .. import BUILD, builds
+
+    typer.echo(f"build: {builds.describe(BUILD)}")
     if occlusion:
         from ..experiments.bench import occlusion_benchmark
 
@@ -299,12 +313,18 @@ def bench(
 def recover(
     partial: Annotated[
         Path,
-        typer.Argument(metavar="PARTIAL", help="The .partial file a killed run left (or a .partial-<n> kept aside)."),
+        typer.Argument(
+            metavar="PARTIAL",
+            help="The .partial file a killed run left (or a .partial-<n> kept aside), or a log cut short.",
+        ),
     ],
     out: Annotated[Optional[Path], typer.Option(help="The log to write (default: the name without .partial).")] = None,
+    force: ForceOption = False,
 ) -> None:
     """Make a readable log of a run killed outright: its complete chunks (all but at most the last
-    simulated second), marked interrupted, "recovered after an abrupt end"."""
+    simulated second), marked interrupted, "recovered after an abrupt end". A log cut short after
+    its summary (its end lost, so no reader opens it) is rebuilt whole, with its own outcome."""
+    from ..log.files import LogPathError
     from ..log.recover import recover as recover_log
 
     if not partial.is_file():
@@ -320,14 +340,15 @@ def recover(
                 else "not a regular file"
             )
         )
-    path, s = recover_log(partial, out)
+    with about("--out", LogPathError):  # the log to write; the other refusals are about PARTIAL
+        path, s = recover_log(partial, out, overwrite=force)
     if s["damaged_bytes"]:
         say(
             f"warning: {partial} is damaged before its end (a record fails its check): the {s['damaged_bytes']} "
             f"bytes after the damage are not recovered; the log ends at the last good record"
         )
     typer.echo(
-        f"recovered {s['ticks']} ticks, {s['time_s']:.1f} simulated s, into {path} (outcome interrupted); "
+        f"recovered {s['ticks']} ticks, {s['time_s']:.1f} simulated s, into {path} (outcome {s['outcome']}); "
         f"{partial} is left as it was"
     )
 

@@ -11,7 +11,18 @@ from typing import Annotated, Optional
 import typer
 
 from ..analysis.files import without_mark
-from .common import SCENARIO_HELP, ParamOption, app, build_spec, finite, out_file, out_folder, plot_app, progress_bar
+from .common import (
+    SCENARIO_HELP,
+    ForceOption,
+    ParamOption,
+    app,
+    build_spec,
+    finite,
+    out_file,
+    out_folder,
+    plot_app,
+    progress_bar,
+)
 from .errors import about, refuse, say
 
 app.add_typer(plot_app, name="plot")
@@ -22,10 +33,16 @@ WallsOption = Annotated[
 
 
 def _plot(
-    kind: str, scenario: Path, out: Optional[Path], step: Optional[float], param: list[str] | None, walls: bool = False
+    kind: str,
+    scenario: Path,
+    out: Optional[Path],
+    step: Optional[float],
+    param: list[str] | None,
+    walls: bool = False,
+    force: bool = False,
 ) -> None:
     spec = build_spec(scenario, param)
-    out = out_file(out or Path("logs") / spec.scenario.name / f"{kind}.png", (".png",), "PNG image")
+    out = out_file(out or Path("logs") / spec.scenario.name / f"{kind}.png", (".png",), "PNG image", force=force)
     from ..experiments import figures
 
     fn = figures.plot_field if kind == "field" else figures.plot_bids
@@ -50,9 +67,10 @@ def plot_field(
     ] = None,
     param: ParamOption = None,
     walls: WallsOption = False,
+    force: ForceOption = False,
 ) -> None:
     """Direction of the net virtual force over the arena (pilot paper, Figure 9)."""
-    _plot("field", scenario, out, step, param, walls)
+    _plot("field", scenario, out, step, param, walls, force)
 
 
 @plot_app.command("bids")
@@ -64,20 +82,22 @@ def plot_bids(
     ] = None,
     param: ParamOption = None,
     walls: WallsOption = False,
+    force: ForceOption = False,
 ) -> None:
     """The pilot's bid (eq. 9) over the arena (pilot paper, Figure 10)."""
-    _plot("bids", scenario, out, step, param, walls)
+    _plot("bids", scenario, out, step, param, walls, force)
 
 
 @plot_app.command("map")
 def plot_map(
     log: Annotated[Path, typer.Argument(metavar="LOG", help="A log of a run (.mcap).")],
     out: Annotated[Optional[Path], typer.Option(help="PNG file (default: next to the log, <log>-map.png).")] = None,
+    force: ForceOption = False,
 ) -> None:
     """The Map Manager's final map (mapped landmarks, regions, blocked edges) over the true arena."""
     from ..analysis.mapplot import plot_map as draw
 
-    out = out_file(out or log.with_name(log.stem + "-map.png"), (".png",), "PNG image")
+    out = out_file(out or log.with_name(log.stem + "-map.png"), (".png",), "PNG image", force=force)
     typer.echo(f"wrote {draw(log, out)}")
 
 
@@ -98,12 +118,13 @@ def render(
     ] = None,
     fps: Annotated[float, typer.Option(min=1.0, max=60.0, callback=finite, help="Frames per second of video.")] = 10.0,
     dpi: Annotated[int, typer.Option(min=20, max=300, help="Pixels per inch of the 5 x 6.4 inch frame.")] = 80,
+    force: ForceOption = False,
 ) -> None:
     """A video of a run from its log alone: the true arena and path, the robot's beliefs (the
     visual memory), the pilot's force arrows, and the bids per resource under it."""
     from ..analysis.render import render as render_video
 
-    target = out_file(out or log.with_suffix(".gif"), (".gif", ".mp4"), "video")
+    target = out_file(out or log.with_suffix(".gif"), (".gif", ".mp4"), "video", force=force)
     bar = progress_bar() if sys.stderr.isatty() else None
     task = None
 
@@ -137,6 +158,7 @@ def layout(
             "Studio 1.x); sdk: foxglove-sdk's layout JSON (foxglove.layouts, notebooks).",
         ),
     ] = LayoutFormat.app,
+    force: ForceOption = False,
 ) -> None:
     """Write a Foxglove layout for navcli logs and --live runs: the arena in 2D top-down (frame
     world), bids per resource, the pilot's forces, the events and the summary."""
@@ -150,7 +172,7 @@ def layout(
         return
     from ..outputs import write_text
 
-    write_text(out_file(out, (".json",), "layout file"), text + "\n")
+    write_text(out_file(out, (".json",), "layout file", force=force), text + "\n")
     typer.echo(f"wrote {out}")
 
 
@@ -177,6 +199,7 @@ def report(
             "report says so when none of the runs is its)."
         ),
     ] = "geometric",
+    force: ForceOption = False,
 ) -> None:
     """Rebuild the comparison table and plots from existing logs, running nothing; with several
     conditions (parameter points of a sweep), a table of every pilot against the baseline per
@@ -196,7 +219,7 @@ def report(
         anywhere = False
     except UnknownPlugin:  # no pilot navcli can run: it must be one of the logs'
         anywhere = True
-    folder = out_folder(out or (logdir.parent if table else logdir), REPORT_FILES)
+    folder = out_folder(out or (logdir.parent if table else logdir), REPORT_FILES, force=force)
     if out is None:
         say(f"the table and plots go to {folder} (--out to choose another folder)")
     write_tables(logdir, baseline, folder, table=table, baseline_in_runs=anywhere)

@@ -50,14 +50,14 @@ def benchmark(spec: RunSpec, *, repeat: int = 5, echo: Callable[[str], None] = p
     results: dict[str, float] = {}
     with tempfile.TemporaryDirectory() as tmp:
         log = Path(tmp) / "bench.mcap"
-        first = run_mission(spec, out=log)  # warm-up: imports, caches
+        first = run_mission(spec, out=log, overwrite=True)  # warm-up: imports, caches
         ticks = max(first.summary["ticks"], 1)
         floors: list[float] = []
         runs: dict[bool, list] = {False: [], True: []}
         for _ in range(repeat):
             floors.append(floor(spec, ticks) / ticks * 1e6)
             for record in (False, True):
-                runs[record].append(run_mission(spec, out=log, record=record))
+                runs[record].append(run_mission(spec, out=log, record=record, overwrite=True))
         floor_us = statistics.median(floors)
         sim_s = ticks * 0.1
         echo(
@@ -129,7 +129,7 @@ def objects_benchmark(
         f"median of {repeat} runs of {ticks} ticks)"
     )
     with tempfile.TemporaryDirectory() as tmp:  # warm-up: imports and caches, paid once, not by the first size
-        run_mission(spec.replace(time_limit=5.0), out=Path(tmp) / "w.mcap")
+        run_mission(spec.replace(time_limit=5.0), out=Path(tmp) / "w.mcap", overwrite=True)
     own = len(base) + len(sc.landmarks)
     for n in (own, *(n for n in sizes if n > own)):
         extra: list[Obstacle] = []
@@ -141,7 +141,9 @@ def objects_benchmark(
         costs, factors = [], []
         for _ in range(repeat):
             with tempfile.TemporaryDirectory() as tmp:
-                r = run_mission(spec.replace(scenario=s, time_limit=ticks * 0.1), out=Path(tmp) / "b.mcap")
+                r = run_mission(
+                    spec.replace(scenario=s, time_limit=ticks * 0.1), out=Path(tmp) / "b.mcap", overwrite=True
+                )
             costs.append(r.wall_s / max(r.summary["ticks"], 1) * 1e6)
             factors.append(r.realtime_factor)
         echo(
@@ -171,7 +173,7 @@ def long_run_benchmark(
         last, mission = now, m
 
     with tempfile.TemporaryDirectory() as tmp:
-        run_mission(spec, out=Path(tmp) / "long.mcap", on_tick=timed)
+        run_mission(spec, out=Path(tmp) / "long.mcap", on_tick=timed, overwrite=True)
     m = mission
     assert m is not None, "the run made no tick"
     end = costs[-1][0]
@@ -212,6 +214,9 @@ def training_benchmark(
 
     import numpy as np
 
+    from ..checks.extras import require
+
+    require("gymnasium", "navcli bench --training")  # the Gymnasium environment's step is what is timed
     from ..envs.landmark_navigation import LandmarkNavigationEnv
     from ..learning.actions import ACTIONS
     from ..training.trainer import train

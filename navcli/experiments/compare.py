@@ -86,7 +86,7 @@ def run_job(job: Job) -> Outcome:
     from ..runner import run_mission
 
     try:
-        res = run_mission(job.spec, out=Path(job.log))
+        res = run_mission(job.spec, out=Path(job.log), overwrite=True)  # not complete: rerun
     except Exception as e:  # the runner has closed the log, marked error
         return Outcome(job, "error", f"{type(e).__name__}: {e}")
     return Outcome(job, res.summary["outcome"], res.summary.get("reason", ""))

@@ -13,6 +13,15 @@ class Report:
 
     def __init__(self) -> None:
         self.blocks: list[tuple[str, Any]] = []
+        self.errors: list[str] = []
+        """Every section's runs that ended in error, a line each: said at the top of the report."""
+        self.error_count = 0
+
+    def errored(self, lines: Sequence[str], count: int) -> None:
+        """``count`` runs of a section that ended in error, said in ``lines`` (which, how many, why):
+        kept for the top of the report; the caller says them in the section's notes too."""
+        self.errors += [line for line in lines if line]
+        self.error_count += count
 
     def heading(self, text: str, level: int = 2) -> None:
         self.blocks.append(("h", (level, text)))

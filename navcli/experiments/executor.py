@@ -37,11 +37,8 @@ from concurrent.futures import Executor, Future, ProcessPoolExecutor, as_complet
 from concurrent.futures.process import BrokenProcessPool
 from typing import Any, Callable, Iterable, Iterator, NoReturn, Sequence
 
-from .. import NavcliError
+from ..checks.extras import MissingExtra, require  # noqa: F401 (where the execution layer's callers take them)
 from ..signals import Terminated, in_physics_callback, raising
-
-CLUSTER_EXTRA = "pip install 'navcli[cluster]'"
-"""What to install for ``--scheduler``, ``sweep`` and ``tune`` (Dask, Optuna, DEAP, pyarrow)."""
 
 RETRIES = 2
 """Times Dask tries a run again after it raised (a worker's death is retried by the scheduler anyway)."""
@@ -51,23 +48,6 @@ GRACE_S = 2.0
 
 ORPHAN_CHECK_S = 0.5
 """How often a local worker checks that the process that forked it is still alive."""
-
-
-class MissingExtra(NavcliError):
-    """A library of the ``cluster`` extra is not installed; the message says what to install. Not
-    bad input: the command was right, the installation lacks a part (exit 1)."""
-
-    exit_code = 1
-
-
-def require(module: str, what: str) -> Any:
-    """Import ``module`` or raise :class:`MissingExtra` saying that ``what`` needs the extra."""
-    import importlib
-
-    try:
-        return importlib.import_module(module)
-    except ImportError:
-        raise MissingExtra(f"{what} needs {module.split('.')[0]}: {CLUSTER_EXTRA}") from None
 
 
 # --- the local pool -----------------------------------------------------------------------

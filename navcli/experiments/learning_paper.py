@@ -60,7 +60,7 @@ def policies(report: Report, s: Any, out: Path, ex, verdict, scenario, condition
     """Table 1 on each room of ``s.policy_rooms`` (the report's ``verdict``, ``scenario`` loader and
     ``conditions`` writer are the caller's)."""
     from ..analysis.files import write_csv
-    from ..training.comparison import notes, parse_policy, plan, policy_table, run_all, trials_frame
+    from ..training.comparison import failures, notes, parse_policy, plan, policy_table, run_all, trials_frame
     from ..training.task import task_spec
 
     rooms = {
@@ -77,7 +77,12 @@ def policies(report: Report, s: Any, out: Path, ex, verdict, scenario, condition
     results = run_all([j for js in jobs.values() for j in js], ex)
     for room, (spec, names) in rooms.items():
         where, keys = out / room, {j.key for j in jobs[room]}
-        trials = trials_frame([r for r in results if r.trials is not None and r.job.key in keys])
+        mine = [r for r in results if r.job.key in keys]
+        failed = failures(mine, room)
+        report.errored(
+            [f"Learning paper, Table 1: {line}" for line in failed.values()], sum(r.trials is None for r in mine)
+        )
+        trials = trials_frame([r for r in mine if r.trials is not None])
         write_csv(where / "trials.csv", trials)
         table = policy_table(trials).set_index("policy")
         trained = "the room it was trained on" if room == TRAINING_ROOM else "a room training never saw"
@@ -93,19 +98,23 @@ def policies(report: Report, s: Any, out: Path, ex, verdict, scenario, condition
                 if room == TRAINING_ROOM
                 else "The paper has no numbers for this room; "
             )
-            + f"every trial: {where / 'trials.csv'}"
+            + f"every trial: {where / 'trials.csv'}. Successes' intervals count a start's trials that repeat "
+            "identically over the runs once; a policy with runs that ended in error gets no verdict."
         )
         rows = []
         for policy in names:
             if policy not in table.index:  # every run of it failed: said, not hidden
-                rows.append([policy, "-", "-", "no trial finished (see the runs' errors)", ""])
+                rows.append([policy, "-", "-", "no trial finished (see the runs' errors)", "no verdict"])
                 continue
+            bad = sum(r.trials is None for r in mine if r.job.policy.label == policy)
             paper_row = PAPER_POLICIES.get(policy, {}) if room == TRAINING_ROOM else {}
             for metric in ("successes", "reward", "actions", *ACTIONS):
                 if policy == "agents" and metric not in ("successes",):
                     continue  # the bidding agents choose no actions
                 scale = PAPER_STARTS / s.policy_starts if metric == "successes" else 1.0
                 m, lo, hi = (table.loc[policy, k] * scale for k in (metric, f"{metric}_lo", f"{metric}_hi"))
+                if metric == "successes":  # the rate's interval over the distinct trials
+                    lo, hi = (PAPER_STARTS * x for x in _distinct_rate(trials[trials["policy"] == policy]))
                 paper = paper_row.get(metric, math.nan)
                 if math.isnan(paper):  # no number in the paper: no verdict
                     rows.append([policy, metric, "-", interval_text(m, lo, hi), ""])
@@ -124,13 +133,24 @@ def policies(report: Report, s: Any, out: Path, ex, verdict, scenario, condition
                         metric,
                         shown,
                         interval_text(m, lo, hi),
-                        verdict((lo, hi), (p_lo, p_hi), s.policy_starts, "starts"),
+                        verdict((lo, hi), (p_lo, p_hi), s.policy_starts, "starts", errored=bad),
                     ]
                 )
         report.table(["policy", "quantity", "the paper", "navcli [95 % CI]", "agreement"], rows)
-        report.notes(notes(table.reset_index(), room))
+        report.notes(notes(table.reset_index(), room) + list(failed.values()))
         report.text(endings(trials))
         conditions(report, where, [spec])
+
+
+TRIAL_IDENTITY = ("start", "outcome", "success", "actions", "reward", *ACTIONS, "time_s")
+"""What makes two trials of a policy the same result: a start's trial repeated alike in every
+number over the runs counts once in a verdict (the runs change only the missions' seeds)."""
+
+
+def _distinct_rate(trials) -> tuple[float, float]:
+    """The Wilson 95 % interval of a policy's success rate over its distinct trials (:data:`TRIAL_IDENTITY`)."""
+    d = trials[~trials[list(TRIAL_IDENTITY)].astype(str).duplicated()]
+    return wilson_interval(int(d["success"].sum()), len(d))
 
 
 def endings(trials) -> str:
@@ -208,20 +228,40 @@ def figure3(report: Report, s: Any, out: Path, ex, started: tuple[list[Path], di
 
     spec = task_spec(scenario(TRAINING_ROOM))
     models, futures = started
-    metas: list[dict] = [{}] * len(models)
+    results: list[dict] = [{}] * len(models)
+    errors: dict[int, str] = {}
 
     def done(i: int, f) -> None:
-        metas[i] = f.result()
+        try:
+            results[i] = f.result()
+        except Exception as e:  # a training that raised: counted and said, the others drawn
+            errors[i + 1] = f"{type(e).__name__}: {e}"
 
     collect(futures, ex, done)
+    report.heading("Learning paper, Figure 3: learning curves of several trainings")
+    if errors:
+        from ..analysis.tables import why
+
+        line = (
+            f"{len(errors)} of {len(models)} trainings ended in error (seeds {', '.join(map(str, sorted(errors)))}): "
+        )
+        report.errored([f"Figure 3: {line}{why(list(errors.values()))}"], len(errors))
+        report.notes([line + why(list(errors.values()))])
+    metas = [m for m in results if m]
+    if not metas:
+        report.text("No training finished: no figure.")
+        return
     png = learning_curves(metas, out / "figure3.png")
     hand, rand = metas[0].get("hand_coded"), metas[0].get("random")
     passed = [m["seed"] for m in metas if hand is not None and any(p["successes"] > hand for p in m["curve"])]
     zero = [m["seed"] for m in metas if any(p["trials"] >= 500 and p["successes"] == 0 for p in m["curve"])]
     finals = [m["curve"][-1]["successes"] for m in metas]
-    report.heading("Learning paper, Figure 3: learning curves of several trainings")
+    seeds = [int(m["seed"]) for m in metas]
+    named = (
+        f"1-{len(seeds)}" if len(seeds) > 1 and seeds == list(range(1, len(seeds) + 1)) else ", ".join(map(str, seeds))
+    )
     report.text(
-        f"{len(metas)} trainings of {s.train_trials} trials on {TRAINING_ROOM} (seeds 1-{len(metas)}, in "
+        f"{len(metas)} trainings of {s.train_trials} trials on {TRAINING_ROOM} (seeds {named}, in "
         f"parallel workers), the greedy policy evaluated every {s.eval_every} trials on {s.eval_starts} "
         f"fixed starts. The paper: {PAPER_FIGURE3}. navcli: after {s.train_trials} trials "
         f"{min(finals)} to {max(finals)} of {s.eval_starts} (mean {sum(finals) / len(finals):.1f}); the "
@@ -233,7 +273,7 @@ def figure3(report: Report, s: Any, out: Path, ex, started: tuple[list[Path], di
         + "."
     )
     bundled = model_file.BUNDLED
-    if (s.train_trials, s.eval_every, s.eval_starts) == (2000, 100, 99) and bundled.exists():
+    if (s.train_trials, s.eval_every, s.eval_starts) == (2000, 100, 99) and bundled.exists() and 1 not in errors:
         same = all(
             a.read_bytes() == b.read_bytes()
             for a, b in ((models[0], bundled), (models[0].with_suffix(".json"), bundled.with_suffix(".json")))

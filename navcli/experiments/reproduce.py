@@ -18,7 +18,13 @@ count (successes of 99); the number itself where the paper gives nothing more. n
 stay in their quantity's range (:mod:`navcli.analysis.stats`: Wilson for rates, a bootstrap for
 means). Where the paper has no number there is no verdict; where navcli has fewer than
 :data:`~navcli.analysis.stats.MIN_SAMPLE` runs (pairs, starts), the verdict says it has too few to
-judge. ``--quick`` runs every section with few reruns (:data:`QUICK`) to check the machinery in
+judge. Identical reruns count once (:func:`navcli.analysis.tables.distinct_runs`: ground-truth
+runs repeat one run whatever the seed), in a verdict's interval and its count. A set that holds a
+run that ended in ``error`` gets no verdict (our choice: judging the rest would judge a set the
+errors chose); every table counts such runs as not reached, its notes say why, the top of the
+report lists them all, and ``source.json`` counts them (``navcli reproduce`` then exits 4).
+The report's first paragraph and ``source.json`` say where it comes from
+(:mod:`~navcli.experiments.provenance`: the command line, commit, build and libraries). ``--quick`` runs every section with few reruns (:data:`QUICK`) to check the machinery in
 minutes; its intervals are wide and the report says so at the top.
 """
 
@@ -27,7 +33,7 @@ from __future__ import annotations
 import json
 import math
 import time
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, replace
 from pathlib import Path
 from typing import Any, Callable
 
@@ -91,18 +97,26 @@ QUICK = Settings(
 )
 
 
-def verdict(navcli: tuple[float, float], paper: tuple[float, float], n: int, unit: str = "runs") -> str:
+def verdict(
+    navcli: tuple[float, float], paper: tuple[float, float], n: int, unit: str = "runs", errored: int = 0
+) -> str:
     """The report's one rule (module docstring): does navcli's 95 % interval ``navcli`` (low, high),
-    from ``n`` ``unit``, meet the paper's range ``paper`` (low, high; a point when they are equal)?
+    from ``n`` ``unit`` (distinct: identical reruns count once), meet the paper's range ``paper``
+    (low, high; a point when they are equal)? None when ``errored`` of the runs behind it ended in
+    error: a set that lost runs to errors is not judged.
 
-    >>> verdict((250.1, 250.4), (297.3 - 81.9, 297.3 + 81.9), 45)  # deterministic runs, within the spread
+    >>> verdict((250.1, 250.4), (297.3 - 81.9, 297.3 + 81.9), 45)  # 45 distinct runs, within the spread
     'agrees'
     >>> verdict((140.0, 150.0), (215.4, 379.2), 45)
     "does not agree (the paper's is above)"
     >>> verdict((140.0, 150.0), (215.4, 379.2), 3)
     'too few runs to judge (3; 10 needed)'
+    >>> verdict((250.1, 250.4), (215.4, 379.2), 44, errored=1)
+    'no verdict: 1 run ended in error'
     """
     lo, hi = navcli
+    if errored:
+        return f"no verdict: {errored} run{'s' if errored != 1 else ''} ended in error"
     if n < MIN_SAMPLE:
         return f"too few {unit} to judge ({n}; {MIN_SAMPLE} needed)"
     if not (math.isfinite(lo) and math.isfinite(hi)):
@@ -176,16 +190,17 @@ def _compare(
 def table1(report: Report, s: Settings, out: Path, ex, pilots: tuple[str, ...] = ()) -> None:
     """The pilot paper's Table 1, with vision and with ground truth (and ``pilots`` beside the
     paper's two, which the paper has no numbers for)."""
-    from ..analysis.tables import improvements, notes, pilot_table
+    from ..analysis.tables import error_notes, errored, improvements, notes, pilot_table
 
     report.heading("Pilot paper, Table 1: the potential-field pilot against the geometric one")
     report.text(
         f"paper-8x8 (our room in the paper's spirit; its coordinates are not given), {s.reruns} reruns per "
         "pilot and perception, the same seeds for both pilots; the paper's pace (5 cm/s, the scenario's "
-        "robot.max_speed). Means over the reached runs with bootstrap 95 % intervals, against the paper's "
-        "mean ± 1 SD (the spread of its runs); gains paired over the seeds both reached, with bootstrap 95 % "
-        f"intervals, against the 95 % interval the paper's Table 1 gives its gain ({PAPER_RUNS} runs a pilot). "
-        "Logs: " + str(out)
+        "robot.max_speed). Means over the distinct reached runs (identical reruns count once) with bootstrap "
+        "95 % intervals, against the paper's mean ± 1 SD (the spread of its runs); gains paired over the seeds "
+        "both reached (identical pairs once), with bootstrap 95 % intervals, against the 95 % interval the "
+        f"paper's Table 1 gives its gain ({PAPER_RUNS} runs a pilot). A pilot with runs that ended in error gets "
+        "no verdict. Logs: " + str(out)
     )
     rows: list[list[Any]] = []
     bases: list = []
@@ -193,50 +208,29 @@ def table1(report: Report, s: Settings, out: Path, ex, pilots: tuple[str, ...] =
     for perception in ("vision", "oracle"):
         runs, specs = _compare(("paper-8x8",), s.reruns, out / perception, ex, perception, pilots=pilots)
         _write_runs(runs, out / perception / "runs.csv")
+        report.errored([f"Table 1: {e}" for e in error_notes(runs)], errored(runs))
         bases += specs
         table = pilot_table(runs).set_index("pilot")
-        imps = improvements(runs, "geometric").set_index("metric")
+        imps = improvements(runs, "geometric")
+        once = improvements(runs, "geometric", once=True).set_index("metric")
         for pilot in ("geometric", "potential-field") + pilots:
-            ok = runs[(runs["pilot"] == pilot) & (runs["outcome"] == "reached")]
-            for metric in ("time_s", "path_cm"):
-                m, lo, hi = bootstrap_mean(ok[metric].to_numpy(dtype=float))
-                if pilot not in PAPER_TABLE1:  # a user's pilot: the paper has no number for it
-                    rows.append(
-                        [
-                            perception,
-                            pilot,
-                            metric,
-                            "-",
-                            interval_text(m, lo, hi),
-                            f"{int(table.loc[pilot, 'reached'])}/{int(table.loc[pilot, 'runs'])}",
-                            "",
-                        ]
-                    )
-                    continue
-                paper, sd = PAPER_TABLE1[pilot][metric]
-                rows.append(
-                    [
-                        perception,
-                        pilot,
-                        metric,
-                        f"{paper:g} ± {sd:g} (SD)",
-                        interval_text(m, lo, hi),
-                        f"{int(table.loc[pilot, 'reached'])}/{int(table.loc[pilot, 'runs'])}",
-                        verdict((lo, hi), (paper - sd, paper + sd), len(ok), "reached runs"),
-                    ]
-                )
-            remarks.append(small_sample(f"{perception}, {pilot}", len(ok), "reached runs"))
+            rows += _table1_rows(perception, pilot, runs, table)
+            mine = runs[runs["pilot"] == pilot]
+            remarks.append(small_sample(f"{perception}, {pilot}", _distinct_reached(mine)[0], "distinct reached runs"))
         for pilot in ("potential-field",) + pilots:
+            bad = int((runs["pilot"].isin((pilot, "geometric")) & (runs["outcome"] == "error")).sum())
+            all_pairs = imps[imps["pilot"] == pilot].set_index("metric")
             for metric in ("time_s", "path_cm"):
-                g = imps[imps["pilot"] == pilot].loc[metric]
-                cells = (
-                    interval_text(g["improvement_pct"], g["ci95_low"], g["ci95_high"], sign=True)
-                    + f" ({int(g['pairs'])} pairs)"
+                g = once[once["pilot"] == pilot].loc[metric]
+                pairs, every = int(g["pairs"]), int(all_pairs.loc[metric, "pairs"])
+                cells = interval_text(g["improvement_pct"], g["ci95_low"], g["ci95_high"], sign=True) + (
+                    f" ({every} pairs{f', {pairs} distinct' if pairs < every else ''})"
                 )
                 if pilot != "potential-field":
                     rows.append([perception, f"{pilot} gain %", metric, "-", cells, "", ""])
                     continue
                 p_lo, p_hi = paper_gain_interval(metric)
+                unit = "distinct pairs" if pairs < every else "pairs"
                 rows.append(
                     [
                         perception,
@@ -245,16 +239,55 @@ def table1(report: Report, s: Settings, out: Path, ex, pilots: tuple[str, ...] =
                         f"+{PAPER_GAINS[metric]:g} [{p_lo:+.1f}, {p_hi:+.1f}]",
                         cells,
                         "",
-                        verdict((g["ci95_low"], g["ci95_high"]), (p_lo, p_hi), int(g["pairs"]), "pairs"),
+                        verdict((g["ci95_low"], g["ci95_high"]), (p_lo, p_hi), pairs, unit, errored=bad),
                     ]
                 )
-        remarks += notes(runs, table.reset_index(), imps.reset_index(), "geometric")
+        remarks += notes(runs, table.reset_index(), imps, "geometric")
     report.table(["perception", "pilot", "quantity", "the paper", "navcli [95 % CI]", "reached", "agreement"], rows)
     report.notes(remarks)
     report.text(
         "Run ids and every run's numbers: " + ", ".join(str(out / p / "runs.csv") for p in ("vision", "oracle"))
     )
     _conditions(report, out, bases)
+
+
+def _distinct_reached(runs) -> tuple[int, Any]:
+    """How many distinct runs of ``runs`` (one pilot's) reached the target, and those runs."""
+    from ..analysis.tables import distinct_runs
+
+    ok = distinct_runs(runs[runs["outcome"] == "reached"])
+    return len(ok), ok
+
+
+def _table1_rows(perception: str, pilot: str, runs, table) -> list[list[Any]]:
+    """A pilot's time and path rows of Table 1: its mean over the distinct reached runs against
+    the paper's (none for a pilot the paper does not have)."""
+    mine = runs[runs["pilot"] == pilot]
+    n, ok = _distinct_reached(mine)
+    reached, bad = int((mine["outcome"] == "reached").sum()), int((mine["outcome"] == "error").sum())
+    count = f"{int(table.loc[pilot, 'reached'])}/{int(table.loc[pilot, 'runs'])}" + (f", {bad} errored" if bad else "")
+    distinct = f" ({n} distinct of {reached})" if n < reached else ""
+    rows = []
+    for metric in ("time_s", "path_cm"):
+        m, lo, hi = bootstrap_mean(ok[metric].to_numpy(dtype=float))
+        cell = interval_text(m, lo, hi) + distinct
+        if pilot not in PAPER_TABLE1:  # a user's pilot: the paper has no number for it
+            rows.append([perception, pilot, metric, "-", cell, count, ""])
+            continue
+        paper, sd = PAPER_TABLE1[pilot][metric]
+        unit = "distinct reached runs" if distinct else "reached runs"
+        rows.append(
+            [
+                perception,
+                pilot,
+                metric,
+                f"{paper:g} ± {sd:g} (SD)",
+                cell,
+                count,
+                verdict((lo, hi), (paper - sd, paper + sd), n, unit, errored=bad),
+            ]
+        )
+    return rows
 
 
 def _write_runs(runs, path: Path) -> None:
@@ -281,7 +314,7 @@ before issue 35)."""
 def sensitivity(report: Report, s: Settings, out: Path, ex) -> None:
     """Table 1's dependence on the unstated: speed and how a turn is executed (both perceptions),
     and what the robot senses (:data:`VISION_CHOICES`, with vision)."""
-    from ..analysis.tables import improvements, load_sweep
+    from ..analysis.tables import error_notes, errored, improvements, load_sweep
     from .sweep import load_plan, plan_runs, run_sweep
 
     out.mkdir(parents=True, exist_ok=True)
@@ -321,44 +354,99 @@ def sensitivity(report: Report, s: Settings, out: Path, ex) -> None:
             ]
             for _, r in imps.iterrows()
         ]  # no verdict: the paper has no number for these conditions
+        errors = error_notes(runs)
+        report.errored([f"Sensitivity: {e}" for e in errors], errored(runs))
         report.text(f"Every run: {table}.")
         report.table(["condition", "metric", "PF gain % [95 % CI]", "pairs"], rows)
-        report.notes(
-            [small_sample("every condition", int(imps["pairs"].min()), "pairs at the fewest")] if len(imps) else []
-        )
+        few = small_sample("every condition", int(imps["pairs"].min()), "pairs at the fewest") if len(imps) else None
+        report.notes([few, *errors])
 
 
 def traps(report: Report, s: Settings, out: Path, ex, pilots: tuple[str, ...] = ()) -> None:
     """The trap rooms: how often each pilot gets out, with how many diverting targets."""
+    from ..analysis.tables import error_notes, errored
+
     runs, specs = _compare(s.trap_rooms, s.trap_seeds, out, ex, pilots=pilots)
     _write_runs(runs, out / "runs.csv")
     report.heading("Trap rooms: diverting targets (the thesis' real robot beside them)")
     report.text(
         f"{s.trap_seeds} seed(s) per room and pilot; every run: {out / 'runs.csv'}. The thesis' figures "
         "(its real robot, its rooms): 85 % reached; of runs past long obstacles 58 % needed one diverting "
-        "target and 18 % two, given without a count of runs (so each is taken as the number itself). Rates with "
-        "Wilson 95 % intervals, contacts with a bootstrap 95 % interval."
+        "target and 18 % two, given without a count of runs (so each is taken as the number itself). Rates "
+        "over every run but the interrupted (a run that ended in error counts as not reached, and its pilot "
+        "gets no verdict), with Wilson 95 % intervals over the distinct runs (identical reruns count once); "
+        "contacts with a bootstrap 95 % interval."
     )
+    errors = error_notes(runs)
+    report.errored([f"Trap rooms: {e}" for e in errors], errored(runs))
     rows = []
     remarks: list[str | None] = []
     for pilot in PAPER_PILOTS + pilots:
-        g = runs[(runs["pilot"] == pilot) & runs["outcome"].isin(("reached", "blocked", "timeout"))]  # not interrupted
-        n = len(g)
-        for key, k, paper in (
-            ("reached", int((g["outcome"] == "reached").sum()), THESIS_TRAPS["reached"]),
-            ("needed 1 diverting target", int((g["diverting_targets"] == 1).sum()), THESIS_TRAPS["diverting_1"]),
-            ("needed 2", int((g["diverting_targets"] == 2).sum()), THESIS_TRAPS["diverting_2"]),
-        ):
-            lo, hi = wilson_interval(k, n)
-            rows.append(
-                [pilot, key, f"{paper:.0%}", f"{k}/{n} [{lo:.0%}, {hi:.0%}]", verdict((lo, hi), (paper, paper), n)]
-            )
-        m, lo, hi = bootstrap_mean(g["collisions"].to_numpy(dtype=float))
-        rows.append([pilot, "contacts per run", "-", interval_text(m, lo, hi), ""])  # the thesis gives no number
-        remarks.append(small_sample(pilot, n, "runs"))
+        rows += _trap_rows(pilot, runs[(runs["pilot"] == pilot) & (runs["outcome"] != "interrupted")])
+        remarks.append(small_sample(pilot, _distinct(runs[runs["pilot"] == pilot]), "distinct runs"))
     report.table(["pilot", "quantity", "the thesis", "navcli", "agreement"], rows)
-    report.notes(remarks)
+    report.notes([*remarks, *errors])
     _conditions(report, out, specs)
+
+
+def _distinct(runs) -> int:
+    from ..analysis.tables import distinct_runs
+
+    return len(distinct_runs(runs[runs["outcome"] != "interrupted"]))
+
+
+def _trap_rows(pilot: str, g) -> list[list[Any]]:
+    """A pilot's rows of the trap rooms' table from its runs ``g`` (errors among them): each count
+    over every run, its interval and verdict over the distinct runs."""
+    from ..analysis.tables import distinct_runs, errored
+
+    d = distinct_runs(g)
+    n_all, n, bad = len(g), len(d), errored(g)
+    tail = (f"; {n} distinct" if n < n_all else "") + (f", {bad} errored" if bad else "")
+    rows = []
+    for key, test, paper in (
+        ("reached", lambda r: r["outcome"] == "reached", THESIS_TRAPS["reached"]),
+        ("needed 1 diverting target", lambda r: r["diverting_targets"] == 1, THESIS_TRAPS["diverting_1"]),
+        ("needed 2", lambda r: r["diverting_targets"] == 2, THESIS_TRAPS["diverting_2"]),
+    ):
+        k_all, k = int(test(g).sum()), int(test(d).sum())
+        lo, hi = wilson_interval(k, n)
+        rows.append(
+            [
+                pilot,
+                key,
+                f"{paper:.0%}",
+                f"{k_all}/{n_all} [{lo:.0%}, {hi:.0%}]{tail}",
+                verdict((lo, hi), (paper, paper), n, "distinct runs" if n < n_all else "runs", errored=bad),
+            ]
+        )
+    m, lo, hi = bootstrap_mean(d["collisions"].to_numpy(dtype=float))
+    rows.append([pilot, "contacts per run", "-", interval_text(m, lo, hi), ""])  # the thesis gives no number
+    return rows
+
+
+REPORT_FILES = ("report.md", "report.html", "source.json")
+"""What :func:`reproduce` writes at the top of its folder (its sections' runs go into subfolders)."""
+
+
+def command_line(
+    which: str, out: Path, settings: Settings, jobs: int, scheduler: str | None, pilots: tuple[str, ...]
+) -> list[str] | None:
+    """The ``navcli reproduce`` command line that runs these settings, as argv, every choice
+    spelled out (the folder absolute, the workers counted); None for settings no command line
+    gives (:class:`Settings` changed from Python)."""
+    base = QUICK if settings.quick else FULL
+    if replace(base, train_seeds=settings.train_seeds) != settings:
+        return None
+    argv = ["navcli", "reproduce", which] + (["--quick"] if settings.quick else [])
+    argv += ["--out", str(Path(out).resolve()), "--jobs", str(jobs)]
+    if settings.train_seeds != base.train_seeds:
+        argv += ["--train-seeds", str(settings.train_seeds)]
+    if scheduler:
+        argv += ["--scheduler", scheduler]
+    for name in pilots:
+        argv += ["--pilot", name]
+    return argv
 
 
 def reproduce(
@@ -372,14 +460,19 @@ def reproduce(
     pilots: tuple[str, ...] = (),
 ) -> dict[str, Path]:
     """Run the sections of ``which`` (``pilots``, ``learning`` or ``all``) into ``out`` and write
-    ``report.md`` and ``report.html`` there; returns the files written. ``pilots`` (plugins'
-    names) run beside the paper's two in Table 1 and the trap rooms."""
+    ``report.md``, ``report.html`` and ``source.json`` (:func:`provenance.record`, with the count
+    of runs that ended in error) there; returns the files written. ``pilots`` (plugins' names) run
+    beside the paper's two in Table 1 and the trap rooms."""
     from ..analysis.files import write_markdown
     from ..outputs import write_text
+    from . import provenance
     from .executor import executor
 
+    source = provenance.record(command_line(which, out, settings, jobs, scheduler, pilots))
+    source["dir"] = str(Path(out).resolve())
     report = Report()
     report.heading("navcli reproduce: both papers' experiments beside their numbers", 1)
+    report.text(provenance.describe(source))
     if settings.quick:
         report.text(
             "QUICK RUN (--quick): few reruns, to check the machinery; the intervals are wide and the "
@@ -395,7 +488,8 @@ def reproduce(
         "navcli's 95 % interval of the same quantity meets the paper's own range of it: the mean ± 1 SD of "
         "its runs where it gives an SD, the 95 % interval its Table 1 gives a gain, the Wilson interval of a "
         "count, else the number itself. No verdict where the paper has no number; none either from fewer "
-        f"than {MIN_SAMPLE} runs (pairs, starts): too few to judge."
+        f"than {MIN_SAMPLE} runs (pairs, starts): too few to judge (identical reruns count as one), nor on a "
+        "set that holds a run that ended in error."
     )
     durations = []
     t_all, cpu_here, cpu_workers = time.perf_counter(), time.process_time(), _children_cpu()
@@ -445,10 +539,29 @@ def reproduce(
             f"part), {workers:.0f} s in the workers; serial share {serial:.1%}, so by Amdahl's law no "
             f"number of workers makes this reproduction more than {1 / serial:.0f}x faster than one."
         )
-    files = {"markdown": out / "report.md", "html": out / "report.html"}
+    _say_errors(report)
+    source["errored_runs"] = report.error_count
+    files = dict(zip(("markdown", "html", "source"), (out / f for f in REPORT_FILES)))
     write_markdown(files["markdown"], report.markdown())
     write_text(files["html"], report.html())
+    write_text(files["source"], json.dumps(source, indent=1) + "\n")
     return files
+
+
+def _say_errors(report: Report) -> None:
+    """Runs that ended in error, said at the top of the report (under its provenance), or that none did."""
+    if report.errors:
+        blocks = [
+            (
+                "p",
+                f"RUNS THAT ENDED IN ERROR: {report.error_count}; they are counted in every table, and "
+                "no verdict is given on a set that holds one:",
+            ),
+            ("ul", list(report.errors)),
+        ]
+    else:
+        blocks = [("p", "No run ended in error.")]
+    report.blocks[2:2] = blocks
 
 
 def _children_cpu() -> float:

@@ -371,7 +371,9 @@ def run_row(run: SweepRun) -> dict[str, Any]:
         **{k: json.dumps(v) if isinstance(v, list) else v for k, v in run.overrides.items()},
     }
     try:
-        res = run_mission(spec, out=Path(run.log) if run.log else None, record=run.log is not None)
+        res = run_mission(
+            spec, out=Path(run.log) if run.log else None, record=run.log is not None, overwrite=True
+        )  # a run not in the table is run again
     except Exception as e:
         return (
             row

@@ -12,7 +12,7 @@ and chooses again. It counts the actions it took and the reward they cost.
 from __future__ import annotations
 
 import math
-from typing import Callable
+from typing import Any, Callable
 
 import numpy as np
 
@@ -108,11 +108,11 @@ class LearningAgent:
             side=self._side,
         )
 
-    def info(self) -> dict:
+    def info(self) -> dict[str, Any]:
         """For the mission summary: the actions taken, of each kind, and their reward."""
         return {"actions": self.actions_taken, "reward": self.reward, "action_counts": dict(zip(ACTIONS, self.counts))}
 
 
-def hand_coded_agent(**kw) -> LearningAgent:
+def hand_coded_agent(**kw: Any) -> LearningAgent:
     """The hand-coded policy of section 6 as an agent."""
     return LearningAgent(hand_coded_action, **kw)

@@ -80,13 +80,14 @@ def side_files(path: Path) -> tuple[Path, ...]:
     return (Path(path).with_suffix(".json"), *curve_paths(path), trials_paths(path)[0])
 
 
-def check_out(path: Path) -> Path:
+def check_out(path: Path, *, overwrite: bool = False) -> Path:
     """Refuse (:class:`~navcli.outputs.OutputError`) a model ``path`` a training must not write:
     the model and each of its side files checked as outputs (never a folder, a device, or a file of
-    another kind, such as the scenario given as ``--out``). Nothing is created."""
-    check_file(path, (".npz",), "model file")
+    another kind, such as the scenario given as ``--out``; an existing one only if ``overwrite``).
+    Nothing is created."""
+    check_file(path, (".npz",), "model file", overwrite=overwrite)
     for side in side_files(path):
-        check_file(side, (side.suffix,), f"{side.suffix} file beside the model")
+        check_file(side, (side.suffix,), f"{side.suffix} file beside the model", overwrite=overwrite)
     return Path(path)
 
 

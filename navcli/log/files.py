@@ -15,12 +15,13 @@ class LogPathError(NavcliError):
     """A log path that cannot be written (a folder, not ``.mcap``, being written by another run)."""
 
 
-def check_log_path(path: Path, protect: tuple[str, ...] = ()) -> Path:
+def check_log_path(path: Path, protect: tuple[str, ...] = (), *, overwrite: bool = False, ask: str = "--force") -> Path:
     """``path`` as a log file name, or :class:`LogPathError` saying why not: it must end in
     ``.mcap``, not be a folder, not be one of ``protect`` (the scenario file), not be an existing
-    file other than a log navcli wrote (a device, a pipe, a user's file: never replaced), and its
-    folder must be creatable and writable. Checked before a mission starts, so a bad ``--out`` costs
-    nothing."""
+    file other than a log navcli wrote (a device, a pipe, a user's file: never replaced), not be an
+    existing log at all unless ``overwrite`` (the refusal names ``ask``, how its caller asks), and
+    its folder must be creatable and writable. Checked before a mission starts, so a bad ``--out``
+    costs nothing."""
     if str(path) in ("", ".") or path.name in ("", ".", ".."):
         raise LogPathError(f"{str(path)!r} is not a file name")
     if path.is_dir():
@@ -34,7 +35,7 @@ def check_log_path(path: Path, protect: tuple[str, ...] = ()) -> Path:
         from ..outputs import OutputError, check_file
 
         try:
-            check_file(path, (".mcap",), "log")
+            check_file(path, (".mcap",), "log", overwrite=overwrite, ask=ask)
         except OutputError as e:
             raise LogPathError(str(e)) from None
     try:

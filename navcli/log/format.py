@@ -50,6 +50,36 @@ BIDS_TOPIC = "/bids"  # navcli.Bids
 VISION_TOPIC = "/vision"  # navcli.Vision
 NAVIGATION_TOPIC = "/navigation"  # navcli.Navigation
 SUMMARY_TOPIC = "/mission/summary"  # navcli.MissionSummary
+_SCENE = "foxglove.SceneUpdate"
+TOPIC_SCHEMAS = {
+    TF_TOPIC: "foxglove.FrameTransforms",
+    POSE_TOPIC: "foxglove.PoseInFrame",
+    ODOMETRY_TOPIC: "foxglove.PoseInFrame",
+    WORLD_SCENE_TOPIC: _SCENE,
+    ROBOT_SCENE_TOPIC: _SCENE,
+    ROBOT_BODY_TOPIC: _SCENE,
+    CAMERA_SCENE_TOPIC: _SCENE,
+    ROBOT_PATH_TOPIC: _SCENE,
+    MEMORY_SCENE_TOPIC: _SCENE,
+    MEMORY_SUPPORTS_TOPIC: _SCENE,
+    MAP_SCENE_TOPIC: _SCENE,
+    MAP_REGIONS_TOPIC: _SCENE,
+    EVENTS_TOPIC: "foxglove.Log",
+    PILOT_TOPIC: "navcli.Pilot",
+    BIDS_TOPIC: "navcli.Bids",
+    VISION_TOPIC: "navcli.Vision",
+    NAVIGATION_TOPIC: "navcli.Navigation",
+    SUMMARY_TOPIC: "navcli.MissionSummary",
+}
+"""The schema of each topic, by name: Foxglove's (``foxglove.*``, protobuf messages) or navcli's
+(``navcli.*``, JSON messages; a plugin pilot's ``/pilot`` is ``navcli.Pilot+<name>``). What a
+reader checks a log from elsewhere against (:func:`topic_encoding`)."""
+
+
+def topic_encoding(schema: str) -> str:
+    """The message encoding of a topic whose schema is ``schema`` (:data:`TOPIC_SCHEMAS`)."""
+    return "json" if schema.startswith("navcli.") else "protobuf"
+
 
 ENUM = "x-navcli-enum"
 """Marks a field (in its schema) whose values are an enumeration declared by the code that produces
@@ -451,3 +481,7 @@ def json_schema(cls: type[Struct], enums: Mapping[str, Sequence[str]] | None = N
 
     schema = fix(raw)
     return {"title": f"navcli.{cls.__name__}"} | schema
+
+
+SUMMARY_FIELDS = tuple(f.name for f in msgspec.structs.fields(MissionSummary) if f.required)
+"""The fields every ``/mission/summary`` holds (the others have defaults): what a reader requires."""

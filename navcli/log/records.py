@@ -6,7 +6,7 @@ log")."""
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 from ..bidding import RESOURCES, SYSTEMS
 
@@ -17,10 +17,10 @@ if TYPE_CHECKING:
 _NO_BIDS = dict.fromkeys(SYSTEMS, 0.0)
 
 
-def bids_record(t: Tick) -> dict:
+def bids_record(t: Tick) -> dict[str, Any]:
     """The ``/bids`` message (a :class:`~navcli.messages.Bids` as plain values): fixed keys per
     resource so every value is plottable in Foxglove."""
-    msg: dict = {r: {**_NO_BIDS, "actions": {}} for r in RESOURCES}
+    msg: dict[str, Any] = {r: {**_NO_BIDS, "actions": {}} for r in RESOURCES}
     for b in t.bids:
         per = msg[b.resource]
         per[b.bidder] = b.value
@@ -29,7 +29,7 @@ def bids_record(t: Tick) -> dict:
         win = t.winners[r]
         if win is not None:
             msg[r]["winner"] = win.bidder
-    agents: dict = {}
+    agents: dict[str, dict[str, float]] = {}
     for b in t.agent_bids:
         per = agents.get(b.bidder)
         if per is None:
@@ -39,7 +39,7 @@ def bids_record(t: Tick) -> dict:
     return msg
 
 
-def navigation_record(t: Tick) -> dict:
+def navigation_record(t: Tick) -> dict[str, Any]:
     """The ``/navigation`` message (a :class:`~navcli.messages.Navigation` as plain values): every
     agent's bids, what was forwarded, and why."""
     nav = t.navigation
@@ -51,7 +51,7 @@ def navigation_record(t: Tick) -> dict:
             a = agents[b.bidder] = {"motion": 0.0, "camera": 0.0}
         if b.value > a[b.resource]:  # max(), as a test: no call
             a[b.resource] = b.value
-    fwd: dict = {"motion": 0.0, "camera": 0.0}
+    fwd: dict[str, Any] = {"motion": 0.0, "camera": 0.0}
     for b in nav.bids:
         fwd[b.resource] = b.value
         fwd[f"{b.resource}_agent"] = nav.forwarded_by[b.resource]
@@ -64,7 +64,7 @@ def navigation_record(t: Tick) -> dict:
     return msg
 
 
-def vision_record(t: Tick) -> dict:
+def vision_record(t: Tick) -> dict[str, Any]:
     """The ``/vision`` message (a :class:`~navcli.log.format.Vision` as plain values): the pan, the
     camera's state, the detections of an image taken this tick, and the purpose of the look being
     carried out (none while idle)."""

@@ -5,7 +5,9 @@ from __future__ import annotations
 
 import math
 import os
+from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 import msgspec
 
@@ -22,9 +24,11 @@ class RecoverError(NavcliError):
     """A file :func:`recover` cannot make a log of (not an MCAP, no navcli run in it)."""
 
 
-def recover(partial: str | Path, out: str | Path | None = None) -> tuple[Path, dict]:
+def recover(partial: str | Path, out: str | Path | None = None, *, overwrite: bool = False) -> tuple[Path, dict]:
     """Rewrite the complete chunks of a killed run's ``.partial`` into a valid log; return its
-    path and summary.
+    path and summary. A log whose run ended but whose file lost its end after the summary (the
+    summary section and footer that let a reader open it) is rebuilt as it was, its own summary
+    kept; a log that is whole is refused.
 
     Records are read in order with CRCs checked, up to the first incomplete or damaged one (the
     chunk being written when the process died); schemas, channels, messages, the ``run``
@@ -32,8 +36,8 @@ def recover(partial: str | Path, out: str | Path | None = None) -> tuple[Path, d
     outcome ``interrupted``, reason :data:`RECOVERED_REASON`, at the time of the last pose kept,
     with the path length of the poses kept, the bumper contacts of ``/events``, the images of
     ``/vision`` and the ticks of ``/pilot``, so it agrees with the poses by construction.
-    ``out`` defaults to the name without ``.partial`` (or ``-<n>``); an existing file is never
-    overwritten. The summary's ``damaged_bytes`` (not written to the log) counts the bytes after a
+    ``out`` defaults to the name without ``.partial`` (or ``-<n>``); an existing file is not
+    replaced unless ``overwrite`` (and never the source). The summary's ``damaged_bytes`` (not written to the log) counts the bytes after a
     damaged record that were not the last, unfinished chunk: more than 0 says the file was damaged
     before its end, not only cut short by a kill. A ``.partial`` whose run still holds its lock is
     refused; a lock its SIGKILLed run left is removed."""
@@ -41,9 +45,7 @@ def recover(partial: str | Path, out: str | Path | None = None) -> tuple[Path, d
     if out is None:
         stem = src.name.rpartition(".partial")[0] if ".partial" in src.name else src.stem + "-recovered"
         out = src.with_name(stem if stem.endswith(".mcap") else stem + ".mcap")
-    out = check_log_path(Path(out), (str(src),))
-    if out.exists():
-        raise RecoverError(f"{out} exists; give another --out")
+    out = check_log_path(Path(out), (str(src),), overwrite=overwrite)
     lock = _lock_of_partial(src)
     try:
         return _recover(src, out)
@@ -66,43 +68,82 @@ def _lock_of_partial(src: Path) -> Lock | None:
         return None  # a folder we may not write a lock into: read-only recovery from elsewhere
 
 
-def _recover(src: Path, out: Path) -> tuple[Path, dict]:
+@dataclass
+class Records:
+    """What a damaged or cut MCAP file holds, read in order up to its first bad record."""
+
+    schemas: dict[int, Any] = field(default_factory=dict)
+    channels: dict[int, Any] = field(default_factory=dict)
+    messages: list[Any] = field(default_factory=list)
+    metadata: list[Any] = field(default_factory=list)
+    attachments: list[Any] = field(default_factory=list)
+    lost: int = 0  # bytes after a damaged record that are not the last, unfinished chunk
+    end_ns: int = 0  # the last pose's log time: where a recovered run ends
+
+
+def _read(src: Path) -> Records:
+    """The records of ``src``, CRCs checked, up to the first incomplete or damaged one."""
     from mcap.records import Attachment, Channel, Message, Metadata, Schema
     from mcap.stream_reader import StreamReader
-    from mcap.writer import Writer
-    from mcap_protobuf.decoder import DecoderFactory
 
-    schemas: dict[int, Schema] = {}
-    channels: dict[int, Channel] = {}
-    messages: list[Message] = []
-    metadata: list[Metadata] = []
-    attachments: list[Attachment] = []
-    lost = 0  # bytes after a damaged record that are not the last, unfinished chunk
+    got = Records()
     try:
         with src.open("rb") as f:
             size = os.fstat(f.fileno()).st_size
             try:
                 for r in StreamReader(f, validate_crcs=True).records:
                     if isinstance(r, Schema):
-                        schemas[r.id] = r
+                        got.schemas[r.id] = r
                     elif isinstance(r, Channel):
-                        channels[r.id] = r
+                        got.channels[r.id] = r
                     elif isinstance(r, Message):
-                        messages.append(r)
+                        got.messages.append(r)
                     elif isinstance(r, Metadata):
-                        metadata.append(r)
+                        got.metadata.append(r)
                     elif isinstance(r, Attachment):
-                        attachments.append(r)
+                        got.attachments.append(r)
             except Exception:  # the record being written when the run died: everything before it is kept
-                lost = size - f.tell()  # > 0: damage before the end, not only an unfinished last chunk
+                got.lost = size - f.tell()  # > 0: damage before the end, not only an unfinished last chunk
     except OSError as e:
         raise RecoverError(f"{src}: cannot be read ({e.strerror or e})") from None
-    run = next((m.metadata for m in metadata if m.name == "run"), None)
-    if run is None or not channels:
+    return got
+
+
+def _readable(src: Path) -> bool:
+    """Does the MCAP reader read ``src`` whole (its summary section and footer there)?"""
+    from mcap.reader import make_reader
+
+    try:
+        with src.open("rb") as f:
+            for _ in make_reader(f).iter_messages():
+                pass
+    except Exception:  # the reader's many errors for a file without its end
+        return False
+    return True
+
+
+def _recover(src: Path, out: Path) -> tuple[Path, dict]:
+    got = _read(src)
+    run = next((m.metadata for m in got.metadata if m.name == "run"), None)
+    if run is None or not got.channels:
         raise RecoverError(f"{src}: no navcli run found in it (not a navcli log, or killed before its first chunk)")
-    topic = {cid: c.topic for cid, c in channels.items()}
-    if any(topic.get(m.channel_id) == fmt.SUMMARY_TOPIC for m in messages):
-        raise RecoverError(f"{src}: already holds a summary; it is a complete log, rename it")
+    topic = {cid: c.topic for cid, c in got.channels.items()}
+    ended = [m for m in got.messages if topic.get(m.channel_id) == fmt.SUMMARY_TOPIC]
+    if ended:  # the run closed its log, and the file lost its end after the summary: rebuilt as it was
+        if _readable(src):
+            raise RecoverError(f"{src}: a complete log (it holds its summary and its end); nothing to recover")
+        summary = msgspec.json.decode(ended[-1].data) | {"damaged_bytes": got.lost}
+        return _write(out, got, None), summary
+    summary = _interrupted(src, got, topic, run)
+    return _write(out, got, summary), summary
+
+
+def _interrupted(src: Path, got: Records, topic: dict[int, str], run: dict) -> dict:
+    """The summary of a killed run from what its log kept (the messages after its last pose are
+    dropped from ``got``): outcome ``interrupted``, with its ``damaged_bytes``."""
+    from mcap_protobuf.decoder import DecoderFactory
+
+    schemas, channels = got.schemas, got.channels
     pose_channel = next((cid for cid, t in topic.items() if t == fmt.POSE_TOPIC), None)
     decode = (
         DecoderFactory().decoder_for("protobuf", schemas[channels[pose_channel].schema_id])
@@ -110,20 +151,20 @@ def _recover(src: Path, out: Path) -> tuple[Path, dict]:
         else None
     )
     poses = (
-        [(m.log_time, decode(m.data).pose.position) for m in messages if m.channel_id == pose_channel]
+        [(m.log_time, decode(m.data).pose.position) for m in got.messages if m.channel_id == pose_channel]
         if decode is not None
         else []
     )
     if not poses:
         raise RecoverError(f"{src}: no pose was written before the run died")
     poses.sort(key=lambda tp: tp[0])
-    end_ns = poses[-1][0]
-    messages = [m for m in messages if m.log_time <= end_ns]
+    got.end_ns = end_ns = poses[-1][0]
+    got.messages = messages = [m for m in got.messages if m.log_time <= end_ns]
     events = [m for m in messages if topic[m.channel_id] == fmt.EVENTS_TOPIC]
     log_dec = (
         DecoderFactory().decoder_for("protobuf", schemas[channels[events[0].channel_id].schema_id]) if events else None
     )
-    summary = {
+    return {
         "scenario": run.get("scenario", ""),
         "seed": int(run.get("seed", 0)),
         "pilot": run.get("pilot", ""),
@@ -140,30 +181,35 @@ def _recover(src: Path, out: Path) -> tuple[Path, dict]:
         "ticks": sum(1 for m in messages if topic[m.channel_id] == fmt.PILOT_TOPIC),
         "navcli_version": run.get("navcli_version", ""),
         "run_id": run.get("run_id", ""),
+        "damaged_bytes": got.lost,
     }
-    summary["damaged_bytes"] = lost
+
+
+def _write(out: Path, got: Records, summary: dict | None) -> Path:
+    """``got`` as a whole MCAP file at ``out``, with ``summary`` added as the run's
+    ``/mission/summary`` at its last pose's time (None: the records hold one already)."""
+    from mcap.writer import Writer
+
     with atomic(out) as tmp, tmp.open("wb") as f:  # a temporary name: never the source, <out>.partial
         w = Writer(f)
         w.start(profile="", library="navcli recover")
-        schema_ids = {sid: w.register_schema(s.name, s.encoding, s.data) for sid, s in schemas.items()}
+        schema_ids = {sid: w.register_schema(s.name, s.encoding, s.data) for sid, s in got.schemas.items()}
         channel_ids = {
             cid: w.register_channel(c.topic, c.message_encoding, schema_ids.get(c.schema_id, 0), c.metadata)
-            for cid, c in channels.items()
+            for cid, c in got.channels.items()
         }
-        for md in metadata:
+        for md in got.metadata:
             w.add_metadata(md.name, md.metadata)
-        for a in attachments:
+        for a in got.attachments:
             w.add_attachment(a.create_time, a.log_time, a.name, a.media_type, a.data)
-        for m in messages:
+        for m in got.messages:
             w.add_message(channel_ids[m.channel_id], m.log_time, m.data, m.publish_time, m.sequence)
-        schema = schema_of(MissionSummary)  # the same bytes as a normal log's
-        sid = w.register_schema(schema.name, schema.encoding, schema.data)
-        cid = w.register_channel(fmt.SUMMARY_TOPIC, "json", sid)
-        w.add_message(
-            cid,
-            end_ns,
-            encode(msgspec.convert({k: v for k, v in summary.items() if k != "damaged_bytes"}, MissionSummary)),
-            end_ns,
-        )
+        if summary is not None:
+            end_ns = got.end_ns
+            schema = schema_of(MissionSummary)  # the same bytes as a normal log's
+            sid = w.register_schema(schema.name, schema.encoding, schema.data)
+            cid = w.register_channel(fmt.SUMMARY_TOPIC, "json", sid)
+            fields = {k: v for k, v in summary.items() if k != "damaged_bytes"}
+            w.add_message(cid, end_ns, encode(msgspec.convert(fields, MissionSummary)), end_ns)
         w.finish()
-    return out, summary
+    return out

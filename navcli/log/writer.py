@@ -150,7 +150,8 @@ class Recorder:
     """Writes one run to ``path`` (see module docstring). Use :meth:`start`, :meth:`tick` per
     control tick, then :meth:`finish` exactly once, also after an interruption. ``pilot_message``
     is the run's ``/pilot`` message type (a plugin pilot's adds the fields its ``Info`` declares:
-    :func:`~navcli.log.format.pilot_message_type`)."""
+    :func:`~navcli.log.format.pilot_message_type`). An existing log at ``path`` is refused unless
+    ``overwrite``."""
 
     def __init__(
         self,
@@ -160,8 +161,9 @@ class Recorder:
         port: int = 8765,
         protect: tuple[str, ...] = (),
         pilot_message: type = Pilot,
+        overwrite: bool = False,
     ):
-        self.path = check_log_path(Path(path), protect)
+        self.path = check_log_path(Path(path), protect, overwrite=overwrite)
         self.partial = self.path.with_name(self.path.name + ".partial")
         self.lock = Lock(self.path.with_name(self.path.name + ".lock"))
         self.kept_aside: Path | None = None  # where a killed run's .partial was moved

@@ -31,6 +31,7 @@ from __future__ import annotations
 import itertools
 import math
 from dataclasses import dataclass, field
+from typing import Iterator
 
 from ..beliefs import Beliefs
 from ..fuzzy import FuzzyPoint
@@ -43,6 +44,7 @@ from .regions import (
     NoCrossing,
     Regions,
     blocked_edges,
+    ends,
     crossed_pairs,
     first_crossing,
     triangulate,
@@ -137,10 +139,10 @@ class MapManager:
             return 0
         return len(self.network.learn(viewframe, targets=shown & set(viewframe)))
 
-    def _landmarks(self, beliefs: Beliefs):
+    def _landmarks(self, beliefs: Beliefs) -> Iterator[tuple[str, tuple[FuzzyPoint, float]]]:
         for lm in beliefs.landmarks:
             yield lm.key, (lm.where, lm.seen)
-        if self._has_marker(beliefs):
+        if beliefs.target_at is not None and self._has_marker(beliefs):
             yield self.target_key, (beliefs.target_at, beliefs.target_seen)
 
     def _has_marker(self, beliefs: Beliefs) -> bool:
@@ -318,10 +320,10 @@ class MapManager:
         marks = self.landmark_estimates(beliefs, recall=False)
         units = tuple((*basis, target) for target, per in self.network.units.items() for basis in per)
         r, known = self._regions(beliefs, marks)
-        blocked = tuple(sorted(tuple(sorted(e)) for e in set(self.blocked) | set(known)))
+        blocked = tuple(sorted(ends(e) for e in set(self.blocked) | set(known)))
         if r is None:
             return MapSnapshot(marks, units, (), blocked)
-        corner = lambda v: (float(r.points[v][0]), float(r.points[v][1]))  # noqa: E731
-        tris = tuple((corner(a), corner(b), corner(c)) for a, b, c in r.triangles)
+        corners = [(float(x), float(y)) for x, y in r.points]
+        tris = tuple((corners[a], corners[b], corners[c]) for a, b, c in r.triangles.tolist())
         vertices = {k: (float(x), float(y)) for k, (x, y) in zip(r.ids, r.points)}
         return MapSnapshot(marks, units, tris, blocked, vertices)

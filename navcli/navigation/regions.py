@@ -39,13 +39,23 @@ import numpy as np
 from ..geometry import distance_to_segment
 
 Point = tuple[float, float]
-Edge = frozenset  # of two landmark ids
+Edge = frozenset[str]  # of two landmark ids
 OBSTACLE_STEP = 1.0
 """m: the longest stretch of a known obstacle between two of its points in the triangulation (our
 design: short enough that the triangulation's edges follow the obstacle between its points)."""
 CROSS_MARGIN = 0.05
 """m: an obstacle that meets an edge this near one of the edge's ends touches it there (a bump
 line drawn from a landmark, the end of a fence at its own point) and does not block it."""
+
+
+def ends(edge: Edge) -> tuple[str, str]:
+    """An edge's two landmark ids, in order (for messages and the log).
+
+    >>> ends(frozenset(("B", "A")))
+    ('A', 'B')
+    """
+    u, v = sorted(edge)
+    return u, v
 
 
 def is_real(key: str) -> bool:

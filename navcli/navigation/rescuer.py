@@ -65,7 +65,7 @@ import numpy as np
 from ..bidding import Bid, Look, Move, looked_at
 from ..geometry import ORIGIN, Point, Pose, midpoint, segments_intersect, wrap_angle
 from ..params import NAVIGATION, ROBOT, NavigationParams, RobotParams
-from .regions import Crossing, Edge, NoCrossing
+from .regions import Crossing, Edge, NoCrossing, ends
 from .situation import Situation
 
 STOP = Move(0.0, 0.0)  # a value: one serves every stop
@@ -284,7 +284,7 @@ class Rescuer:
             # failed counts, by bumps, no progress or time; a way seen to be closed was not tried)
             again = ask(None)
             if isinstance(again, Crossing) and again.edge != tried:
-                end_u, end_v = sorted(tried)
+                end_u, end_v = ends(tried)
                 events.append(
                     ("info", f"blocked ({why}) on the way across {end_u}-{end_v}: the map now leads another way")
                 )
@@ -309,8 +309,8 @@ class Rescuer:
                 abandoned, self._last_crossed = self._last_crossed, None
                 if self.tried and self.tried[-1][2] == "crossed":
                     self.tried[-1] = (*self.tried[-1][:2], "crossed, led nowhere")
-                u, v = sorted(abandoned)
-                events.append(("warning", f"crossing between {u} and {v} led nowhere ({self.failures} failed)"))
+                end_u, end_v = ends(abandoned)
+                events.append(("warning", f"crossing between {end_u} and {end_v} led nowhere ({self.failures} failed)"))
         if self.params.gives_up and 0 < self.params.max_diverting_failures <= self.failures:
             return self._give_up(f"{self.failures} diverting targets failed", events, s)
         if abandoned is not None and caught:
@@ -325,7 +325,7 @@ class Rescuer:
     def _request(
         self,
         s: Situation,
-        events: list,
+        events: list[tuple[str, str]],
         ask: Callable[[Edge | None], Crossing | NoCrossing | None],
         abandoned: Edge | None = None,
     ) -> Rescue:
@@ -350,13 +350,13 @@ class Rescuer:
             return Rescue(events=tuple(events))
         return self._divert(crossing, s, events)
 
-    def _explore(self, s: Situation, events: list, why: str) -> None:
+    def _explore(self, s: Situation, events: list[tuple[str, str]], why: str) -> None:
         """Turn away from the target, then drive and look around (see the module docstring)."""
         self._start_turn(s.beliefs.odometry, events, f"{why}; exploring", away=s.aim)
         self._scan_after_turn = True
         self._reset_progress(s)
 
-    def _divert(self, crossing: Crossing, s: Situation, events: list) -> Rescue:
+    def _divert(self, crossing: Crossing, s: Situation, events: list[tuple[str, str]]) -> Rescue:
         """Set ``crossing`` as the diverting target, with one stop (the thesis' Rescuer wins one
         stop bid per request)."""
         self._explorations = 0
@@ -368,7 +368,7 @@ class Rescuer:
         stop = Bid(self.name, "motion", STOP, self.params.rescuer_bid)
         return Rescue((stop,), self._diverting_line(s), tuple(events))
 
-    def _give_up(self, why: str, events: list, s: Situation) -> Rescue:
+    def _give_up(self, why: str, events: list[tuple[str, str]], s: Situation) -> Rescue:
         """End the mission as ``blocked`` for ``why``, said in the events too; with ``gives_up`` 0,
         say so and explore instead (the robot goes on until the time limit)."""
         if not self.params.gives_up:
@@ -396,7 +396,7 @@ class Rescuer:
             self._scan += 1
         return self._scan >= len(self.params.scan_pans_deg)
 
-    def _start_turn(self, odo: Pose, events: list, why: str, away: Point | None = None) -> None:
+    def _start_turn(self, odo: Pose, events: list[tuple[str, str]], why: str, away: Point | None = None) -> None:
         """Turn by a random angle of up to ``random_turn_deg``; exploring (``away``: the target,
         egocentric), to a random heading within half that of the one away from the target."""
         lim = math.radians(self.params.random_turn_deg)

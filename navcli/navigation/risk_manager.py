@@ -47,7 +47,7 @@ class RiskManager:
     def risk(self, s: Situation) -> float:
         p = self.params
         a, b = len(s.ahead), len(s.landmarks)
-        return 1.0 - min(1.0, s.quality_ahead * (a / 6) ** p.gamma_A + s.quality_around * (b / 6) ** p.gamma_B)
+        return 1.0 - min(1.0, float(s.quality_ahead * (a / 6) ** p.gamma_A + s.quality_around * (b / 6) ** p.gamma_B))
 
     def least_known_sector(self, s: Situation) -> float:
         """The centre (rad) of the reachable sector holding the fewest known landmarks (nearest

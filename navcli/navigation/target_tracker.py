@@ -42,7 +42,7 @@ class TargetTracker:
 
     def imprecision(self, spread: float) -> float:
         """I_a in [0, 1] from the width ``spread`` (rad) of the heading's 70 % cut (thesis eq. 6)."""
-        return min(1.0, spread / TWO_PI) ** self.params.beta
+        return float(min(1.0, spread / TWO_PI) ** self.params.beta)
 
     def bid(self, s: Situation) -> list[Bid]:
         aim = s.aim

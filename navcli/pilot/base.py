@@ -57,7 +57,7 @@ class Avoidance:
 
     move: Move | None
     bid: float
-    info: dict
+    info: dict[str, Any]
     arrows: list[tuple[str, float, float]] = field(default_factory=list)
 
 
@@ -71,7 +71,7 @@ class PilotOutput:
     """
 
     bids: list[Bid]
-    info: dict
+    info: dict[str, Any]
     arrows: list[tuple[str, float, float]] = field(default_factory=list)
     events: list[str] = field(default_factory=list)
     obstacles: tuple[KnownObstacle, ...] = ()  # what the pilot avoided this tick, egocentric
@@ -215,7 +215,7 @@ class Pilot:
         p = self.params
         if not p.looks:
             return 0.0
-        return min(p.look_cap, (self.since_look / p.look_d_max) ** p.look_exponent)
+        return min(p.look_cap, float((self.since_look / p.look_d_max) ** p.look_exponent))
 
     def _looked(self, look: Look) -> None:
         """Vision carried out ``look``; a look for obstacles near ahead resets d_l of eq. 1 (a look

@@ -16,6 +16,7 @@ from typing import Any
 
 from ..geometry import Point
 from .. import NavcliError
+from ..checks.arguments import checked, path, text
 from ..params import CLUSTERS, NavigationParams, ParamError, Params
 from ..plugins import registry
 from .model import (
@@ -40,6 +41,16 @@ from . import bundled
 from .yaml_reader import MAX_BYTES, Invalid, Problem, Reader, ScenarioError, parse_yaml, read_bounded, type_name
 
 
+def _words(v: Any) -> str | None:
+    """A scenario's text: a ``str`` (empty is the loader's to refuse, with its line)."""
+    return None if isinstance(v, str) else f"expected the YAML text (a str), got {type(v).__name__}"
+
+
+ARGUMENTS = {"path": path, "text": _words, "source": text}
+"""The arguments of :func:`load_scenario` and :func:`parse_scenario`, checked at each call."""
+
+
+@checked(ARGUMENTS)
 def load_scenario(path: str | Path) -> Scenario:
     """Read and validate a scenario file, or the bundled scenario of that name (a file wins over a
     name: :mod:`~navcli.scenario.bundled`); raise :class:`ScenarioError` on any refusal."""
@@ -49,6 +60,7 @@ def load_scenario(path: str | Path) -> Scenario:
     return parse_scenario(read_bounded(file, MAX_BYTES, "a scenario file", ScenarioError), str(file))
 
 
+@checked(ARGUMENTS)
 def parse_scenario(text: str, source: str = "<string>") -> Scenario:
     """Validate YAML text as a scenario (``source`` names it in messages)."""
     data, lines = parse_yaml(text, source)

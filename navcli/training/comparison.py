@@ -402,8 +402,9 @@ def _cell(r, m: str) -> str:
     return f"{v:.{d}f}" if math.isnan(lo) else f"{v:.{d}f} [{lo:.{d}f}, {hi:.{d}f}]"
 
 
-def markdown(table, scenario: str = "") -> str:
-    """The table as Markdown, in the paper's layout, with what the numbers are."""
+def markdown(table, scenario: str = "", errors: list[str] | None = None) -> str:
+    """The table as Markdown, in the paper's layout, with what the numbers are; ``errors`` (runs
+    that raised, a line per policy) among its notes."""
     starts = int(table["starts"].max()) if len(table) else 0
     runs = int(table["runs"].max()) if len(table) else 0
     head = ["policy", f"successes (of {starts})", "reward / trial", "actions / trial", *ACTIONS, "time / trial (s)"]
@@ -424,20 +425,36 @@ def markdown(table, scenario: str = "") -> str:
         "",
     ]
     lines += [f"- {r.policy}: {r.about}" for r in table.itertuples() if r.about] + [""]
-    remarks = notes(table, scenario)
+    remarks = notes(table, scenario) + (errors or [])
     if remarks:
         lines += ["Notes:", ""] + [f"- {n}" for n in remarks] + [""]
     return "\n".join(lines)
 
 
+def failures(results: list[Result], where: str = "") -> dict[str, str]:
+    """Per policy with runs that raised: a line saying how many of its runs, and why."""
+    from ..analysis.tables import why
+
+    out = {}
+    for policy in dict.fromkeys(r.job.policy.label for r in results):
+        runs = [r for r in results if r.job.policy.label == policy]
+        bad = [r.error for r in runs if r.trials is None]
+        if bad:
+            out[policy] = (
+                f"{where + ', ' if where else ''}{policy}: {len(bad)} of {len(runs)} runs ended in error: {why(bad)}"
+            )
+    return out
+
+
 def write_table(results: list[Result], out: Path, scenario: str = "") -> dict[str, Path]:
-    """``policies.csv``, ``policies.md`` and ``trials.csv`` (every trial) into ``out``."""
+    """``policies.csv``, ``policies.md`` and ``trials.csv`` (every trial) into ``out``; runs that
+    raised have no trials, and the notes say how many and why."""
     out.mkdir(parents=True, exist_ok=True)
     trials = trials_frame(results)
-    about = {r.job.policy.label: r.job.policy.about for r in results}
+    about = {r.job.policy.label: r.job.policy.about for r in results if r.trials is not None}
     table = policy_table(trials, about)
     files = dict(zip(("table", "markdown", "trials"), (out / f for f in TABLE_FILES)))
     write_csv(files["table"], table)
     write_csv(files["trials"], trials)
-    write_markdown(files["markdown"], markdown(table, scenario))
+    write_markdown(files["markdown"], markdown(table, scenario, list(failures(results).values())))
     return files

@@ -186,7 +186,7 @@ class NavigationTask:
             m.perception.glimpse_target(m.world.pose)
         self.mission, self.agent, self.actions, self.outcome = m, agent, 0, None
         if log is not None:
-            self.recorder = open_log(spec, m, log)
+            self.recorder = open_log(spec, m, log, overwrite=True)  # the training's own folder
         advance(m, self._observers(), until=lambda m: agent.state is not None and not m.navigation.sweeping)
         return agent.state if agent.state is not None else 0
 

@@ -26,7 +26,7 @@ what the agents hear of the last tick: the look of the image taken (pan and purp
 from __future__ import annotations
 
 import math
-from typing import Container
+from typing import Container, Iterable
 
 import numpy as np
 
@@ -59,9 +59,9 @@ class _Senses:
         self,
         time: float,
         odometry: Pose,
-        target,
-        line,
-        obstacles,
+        target: Point | None,
+        line: tuple[Point, Point] | None,
+        obstacles: Iterable[KnownObstacle],
         spread: float,
         landmarks: tuple[KnownLandmark, ...] = (),
         target_at: FuzzyPoint | None = None,

@@ -206,7 +206,10 @@ class VisualMemory:
         camera never saw, found by touch at two places, is known as one long obstacle, which the
         Pilot avoids as such and the Map Manager sees across the region edges it blocks."""
         near = self.params.bump_merge
-        d = lambda m: math.hypot(m.spots[0].x - spot.x, m.spots[0].y - spot.y)  # noqa: E731
+
+        def d(m: Memory) -> float:
+            return math.hypot(m.spots[0].x - spot.x, m.spots[0].y - spot.y)
+
         bumps = [m for m in self.items.values() if m.kind == "bump" and len(m.spots) == 1 and d(m) <= near]
         if bumps:
             other = min(bumps, key=d)
