@@ -54,10 +54,18 @@ def test_a_commit_that_changes_navcli_makes_the_report_stale(repo):
     source = provenance.record(None, root=repo)
     _commit(repo, {"navcli/a.py": "A = 2\n"}, "a changes")
     problems = provenance.stale(source, repo)
-    assert len(problems) == 1 and problems[0].startswith(
-        f"1 commit(s) after the report's commit {source['commit'][:12]}"
-    )
-    assert problems[0].endswith("a changes")
+    assert problems[0] == "1 file(s) of navcli/ differ from the report's: navcli/a.py (changed)"
+    assert problems[1].startswith(f"1 commit(s) since the report's commit {source['commit'][:12]}")
+    assert problems[1].endswith("a changes") and len(problems) == 2
+
+
+def test_an_edit_not_committed_or_a_file_added_makes_the_report_stale_and_says_which(repo):
+    source = provenance.record(None, root=repo)
+    (repo / "navcli" / "a.py").write_text("A = 1  # edited\n")
+    assert provenance.stale(source, repo) == ["1 file(s) of navcli/ differ from the report's: navcli/a.py (changed)"]
+    (repo / "navcli" / "a.py").write_text("A = 1\n")
+    _commit(repo, {"navcli/b.py": "B = 1\n"}, "b added")
+    assert provenance.stale(source, repo)[0] == "1 file(s) of navcli/ differ from the report's: navcli/b.py (added)"
 
 
 def test_a_report_made_from_uncommitted_changes_is_stale_and_says_which(repo):
@@ -71,13 +79,23 @@ def test_a_report_made_from_uncommitted_changes_is_stale_and_says_which(repo):
     assert "with uncommitted changes to navcli/a.py, navcli/new.py" in provenance.describe(source)
 
 
-def test_a_report_of_an_unknown_commit_or_without_a_build_is_stale(repo):
+def test_a_report_stands_by_its_sources_digests_where_its_commit_is_unknown(repo):
+    """A shallow clone lacks the report's commit: the files' digests still tell."""
     source = provenance.record(None, root=repo)
-    assert "is not in this repository" in provenance.stale(source | {"commit": "0" * 40}, repo)[0]
-    old = {k: v for k, v in source.items() if k != "build"}
-    assert provenance.stale(old, repo) == [
-        "the report records no build or library versions (made before navcli recorded them)"
+    assert provenance.stale(source | {"commit": "0" * 40}, repo) == []
+    (repo / "navcli" / "a.py").write_text("A = 5\n")
+    assert provenance.stale(source | {"commit": "0" * 40}, repo) == [
+        "1 file(s) of navcli/ differ from the report's: navcli/a.py (changed)"
     ]
+
+
+def test_a_report_without_a_build_or_digests_is_stale(repo):
+    source = provenance.record(None, root=repo)
+    for missing in ("build", "sources"):
+        old = {k: v for k, v in source.items() if k != missing}
+        assert provenance.stale(old, repo) == [
+            "the report records no build or no digests of its sources (made before navcli recorded them)"
+        ]
 
 
 def test_outside_a_checkout_nothing_is_claimed(tmp_path):

@@ -5,14 +5,16 @@ reports (:func:`stale`, the check of the results page: ``python docs/make_result
 
 What a report *depends on* (our design, :data:`SOURCES`): every file under ``navcli/`` (the code,
 the bundled scenarios and the bundled model) but its documentation files (:data:`DOCS_ONLY`), which
-change no number. A commit that touches one of them after the report's commit makes the report
-stale, whatever the change (a docstring edit too: a commit is not read for what it changes). The
-environment (the build, the libraries' versions, Python) is recorded beside the commit, not
-checked: it is not in the repository's history.
+change no number. The report records a digest of each of them as they were (:func:`digests`), and
+any difference makes it stale, whatever the change (a docstring edit too: a change is not read for
+what it does). The digests need no history, so a shallow clone checks as well as a full one; the
+commits since the report's own are named where the history has them. The environment (the build,
+the libraries' versions, Python) is recorded beside them, not checked: it is not in the repository.
 """
 
 from __future__ import annotations
 
+import hashlib
 import importlib.metadata
 import platform
 import re
@@ -66,6 +68,25 @@ def libraries() -> dict[str, str]:
     return out
 
 
+def digests(root: Path = ROOT) -> dict[str, str]:
+    """Each tracked file of :data:`SOURCES` in ``root``'s working tree, by path, with the sha256 of
+    its bytes (16 hex digits); empty outside a git checkout."""
+    listed = git(root, "ls-files", "-z", "--", *SOURCES, strip=False) if checkout(root) else None
+    paths = sorted(p for p in (listed or "").split("\0") if p)
+    return {p: hashlib.sha256((root / p).read_bytes()).hexdigest()[:16] for p in paths if (root / p).is_file()}
+
+
+def changed(recorded: dict[str, str], now: dict[str, str]) -> list[str]:
+    """The files that differ between two :func:`digests`: changed, added or removed.
+
+    >>> changed({"navcli/a.py": "1", "navcli/b.py": "2"}, {"navcli/a.py": "1", "navcli/b.py": "3", "navcli/c.py": "4"})
+    ['navcli/b.py (changed)', 'navcli/c.py (added)']
+    """
+    out = [f"{p} (changed)" for p in sorted(recorded.keys() & now.keys()) if recorded[p] != now[p]]
+    out += [f"{p} (added)" for p in sorted(now.keys() - recorded.keys())]
+    return out + [f"{p} (removed)" for p in sorted(recorded.keys() - now.keys())]
+
+
 def record(command: Sequence[str] | None, root: Path = ROOT) -> dict[str, Any]:
     """The provenance of a report made now by ``command`` (argv; None: called from Python with
     settings no command line gives): navcli's version and build, the commit (full hash; ``unknown``
@@ -88,6 +109,7 @@ def record(command: Sequence[str] | None, root: Path = ROOT) -> dict[str, Any]:
         "dirty": bool(tracked) if tracked is not None else None,
         "dirty_sources": sorted(line[3:] for line in (sources or "").splitlines()),
         "libraries": libraries(),
+        "sources": digests(root),
     }
 
 
@@ -111,25 +133,25 @@ def describe(source: dict[str, Any]) -> str:
 
 
 def stale(source: dict[str, Any], root: Path = ROOT) -> list[str]:
-    """Why a report of provenance ``source`` (:func:`record`) no longer stands for the code at
-    ``root``'s HEAD, a line each; empty when it does. Stale: its commit is unknown here, it was made
-    from uncommitted changes to :data:`SOURCES`, it records no build, or a commit after its own
-    touches :data:`SOURCES`."""
-    commit = str(source.get("commit", UNKNOWN))
+    """Why a report of provenance ``source`` (:func:`record`) no longer stands for the code in
+    ``root``, a line each; empty when it does. Stale: it records no build or no digests of its
+    sources, it was made from uncommitted changes to :data:`SOURCES`, or a file of them differs
+    now from what it recorded (the commits since its own named where the history has them)."""
     if not checkout(root):
-        return [f"{root} is not a git checkout: the report's commit cannot be checked"]
-    if git(root, "cat-file", "-e", f"{commit}^{{commit}}") is None:
-        return [f"the report's commit {commit} is not in this repository (a shallow clone, or another history)"]
+        return [f"{root} is not a git checkout: the report's sources cannot be checked"]
     out = []
     if source.get("dirty_sources"):
         out.append(f"the report was made from uncommitted changes to {', '.join(source['dirty_sources'])}")
-    if "build" not in source:
-        out.append("the report records no build or library versions (made before navcli recorded them)")
-    later = git(root, "log", "--format=%h %s", f"{commit}..HEAD", "--", *SOURCES) or ""
-    if later:
-        commits = later.splitlines()
-        out.append(
-            f"{len(commits)} commit(s) after the report's commit {commit[:12]} change what it depends on "
-            f"(navcli/ but its documentation files), the latest: {commits[0]}"
-        )
+    if "build" not in source or "sources" not in source:
+        out.append("the report records no build or no digests of its sources (made before navcli recorded them)")
+        return out
+    differ = changed(source["sources"], digests(root))
+    if differ:
+        more = f" and {len(differ) - 5} more" if len(differ) > 5 else ""
+        out.append(f"{len(differ)} file(s) of navcli/ differ from the report's: {', '.join(differ[:5])}{more}")
+        commit = str(source.get("commit", UNKNOWN))
+        later = git(root, "log", "--format=%h %s", f"{commit}..HEAD", "--", *SOURCES)
+        if later:
+            commits = later.splitlines()
+            out.append(f"{len(commits)} commit(s) since the report's commit {commit[:12]}, the latest: {commits[0]}")
     return out
