@@ -20,6 +20,7 @@ import pytest
 import navcli
 from typer.testing import CliRunner
 
+from navcli import NavcliError
 from navcli.analysis.logs import read_log
 from navcli.analysis.schemas import log_problems, schema_problems
 from navcli.cli import app
@@ -358,3 +359,19 @@ def test_plugins_check_runs_a_policy_through_the_same_boundary(plugin):
     at = line_of("def bid", source, "class BidsNone")
     assert problems and all(f"its bid() (defined at faulty.py:{at}) returned None, not a list" in p for p in problems)
     assert check("policy", "faulty.py:BadName")[0].startswith("cannot be made as navcli makes it")
+
+
+def test_a_subclass_of_a_compiled_pilot_is_refused_saying_why_in_the_compiled_build(tmp_path, monkeypatch):
+    # the potential-field pilot's module is compiled (navcli.builds.MODULES); the geometric pilot's is not
+    (tmp_path / "geo.py").write_text(
+        "from navcli.pilot import PotentialFieldPilot\n\nclass Geo(PotentialFieldPilot):\n    pass\n"
+    )
+    monkeypatch.chdir(tmp_path)
+    registry.clear_caches()
+    if navcli.BUILD != "compiled":  # pure Python: any pilot may be subclassed
+        assert registry.pilot("geo.py:Geo").cls.__mro__[1].__name__ == "PotentialFieldPilot"
+        return
+    with pytest.raises(
+        NavcliError, match="it subclasses navcli.pilot.potential_field.PotentialFieldPilot, which this build"
+    ):
+        registry.pilot("geo.py:Geo")

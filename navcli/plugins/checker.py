@@ -69,11 +69,34 @@ def contract_problems(c: Component) -> list[str]:
 
         if not (isinstance(cls, type) and issubclass(cls, Pilot)):
             return [f"{cls!r} is not a subclass of navcli.pilot.Pilot (a pilot implements Pilot.avoid)"]
+        compiled = _compiled_bases(cls, Pilot)
+        if compiled:
+            return [
+                f"it subclasses {compiled[0]}, which this build of navcli compiles (navcli.BUILD), and a Python "
+                f"class cannot subclass a compiled one but navcli.pilot.Pilot: subclass Pilot, and call one of "
+                f"{compiled[0].rpartition('.')[2]} from its avoid"
+            ]
     elif not callable(cls) or not callable(getattr(cls, "bid", None)):
         return [f"{cls!r} is no Navigation agent: it needs bid(situation) -> list[Bid] (navcli.navigation.Agent)"]
     if getattr(cls, "version", None) is not None and not isinstance(cls.version, str):
         return [f"its version is {cls.version!r}, not text"]
     return _params_problems(c) + (_info_problems(c) if c.kind == "pilot" else [])
+
+
+def _compiled_bases(cls: type, allowed: type) -> list[str]:
+    """The classes of navcli's that ``cls`` derives from and this build compiles (mypyc: no Python
+    class derives from one, but ``allowed``, which is marked to let them)."""
+    import sys
+    from importlib.machinery import EXTENSION_SUFFIXES
+
+    out = []
+    for base in cls.__mro__[1:]:
+        if base is allowed or not base.__module__.startswith("navcli."):
+            continue
+        file = getattr(sys.modules.get(base.__module__), "__file__", None) or ""
+        if file.endswith(tuple(EXTENSION_SUFFIXES)):
+            out.append(f"{base.__module__}.{base.__qualname__}")
+    return out
 
 
 def _situations() -> list[tuple[str, Any, Any]]:
