@@ -4,6 +4,7 @@ run as navcli runs a plugin, every call guarded and its result checked, against 
 navcli would run without the boundary, alternated, over the same mission.
 
     python benchmarks/plugin_boundary.py [--scenario paper-8x8] [--seconds 120] [--rounds 5]
+    python benchmarks/plugin_boundary.py --instructions --seconds 40     # valgrind's count instead
 
 Prints each variant's microseconds per tick in its fastest round (the machine's load only adds) and their difference, and the
 boundary's own share measured directly (the check of one ``avoid`` result and one guarded call,
@@ -63,11 +64,24 @@ def main() -> None:
     ap.add_argument("--scenario", default="paper-8x8")
     ap.add_argument("--seconds", type=float, default=120.0, help="simulated seconds of each mission")
     ap.add_argument("--rounds", type=int, default=5)
+    ap.add_argument(
+        "--instructions",
+        action="store_true",
+        help="count instructions a tick under valgrind instead (the same on a busy machine): each variant "
+        "run for 10 s and for --seconds, the difference divided by the ticks between",
+    )
+    ap.add_argument("--only", choices=("bare", "guarded"), help=argparse.SUPPRESS)  # one mission, for valgrind
     a = ap.parse_args()
     sc = load_scenario(ROOT / "scenarios" / f"{a.scenario}.yaml")
     folder = Path(tempfile.mkdtemp(prefix="navcli-bench-"))
     (folder / "paper.py").write_text(PLUGIN)
     spec = RunSpec.build(sc, pilot=f"{folder / 'paper.py'}:Paper", time_limit=a.seconds, perception="vision")
+    if a.only:
+        ticks_us(spec, bare=a.only == "bare")
+        return
+    if a.instructions:
+        counted(a)
+        return
     runs: dict[str, list[float]] = {"bare": [], "guarded": []}
     ticks_us(spec, bare=False)  # warm-up: imports, caches
     for _ in range(a.rounds):
@@ -78,6 +92,32 @@ def main() -> None:
     print(f"  bare     {bare:8.1f}")
     print(f"  guarded  {guarded:8.1f}  ({guarded - bare:+.1f} us, {100 * (guarded / bare - 1):+.1f} %)")
     direct(spec)
+
+
+def counted(a: argparse.Namespace) -> None:
+    """Instructions a tick of each variant, by valgrind's callgrind (start-up cancels out between a
+    10 s mission and a --seconds one)."""
+    import os
+    import re
+    import subprocess
+
+    def count(variant: str, seconds: float) -> int:
+        with tempfile.TemporaryDirectory() as tmp:
+            cmd = ["valgrind", "--tool=callgrind", f"--callgrind-out-file={tmp}/cg.out", sys.executable, __file__]
+            cmd += ["--scenario", a.scenario, "--seconds", str(seconds), "--only", variant]
+            r = subprocess.run(cmd, capture_output=True, text=True, env=os.environ)
+            m = re.search(r"Collected : (\d+)", r.stderr)
+            if r.returncode != 0 or m is None:
+                raise SystemExit(r.stderr[-2000:])
+            return int(m.group(1))
+
+    ticks = round((a.seconds - 10.0) / 0.1)
+    per = {v: (count(v, a.seconds) - count(v, 10.0)) / ticks for v in ("bare", "guarded")}
+    print(f"{a.scenario}, ticks 10-{a.seconds:g} s: instructions a tick")
+    print(f"  bare     {per['bare']:10.0f}")
+    print(
+        f"  guarded  {per['guarded']:10.0f}  ({per['guarded'] - per['bare']:+.0f}, {100 * (per['guarded'] / per['bare'] - 1):+.1f} %)"
+    )
 
 
 def direct(spec: RunSpec) -> None:

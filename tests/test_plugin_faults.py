@@ -52,6 +52,8 @@ PILOTS = {
     "TextBid": "    def avoid(self, beliefs, obstacles, request):\n        return Avoidance(Move(0.0, 0.2), '0.5', {})\n",
     "NumpyInfo": "    def avoid(self, beliefs, obstacles, request):\n"
     "        return Avoidance(None, 0.0, {'turn_deg': np.float64(1.0)})\n",
+    "ArrayInfo": "    def avoid(self, beliefs, obstacles, request):\n"
+    "        return Avoidance(None, 0.0, {'turn_deg': np.zeros(2)})\n",
     "SneakyMode": "    def avoid(self, beliefs, obstacles, request):\n        return Avoidance(None, 0.0, {'mode': 'sneaky'})\n",
     "Deep": "    def avoid(self, beliefs, obstacles, request):\n        return Avoidance(helper(beliefs.time), 0.5, {})\n",
     "BadExecute": "    def avoid(self, beliefs, obstacles, request):\n        return Avoidance(None, 0.0, {})\n\n"
@@ -140,6 +142,7 @@ plugin's own line), where the pure build's boundary finds the fault in what avoi
         ("TextBid", "returned a bid of \"'0.5'\", not a finite number".replace('"', ""), "def avoid"),
         ("NumpyInfo", "Expected `float`, got `numpy.float64` - at `$.turn_deg`", "def avoid"),
         ("SneakyMode", "Invalid enum value 'sneaky' - at `$.mode`", "def avoid"),
+        ("ArrayInfo", "Expected `float`, got `numpy.ndarray` - at `$.turn_deg`", "def avoid"),
         ("BadExecute", "returned (inf, 0.0), not a wheel command (v, omega) of finite numbers", "def execute"),
     ],
 )

@@ -9,8 +9,10 @@ wrapper. Each such call:
 - raises whatever the plugin's code raised, or the call itself (a method with the wrong
   signature), as the plugin's :class:`~.registry.PluginError`, naming the file and line in the
   plugin where it happened;
-- has its result checked cheaply, field by field (a control tick's hot path: some 5 us a tick for
-  a pilot, the guard and the check together, ``benchmarks/plugin_boundary.py``): an ``avoid`` returning something else than an
+- has its result checked, field by field, the ``info`` by msgspec against the log's ``/pilot``
+  schema (a control tick's hot path: the guard and the checks together take some 8 % of the
+  instructions of a tick whose ``info`` is as large as the potential-field pilot's, most of them
+  in the ``info``'s check, which grows with it; ``benchmarks/plugin_boundary.py --instructions``): an ``avoid`` returning something else than an
   :class:`~navcli.pilot.Avoidance`, a :class:`~navcli.bidding.Move` or a bid that is not a finite
   number in its range (``Move._make((nan, nan))`` skips the constructor's own check), a bid under
   another bidder's name, are the plugin's faults too;
@@ -227,7 +229,7 @@ def info_problem(info: dict[str, Any], kind: Any) -> str | None:
         if type(k) is not str:
             return f"an info with the key {k!r}: /pilot's field names are text"
     try:
-        msgspec.convert({k: v for k, v in info.items() if v is not None}, kind)
+        msgspec.convert({k: v for k, v in info.items() if v is not None}, kind)  # `is`: a numpy array has no ==
     except msgspec.ValidationError as e:
         return f"an info that breaks the log's /pilot schema: {e}"
     return None
