@@ -15,6 +15,9 @@ from .geometry import wrap_angle
 
 Resource = Literal["motion", "camera"]
 RESOURCES: tuple[Resource, ...] = ("motion", "camera")
+SYSTEMS = ("pilot", "navigation")
+"""The systems that bid at the robot's arbiter, by the names their bids go by: the Pilot's are
+``pilot`` whatever a plugin pilot calls itself (its bids are keys of the log's ``/bids``)."""
 
 
 class _MoveFields(NamedTuple):

@@ -29,7 +29,7 @@ from .geometry import Pose, segments_intersect
 from .navigation import AgentSetup, MapSnapshot, NavigationOutput, NavigationSystem
 from .params import CONTROL_DT
 from .pilot import PilotOutput
-from .plugins import registry
+from .plugins import boundary, registry
 from .vision.camera import Detection
 from .vision.perception import make_perception
 from .vision.visual_memory import Remembered
@@ -109,10 +109,13 @@ class Mission:
         pilot = registry.pilot(spec.pilot)
         policies = registry.navigation(spec.navigation)
         self.plugins = tuple(c for c in (pilot,) + policies if not c.builtin)  # whose exceptions are theirs
+        limit = p.robot.decision_limit_s  # a plugin's calls are guarded and checked (navcli.plugins.boundary)
         self.pilot = (
             pilot.cls(p.pilot, p.robot)
             if pilot.builtin
-            else registry.build(pilot, p.pilot, p.robot, own_params=p.plugin(pilot.group), rng=rngs["plugins"])
+            else boundary.make_pilot(
+                pilot, limit, p.pilot, p.robot, own_params=p.plugin(pilot.group), rng=rngs["plugins"]
+            )
         )
         self._pilot_fields = registry.pilot_fields(pilot)  # what a plugin pilot's /pilot may hold
         t = spec.scenario.target
@@ -130,9 +133,7 @@ class Mission:
                 target_key=t.landmark,
             )
         setup = AgentSetup(p, None, pan_limit, t.landmark or "target", rngs["plugins"])
-        agents = tuple(
-            registry.build(c, setup._replace(own_params=p.plugin(c.group))) for c in policies if not c.builtin
-        )
+        agents = boundary.make_agents(tuple(c for c in policies if not c.builtin), setup, limit)
         self.navigation = NavigationSystem(
             p.navigation,
             p.robot,

@@ -105,12 +105,10 @@ def failing(tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
     monkeypatch.setattr(sys, "path", list(sys.path))
     sys.modules.pop("failing", None)
-    for cache in (registry.find, registry.locate, registry.entry_points):
-        cache.cache_clear()
+    registry.clear_caches()
     yield tmp_path
     sys.modules.pop("failing", None)
-    for cache in (registry.find, registry.locate, registry.entry_points):
-        cache.cache_clear()
+    registry.clear_caches()
 
 
 def test_compare_pilots_exits_4_when_every_run_of_a_pilot_errored_and_its_table_says_so(failing):

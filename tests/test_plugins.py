@@ -102,12 +102,10 @@ def folder(tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
     monkeypatch.setattr(sys, "path", list(sys.path))  # the registry adds the current folder: this test's only
     sys.modules.pop("swerve", None)
-    for cache in (registry.find, registry.locate, registry.entry_points):
-        cache.cache_clear()
+    registry.clear_caches()
     yield tmp_path
     sys.modules.pop("swerve", None)
-    for cache in (registry.find, registry.locate, registry.entry_points):
-        cache.cache_clear()
+    registry.clear_caches()
 
 
 def _room(folder):
@@ -196,8 +194,7 @@ def test_a_plugin_and_a_stock_pilot_never_share_a_run_id(folder):
     assert stock.log_name() != mine.log_name()
     (folder / "swerve.py").write_text(SWERVE + "\n# edited\n")  # another version of the same plugin
     sys.modules.pop("swerve", None)
-    registry.find.cache_clear()
-    registry.locate.cache_clear()
+    registry.clear_caches()
     assert RunSpec.build(sc, pilot="swerve:Swerve").run_id != mine.run_id
 
 

@@ -5,7 +5,9 @@ code  meaning
 ====  =========================================================================================
 0     success (``run``: the mission reached its target)
 1     an internal error (a bug, said so in one line; ``NAVCLI_DEBUG=1`` shows its traceback), or
-      a plugin failed (said as that plugin's, with its name: :class:`~navcli.plugins.PluginError`)
+      a plugin failed: its code raised, returned what navcli does not take, or overran
+      ``robot.decision_limit_s`` (said as that plugin's, with its name and the file and line in
+      it: :class:`~navcli.plugins.PluginError`)
 2     bad input: a :class:`~navcli.NavcliError` (a refused scenario, plan, model, log, option or
       output path), or a Dask scheduler that cannot be reached, or an optional extra not installed
 3     ``run``: the mission ended without reaching its target (timeout, blocked)

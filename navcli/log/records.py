@@ -8,12 +8,10 @@ from __future__ import annotations
 import math
 from typing import TYPE_CHECKING, Any
 
-from ..bidding import RESOURCES
+from ..bidding import RESOURCES, SYSTEMS
 
 if TYPE_CHECKING:
     from ..mission import Tick
-
-SYSTEMS = ("pilot", "navigation")  # the bidders at the robot-level auction, always in /bids
 
 
 _NO_BIDS = dict.fromkeys(SYSTEMS, 0.0)

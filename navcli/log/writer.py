@@ -120,15 +120,10 @@ def enums() -> dict[str, tuple[str, ...]]:
     from ..bidding import ACTION_TYPES, PURPOSES
     from ..mission import OUTCOMES
     from ..navigation.rescuer import STATES as RESCUER_STATES
-    from ..pilot.base import MODES, PHASES
-    from ..pilot.geometric import RULES, SIDES
+    from ..pilot import ENUMERATIONS as PILOT_ENUMERATIONS
     from ..vision.camera import KINDS, STATES as CAMERA_STATES
 
-    return {
-        "pilot.mode": MODES,
-        "pilot.phase": PHASES,
-        "geometric.rule": RULES,
-        "geometric.side": SIDES,
+    return dict(PILOT_ENUMERATIONS) | {
         "action.type": ACTION_TYPES,
         "camera.state": CAMERA_STATES,
         "detection.kind": KINDS,

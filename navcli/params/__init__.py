@@ -82,6 +82,15 @@ class RobotParams(ParamSet):
     max_turn_accel: float = param(
         math.radians(180.0), "rad/s^2", "the turn's acceleration limit (180 deg/s^2)", above=0.0
     )
+    decision_limit_s: float = param(
+        5.0,
+        "s",
+        """wall-clock seconds a plugin's code (a plugin pilot's, a plugin Navigation policy's) may
+        take for one call; one that takes longer ends its run as error, its log closed (navcli's own
+        pilots and agents are not timed; the clock never enters the log or a normal run's course)""",
+        above=0.0,
+        at_most=3600.0,
+    )
 
     def time_to_drive(self, metres: float) -> float:
         """Seconds the robot takes to drive ``metres`` at full speed: how the windows that are

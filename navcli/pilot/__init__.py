@@ -5,8 +5,17 @@ subclasses :class:`Pilot` and is found by name like them (:mod:`navcli.plugins`)
 
 from __future__ import annotations
 
-from .base import Avoidance, Pilot, PilotOutput
-from .geometric import GeometricPilot
+from .base import MODES, PHASES, Avoidance, Pilot, PilotOutput
+from .geometric import RULES, SIDES, GeometricPilot
 from .potential_field import PotentialFieldPilot
 
-__all__ = ["Avoidance", "GeometricPilot", "Pilot", "PilotOutput", "PotentialFieldPilot"]
+ENUMERATIONS: dict[str, tuple[str, ...]] = {
+    "pilot.mode": MODES,
+    "pilot.phase": PHASES,
+    "geometric.rule": RULES,
+    "geometric.side": SIDES,
+}
+"""The enumerations of the pilots' ``/pilot`` fields, by the name the log format gives each
+(:func:`~navcli.log.format.enumerated`)."""
+
+__all__ = ["ENUMERATIONS", "Avoidance", "GeometricPilot", "Pilot", "PilotOutput", "PotentialFieldPilot"]

@@ -46,7 +46,7 @@ import numpy as np
 from mypy_extensions import mypyc_attr
 
 from ..beliefs import Beliefs, Bump, KnownObstacle
-from ..bidding import Bid, Look, Move, looked_at
+from ..bidding import SYSTEMS, Bid, Look, Move, looked_at
 from ..geometry import Pose, distance_to_segment, motion_between, wrap_angle
 from ..params import CONTROL_DT, PILOT, ROBOT, ParamSet, PilotParams, RobotParams
 
@@ -86,6 +86,7 @@ PHASES = ("stop", "look", "backup", "done")
 SAFE_STEP = math.radians(15.0)  # rad between the headings :meth:`Pilot._nearest_safe` tries
 SAFE_STEPS = 12  # each way: up to a half turn
 LOOK_AHEAD = Look(0.0, "obstacles")  # the look-ahead of eq. 1 (a value: one serves every tick)
+BIDDER = SYSTEMS[0]  # the name the Pilot's bids go by, navcli's: never a plugin's own attribute
 MAX_STALL_WINDOW_S = 30.0  # s: the stall watch's longest window (0.6 m takes 60 s at 1 cm/s)
 
 
@@ -98,7 +99,7 @@ class Pilot:
     ``Params``, a :class:`~navcli.params.ParamSet`, with the run's overrides; None without one) and
     ``rng`` (the run's generator for plugins: draw from it, never from a global one)."""
 
-    name = "pilot"
+    name = "pilot"  # the system's name; its bids go by BIDDER, whatever a subclass sets here
     Params: ClassVar[type[ParamSet] | None] = None
     """A plugin's own parameters (a :class:`~navcli.params.ParamSet` dataclass), or None."""
     Info: ClassVar[Any] = None
@@ -152,8 +153,9 @@ class Pilot:
         the Navigation system's motion ``request`` (or None). Returns an :class:`Avoidance`: a
         :class:`~navcli.bidding.Move` (heading in rad, speed at most ``self.max_speed``) with a bid
         in [0, ``params.bid_cap``] (0 or no move: the request is carried out, when safe), and
-        ``info``, the quantities behind it for ``/pilot`` (its fields, or the class's ``Info``'s).
-        Here: nothing."""
+        ``info``, the quantities behind it for ``/pilot`` (its fields, or the class's ``Info``'s),
+        every number a finite ``float`` or ``int``. A plugin's is called through
+        :mod:`navcli.plugins.boundary`, which checks all this. Here: nothing."""
         return Avoidance(None, 0.0, {})
 
     # -- per tick
@@ -174,11 +176,11 @@ class Pilot:
             return self._reflex_output(look, events, obstacles)
         a = self.avoid(beliefs, obstacles, request)
         self._own = a.move  # what the execution carries out instead of a request that is not safe
-        bids = [Bid(self.name, "camera", LOOK_AHEAD, look)] if look > 0 else []
+        bids = [Bid(BIDDER, "camera", LOOK_AHEAD, look)] if look > 0 else []
         offers = a.move is not None and a.bid > 0.0  # a bid of 0 is not offered: it would drive a silent robot
         info = {"mode": "avoid" if offers else "idle", "bid": a.bid, "look_bid": look} | a.info
         if offers and a.move is not None:
-            bids.insert(0, Bid(self.name, "motion", a.move, a.bid))
+            bids.insert(0, Bid(BIDDER, "motion", a.move, a.bid))
         return PilotOutput(
             bids, info, a.arrows, events, obstacles, self._report(a.info.get("blocked_by"), beliefs.odometry, obstacles)
         )
@@ -315,12 +317,12 @@ class Pilot:
         if phase == "stop":
             self._reflex_progress += CONTROL_DT  # this tick is spent standing still
         speed = self._reflex_dir * self.backup_speed if phase == "backup" else 0.0
-        bids = [Bid(self.name, "motion", Move(0.0, speed), p.bid_cap)]
+        bids = [Bid(BIDDER, "motion", Move(0.0, speed), p.bid_cap)]
         if phase == "look":
             pan = math.radians(p.reflex_look_pans_deg[int(self._reflex_progress)])
-            bids.append(Bid(self.name, "camera", Look(pan, "obstacles"), p.bid_cap))
+            bids.append(Bid(BIDDER, "camera", Look(pan, "obstacles"), p.bid_cap))
         elif look > 0:
-            bids.append(Bid(self.name, "camera", LOOK_AHEAD, look))
+            bids.append(Bid(BIDDER, "camera", LOOK_AHEAD, look))
         return PilotOutput(
             bids, {"mode": "reflex", "phase": phase, "bid": p.bid_cap, "look_bid": look}, [], events, obstacles
         )
@@ -344,7 +346,7 @@ class Pilot:
             backward = abs(move.heading) > p.backward_turn and move.speed > 0 and self.backward < p.max_backward
             if backward:
                 move = Move(wrap_angle(move.heading - math.pi), -move.speed)  # back up, turn the complement
-            v, omega = self.drive(move, requested=winner.bidder != self.name)
+            v, omega = self.drive(move, requested=winner.bidder != BIDDER)
             if backward and v < 0.0:  # (the Pilot's own move, carried out instead, may go forwards)
                 self.backward += -v * CONTROL_DT
         self._last_v = v

@@ -1,6 +1,7 @@
 """Plugins: pilots and Navigation policies of one's own, found by name and run like navcli's own
-(:mod:`.registry`), and the checker that tells a plugin's author what it gets wrong
-(:mod:`.checker`).
+(:mod:`.registry`), every call into them guarded and what they return checked (:mod:`.boundary`:
+their faults are named as theirs), and the checker that tells a plugin's author what it gets
+wrong (:mod:`.checker`).
 
 A pilot plugin, in full (``examples/vfh-pilot`` is a real one)::
 

@@ -5,7 +5,8 @@ its ``Info``); :func:`check` exercises it: made with navcli's defaults, fed a ha
 situations (open floor, an obstacle ahead, a wall across, inside a prohibited area, the target
 behind, a bump), its output checked against navcli's contract and its ``/pilot`` messages against
 their schema, fed the same situations again by a second instance (the same output: no hidden
-randomness), and run for a short mission with each perception. ``navcli plugins check KIND NAME``
+randomness), and run for a short mission with each perception, every message of its log checked
+against the log's schemas (:mod:`navcli.analysis.schemas`). ``navcli plugins check KIND NAME``
 prints the result.
 """
 
@@ -68,11 +69,34 @@ def contract_problems(c: Component) -> list[str]:
 
         if not (isinstance(cls, type) and issubclass(cls, Pilot)):
             return [f"{cls!r} is not a subclass of navcli.pilot.Pilot (a pilot implements Pilot.avoid)"]
+        compiled = _compiled_bases(cls, Pilot)
+        if compiled:
+            return [
+                f"it subclasses {compiled[0]}, which this build of navcli compiles (navcli.BUILD), and a Python "
+                f"class cannot subclass a compiled one but navcli.pilot.Pilot: subclass Pilot, and call one of "
+                f"{compiled[0].rpartition('.')[2]} from its avoid"
+            ]
     elif not callable(cls) or not callable(getattr(cls, "bid", None)):
         return [f"{cls!r} is no Navigation agent: it needs bid(situation) -> list[Bid] (navcli.navigation.Agent)"]
     if getattr(cls, "version", None) is not None and not isinstance(cls.version, str):
         return [f"its version is {cls.version!r}, not text"]
     return _params_problems(c) + (_info_problems(c) if c.kind == "pilot" else [])
+
+
+def _compiled_bases(cls: type, allowed: type) -> list[str]:
+    """The classes of navcli's that ``cls`` derives from and this build compiles (mypyc: no Python
+    class derives from one, but ``allowed``, which is marked to let them)."""
+    import sys
+    from importlib.machinery import EXTENSION_SUFFIXES
+
+    out = []
+    for base in cls.__mro__[1:]:
+        if base is allowed or not base.__module__.startswith("navcli."):
+            continue
+        file = getattr(sys.modules.get(base.__module__), "__file__", None) or ""
+        if file.endswith(tuple(EXTENSION_SUFFIXES)):
+            out.append(f"{base.__module__}.{base.__qualname__}")
+    return out
 
 
 def _situations() -> list[tuple[str, Any, Any]]:
@@ -118,9 +142,11 @@ def _pilot_problems(c: Component) -> list[str]:
     import msgspec
     import numpy as np
 
-    from ..bidding import Move
+    from ..bidding import SYSTEMS, Move
     from ..log.format import encode, pilot_message
     from ..params import PILOT, ROBOT
+    from .boundary import Overran, make_pilot
+    from .registry import PluginError
 
     P = c.params_class
     own = P() if P is not None else None
@@ -128,27 +154,30 @@ def _pilot_problems(c: Component) -> list[str]:
     problems: list[str] = []
     message = c.pilot_message()
     for run in (0, 1):
-        try:
-            pilot = c.cls(PILOT, ROBOT, own_params=own, rng=np.random.default_rng(0))
-        except Exception as e:
+        try:  # as a run makes it: its calls guarded and what they return checked (navcli.plugins.boundary)
+            pilot = make_pilot(c, ROBOT.decision_limit_s, PILOT, ROBOT, own_params=own, rng=np.random.default_rng(0))
+        except PluginError as e:
             return [
-                f"cannot be made as navcli makes it, cls(PilotParams(), RobotParams(), own_params=..., rng=...): "
-                f"{type(e).__name__}: {e}"
+                f"cannot be made as navcli makes it, cls(PilotParams(), RobotParams(), own_params=..., rng=...): {e}"
             ]
         for what, beliefs, request in _situations():
             try:
                 out = pilot.decide(beliefs, request)
                 winner = next((b for b in out.bids if b.resource == "motion"), None)
                 v, w = pilot.execute(winner)
-            except Exception as e:
-                problems.append(f"{what}: raised {type(e).__name__}: {e}")
+            except Exception as e:  # said once, by the first instance
+                if run == 0:
+                    said = _said(e) if isinstance(e, PluginError) else f"raised {type(e).__name__}: {e}"
+                    problems.append(f"{what}: {said}")
+                if isinstance(e, Overran):  # every situation would take as long
+                    return problems
                 continue
             outputs[run].append((out.bids, out.info, v, w))
             if run:
                 continue
             for b in out.bids:
-                if b.bidder != pilot.name:
-                    problems.append(f"{what}: a bid under the name {b.bidder!r}, not the Pilot's {pilot.name!r}")
+                if b.bidder != SYSTEMS[0]:
+                    problems.append(f"{what}: a bid under the name {b.bidder!r}, not the Pilot's {SYSTEMS[0]!r}")
                 if b.resource == "motion" and b.value > PILOT.bid_cap + 1e-12:
                     problems.append(f"{what}: a motion bid of {b.value:g}, above the Pilot's cap {PILOT.bid_cap:g}")
                 if isinstance(b.action, Move) and abs(b.action.speed) > ROBOT.max_speed + 1e-9:
@@ -170,74 +199,76 @@ def _pilot_problems(c: Component) -> list[str]:
 def _policy_problems(c: Component) -> list[str]:
     import numpy as np
 
-    from ..bidding import Bid
     from ..fuzzy import FuzzyPoint
     from ..navigation.situation import AgentSetup, Situation
-    from ..params import Params
+    from ..params import ROBOT, Params
+    from .boundary import Overran, make_agents
+    from .registry import PluginError
 
     P = c.params_class
     own = P() if P is not None else None
     params = Params() if own is None else Params().with_plugin(c.group, own)
-    try:
-        agent = c.cls(AgentSetup(params, own, math.radians(100.0), "target", np.random.default_rng(0)))
-    except Exception as e:
-        return [f"cannot be made as navcli makes it, cls(AgentSetup(...)): {type(e).__name__}: {e}"]
-    name = getattr(agent, "name", None)
-    if not isinstance(name, str) or not name:
-        return ["it has no name (a str attribute: its bids and the log's /navigation go by it)"]
-    if name in NAVCLI_AGENTS:
-        return [f"its name {name!r} is that of one of navcli's agents"]
+    setup = AgentSetup(params, own, math.radians(100.0), "target", np.random.default_rng(0))
+    try:  # as a run makes it: its calls guarded and what they return checked (navcli.plugins.boundary)
+        (agent,) = make_agents((c,), setup, ROBOT.decision_limit_s)
+    except PluginError as e:
+        return [f"cannot be made as navcli makes it, cls(AgentSetup(...)): {_said(e)}"]
     problems = []
     for what, beliefs, _ in _situations():
         target = FuzzyPoint(beliefs.target[0], beliefs.target[1], (0.3, 0.2, 0.1, 0.0)) if beliefs.target else None
         s = Situation(beliefs, target, None, "memory" if target else "none", 0.05 if target else 1.0)
         try:
-            bids = agent.bid(s)
+            agent.bid(s)
+        except PluginError as e:
+            problems.append(f"{what}: {_said(e)}")
+            if isinstance(e, Overran):  # every situation would take as long
+                return problems
         except Exception as e:
             problems.append(f"{what}: bid() raised {type(e).__name__}: {e}")
-            continue
-        if not isinstance(bids, (list, tuple)) or not all(isinstance(b, Bid) for b in bids):
-            problems.append(f"{what}: bid() returned {bids!r}, not a list of navcli.Bid")
-        elif any(b.bidder != name for b in bids):
-            problems.append(f"{what}: a bid under another name than its own ({name!r})")
     return problems
 
 
-def _mission_problems(c: Component) -> list[str]:
-    """A short mission in :data:`CHECK_SCENARIO` with each perception, its /pilot messages checked."""
-    import msgspec
+def _said(e: Exception) -> str:
+    """A plugin's fault without the advice to run the checker, which is running."""
+    return str(e).partition(". The fault is the plugin's")[0]
 
+
+def _mission_problems(c: Component) -> list[str]:
+    """A short mission in :data:`CHECK_SCENARIO` with each perception, logged, and every JSON
+    message of its log checked against the schema its log holds for it (what a viewer and
+    ``navcli report`` rely on)."""
+    import tempfile
+    from pathlib import Path
+
+    from ..analysis.schemas import log_problems
     from ..config import RunSpec
-    from ..log.format import encode, pilot_message
-    from ..mission import Mission
-    from ..runner import advance
-    from ..scenario import load_scenario
     from ..experiments.reproduce import SCENARIOS
+    from ..runner import run_mission
+    from ..scenario import load_scenario
 
     sc = load_scenario(SCENARIOS / f"{CHECK_SCENARIO}.yaml")
-    message = c.pilot_message() if c.kind == "pilot" else None
     problems: list[str] = []
-
-    def check_tick(mission: Any, tick: Any) -> None:
-        if message is not None and not problems:
-            v, w = tick.command
-            try:
-                msgspec.json.decode(encode(pilot_message(tick.pilot.info, v, math.degrees(w))), type=message)
-            except msgspec.ValidationError as e:
-                problems.append(f"at {mission.time:.1f} s of a mission: its /pilot message breaks its schema: {e}")
-
     for perception in ("oracle", "vision"):
-        try:
-            spec = RunSpec.build(
-                sc,
-                perception=perception,
-                time_limit=CHECK_SECONDS,
-                pilot=c.name if c.kind == "pilot" else None,
-                navigation=c.name if c.kind == "policy" else None,
+        what = f"a {CHECK_SECONDS:g} s mission in {CHECK_SCENARIO} ({perception})"
+        spec = RunSpec.build(
+            sc,
+            perception=perception,
+            time_limit=CHECK_SECONDS,
+            pilot=c.name if c.kind == "pilot" else None,
+            navigation=c.name if c.kind == "policy" else None,
+        )
+        with tempfile.TemporaryDirectory(prefix="navcli-check-") as folder:
+            log = Path(folder) / "check.mcap"
+            try:
+                run_mission(spec, out=log)
+            except NavcliError as e:
+                problems.append(f"{what}: {e}")
+                continue
+            count, broken = log_problems(log)
+        if broken:
+            problems.append(
+                f"{what}: {len(broken)} breaks of the log's schemas in its {count} messages, the first: {broken[0]}"
             )
-            advance(Mission(spec, snapshots=False), [check_tick])
-        except NavcliError as e:
-            problems.append(f"a {CHECK_SECONDS:g} s mission in {CHECK_SCENARIO} ({perception}): {e}")
     return problems
 
 

@@ -21,8 +21,13 @@ with an :class:`~navcli.navigation.situation.AgentSetup`. Either may declare ``P
 ``Info`` (a ``msgspec.Struct``: the fields it adds to ``/pilot`` every tick).
 
 A plugin's identity (name, version, origin) is part of its runs' configuration and so of their
-run id; an exception raised in its code is reported as the plugin's (:class:`PluginError`, exit
-1), never as navcli's.
+run id; an exception raised in its code, a wrong return or a hung decision is reported as the
+plugin's (:class:`PluginError`, exit 1; :mod:`.boundary` guards every call into it), never as
+navcli's.
+
+A plugin named by its file is imported under a private module name (``navcli_plugin_<hash of its
+path>``), and again when the file changes; one imported as a module whose source has changed since
+is refused (:func:`locate`).
 """
 
 from __future__ import annotations
@@ -83,6 +88,7 @@ class Component:
     origin: str
     version: str
     argument: str = ""
+    source: tuple[str, str] | None = None  # (file, sha256) of the module defining cls, when it was loaded
 
     @property
     def builtin(self) -> bool:
@@ -178,23 +184,56 @@ def _from_entry_point(kind: Kind, name: str, eps: tuple[importlib.metadata.Entry
         cls = ep.load()
     except Exception as e:
         raise failed(Component(kind, name, None, origin, version), e, "cannot be loaded") from e
-    return Component(kind, name, cls, origin, str(getattr(cls, "version", None) or version))
+    return Component(kind, name, cls, origin, str(getattr(cls, "version", None) or version), source=_source_stamp(cls))
+
+
+_FILE_MODULES: dict[Path, tuple[str, Any]] = {}
+"""The modules of the plugin files loaded in this process, by resolved path: (sha256 of the
+source they were made from, module)."""
+
+
+def _private_name(path: Path) -> str:
+    """The module name a plugin file is loaded under: its own, so that ``numpy.py:Shadow`` replaces
+    no module of that name, and two files of the same name in two folders are two modules."""
+    return "navcli_plugin_" + hashlib.sha256(str(path).encode()).hexdigest()[:16]
+
+
+def _digest(path: Path) -> str:
+    return hashlib.sha256(path.read_bytes()).hexdigest()
 
 
 def _module_file(spec: str) -> Any:
-    """The module of ``path/to/file.py``, imported under its file's name."""
+    """The module of ``path/to/file.py``, imported under a private name (:func:`_private_name`),
+    and imported again when the file has changed since (the name then holds the new module)."""
     path = Path(spec)
     if not path.is_file():
         raise UnknownPlugin(f"{spec}: no such file")
-    name = path.stem
-    if name in sys.modules and getattr(sys.modules[name], "__file__", None) == str(path.resolve()):
-        return sys.modules[name]
-    loader = importlib.util.spec_from_file_location(name, path.resolve())
+    path = path.resolve()
+    digest = _digest(path)
+    known = _FILE_MODULES.get(path)
+    if known is not None and known[0] == digest:
+        return known[1]
+    name = _private_name(path)
+    loader = importlib.util.spec_from_file_location(name, path)
     assert loader is not None and loader.loader is not None  # a .py file has a loader
     module = importlib.util.module_from_spec(loader)
     sys.modules[name] = module  # so its classes pickle by reference into forked workers
-    loader.loader.exec_module(module)
+    try:
+        loader.loader.exec_module(module)
+    except BaseException:
+        sys.modules.pop(name, None)
+        raise
+    _FILE_MODULES[path] = (digest, module)
     return module
+
+
+def _source_stamp(cls: Any) -> tuple[str, str] | None:
+    """(file, sha256 of its source) of the module that defines ``cls``, or None."""
+    try:
+        path = Path(inspect.getfile(sys.modules[cls.__module__])).resolve()
+        return str(path), _digest(path)
+    except (KeyError, TypeError, OSError, AttributeError):
+        return None
 
 
 def _version_of(cls: Any, module: Any) -> str:
@@ -246,15 +285,22 @@ def _from_module(kind: Kind, name: str) -> Component:
         obj = getattr(obj, part, None)
         if obj is None:
             raise UnknownPlugin(f"{name!r}: the module {module_name} has no {attr}")
-    return Component(kind, name, obj, origin, _version_of(obj, module))
+    return Component(kind, name, obj, origin, _version_of(obj, module), source=_source_stamp(obj))
 
 
-@functools.lru_cache(maxsize=None)
 def find(kind: Kind, name: str) -> Component:
     """The pilot or policy called ``name`` (see the module docstring), checked to be of its kind;
     raises :class:`UnknownPlugin` (exit 2), or :class:`PluginError` (exit 1) for one that is found
-    but cannot be loaded or is no pilot (no policy)."""
-    c = locate(kind, name)
+    but cannot be loaded or is no pilot (no policy), or whose source changed since this process
+    loaded it and cannot be loaded again (:func:`locate`)."""
+    c = _found(kind, _named(kind, name), _file_digest(name))
+    _unchanged(c)
+    return c
+
+
+@functools.lru_cache(maxsize=None)
+def _found(kind: Kind, name: str, digest: str) -> Component:
+    c = _located(kind, name, digest)
     from .checker import contract_problems
 
     problems = contract_problems(c)
@@ -268,12 +314,63 @@ def find(kind: Kind, name: str) -> Component:
     return c
 
 
-@functools.lru_cache(maxsize=None)
 def locate(kind: Kind, name: str) -> Component:
     """The component called ``name``, loaded but not yet checked against its kind's contract
-    (:func:`find` checks it)."""
+    (:func:`find` checks it). Found once per process and kept, by name; a plugin named by its file
+    (``path/to/file.py:Class``) by its file's content too, so an edited file is loaded again. Any
+    other plugin whose module's source has changed since it was loaded raises
+    :class:`PluginError`: Python cannot load a module again in place (``importlib.reload`` leaves
+    its package's other modules and every reference to the old classes as they were)."""
+    c = _located(kind, _named(kind, name), _file_digest(name))
+    _unchanged(c)
+    return c
+
+
+def clear_caches() -> None:
+    """Forget every plugin found (the next lookup finds it again): for tests."""
+    for cache in (_found, _located, entry_points):
+        cache.cache_clear()
+    _FILE_MODULES.clear()
+
+
+def _named(kind: Kind, name: object) -> str:
     if not isinstance(name, str) or not name.strip():
         raise UnknownPlugin(f"a {WORDS[kind]} is named by a non-empty name, got {name!r}")
+    return name
+
+
+def _file_digest(name: object) -> str:
+    """The sha256 of the file of a ``path/to/file.py:Class`` name ('' for any other name, or a file
+    that cannot be read: the lookup says why)."""
+    module_name, sep, _ = name.rpartition(":") if isinstance(name, str) else ("", "", "")
+    if not sep or not (module_name.endswith(".py") or "/" in module_name):
+        return ""
+    try:
+        return _digest(Path(module_name).resolve())
+    except OSError:
+        return ""
+
+
+def _unchanged(c: Component) -> None:
+    """Refuse a plugin whose module's source changed after it was loaded (see :func:`locate`)."""
+    if c.source is None:
+        return
+    file, digest = c.source
+    try:
+        now = _digest(Path(file))
+    except OSError:
+        return  # gone: the code loaded is all there is
+    if now != digest:
+        raise PluginError(
+            f"{c.label}: its source {file} has changed since this process loaded it, and Python cannot load a "
+            f"module again in place; navcli loads a plugin named by its file (path/to/file.py:Class) again when "
+            f"the file changes: name it so, or start a new process to run the edited plugin"
+        )
+
+
+@functools.lru_cache(maxsize=None)
+def _located(kind: Kind, name: str, digest: str) -> Component:
+    """:func:`locate`'s lookup, kept by name and file digest."""
     own = _navcli(kind, name)
     if own is not None:
         return own
@@ -332,26 +429,54 @@ def installed(kind: Kind) -> list[Component | tuple[str, str]]:
     return out
 
 
-def failed(c: Component, e: BaseException, doing: str = "raised") -> PluginError:
+def failed(c: Component, e: BaseException, doing: str = "raised", at: Any = None) -> PluginError:
     """The :class:`PluginError` saying that ``c``'s code ``doing`` (``raised``, ``cannot be
-    loaded`` ...) ``e``, where in its code, and what to do: one line."""
-    where = ""
-    root = _root(c)
-    frames = traceback.extract_tb(e.__traceback__) if e.__traceback__ is not None else []
-    mine = [f for f in frames if root is not None and Path(f.filename).resolve().is_relative_to(root)]
-    if mine or frames:
-        f = (mine or frames)[-1]
-        where = f" at {Path(f.filename).name}:{f.lineno} in {f.name}"
+    loaded`` ...) ``e``, where in its code, and what to do: one line. Where: the innermost frame
+    of the traceback in the plugin's own files; without one (a call its signature refused, a
+    mypyc-compiled check of what it returned), the definition of ``at``, the plugin's function
+    navcli called."""
     what = f"{type(e).__name__}: {e}".strip().splitlines()[0][:300] if str(e) else type(e).__name__
     return PluginError(
-        f"{c.label} {doing}: {what}{where}. The fault is the plugin's, not navcli's: "
+        f"{c.label} {doing}: {what}{_location(c, e, at)}. The fault is the plugin's, not navcli's: "
         f"`navcli plugins check {c.kind} {c.name}` tests it against navcli's contract; {HINT}"
     )
 
 
+def _location(c: Component, e: BaseException, at: Any) -> str:
+    """`` at file.py:LINE in function`` (see :func:`failed`), or ''."""
+    frames = traceback.extract_tb(e.__traceback__) if e.__traceback__ is not None else []
+    if c.cls is None:  # its module could not be imported: the innermost frame is the import's
+        if isinstance(e, SyntaxError) and e.filename and e.lineno:
+            return f" at {Path(e.filename).name}:{e.lineno}"
+        return f" at {Path(frames[-1].filename).name}:{frames[-1].lineno} in {frames[-1].name}" if frames else ""
+    root = _root(c)
+    mine = [f for f in frames if root is not None and _inside(f.filename, root)]
+    if mine:
+        return f" at {Path(mine[-1].filename).name}:{mine[-1].lineno} in {mine[-1].name}"
+    where = definition(at) if at is not None else ""
+    return f" calling {getattr(at, '__name__', 'it')}() (defined at {where})" if where else ""
+
+
+def _inside(filename: str, root: Path) -> bool:
+    try:
+        return Path(filename).resolve().is_relative_to(root)
+    except (OSError, ValueError):
+        return False
+
+
+def definition(fn: Any) -> str:
+    """``file.py:LINE`` where the function (or method; for a class, its ``__init__``) ``fn`` is
+    defined, or ''."""
+    fn = vars(fn).get("__init__", fn) if isinstance(fn, type) else fn
+    code = getattr(inspect.unwrap(getattr(fn, "__func__", fn)), "__code__", None)
+    return f"{Path(code.co_filename).name}:{code.co_firstlineno}" if code is not None else ""
+
+
 def _root(c: Component) -> Path | None:
-    """The folder (a package) or file (a module) of ``c``'s code."""
-    module = sys.modules.get(c.cls.__module__.split(".")[0]) if c.cls is not None else None
+    """The folder (a package) or file (a module) of ``c``'s code (a class of navcli's own named as
+    ``module:Class``: its module's file, never the whole of navcli)."""
+    top = c.cls.__module__.split(".")[0] if c.cls is not None else ""
+    module = sys.modules.get(c.cls.__module__ if top == "navcli" else top) if c.cls is not None else None
     file = getattr(module, "__file__", None)
     if not file:
         return None
@@ -375,15 +500,6 @@ def blame(e: BaseException, components: Iterable[Component]) -> Component | None
             if c.owns(module):
                 return c
     return None
-
-
-def build(c: Component, *args: Any, **kw: Any) -> Any:
-    """An instance of the plugin ``c``'s class, made with ``args`` and ``kw``; what it raises is
-    raised as its :class:`PluginError`."""
-    try:
-        return c.cls(*args, **kw)
-    except Exception as e:
-        raise failed(c, e, "could not be made") from e
 
 
 def pilot_fields(c: Component) -> frozenset[str] | None:
