@@ -1,0 +1,156 @@
+"""The visual memory's containment bound (navcli/vision/visual_memory.py): a remembered point's support
+(its 0 % cut, radius ``r0``) holds the true position of the point, however the robot drove, as long
+as the odometry's errors are within the bounds the memory allows for (the calibration error at
+``noise_bound`` deviations, the per-tick errors a random walk); the support never shrinks as the
+robot drives and grows at least ``odometry_floor`` per metre; and fusing a sighting with the memory
+keeps every point that lies in both supports, the fused support no larger than either.
+Property tests, the odometry simulated as navcli's world measures it (navcli/world.py: the true
+distance and turn scaled by a per-run and a per-tick factor)."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+from hypothesis import assume, given
+from hypothesis import strategies as st
+
+from navcli.params import VISION
+from navcli.vision.visual_memory import Spot, VisualMemory, fuse
+
+coord = st.floats(-5.0, 5.0)
+
+
+def egocentric(robot: tuple[float, float, float], point: tuple[float, float]) -> tuple[float, float]:
+    x, y, th = robot
+    dx, dy = point[0] - x, point[1] - y
+    return (math.cos(th) * dx + math.sin(th) * dy, -math.sin(th) * dx + math.cos(th) * dy)
+
+
+def covered(sigma: float) -> float:
+    """The largest calibration error (in deviations) the memory's bound covers: it allows
+    ``noise_bound sigma`` of the *measured* motion, and the world's error ``sigma e`` of the true
+    motion is ``sigma |e| / (1 - sigma |e|)`` of the measured one when it under-reads; the two
+    agree for ``|e| <= noise_bound / (1 + noise_bound sigma)`` (2.83 at 0.02; the world clips at
+    3: see the last test of this group)."""
+    return VISION.noise_bound / (1 + VISION.noise_bound * sigma)
+
+
+@st.composite
+def drives(draw):
+    """A noise level (up to the scenario's largest), the per-run calibration errors of distance
+    and turn (any the bound covers, the worst included), and a drive: legs of up to 80 ticks of
+    one true motion, a distance per tick (up to 5 cm ahead, 1 cm back: mostly ahead, so that
+    the errors add up) and a turn (none, up to 1 deg or up to 17 deg)."""
+    sigma = draw(st.sampled_from([0.0, 0.005, 0.02, 0.05, 0.1, 0.3]))
+    cal = draw(st.tuples(*[st.floats(-covered(sigma), covered(sigma))] * 2))
+    turn = draw(st.sampled_from([0.0, 0.02, 0.3]))  # straight, gently curving or twisting drives
+    legs = st.tuples(st.integers(1, 80), st.floats(-0.01, 0.05), st.floats(-turn, turn))  # ticks of one motion
+    ticks = [(ds, dth) for n, ds, dth in draw(st.lists(legs, min_size=1, max_size=4)) for _ in range(n)]
+    return sigma, cal, ticks
+
+
+def drive_and_check(sigma, cal, ticks, points, seen_within) -> None:
+    """The world's odometry without its per-tick errors (measured = true x (1 + sigma e_run)):
+    the memory, moved by the measured motion, keeps every point inside its support at every tick.
+    (The per-tick errors are bounded as a random walk, at ``walk_bound`` deviations: a bound that
+    holds with high probability, not always; the whole-mission tests of test_vision.py meet them.)"""
+    ed, ea = cal
+    mem = VisualMemory(odometry_noise=sigma)
+    for k, p in enumerate(points):
+        mem.add(f"p{k}", "landmark", [p], 0.1, seen_within)  # the robot at the origin facing +x
+    x, y, th = 0.0, 0.0, 0.0
+    for ds, dth in ticks:
+        mid = th + dth / 2
+        x, y, th = x + ds * math.cos(mid), y + ds * math.sin(mid), th + dth
+        mem.move(ds * (1 + sigma * ed), dth * (1 + sigma * ea))
+        for k, p in enumerate(points):
+            spot = mem.items[f"p{k}"].spots[0]
+            tx, ty = egocentric((x, y, th), p)
+            assert math.hypot(tx - spot.x, ty - spot.y) <= spot.r0 + 1e-9, (k, spot)
+
+
+@given(drives(), st.lists(st.tuples(coord, coord), min_size=1, max_size=4), st.sampled_from([0.0, 0.02, 0.3]))
+def test_the_true_position_never_leaves_the_support_as_the_robot_drives(drive, points, seen_within):
+    drive_and_check(*drive, points, seen_within)
+
+
+@pytest.mark.xfail(
+    strict=True,
+    reason="the calibration error is bounded relative to the measured motion, the world's is relative to "
+    "the true one: an odometry under-reading by the clipped 3 deviations leaves the support",
+)
+def test_the_bound_holds_up_to_the_clipped_calibration_error():
+    """noise.odometry 0.05, the distance under-read by the clip, 3 deviations (15 %): 100 ticks
+    of 3 cm straight toward a point 5 m ahead. The robot drives 3 m and measures 2.55 m, so the
+    point is 0.45 m nearer than remembered; the memory allows 0.15 x 2.55 = 0.3825 m for the
+    calibration, 4 x 0.05 x sqrt(100 x 0.0255^2) = 0.051 m for the random walk and 0.005 x 2.55
+    = 0.01275 m of floor: 0.44625 m."""
+    drive_and_check(0.05, (-VISION.noise_bound, 0.0), [(0.03, 0.0)] * 100, [(5.0, 0.0)], 0.0)
+
+
+@given(
+    st.lists(st.tuples(coord, coord, st.floats(0.0, 1.0)), min_size=1, max_size=3),
+    st.lists(st.tuples(st.floats(-0.1, 0.1), st.floats(-0.5, 0.5)), min_size=1, max_size=30),
+    st.sampled_from([0.0, 0.02, 0.1]),
+    st.sampled_from([0.0, 0.05]),
+)
+def test_the_support_grows_with_the_distance_driven(spots, moves, sigma, drift):
+    """At least ``odometry_floor`` per metre driven, whichever way; driving straight ahead
+    without a heading drift it never shrinks. (Driving back it may: a calibration error undoes
+    what it did on the way out; so may a heading drift's part once the robot has passed the
+    point: the drift swings it the other way.)"""
+    mem = VisualMemory(odometry_noise=sigma, heading_drift=drift)
+    ahead = VisualMemory(odometry_noise=sigma)
+    for k, (x, y, r) in enumerate(spots):
+        mem.add(f"s{k}", "landmark", [(x, y)], 0.1, r)
+        ahead.add(f"s{k}", "landmark", [(x, y)], 0.1, r)
+    driven = 0.0
+    for ds, dth in moves:
+        before = [m.spots[0].r0 for m in ahead.items.values()]
+        mem.move(ds, dth)
+        ahead.move(abs(ds), 0.0)
+        driven += abs(ds)
+        for (_, _, r), m, b, a in zip(spots, mem.items.values(), before, ahead.items.values()):
+            s = m.spots[0]
+            assert s.r0 >= r + VISION.odometry_floor * driven - 1e-9
+            assert s.r1 == 0.0 and s.base == r  # the core, and the radius when last seen, stay
+            assert a.spots[0].r0 >= b  # straight ahead: never sharper without a sighting
+            if sigma and abs(ds) > 1e-6:
+                assert a.spots[0].r0 > b + VISION.odometry_floor * abs(ds)  # and more than the floor
+
+
+@st.composite
+def two_supports_around_a_point(draw):
+    """A true point and two discs that both hold it (a memory and a sighting of it)."""
+    px, py = draw(coord), draw(coord)
+    discs = []
+    for _ in range(2):
+        r = draw(st.floats(0.01, 3.0))
+        d = draw(st.floats(0.0, 1.0)) * r  # the point's distance from the centre: inside
+        a = draw(st.floats(-math.pi, math.pi))
+        discs.append((px + d * math.cos(a), py + d * math.sin(a), r))
+    return (px, py), discs
+
+
+@given(two_supports_around_a_point(), st.floats(0.0, 1.0), st.floats(0.0, 1.0))
+def test_fusing_keeps_every_point_of_both_supports_and_never_widens(case, c1, c2):
+    (px, py), ((ax, ay, ar), (bx, by, br)) = case
+    memory, sighting = Spot(ax, ay, ar, c1 * ar), Spot(bx, by, br, c2 * br)
+    f = fuse(memory, sighting)
+    assert f.contains((px, py))  # the true point lay in both: it lies in the fused support
+    # so does every point of the lens: its edge is the arcs of each circle inside the other disc
+    for (cx, cy, r), (ox, oy, o_r) in (((ax, ay, ar), (bx, by, br)), ((bx, by, br), (ax, ay, ar))):
+        for k in range(256):
+            q = (cx + r * math.cos(k * math.pi / 128), cy + r * math.sin(k * math.pi / 128))
+            if math.dist(q, (ox, oy)) <= o_r:
+                assert math.dist(q, (f.x, f.y)) <= f.r0 + 1e-9 * (1 + r)
+    assert f.r0 <= min(ar, br) + 1e-9 and f.r1 <= min(memory.r1, sighting.r1, f.r0)
+    assert f.drift == (0.0,) * 10 and f.base == f.r0  # the drift starts again from the sighting
+
+
+@given(st.tuples(coord, coord, st.floats(0.01, 1.0)), st.tuples(coord, coord, st.floats(0.01, 1.0)))
+def test_supports_that_do_not_meet_give_the_sighting(a, b):
+    assume(math.dist(a[:2], b[:2]) > a[2] + b[2] + 1e-9)
+    f = fuse(Spot(*a, 0.0), Spot(*b, 0.5 * b[2]))
+    assert (f.x, f.y, f.r0, f.r1) == (b[0], b[1], b[2], 0.5 * b[2])
