@@ -154,3 +154,57 @@ def test_supports_that_do_not_meet_give_the_sighting(a, b):
     assume(math.dist(a[:2], b[:2]) > a[2] + b[2] + 1e-9)
     f = fuse(Spot(*a, 0.0), Spot(*b, 0.5 * b[2]))
     assert (f.x, f.y, f.r0, f.r1) == (b[0], b[1], b[2], 0.5 * b[2])
+
+
+def test_a_spots_cuts_hold_what_lies_within_their_radius():
+    """A spot seen within 1 m, its core 0.5 m: the support (alpha 0) holds a point 1 m away,
+    on its edge, the core (alpha 1) does not; a point 1.5 m away is in neither."""
+    s = Spot(0.0, 0.0, 1.0, 0.5)
+    assert s.contains((1.0, 0.0)) and s.contains((0.0, -1.0)) and not s.contains((1.0, 0.0), alpha=1.0)
+    assert s.contains((0.3, 0.4), alpha=1.0) and not s.contains((1.5, 0.0)) and not s.contains((0.9, 0.9))
+
+
+def test_a_copied_spot_keeps_the_drift_it_has_gathered():
+    from navcli.vision.visual_memory import _copy
+
+    mem = VisualMemory(odometry_noise=0.02)
+    mem.add("p", "landmark", [(2.0, 1.0)], 0.1, 0.05)
+    mem.move(1.0, 0.3)
+    s = mem.items["p"].spots[0]
+    c = _copy(s)
+    assert (c.x, c.y, c.base, c.r1, c.drift, c.r0) == (s.x, s.y, s.base, s.r1, s.drift, s.r0) and c is not s
+    assert c.r0 > c.base  # the drift since it was seen, kept
+
+
+def test_bumps_within_the_merge_distance_join_the_nearest_into_one_obstacle():
+    """``bump_merge`` 1 m: a bump joins the nearer of two remembered bumps within 1 m of it, one
+    exactly 1 m away (within), none 1.6 m away; a bump within 1 m of a landmark is a line from the
+    nearest landmark; the obstacle made takes the new bump's radius and time."""
+    near = VISION.bump_merge
+    mem = VisualMemory(odometry_noise=0.0)
+    mem.add_bump(Spot(0.0, 0.0, 0.1, 0.0), 0.1, time=1.0)
+    mem.add_bump(Spot(0.0, 1.8, 0.1, 0.0), 0.1, time=1.5)  # 1.8 m from the first: apart
+    mem.add_bump(Spot(0.0, 0.8, 0.1, 0.0), 0.1, time=1.8)  # 0.8 m from the first, 1 m from the second
+    assert sorted(m.kind for m in mem.items.values()) == ["bump", "obstacle"]
+    line = next(m for m in mem.items.values() if m.kind == "obstacle")
+    assert [(s.x, s.y) for s in line.spots] == [(0.0, 0.0), (0.0, 0.8)] and (line.radius, line.seen) == (0.1, 1.8)
+    far = VisualMemory(odometry_noise=0.0)
+    far.add_bump(Spot(3.0, 0.0, 0.1, 0.0), 0.1)
+    far.add_bump(Spot(1.4, 0.0, 0.1, 0.0), 0.1)
+    far.add_bump(Spot(3.0 + near, 0.0, 0.1, 0.0), 0.2, time=2.0)  # exactly bump_merge from (3, 0)
+    line = next(m for m in far.items.values() if m.kind == "obstacle")
+    assert [(s.x, s.y) for s in line.spots] == [(3.0, 0.0), (4.0, 0.0)] and (line.radius, line.seen) == (0.2, 2.0)
+    marks = VisualMemory(odometry_noise=0.0)
+    marks.add("L1", "landmark", [(5.0, 5.0)], 0.1, 0.2)
+    marks.add("L2", "landmark", [(1.0, 0.0)], 0.1, 0.3)
+    marks.add("L3", "landmark", [(0.3, 0.0)], 0.1, 0.4)
+    m = marks.add_bump(Spot(0.0, 0.0, 0.1, 0.0), 0.15, time=3.0)  # L3 the nearest, 0.3 m away
+    assert m.kind == "obstacle" and [(s.x, s.y, s.r0) for s in m.spots] == [(0.3, 0.0, 0.4), (0.0, 0.0, 0.1)]
+    assert (m.radius, m.seen) == (0.15, 3.0)
+    edge = VisualMemory(odometry_noise=0.0)
+    edge.add("L", "landmark", [(near, 0.0)], 0.1, 0.2)
+    assert edge.add_bump(Spot(0.0, 0.0, 0.1, 0.0), 0.1).kind == "obstacle"  # a landmark exactly 1 m away: within
+    alone = VisualMemory(odometry_noise=0.0).add_bump(Spot(0.0, 0.0, 0.1, 0.0), 0.12, time=4.0)
+    assert (alone.kind, alone.radius, alone.seen) == ("bump", 0.12, 4.0)
+    snap = {r.key: r for r in marks.snapshot()}
+    assert set(snap) == set(marks.items) and snap["L1"].spots == ((5.0, 5.0, 0.2 + 0.7 * (0.0 - 0.2), 0.2),)
