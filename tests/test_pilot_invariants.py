@@ -72,10 +72,23 @@ def test_section_3_2_the_magnitude_from_the_nearest_point_the_direction_from_the
 
 
 def test_section_3_2_a_robot_on_the_centre_flees_along_the_normal():
-    """The segment (-1, 0)-(1, 0) through the robot: no direction from the centre; the normal
-    (0, 1) at F_max (the robot is inside the prohibited area)."""
-    fx, fy, mag, distress = linear_force((-1.0, 0.0), (1.0, 0.0), K, R)
-    assert (fx, fy, mag, distress) == pytest.approx((0.0, 112.5, 112.5, True))
+    """The segment (-2, -1)-(2, 1) centred on the robot: no direction from the centre; its normal
+    (-2, 4)/sqrt 20 at F_max (the robot is on it: in the prohibited area)."""
+    fx, fy, mag, distress = linear_force((-2.0, -1.0), (2.0, 1.0), K, R)
+    n = math.sqrt(20)
+    assert (fx, fy, mag, distress) == pytest.approx((-2 / n * 112.5, 4 / n * 112.5, 112.5, True))
+
+
+def test_section_3_2_a_near_centre_still_gives_the_direction():
+    """Segment (0.5, 0)-(0.5, 1): its centre (0.5, 0.5) 0.71 m away gives the direction, its
+    nearest point (0.5, 0) the magnitude 18 / 0.25 = 72: (-50.91, -50.91), not the normal's (-72, 0)."""
+    fx, fy, mag, _ = linear_force((0.5, 0.0), (0.5, 1.0), K, R)
+    assert (fx, fy, mag) == pytest.approx((-72 / math.sqrt(2), -72 / math.sqrt(2), 72.0))
+
+
+def test_section_3_2_the_prohibited_area_includes_its_edge():
+    """A face exactly R_min = 0.4 m away is in distress (eq. 3: d <= R_min)."""
+    assert linear_force((0.4, -1.0), (0.4, 1.0), K, R)[2:] == pytest.approx((112.5, True))
 
 
 @pytest.mark.parametrize("radius", [0.0, 0.15])
