@@ -84,7 +84,7 @@ def experiences(draw):
         A,
         gamma=draw(st.sampled_from([0.5, 0.9, 1.0])),
         backups=0,  # a real step only queues; the test makes the backups one by one
-        threshold=draw(st.sampled_from([1e-3, 0.05, 0.25, 0.5])),
+        threshold=draw(st.sampled_from([0.0, 1e-3, 0.05, 0.25, 0.5])),
         explore=draw(st.sampled_from([0, 0, 1, 2])),  # 0 (twice as likely): no optimism
         optimistic=0.0,
     )
@@ -107,6 +107,22 @@ def test_every_backup_and_every_queue_change_is_moore_and_atkesons(case):
             if not check_one_backup(ps):
                 break
     assert ps.steps == len(steps) and ps.tried.sum() == len(steps)
+
+
+@given(experiences(), st.integers(1, 6))
+def test_a_loaded_learner_backs_up_as_the_definition_says(case, backups):
+    """What :meth:`to_arrays` saves is the whole model: a learner loaded from it makes the
+    backups of the definition (its predecessors rebuilt from the counts alone)."""
+    ps, steps = case
+    for (s, a, r), to, _ in steps:
+        ps.observe(s, a, r, None if to == ps.n_states else to, terminal=to == ps.n_states)
+    loaded = PrioritizedSweeping(
+        ps.n_states, ps.n_actions, gamma=ps.gamma, backups=0, threshold=ps.threshold, explore=ps.explore
+    )
+    loaded.load_arrays(ps.to_arrays())
+    for _ in range(backups):
+        if not check_one_backup(loaded):
+            break
 
 
 def test_a_real_step_backs_up_the_state_just_left_not_its_successor():
