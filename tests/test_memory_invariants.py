@@ -208,3 +208,44 @@ def test_bumps_within_the_merge_distance_join_the_nearest_into_one_obstacle():
     assert (alone.kind, alone.radius, alone.seen) == ("bump", 0.12, 4.0)
     snap = {r.key: r for r in marks.snapshot()}
     assert set(snap) == set(marks.items) and snap["L1"].spots == ((5.0, 5.0, 0.2 + 0.7 * (0.0 - 0.2), 0.2),)
+
+
+def test_a_lines_end_keeps_the_farther_honest_point_or_the_sharper_of_two_as_far():
+    """An identified linear obstacle's end after a sighting (``_end``): the end itself seen fuses
+    with a remembered end itself, or replaces a point where a view cut the line; of two cut
+    points the one farther out along the line (from the other end, ``origin``) is kept, and of
+    two within END_TIE (0.1 m) of each other, the sharper. Here the line runs from origin (1, 2)
+    outward along (1, 1): the projections, scaled by |u| = sqrt 2, are
+    (x - 1) + (y - 2)."""
+    from navcli.vision.visual_memory import _end
+
+    origin, u = Spot(1.0, 2.0, 0.1, 0.0), (1.0, 1.0)
+    mem = Spot(3.0, 4.0, 0.2, 0.0)  # 4 along
+    ahead, behind = Spot(4.0, 4.0, 0.3, 0.0), Spot(2.0, 3.0, 0.1, 0.0)  # 5 along; 2 along, sharper
+    assert _end(mem, False, ahead, False, *u, origin) is ahead
+    assert _end(mem, False, behind, False, *u, origin) is mem
+    assert _end(Spot(4.0, 4.0, 0.2, 0.0), False, Spot(3.0, 4.0, 0.3, 0.0), False, *u, origin).x == 4.0
+    # within the tie: 0.07 m apart along the line (0.05 along each axis)
+    d = 0.05
+    sharp, blurred = Spot(3.0 + d, 4.0 + d, 0.1, 0.0), Spot(3.0 + d, 4.0 + d, 0.4, 0.0)
+    assert _end(mem, False, sharp, False, *u, origin) is sharp  # as far, sharper: the sighting
+    assert _end(mem, False, blurred, False, *u, origin) is mem  # as far, blurrier: the memory
+    assert _end(mem, False, Spot(3.0 + d, 4.0 + d, 0.2, 0.0), False, *u, origin) is mem  # as sharp: kept
+    # 0.08 m apart along the line: a tie (the projections' 0.08 sqrt 2 against END_TIE |u|)
+    e = 0.08 / math.sqrt(2)
+    assert _end(mem, False, Spot(3.0 + e, 4.0 + e, 0.3, 0.0), False, *u, origin) is mem
+    # the end itself: replaces a cut point, fuses with a remembered end itself
+    seen = Spot(3.3, 4.0, 0.15, 0.0)  # 0.3 m from the remembered end: their supports meet
+    assert _end(mem, False, seen, True, *u, origin) is seen
+    fused = _end(mem, True, seen, True, *u, origin)
+    assert fused.r0 < 0.15 and fused.contains((3.17, 4.0))  # in both supports: in the fusion
+    assert _end(mem, True, ahead, False, *u, origin) is mem  # a cut point never moves a known end
+
+
+def test_two_points_are_one_when_each_centre_lies_in_the_others_support():
+    a, b = Spot(0.0, 0.0, 1.0, 0.0), Spot(1.0, 0.0, 1.0, 0.0)
+    from navcli.vision.visual_memory import _same_point
+
+    assert _same_point(a, b)  # exactly on each other's support edge: within
+    assert not _same_point(a, Spot(1.0, 0.0, 0.5, 0.0))  # a's centre beyond b's support
+    assert not _same_point(Spot(0.0, 0.0, 0.9, 0.0), Spot(1.0, 0.0, 0.9, 0.0))  # 1 m apart along x alone
