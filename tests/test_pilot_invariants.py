@@ -47,10 +47,12 @@ def test_the_array_and_loop_occlusion_tests_agree_on_every_tie(obstacles):
 def test_an_obstacle_on_the_robot_or_behind_a_twin_is_not_hidden():
     on_robot = KnownObstacle("here", (0.0, 0.0), (0.0, 0.0), 0.2)
     twins = [KnownObstacle("a", (1.0, 0.0), (1.0, 0.0), 0.2), KnownObstacle("b", (1.0, 0.0), (1.0, 0.0), 0.2)]
+    touching = [KnownObstacle("post", (2.0, 0.0), (2.0, 0.0), 0.1), KnownObstacle("fence", (1.0, -1.0), (1.0, 0.0), 0.025)]
     behind = [KnownObstacle("far", (1.0, 0.0), (1.0, 0.0), 0.1), KnownObstacle("near", (0.5, 0.0), (0.5, 0.0), 0.25)]
     for f in (facing_loop, facing_numpy):
         assert f([on_robot, *twins]) == [True, True, True]  # no sight line; each twin's ends on the other's centre
         assert f(behind) == [False, True]  # 1 m away, behind a post on its sight line
+        assert f(touching) == [True, True]  # a fence ending on a sight line does not cross it
 
 
 def test_section_3_2_the_magnitude_from_the_nearest_point_the_direction_from_the_centre():
