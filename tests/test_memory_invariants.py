@@ -255,8 +255,8 @@ def test_two_points_are_one_when_each_centre_lies_in_the_others_support():
 def test_a_lines_sighting_moves_each_end_outward_or_to_the_end_itself():
     """A fence remembered between two cut points a (2, 3) and b (4, 1) (direction from b to a:
     (-2, 2)). A sighting whose a-side point (1, 2.4) lies 0.28 m farther out along the fence
-    (though blurrier) and whose b-side point is the fence's own end (4.5, 0.5): the fence runs
-    from (1, 2.4) to (4.5, 0.5), its b end known exactly, seen now at its new half-width. On the
+    (though blurrier) and whose b-side point is the fence's own end (3.9, 1.1), 0.14 m short of
+    the cut point b: the fence runs from (1, 2.4) to (3.9, 1.1), its b end known exactly, seen now at its new half-width. On the
     same fence remembered afresh, a b-side cut point (4.6, -0.5), farther out along (2, -2),
     moves the b end there, and an a-side point where a was keeps a."""
     mem = VisualMemory(odometry_noise=0.0)
@@ -265,9 +265,9 @@ def test_a_lines_sighting_moves_each_end_outward_or_to_the_end_itself():
     m = mem.items["segment:f"]
     assert (m.seen, m.radius, m.prior, m.exact) == (1.0, 0.05, False, (False, False))
     mem._observe_line(
-        "segment:f", "obstacle", [Spot(1.0, 2.4, 0.3, 0.0), Spot(4.5, 0.5, 0.1, 0.0)], (False, True), 0.07, 2.0
+        "segment:f", "obstacle", [Spot(1.0, 2.4, 0.3, 0.0), Spot(3.9, 1.1, 0.1, 0.0)], (False, True), 0.07, 2.0
     )
-    assert [(s.x, s.y) for s in m.spots] == [(1.0, 2.4), (4.5, 0.5)]
+    assert [(s.x, s.y) for s in m.spots] == [(1.0, 2.4), (3.9, 1.1)]
     assert (m.seen, m.radius, m.exact) == (2.0, 0.07, (False, True))
     other = VisualMemory(odometry_noise=0.0)
     other._observe_line(
@@ -277,3 +277,22 @@ def test_a_lines_sighting_moves_each_end_outward_or_to_the_end_itself():
         "segment:g", "obstacle", [Spot(2.0, 3.0, 0.1, 0.0), Spot(4.6, -0.5, 0.3, 0.0)], (False, False), 0.05, 2.0
     )
     assert [(s.x, s.y) for s in other.items["segment:g"].spots] == [(2.0, 3.0), (4.6, -0.5)]
+
+
+def test_an_unidentified_point_seen_again_is_fused_not_doubled():
+    """A plain obstacle point, or a bump, seen again where it is remembered: one memory, sharper,
+    an obstacle, seen now; a landmark there is not taken for it. What the robot is told is
+    remembered at the half-width told."""
+    mem = VisualMemory(odometry_noise=0.0)
+    mem.add("L", "landmark", [(2.0, 0.0)], 0.1, 0.3)
+    assert mem.items["L"].radius == 0.1
+    mem._observe_obstacle([Spot(2.0, 0.0, 0.4, 0.0)], 0.2, 1.0)  # on the landmark: a new obstacle
+    mem._observe_obstacle([Spot(2.1, 0.0, 0.3, 0.0)], 0.2, 2.0)  # the same point again
+    mem.add_bump(Spot(0.0, 3.0, 0.1, 0.0), 0.1, time=2.5)
+    mem._observe_obstacle([Spot(0.0, 3.05, 0.2, 0.0)], 0.15, 3.0)  # the bump, seen
+    kinds = sorted((m.kind, m.seen) for m in mem.items.values())
+    assert kinds == [("landmark", 0.0), ("obstacle", 2.0), ("obstacle", 3.0)]
+    seen_twice = next(m for m in mem.items.values() if m.seen == 2.0)
+    assert seen_twice.spots[0].r0 < 0.4 and seen_twice.spots[0].contains((2.05, 0.0))  # sharper than first seen
+    felt = next(m for m in mem.items.values() if m.seen == 3.0)
+    assert felt.radius == 0.15 and felt.spots[0].r0 <= 0.1
