@@ -47,7 +47,10 @@ def test_the_array_and_loop_occlusion_tests_agree_on_every_tie(obstacles):
 def test_an_obstacle_on_the_robot_or_behind_a_twin_is_not_hidden():
     on_robot = KnownObstacle("here", (0.0, 0.0), (0.0, 0.0), 0.2)
     twins = [KnownObstacle("a", (1.0, 0.0), (1.0, 0.0), 0.2), KnownObstacle("b", (1.0, 0.0), (1.0, 0.0), 0.2)]
-    touching = [KnownObstacle("post", (2.0, 0.0), (2.0, 0.0), 0.1), KnownObstacle("fence", (1.0, -1.0), (1.0, 0.0), 0.025)]
+    touching = [
+        KnownObstacle("post", (2.0, 0.0), (2.0, 0.0), 0.1),
+        KnownObstacle("fence", (1.0, -1.0), (1.0, 0.0), 0.025),
+    ]
     behind = [KnownObstacle("far", (1.0, 0.0), (1.0, 0.0), 0.1), KnownObstacle("near", (0.5, 0.0), (0.5, 0.0), 0.25)]
     for f in (facing_loop, facing_numpy):
         assert f([on_robot, *twins]) == [True, True, True]  # no sight line; each twin's ends on the other's centre
@@ -146,4 +149,4 @@ def test_its_message_with_each_obstacles_force_is_the_published_pilot_record():
     c = math.hypot(1.0, 0.2)
     mag = K / (c - 0.15) ** 2  # eq. 2 from its surface
     assert (force.x, force.y, force.mag) == pytest.approx((-1.0 / c * mag, -0.2 / c * mag, mag), abs=1e-4)
-    assert force.facing and force.x == round(force.x, 4)  # explained to 1e-4 force units
+    assert force.facing and all(v == round(v, 4) for v in (force.x, force.y, force.mag))  # to 1e-4 force units
