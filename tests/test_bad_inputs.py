@@ -11,6 +11,7 @@ from __future__ import annotations
 import os
 import re
 import shutil
+import stat
 from pathlib import Path
 
 import pytest
@@ -546,6 +547,8 @@ def test_a_bad_input_is_refused_with_exit_2_one_message_and_nothing_written(case
         args = [a.replace("{x}", name) for a in args]
     args = [a.format(s=s, log="good.mcap", folder=_FOLDER, file=_FILE) for a in args]
     before = _tree(tmp_path)
+    device = os.stat(_DEVICE) if _DEVICE in args else None
+    assert device is None or stat.S_ISCHR(device.st_mode), f"{_DEVICE} is no device here: the case tests nothing"
     r = CliRunner().invoke(app, args)
     out = r.output
     assert r.exit_code == 2, f"exit {r.exit_code}: {out[-2000:]}"
@@ -555,6 +558,9 @@ def test_a_bad_input_is_refused_with_exit_2_one_message_and_nothing_written(case
     else:
         assert len(re.findall(r"^(error|Error)\b", out, flags=re.M)) == 1, out[-2000:]  # one message
     assert _tree(tmp_path) == before, "something was written"
+    if device is not None:  # the device named as the output is still that device: not replaced, not removed
+        after = os.stat(_DEVICE)
+        assert stat.S_ISCHR(after.st_mode) and (after.st_ino, after.st_rdev) == (device.st_ino, device.st_rdev)
 
 
 def test_the_table_is_large_enough_and_every_command_is_in_it():
@@ -572,4 +578,3 @@ def test_the_table_is_large_enough_and_every_command_is_in_it():
         for c in CASES
     }
     assert names - covered - {"schema", "plugins list"} == set(), names - covered
-    assert os.path.exists("/dev/null")

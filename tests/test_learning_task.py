@@ -166,8 +166,12 @@ def test_the_paper_tasks_starts_see_the_target_and_navclis_first_task_starts_any
     assert all(target_in_view(sc, (st.x, st.y)) for st in paper)
     first = random_starts(task_spec(sc, {"learning.paper_task": False}), 60, 1)
     assert not all(target_in_view(sc, (st.x, st.y)) for st in first)
-    far = (sc.target.point[0] + sc.camera.range + 0.5, sc.target.point[1])
-    assert not target_in_view(sc, far) or far[0] > sc.arena.width  # beyond the camera's range: never in view
+    # due west of the target (T at (8.2, 3.9), camera range 6 m) the line of sight is clear to the wall:
+    # 0.3 m inside the range the target is in view, 0.3 m beyond it (x = 1.9 m, still in the hall) not
+    (tx, ty), reach = sc.target.point, sc.camera.range
+    near, far = (tx - (reach - 0.3), ty), (tx - (reach + 0.3), ty)
+    assert 0 < far[0] < sc.arena.width and 0 < far[1] < sc.arena.height  # a start the task could draw
+    assert target_in_view(sc, near) and not target_in_view(sc, far)  # the range alone decides
 
 
 @pytest.mark.parametrize("given", [False, True])

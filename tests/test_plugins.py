@@ -79,6 +79,12 @@ class Greedy(Swerve):
         return Avoidance(Move(random.uniform(-1, 1), self.max_speed), 1.0, a.info)  # above the cap, unseeded
 
 
+class Unseeded(Swerve):
+    def avoid(self, beliefs, obstacles, request):
+        a = super().avoid(beliefs, obstacles, request)  # within the cap: only its randomness is wrong
+        return Avoidance(Move(random.uniform(-1, 1), self.max_speed), self.params.bid_cap, a.info)
+
+
 class NotAPilot:
     pass
 
@@ -293,7 +299,8 @@ def test_the_checker_passes_a_good_plugin_and_lists_what_a_bad_one_gets_wrong(fo
     assert check("policy", "swerve:GoStraight") == []
     greedy = check("pilot", "swerve:Greedy")
     assert any("a motion bid of 1, above the Pilot's cap 0.9" in p for p in greedy)
-    assert any("decided differently" in p for p in check("pilot", "swerve:Greedy")) or greedy  # unseeded: flagged
+    unseeded = check("pilot", "swerve:Unseeded")  # draws from the global generator, not self.rng
+    assert len(unseeded) == 1 and "two instances fed the same situations decided differently" in unseeded[0], unseeded
     chatty = check("pilot", "swerve:Chatty")
     assert any("its /pilot message breaks the schema" in p and "ahead" in p for p in chatty), chatty
     assert check("pilot", "swerve:NotAPilot")[0].startswith("<class 'swerve.NotAPilot'> is not a subclass")

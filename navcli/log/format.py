@@ -29,6 +29,12 @@ import msgspec
 from msgspec import UNSET, Meta, Struct, UnsetType
 
 
+FORMAT_VERSION = 1
+"""The version of the log's format (its topics and their JSON messages), written into every log's
+``run`` metadata as ``log_format``. Any change to a message's schema makes a new version: the
+schemas of each version are checked in (:mod:`navcli.log.published`), and the tests fail while
+the code's differ from the current version's."""
+
 # The topics of the log: each name is written here once, and every writer and reader uses these.
 TF_TOPIC = "/tf"  # foxglove.FrameTransforms: world -> base_link (the true pose), base_link -> camera (the pan)
 POSE_TOPIC = "/robot/pose"  # foxglove.PoseInFrame: the true pose

@@ -230,7 +230,7 @@ class Recorder:
         self._fov = LinePrimitive(
             type=LinePrimitiveLineType.LineStrip, thickness=0.02, color=FOV, points=fan(sc.camera.fov, sc.camera.range)
         )
-        self.writer.write_metadata("run", spec.metadata())
+        self.writer.write_metadata("run", spec.metadata() | {"log_format": str(fmt.FORMAT_VERSION)})
         self.writer.attach(
             log_time=0,
             create_time=0,
