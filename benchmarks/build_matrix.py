@@ -8,8 +8,8 @@ may end a run in an error.
 
 ``--sample`` runs every scenario once, the pilot, the perception and the seed turning over from one
 scenario to the next so that each pilot and each perception meet several rooms; ``--also
-SCENARIO/PILOT/PERCEPTION/SEED`` adds one mission, run to its end (a run that once told the builds
-apart). ``--time-cap`` shortens every other mission to at most that many simulated seconds (the
+SCENARIO/PILOT/PERCEPTION/SEED`` adds one mission, run to its end (a run known to tell the builds
+apart when an annotation lies). ``--time-cap`` shortens every other mission to at most that many simulated seconds (the
 default: each scenario's own time limit, the run to its end).
 
 It prints one line a mission with its outcome under each build, then the verdict, and exits 1 when

@@ -55,7 +55,9 @@ def measure(mission: str, repeat: int, folder: Path) -> None:
     for _ in range(repeat):
         for record in (True, False):
             t = time.process_time()  # this process's CPU time (the writer compresses in this thread): what other
-            res = run_mission(spec, out=log, record=record)  # processes on the machine take is not counted
+            res = run_mission(
+                spec, out=log, record=record, overwrite=True
+            )  # processes on the machine take is not counted
             walls[record].append(time.process_time() - t)
     sim = res.summary["time_s"]
     write = (statistics.median(walls[True]) - statistics.median(walls[False])) / sim

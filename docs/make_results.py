@@ -67,7 +67,7 @@ def command(source: dict) -> str:
     argv = source["command"]
     if argv is None:
         return "navcli.experiments.reproduce.reproduce (from Python)"
-    if isinstance(argv, str):  # a report kept before argv was recorded
+    if isinstance(argv, str):  # a report whose command is a line of text, not argv
         return argv.replace(source["dir"], "DIR")
     return shlex.join(a.replace(source["dir"], "DIR") for a in argv)
 

@@ -172,10 +172,15 @@ class RunSpec:
     @functools.cached_property
     def run_id(self) -> str:
         """sha256 (hex) of the canonical JSON of :meth:`to_json` without the scenario's file name
-        (a moved file is the same scenario), with navcli's version. Worked out once per spec (a
+        (a moved file is the same scenario) and the parameters that never change a run's course
+        (``course=False``: the wall-clock guard), with navcli's version. Worked out once per spec (a
         spec is frozen; :meth:`replace` makes a new one): a sweep's plan reads it several times."""
         d = self.to_json()
         d["scenario"] = {k: v for k, v in d["scenario"].items() if k != "file"}
+        for name, declared, _ in self.params.declarations():  # a guard of the wall clock is no change of the run
+            group, _, key = name.partition(".")
+            if not declared.course and group in d["params"]:
+                del d["params"][group][key]
         blob = json.dumps([d, __version__], sort_keys=True, separators=(",", ":"))
         return hashlib.sha256(blob.encode()).hexdigest()
 

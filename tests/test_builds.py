@@ -77,8 +77,8 @@ def test_the_compiled_build_runs_every_bundled_scenario_exactly_as_pure_python()
     """benchmarks/build_matrix.py's sample: every bundled scenario once (the pilot, the perception
     and the seed in turn; at most 120 simulated s), every message of every log hashed, under both
     builds: the same digests and no run in error, or some float operation rounds otherwise in C, or
-    an annotation lies where mypyc checks it. The u-trap run is one that did, in full: a landmark id
-    went into a variable that mypyc held to be a float."""
+    an annotation lies where mypyc checks it. The u-trap run, in full, is one where a landmark id
+    meets a variable that mypyc would hold to be a float if the map's edges were typed loosely."""
     matrix = str(ROOT / "benchmarks" / "build_matrix.py")
     crash = "u-trap/geometric/vision/917752063"
     r = subprocess.run(

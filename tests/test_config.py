@@ -104,3 +104,16 @@ def test_every_parameter_round_trips_by_its_dotted_name():
     assert len(flat) == sum(len(v) for v in p.to_json().values()) and "navigation.I_a_bar" in flat
     with pytest.raises(ParamError, match="navigation.I_a_bar must be below 1"):
         p.override({"navigation.I_a_bar": 1.0})  # the look bid divides by 1 - I_a_bar
+
+
+def test_the_wall_clock_guard_is_no_part_of_a_runs_identity():
+    """robot.decision_limit_s (declared course=False) never changes what a run does: two runs that
+    differ in it alone are one run, with one id; a parameter of the run's course changes the id."""
+    from navcli import RunSpec, load_scenario
+    from navcli.scenario import bundled
+
+    sc = load_scenario(bundled.path("open-arena"))
+    base = RunSpec.build(sc, seed=1)
+    assert RunSpec.build(sc, seed=1, overrides={"robot.decision_limit_s": 9.0}).run_id == base.run_id
+    assert RunSpec.build(sc, seed=1, overrides={"robot.max_speed": 0.2}).run_id != base.run_id
+    assert [n for n, d, _ in base.params.declarations() if not d.course] == ["robot.decision_limit_s"]

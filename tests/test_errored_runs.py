@@ -335,5 +335,5 @@ def test_figure_3_draws_the_trainings_that_finished_and_counts_one_that_raised(t
     )
     md = report.markdown()
     assert "1 of 2 trainings ended in error (seeds 2): RuntimeError: deliberate" in md
-    assert "1 trainings of" in md and "(seeds 1, in parallel" in md and (out / "figure3.png").exists()
+    assert "1 training of" in md and "(seeds 1, in parallel" in md and (out / "figure3.png").exists()
     assert report.error_count == 1

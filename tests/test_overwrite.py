@@ -34,7 +34,6 @@ def logs(tmp_path_factory) -> Path:
 # (command line, the file it writes, its exit when it succeeds); {t}: the test's folder, {logs}: the logs'
 COMMANDS = {
     "run --out": (["run", ARENA, "--seed", "1", "--time-limit", "1", "--out", "{t}/ow.mcap"], "ow.mcap", 3),
-    "run (default name)": (["run", ARENA, "--seed", "1", "--time-limit", "1"], None, 3),
     "render": (["render", "{logs}/run.mcap", "--to", "0.3", "--fps", "5", "--out", "{t}/v.gif"], "v.gif", 0),
     "plot field": (["plot", "field", ARENA, "--step", "2", "--out", "{t}/f.png"], "f.png", 0),
     "plot bids": (["plot", "bids", ARENA, "--step", "2", "--out", "{t}/b.png"], "b.png", 0),
@@ -62,6 +61,27 @@ def test_an_existing_output_is_refused_unless_forced(tmp_path, monkeypatch, logs
     forced = cli(*args, "--force")
     assert forced.exit_code == ok, forced.output
     assert path.stat().st_ino != before[1]  # a new file, renamed over the old one
+
+
+def test_a_rerun_under_the_default_name_writes_beside_the_log_before_it(tmp_path, monkeypatch):
+    """The default name is the run's id: a rerun of the same run keeps the first log and writes
+    `<name>-2.mcap`, then `-3`; --force writes over the first."""
+    monkeypatch.chdir(tmp_path)
+    args = ["run", ARENA, "--seed", "1", "--time-limit", "1"]
+    assert cli(*args).exit_code == 3
+    (first,) = tmp_path.rglob("*.mcap")
+    before = first.read_bytes(), first.stat().st_ino
+    for n in (2, 3):
+        again = cli(*args)
+        assert again.exit_code == 3, again.output
+        assert f"{first.stem}-{n}.mcap" in again.output
+        assert (first.read_bytes(), first.stat().st_ino) == before
+    assert sorted(p.name for p in tmp_path.rglob("*.mcap")) == sorted(
+        [first.name, f"{first.stem}-2.mcap", f"{first.stem}-3.mcap"]
+    )
+    forced = cli(*args, "--force")
+    assert forced.exit_code == 3 and first.stat().st_ino != before[1], forced.output
+    assert len(list(tmp_path.rglob("*.mcap"))) == 3
 
 
 def test_a_second_seed_does_not_replace_the_first_runs_log(tmp_path):

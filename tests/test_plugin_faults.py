@@ -288,7 +288,11 @@ def test_another_alarm_pending_is_left_to_come(plugin):
         signal.signal(signal.SIGALRM, old)
 
 
-def test_the_guard_leaves_a_normal_run_as_it_was(plugin):
+def test_the_guard_leaves_a_normal_run_as_it_was(plugin, monkeypatch):
+    """A well-behaved plugin's run is the same guarded (at any limit) as with the plugin's own class
+    made directly, no boundary between it and navcli."""
+    from navcli.plugins import boundary
+
     def trace(limit):
         spec = RunSpec.build(
             _room(), pilot="faulty.py:Named", time_limit=10.0, overrides={"robot.decision_limit_s": limit}
@@ -298,9 +302,13 @@ def test_the_guard_leaves_a_normal_run_as_it_was(plugin):
         while m.outcome is None:
             t = m.step()
             poses.append((t.pose.x, t.pose.y, t.pose.theta, t.command))
-        return poses
+        return poses, type(m.pilot)
 
-    assert trace(5.0) == trace(3600.0)
+    (guarded, cls), (longer, _) = trace(5.0), trace(3600.0)
+    monkeypatch.setattr(boundary, "make_pilot", lambda c, limit_s, *args, **kw: c.cls(*args, **kw))
+    bare, bare_cls = trace(5.0)
+    assert cls is not bare_cls and bare_cls.__name__ == "Named"  # the guarded subclass, then the plugin's own
+    assert guarded == longer == bare and len(bare) == 100
 
 
 def test_a_file_plugin_is_loaded_under_a_private_name(tmp_path, monkeypatch):

@@ -94,7 +94,7 @@ def test_a_report_without_a_build_or_digests_is_stale(repo):
     for missing in ("build", "sources"):
         old = {k: v for k, v in source.items() if k != missing}
         assert provenance.stale(old, repo) == [
-            "the report records no build or no digests of its sources (made before navcli recorded them)"
+            "the report records no build or no digests of its sources (its source.json lacks 'build' or 'sources')"
         ]
 
 

@@ -26,6 +26,7 @@ from mcap.reader import make_reader
 from mcap_protobuf.decoder import DecoderFactory
 
 from .. import NavcliError
+from ..checks.arguments import checked, instance, listing, optional, path, text
 from ..log.format import SUMMARY_FIELDS, SUMMARY_TOPIC, TOPIC_SCHEMAS, topic_encoding
 
 POSE_SCHEMAS = ("foxglove.PoseInFrame", "foxglove.FrameTransforms")
@@ -194,6 +195,15 @@ def check_channel(path: Path, topic: str, schema: str, encoding: str) -> None:
         )
 
 
+ARGUMENTS = {
+    "path": path,
+    "topics": optional(listing(text, "topic names", empty=True)),
+    "poses": instance(pd.DataFrame, what="a DataFrame of poses (columns x and y)"),
+}
+"""The arguments of :func:`read_log` and :func:`path_length`, checked at each call."""
+
+
+@checked(ARGUMENTS, "navcli.analysis")
 def read_log(path: str | Path, topics: Iterable[str] | None = None) -> RunLog:
     """Read ``path`` into a :class:`RunLog` (only ``topics`` if given). A file that is no whole
     MCAP file (:func:`whole_mcap`), has a navcli topic of another schema (:func:`check_channel`)
@@ -286,6 +296,7 @@ def scene_messages(path: str | Path, topic: str, decode: bool = True):
             yield message.log_time, (dec(message.data) if decode else (dec, message.data))
 
 
+@checked(ARGUMENTS, "navcli.analysis")
 def path_length(poses: pd.DataFrame) -> float:
     """Length in metres of the polyline through ``x``, ``y`` of a pose DataFrame."""
     dx, dy = poses["x"].diff().fillna(0.0), poses["y"].diff().fillna(0.0)

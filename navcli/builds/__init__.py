@@ -78,7 +78,7 @@ STALE = "NAVCLI_STALE_MODULES"  # set by choose() beside NAVCLI_PURE: which sour
 
 WHY = {
     "compiled": "the hot modules compiled by mypyc",
-    "pure": "pure Python, the compiled modules installed but not run",
+    "pure": "pure Python; the compiled modules installed, not run",
     "pure-only": "pure Python: this install has no compiled modules (built without mypyc or a C compiler,"
     " or with NAVCLI_PURE_BUILD; see docs/howto/speed.md)",
 }
@@ -93,9 +93,9 @@ def describe(build: str) -> str:
     """
     why = WHY[build]
     if build == "pure" and os.environ.get(STALE, ""):
-        why += f" ({os.environ[STALE]} changed since the build: `python -m pip install -e .` rebuilds)"
+        why += f": {os.environ[STALE]} changed since the build (`python -m pip install -e .` rebuilds)"
     elif build == "pure":
-        why += " (NAVCLI_PURE is set)"
+        why += ": NAVCLI_PURE is set"
     return f"{build} ({why})"
 
 

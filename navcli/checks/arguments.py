@@ -165,17 +165,18 @@ COMMON: dict[str, Check] = {
 """The arguments every layer's functions share, by name."""
 
 
-def checked(table: Mapping[str, Check]) -> Callable[[F], F]:
+def checked(table: Mapping[str, Check], where: str = "navcli") -> Callable[[F], F]:
     """A decorator: every argument a call gives the function is checked by the check ``table``
     holds under its name, before the function runs. A function with an argument the table lacks
-    is refused when it is decorated, so no public argument goes unchecked."""
+    is refused when it is decorated, so no public argument goes unchecked. ``where``: the module
+    the function is public in, for messages."""
 
     def decorate(fn: F) -> F:
         signature = inspect.signature(fn)
         missing = [n for n in signature.parameters if n not in table]
         if missing:
             raise TypeError(f"{fn.__qualname__}: no check declared for {', '.join(missing)}")
-        name = f"navcli.{fn.__name__}"
+        name = f"{where}.{fn.__name__}"
 
         @functools.wraps(fn)
         def call(*args: Any, **kwargs: Any) -> Any:

@@ -85,13 +85,16 @@ def run(
     check_model(spec.navigation)
     import signal
 
+    from ..log.files import beside
     from ..log.writer import check_log_path
     from ..runner import run_mission
     from ..signals import Terminated, exit_code, raising
     from .common import MissionProgress
 
+    if out is None:  # the default name: a rerun writes beside the log before it (--force: over it)
+        out = spec.default_log_path() if force else beside(spec.default_log_path())
     with about("--out"):
-        out = check_log_path(out if out is not None else spec.default_log_path(), (str(scenario),), overwrite=force)
+        out = check_log_path(out, (str(scenario),), overwrite=force)
     # a kill from a scheduler ends the run like Ctrl-C: the log closed, marked interrupted; neither is
     # raised inside a pymunk callback, where it would be lost
     signal.signal(signal.SIGTERM, raising(Terminated))

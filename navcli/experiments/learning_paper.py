@@ -261,7 +261,7 @@ def figure3(report: Report, s: Any, out: Path, ex, started: tuple[list[Path], di
         f"1-{len(seeds)}" if len(seeds) > 1 and seeds == list(range(1, len(seeds) + 1)) else ", ".join(map(str, seeds))
     )
     report.text(
-        f"{len(metas)} trainings of {s.train_trials} trials on {TRAINING_ROOM} (seeds {named}, in "
+        f"{len(metas)} training{'s' if len(metas) != 1 else ''} of {s.train_trials} trials on {TRAINING_ROOM} (seeds {named}, in "
         f"parallel workers), the greedy policy evaluated every {s.eval_every} trials on {s.eval_starts} "
         f"fixed starts. The paper: {PAPER_FIGURE3}. navcli: after {s.train_trials} trials "
         f"{min(finals)} to {max(finals)} of {s.eval_starts} (mean {sum(finals) / len(finals):.1f}); the "

@@ -143,7 +143,9 @@ def stale(source: dict[str, Any], root: Path = ROOT) -> list[str]:
     if source.get("dirty_sources"):
         out.append(f"the report was made from uncommitted changes to {', '.join(source['dirty_sources'])}")
     if "build" not in source or "sources" not in source:
-        out.append("the report records no build or no digests of its sources (made before navcli recorded them)")
+        out.append(
+            "the report records no build or no digests of its sources (its source.json lacks 'build' or 'sources')"
+        )
         return out
     differ = changed(source["sources"], digests(root))
     if differ:

@@ -89,3 +89,18 @@ def aside_name(partial: Path) -> Path:
     while partial.with_name(f"{partial.name}-{n}").exists():
         n += 1
     return partial.with_name(f"{partial.name}-{n}")
+
+
+def beside(path: Path) -> Path:
+    """``path`` if it is free, else the first free ``<stem>-<n><suffix>`` beside it (n from 2): where
+    a run whose default log name is taken writes, so a rerun keeps the log before it.
+
+    >>> beside(Path("/nonexistent/run.mcap")).name
+    'run.mcap'
+    """
+    n = 1
+    out = path
+    while out.exists() or out.is_symlink():
+        n += 1
+        out = path.with_name(f"{path.stem}-{n}{path.suffix}")
+    return out

@@ -163,7 +163,7 @@ class Recorder:
         pilot_message: type = Pilot,
         overwrite: bool = False,
     ):
-        self.path = check_log_path(Path(path), protect, overwrite=overwrite)
+        self.path = check_log_path(Path(path), protect, overwrite=overwrite, ask="overwrite=True")
         self.partial = self.path.with_name(self.path.name + ".partial")
         self.lock = Lock(self.path.with_name(self.path.name + ".lock"))
         self.kept_aside: Path | None = None  # where a killed run's .partial was moved

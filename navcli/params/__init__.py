@@ -90,6 +90,7 @@ class RobotParams(ParamSet):
         pilots and agents are not timed; the clock never enters the log or a normal run's course)""",
         above=0.0,
         at_most=3600.0,
+        course=False,
     )
 
     def time_to_drive(self, metres: float) -> float:

@@ -68,6 +68,7 @@ class Declared:
     below: float | None = None
     count: int = 0  # intervals: how many bounds (the default's, which the states are built on)
     choices: tuple[str, ...] = ()  # a choice: the words it takes
+    course: bool = True  # False: a guard that never changes a run's course, left out of its run id
 
     def check(self, name: str, value: Any) -> Any:
         """``value`` in this parameter's type (a whole number as ``int``, a switch as ``bool``, a
@@ -184,11 +185,14 @@ def param(
     below: float | None = None,
     intervals: bool = False,
     choices: tuple[str, ...] = (),
+    course: bool = True,
 ) -> Any:
     """A parameter field of a :class:`ParamSet`: its default, unit (``""`` for a pure number) and
     description, and for a number its range (at least 0 unless said otherwise; ``above`` replaces
     that lower bound, ``at_least=None`` removes it); a word's ``choices``. A default outside its
-    own range is a mistake of the declaration, refused when the class is made."""
+    own range is a mistake of the declaration, refused when the class is made. ``course=False``
+    marks a guard that never changes what a run does (a limit on wall-clock time): the run's id
+    leaves it out, so two runs that differ in it alone are one run."""
     if isinstance(default, str) and choices:
         kind: Kind = "choice"
     elif isinstance(default, bool):
@@ -218,6 +222,7 @@ def param(
         below,
         len(default) if kind == "intervals" else 0,
         tuple(choices),
+        course,
     )
     d.check("the default", default)
     return dataclasses.field(default=default, metadata={DECLARED: d})

@@ -65,16 +65,17 @@ class Deadline:
         alarm = _arm(self.limit_s)
         t0 = time.monotonic()
         try:
-            out = fn(*args)
+            try:
+                out = fn(*args)
+            finally:  # inside the handlers below: an alarm that comes as the call returns is still caught
+                if alarm:
+                    _disarm()
         except TooSlow:
             raise self.too_slow() from None
         except PluginError:
             raise
         except Exception as e:
             raise failed(self.c, e, at=fn) from e
-        finally:
-            if alarm:
-                _disarm()
         if time.monotonic() - t0 > self.limit_s:  # a call the timer could not interrupt (see _arm)
             raise self.too_slow()
         return out
@@ -355,8 +356,7 @@ class Agent:
 def agent_name(c: Component, agent: Any, taken: set[str]) -> str:
     """The name ``agent`` (``c``'s, just made) bids under, checked: a name the log can carry
     (1 to 64 of A-Z, a-z, 0-9, ``_``, ``-``), not one of navcli's agents' and not ``taken``."""
-    from .checker import NAVCLI_AGENTS
-    from .registry import NAME_RE
+    from .registry import NAME_RE, NAVCLI_AGENTS
 
     name = getattr(agent, "name", None)
     if not isinstance(name, str) or not NAME_RE.fullmatch(name):

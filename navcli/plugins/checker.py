@@ -22,8 +22,6 @@ CHECK_SCENARIO = "open-arena"
 """The bundled room the checker's missions run in (an empty room: any pilot should cross it)."""
 CHECK_SECONDS = 20.0
 """Simulated seconds of each of the checker's missions."""
-NAVCLI_AGENTS = ("target-tracker", "risk-manager", "distance-estimator", "rescuer", "learning-agent")
-"""The names navcli's own Navigation agents bid under (a plugin's agent must not take one)."""
 
 
 def _params_problems(c: Component) -> list[str]:
