@@ -21,12 +21,20 @@ from navcli.learning.prioritized_sweeping import PrioritizedSweeping
 from navcli.learning.q_learning import QLearning
 from navcli.navigation.situation import Situation
 
-gym = pytest.importorskip("gymnasium")
+try:
+    import gymnasium  # noqa: F401
+except ModuleNotFoundError:
+    HAVE_GYM = False
+else:
+    HAVE_GYM = True
+requires_gym = pytest.mark.skipif(not HAVE_GYM, reason="needs gymnasium (pip install 'navcli[gym]')")
+"""For the tests of the Gym env, of training (which runs it) and on Gymnasium's toy MDPs."""
 
 
 # -- small MDPs from Gymnasium's toy_text tables, solved here by value iteration
 def tables(name: str, **kw):
     """Transition probabilities T, expected rewards R, rewards by landing Rt and terminal flags D."""
+    gym = pytest.importorskip("gymnasium")
     P = gym.make(name, **kw).unwrapped.P
     S, A = len(P), len(P[0])
     T, R, Rt, D = np.zeros((S, A, S)), np.zeros((S, A)), np.zeros((S, A, S)), np.zeros((S, A, S), bool)
@@ -392,9 +400,12 @@ def test_run_refuses_a_bad_navigation(tmp_path):
     assert r.exit_code == 2 and "no such model file" in r.output
 
 
+@requires_gym
 def test_the_gymnasium_environment_passes_the_checker():
-    import navcli.envs  # noqa: F401  (registers it)
+    import gymnasium as gym
     from gymnasium.utils.env_checker import check_env
+
+    import navcli.envs  # noqa: F401  (registers it)
 
     env = gym.make("navcli/LandmarkNavigation-v0", overrides={"learning.max_actions": 2})
     check_env(env.unwrapped, skip_render_check=True)
@@ -408,6 +419,7 @@ def test_the_gymnasium_environment_passes_the_checker():
     assert r == -1.0 and trunc  # max_actions = 2
 
 
+@requires_gym
 @pytest.mark.parametrize(
     "outcome,reached,ended,want",
     [
@@ -435,6 +447,7 @@ def test_the_environment_follows_gymnasiums_terminated_truncated_contract(outcom
     assert (terminated, truncated) == want and info["outcome"] == outcome
 
 
+@requires_gym
 def test_the_environment_finds_its_room_inside_the_package():
     from navcli.envs.landmark_navigation import DEFAULT_SCENARIO
 

@@ -16,7 +16,14 @@ from navcli.experiments import sweep
 from navcli.experiments.compare import rerun_seed
 from navcli.experiments.executor import SerialExecutor, executor
 
-distributed = pytest.importorskip("distributed")
+try:
+    import distributed
+except ModuleNotFoundError:
+    distributed = None
+requires_cluster = pytest.mark.skipif(
+    distributed is None, reason="needs dask.distributed (pip install 'navcli[cluster]')"
+)
+"""For the tests that run on a Dask cluster: the plan's parsing and the local workers need none."""
 
 ARENA = SCENARIOS / "open-arena.yaml"
 
@@ -178,6 +185,7 @@ def test_the_table_holds_one_row_per_run_and_resumes_after_an_interruption(tmp_p
         assert Path(r.log).name.endswith(f"-{r.run_id[:8]}.mcap") and Path(r.log).exists()
 
 
+@requires_cluster
 def test_local_pool_and_dask_cluster_give_the_same_table(tmp_path, cluster):
     c, _ = cluster
     plan = _plan(tmp_path, GRID + NO_SWEEP)
@@ -188,6 +196,7 @@ def test_local_pool_and_dask_cluster_give_the_same_table(tmp_path, cluster):
     assert pd.read_csv(tmp_path / "local" / "results.csv")["run_id"].tolist() == local["run_id"].tolist()
 
 
+@requires_cluster
 def test_compare_pilots_on_the_dask_cluster_logs_the_runs_the_local_pool_does(tmp_path, cluster):
     from navcli.analysis import read_log
 
@@ -213,6 +222,7 @@ def test_compare_pilots_on_the_dask_cluster_logs_the_runs_the_local_pool_does(tm
         assert sa["outcome"] == sb["outcome"] == "timeout" and sa["path_length_m"] == sb["path_length_m"] > 0
 
 
+@requires_cluster
 def test_a_worker_killed_mid_sweep_loses_and_duplicates_nothing(tmp_path, cluster):
     c, client = cluster
     plan = sweep.load_plan(_plan(tmp_path, "seeds: 5\ntime_limit: 4\ngrid: {pilot.K: [10, 20, 30]}\n"))

@@ -149,10 +149,10 @@ def test_evaluations_still_running_at_the_save_are_run_on_resume(spec, reference
     assert_same_training(out, ref)
 
 
+# the worker processes' interruption is the same for both learners: one of them is enough
+@pytest.mark.parametrize("reference", ["prioritized-sweeping"], indirect=True)
 def test_evaluations_in_worker_processes_survive_an_interruption(spec, reference, tmp_path):
     algorithm, ref = reference
-    if algorithm != "prioritized-sweeping":
-        pytest.skip("one algorithm is enough for the worker processes")
     out = tmp_path / "m.npz"
     with pytest.raises(KeyboardInterrupt):  # the workers are stopped as the evaluation of 3 trials runs
         _train(spec, out, algorithm=algorithm, workers=2, on_trial=_stop_after(2))

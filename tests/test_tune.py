@@ -15,8 +15,20 @@ from navcli.experiments import tune
 from navcli.experiments.executor import SerialExecutor, executor
 from navcli.scenario import load_scenario
 
-pytest.importorskip("optuna")
-pytest.importorskip("deap")
+
+def _have(name: str) -> bool:
+    try:
+        __import__(name)
+    except ModuleNotFoundError:
+        return False
+    return True
+
+
+requires_optimisers = pytest.mark.skipif(
+    not (_have("optuna") and _have("deap")), reason="needs optuna and deap (pip install 'navcli[cluster]')"
+)
+"""For the tests that run a tuning: the checks of its settings and files, and the message for a
+missing library, need neither."""
 
 SPEED = ("robot.max_speed", 0.05, 1.0)
 
@@ -58,6 +70,7 @@ def _startup_trials() -> int:
     return inspect.signature(optuna.samplers.TPESampler).parameters["n_startup_trials"].default
 
 
+@requires_optimisers
 def test_tpe_follows_the_objective_and_resumes_from_its_storage(tiny, tmp_path):
     """On ``tiny`` the objective (minus the time to the target) never falls as the top speed rises,
     and levels off where acceleration limits the robot. What TPE does there whatever its seed: its
@@ -116,6 +129,7 @@ def test_tpe_follows_the_objective_and_resumes_from_its_storage(tiny, tmp_path):
     assert [t["objective"] for t in again[:n]] == h["objective"].tolist()
 
 
+@requires_optimisers
 def test_the_ga_settings_reach_deap_and_its_checkpoint_resumes(tiny, tmp_path, monkeypatch):
     from deap import algorithms
 
@@ -185,6 +199,7 @@ def test_a_missing_library_is_named_with_what_to_install(tiny, monkeypatch):
     assert res.exit_code == 2 and "needs optuna, which is not installed: pip install 'navcli[cluster]'" in res.output
 
 
+@requires_optimisers
 @pytest.mark.parametrize(
     "algorithm, name, content, words",
     [
