@@ -48,7 +48,7 @@ from navcli.mission import Mission
 
 try:
     from navcli.params import parse_override
-except ImportError:  # navcli before issue 35 (the benchmark is run from older checkouts too)
+except ImportError:  # a checkout without the vision routines (the benchmark is run from older checkouts too)
     from navcli.params import parse_override  # type: ignore[no-redef,attr-defined]
 
 SCENARIOS = Path(__file__).resolve().parents[1] / "scenarios"

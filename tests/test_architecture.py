@@ -122,7 +122,7 @@ def test_each_topic_name_is_written_once():
     from navcli.log import format as fmt
 
     names = {v for k, v in vars(fmt).items() if k.endswith("_TOPIC")}
-    assert len(names) == 18  # the fifteen, then /robot/path, /memory/supports, /map/regions (issue 38)
+    assert len(names) == 18  # the fifteen, then /robot/path, /memory/supports, /map/regions
     where: dict[str, list[str]] = {n: [] for n in names}
     for path in sorted((ROOT / "navcli").rglob("*.py")):
         for node in ast.walk(ast.parse(path.read_text(), str(path))):

@@ -1,4 +1,4 @@
-"""The learning paper's task (issue 23): each of its conditions, the preset that sets them, and
+"""The learning paper's task: each of its conditions, the preset that sets them, and
 the trials that end on them. Every test has its control: the same thing without the condition."""
 
 from __future__ import annotations

@@ -209,7 +209,7 @@ def test_the_quality_of_a_landmark_set_is_that_of_its_six_best_known_now(monkeyp
         assert got == pytest.approx(want, abs=1e-9)
 
 
-# -- regions that know the obstacles (issue 22) ------------------------------------------------------
+# -- regions that know the obstacles ---------------------------------------------------------------
 from navcli.navigation.regions import (  # noqa: E402
     CROSS_MARGIN,
     NoCrossing,

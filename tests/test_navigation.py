@@ -251,7 +251,7 @@ CROSSINGS = (
 
 
 def test_rescuer_abandons_a_diverting_target_that_cannot_be_reached_and_asks_again_until_no_way_is_left():
-    """Issue 22's rule: failures end no mission by their count. Each diverting target not crossed
+    """The Rescuer's rule: failures end no mission by their count. Each diverting target not crossed
     is abandoned, the map told of its edge, and another asked for; the mission ends blocked only
     when the map shows no way out, and again after a look around."""
     from navcli.navigation.regions import NoCrossing
@@ -339,7 +339,7 @@ def test_bumped_out_of_a_diverting_target_the_robot_drives_out_before_the_map_is
 
 
 def test_the_count_of_failures_may_still_end_a_mission():
-    """``max_diverting_failures`` > 0 (3 was navcli's rule before issue 22): that many abandoned
+    """``max_diverting_failures`` > 0 (3: a switch for the rule of ending after three): that many abandoned
     diverting targets end the mission, each taking ``blocked_bumps`` bumps, not the time limit."""
     p = replace(NAVIGATION, max_diverting_failures=2)
     r = Rescuer(p, np.random.default_rng(0))
@@ -428,7 +428,7 @@ def test_the_navigation_system_lists_its_agents_and_forwards_their_bids():
     assert out.target == pytest.approx((3.0, 4.0)) and out.info["rescuer"] == "sweep"
 
 
-# -- the Rescuer explores before it gives up (issue 22) ----------------------------------------------
+# -- the Rescuer explores before it gives up ---------------------------------------------------------
 def _blocked_until_asked(r, t, answer, limit=200.0):
     """Tick a Rescuer that makes no progress until it asks the map; return the time and events."""
     asked, events = [], []

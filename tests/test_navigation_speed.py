@@ -1,6 +1,6 @@
 """The Navigation system's per-tick shortcuts give what the plain definitions give, to the bit.
 
-Each test here would fail if a shortcut taken for speed (issue 14) changed an answer: the sector
+Each test here would fail if a shortcut taken for speed changed an answer: the sector
 search, the memory's points, the Communicator's auction, the NamedTuple bids, the network's size."""
 
 from __future__ import annotations

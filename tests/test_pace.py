@@ -1,4 +1,4 @@
-"""Progress is measured in distance, not seconds (issue 21): every window that is about progress
+"""Progress is measured in distance, not seconds: every window that is about progress
 (the Rescuer's blocked window and diverting timeout, the Pilot's stall watch and its reflex's
 backup) lasts as long as the robot takes to cover its distance, so a robot at 0.05, 0.1, 0.3 or
 0.6 m/s is never declared blocked, or stalled, for being slow."""

@@ -471,7 +471,7 @@ def test_turning_in_place_is_no_stall(params, speed):
     assert out.info["mode"] != "reflex"
 
 
-# -- the Pilot's report of a long obstacle it cannot easily avoid (an option, issue 22) -------------
+# -- the Pilot's report of a long obstacle it cannot easily avoid (an option) ------------------------
 def test_the_pilot_reports_a_long_obstacle_it_is_held_in_front_of_but_not_one_it_goes_round():
     """With ``blocked_report_m`` set, the potential-field pilot reports a fence seen square on
     between it and its target (the field leads back, the robot goes nowhere along the fence) once

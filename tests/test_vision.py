@@ -27,7 +27,7 @@ def camera(make_scenario, noise=0.0, params=VISION, **over):
 
 
 LEGACY = dataclasses.replace(VISION, routines=0, line_objects=0)
-"""navcli's camera and memory before issue 35: every image sees all, pieces joined by geometry."""
+"""navcli's earlier camera and memory, kept as an option: every image sees all, pieces joined by geometry."""
 
 
 ROBOT = Pose(1.0, 2.0, 0.0)
@@ -377,7 +377,7 @@ def test_bumps_near_each_other_or_a_landmark_become_a_long_obstacle():
     assert "A" in mem.items  # the landmark stays a landmark
 
 
-# -- navcli before issue 35: pieces joined by geometry (vision.line_objects 0), lines only where things are (issue 22)
+# -- pieces joined by geometry (vision.line_objects 0), lines only where things are
 def _stretch(a, b, r=0.05):
     return [Spot(a[0], a[1], r, 0.0), Spot(b[0], b[1], r, 0.0)]
 

@@ -1,4 +1,4 @@
-"""Vision as the papers describe it (issue 35): each look runs one routine, a fence is one object,
+"""Vision as the papers describe it: each look runs one routine, a fence is one object,
 and the walls are a stated condition. Each behaviour has a control: navcli's camera before
 (``vision.routines`` 0, ``vision.line_objects`` 0) fails it."""
 
