@@ -86,7 +86,9 @@ def test_only_the_log_package_writes_logs():
 
 FORMAT = "navcli.log.format"
 """The log's format: what the analysis package may import of navcli (besides the package root,
-for the root error class)."""
+for the root error class, and the API's argument checks)."""
+CHECKS = "navcli.checks.arguments"
+"""The API's argument checks, which import the standard library and the root error class alone."""
 
 
 def test_analysis_imports_only_the_format():
@@ -97,7 +99,9 @@ def test_analysis_imports_only_the_format():
             if dep.split(".")[0] != "navcli" or dep.startswith("navcli.analysis"):
                 continue
             assert (
-                dep in ("navcli", "navcli.NavcliError", "navcli.log") or dep == FORMAT or dep.startswith(FORMAT + ".")
+                dep in ("navcli", "navcli.NavcliError", "navcli.log")
+                or dep in (FORMAT, CHECKS)
+                or dep.startswith((FORMAT + ".", CHECKS + "."))
             ), f"{mod} imports {dep}"
 
 
@@ -191,7 +195,8 @@ def test_importing_the_agents_or_analysis_pulls_in_no_simulator():
         "if m in sys.modules]; [sys.modules.pop(m) for m in list(sys.modules) if m.startswith('navcli')]; "
         "import navcli.analysis.tables, navcli.analysis.render, navcli.analysis.mapplot; "
         "bad += [m for m in sys.modules if m.split('.')[0] in ('pymunk', 'foxglove') or m.startswith('navcli') "
-        "and m not in ('navcli', 'navcli.builds', 'navcli.log', 'navcli.log.format') and not m.startswith('navcli.analysis')]; "
+        "and m not in ('navcli', 'navcli.builds', 'navcli.log', 'navcli.log.format', 'navcli.checks', 'navcli.checks.arguments') "
+        "and not m.startswith('navcli.analysis')]; "
         "print(bad); sys.exit(1 if bad else 0)"
     )
     r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT)

@@ -126,7 +126,7 @@ def test_a_killed_runs_partial_is_kept_aside_and_a_locked_log_refused(tmp_path):
         Recorder(out)
     rec.finish(summary, 0)
     assert not (tmp_path / "run.mcap.lock").exists()
-    with pytest.raises(LogPathError, match="--force replaces it"):  # free, but finished: never replaced unasked
+    with pytest.raises(LogPathError, match="overwrite=True replaces it"):  # free, but finished: never replaced unasked
         Recorder(out)
     Recorder(out, overwrite=True).finish(summary, 0)
 

@@ -202,7 +202,7 @@ def training_benchmark(
     seed: int = 1,
     echo: Callable[[str], None] = print,
 ) -> dict[str, float]:
-    """The learning task's throughput (issue 39): the Gymnasium environment's ``step`` (one action of
+    """The learning task's throughput: the Gymnasium environment's ``step`` (one action of
     the Learning Agent, ``learning.action_s`` of simulated time) in actions per wall second, over
     ``actions`` actions of a uniformly random policy (seeded; the trials' resets not counted), and a
     whole training's wall time (``navcli train``: by default the paper's 2,000 trials with an

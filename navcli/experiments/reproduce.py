@@ -307,8 +307,7 @@ VISION_CHOICES = (
 )
 """navcli's choices where the papers are silent on what the robot senses, one at a time from the
 defaults (a plan's points), with vision: every look sees all, lines joined by geometry, the
-walls known or felt, eq. 1's look capped at 0.9, and all three old choices together (navcli
-before issue 35)."""
+walls known or felt, eq. 1's look capped at 0.9, and all three alternative choices together."""
 
 
 def sensitivity(report: Report, s: Settings, out: Path, ex) -> None:

@@ -38,9 +38,9 @@ What the thesis says, and how we do it:
   sweep, no scans: the camera is the Learning Agent's; a lost target is left to it), and the
   first blocked situation ends the mission ``blocked`` (its trials "terminate ... if the robot
   is blocked").
-- **Giving up** (issue 22's rule): only a diverting target tried and failed is a failure, and no
-  count of them ends the mission (``max_diverting_failures`` 3 was navcli's rule before: the third
-  ended it, and with it many runs in rooms with a way out; set, it also bounds the looks around
+- **Giving up**: only a diverting target tried and failed is a failure, and no count of them ends
+  the mission (``max_diverting_failures`` set to 3 ends it at the third, which ends many runs in
+  rooms with a way out; set, it also bounds the looks around
   in a row that the map answers with no diverting target). The mission ends ``blocked`` when the
   map shows no way out of the robot's regions (every edge out closed by known obstacles), and
   shows it again after the robot has looked around once more with no diverting target crossed in

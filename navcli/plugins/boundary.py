@@ -353,10 +353,14 @@ class Agent:
         return getattr(self.agent, name)
 
 
+NAVCLI_AGENTS = ("target-tracker", "risk-manager", "distance-estimator", "rescuer", "learning-agent")
+"""The names navcli's own Navigation agents bid under (a plugin's agent must not take one)."""
+
+
 def agent_name(c: Component, agent: Any, taken: set[str]) -> str:
     """The name ``agent`` (``c``'s, just made) bids under, checked: a name the log can carry
     (1 to 64 of A-Z, a-z, 0-9, ``_``, ``-``), not one of navcli's agents' and not ``taken``."""
-    from .registry import NAME_RE, NAVCLI_AGENTS
+    from .registry import NAME_RE
 
     name = getattr(agent, "name", None)
     if not isinstance(name, str) or not NAME_RE.fullmatch(name):

@@ -55,8 +55,6 @@ WORDS: dict[Kind, str] = {"pilot": "pilot", "policy": "navigation policy"}
 """How messages name each kind."""
 NAME_RE = re.compile(r"[A-Za-z0-9][A-Za-z0-9_-]{0,63}")
 """What an installed plugin may be called (it names runs, log files and its parameters)."""
-NAVCLI_AGENTS = ("target-tracker", "risk-manager", "distance-estimator", "rescuer", "learning-agent")
-"""The names navcli's own Navigation agents bid under (a plugin's agent must not take one)."""
 BUILTIN_PILOTS = ("potential-field", "geometric")
 """navcli's own pilots; the first is the default."""
 BUILTIN_POLICIES = ("agents", "hand-coded", "learned")
