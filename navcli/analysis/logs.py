@@ -255,26 +255,37 @@ def topic_frames(rows: dict[str, list[dict]]) -> dict[str, pd.DataFrame]:
     return frames
 
 
-def _decoded(reader, topics, path: Path):
-    """(schema, channel, message, decoded-or-None): protobuf decoded, JSON left as bytes; each
-    channel checked once (:func:`check_channel`)."""
-    factory = DecoderFactory()
-    decoders: dict[int, Any] = {}
-    seen: set[int] = set()
-    for schema, channel, message in reader.iter_messages(topics=topics, log_time_order=False):
-        if channel.id not in seen:
-            seen.add(channel.id)
-            check_channel(path, channel.topic, schema.name if schema else "", channel.message_encoding)
+class _Decoders:
+    """Each channel of a log checked once (:func:`check_channel`), and the decoder of each
+    protobuf schema made once; JSON channels have none (their bytes are read as they are)."""
+
+    def __init__(self, path: Path) -> None:
+        self.path = path
+        self.factory = DecoderFactory()
+        self.decoders: dict[int, Any] = {}
+        self.seen: set[int] = set()
+
+    def of(self, schema: Any, channel: Any) -> Any:
+        if channel.id not in self.seen:
+            self.seen.add(channel.id)
+            check_channel(self.path, channel.topic, schema.name if schema else "", channel.message_encoding)
         if channel.message_encoding == "json":
-            yield schema, channel, message, None
-            continue
-        dec = decoders.get(channel.schema_id)
+            return None
+        dec = self.decoders.get(channel.schema_id)
         if dec is None:
-            dec = factory.decoder_for(channel.message_encoding, schema)
+            dec = self.factory.decoder_for(channel.message_encoding, schema)
             if dec is None:
-                raise LogError(f"{path}: {channel.topic}: no decoder for {channel.message_encoding!r} messages")
-            decoders[channel.schema_id] = dec
-        yield schema, channel, message, dec(message.data)
+                raise LogError(f"{self.path}: {channel.topic}: no decoder for {channel.message_encoding!r} messages")
+            self.decoders[channel.schema_id] = dec
+        return dec
+
+
+def _decoded(reader, topics, path: Path):
+    """(schema, channel, message, decoded-or-None): protobuf decoded, JSON left as bytes."""
+    decoders = _Decoders(path)
+    for schema, channel, message in reader.iter_messages(topics=topics, log_time_order=False):
+        dec = decoders.of(schema, channel)
+        yield schema, channel, message, None if dec is None else dec(message.data)
 
 
 def scene_messages(path: str | Path, topic: str, decode: bool = True):
@@ -284,15 +295,11 @@ def scene_messages(path: str | Path, topic: str, decode: bool = True):
     path = whole_mcap(regular(Path(path)))
     with path.open("rb") as f:
         reader = make_reader(f)
-        factory = DecoderFactory()
-        decoders: dict[int, Any] = {}
+        decoders = _Decoders(path)
         for schema, channel, message in reader.iter_messages(topics=[topic]):
-            dec = decoders.get(channel.schema_id)
-            if dec is None:
-                check_channel(path, channel.topic, schema.name if schema else "", channel.message_encoding)
-                dec = decoders[channel.schema_id] = factory.decoder_for(channel.message_encoding, schema)
-                if dec is None:
-                    raise LogError(f"{path}: {topic}: no decoder for {channel.message_encoding!r} messages")
+            dec = decoders.of(schema, channel)
+            if dec is None:  # a scene is protobuf (check_channel refuses a navcli topic of another encoding)
+                raise LogError(f"{path}: {topic}: no decoder for {channel.message_encoding!r} messages")
             yield message.log_time, (dec(message.data) if decode else (dec, message.data))
 
 

@@ -69,9 +69,9 @@ def libraries() -> dict[str, str]:
 
 
 def digests(root: Path = ROOT) -> dict[str, str]:
-    """Each tracked file of :data:`SOURCES` in ``root``'s working tree, by path, with the sha256 of
-    its bytes (16 hex digits); empty outside a git checkout."""
-    listed = git(root, "ls-files", "-z", "--", *SOURCES, strip=False) if checkout(root) else None
+    """Each tracked file of :data:`SOURCES` in ``root``'s working tree (a git checkout: its callers
+    ask :func:`checkout` first), by path, with the sha256 of its bytes (16 hex digits)."""
+    listed = git(root, "ls-files", "-z", "--", *SOURCES, strip=False)
     paths = sorted(p for p in (listed or "").split("\0") if p)
     return {p: hashlib.sha256((root / p).read_bytes()).hexdigest()[:16] for p in paths if (root / p).is_file()}
 
@@ -109,7 +109,7 @@ def record(command: Sequence[str] | None, root: Path = ROOT) -> dict[str, Any]:
         "dirty": bool(tracked) if tracked is not None else None,
         "dirty_sources": sorted(line[3:] for line in (sources or "").splitlines()),
         "libraries": libraries(),
-        "sources": digests(root),
+        "sources": digests(root) if here else {},
     }
 
 

@@ -7,6 +7,7 @@ from __future__ import annotations
 import fcntl
 import os
 from pathlib import Path
+from typing import Callable
 
 from .. import NavcliError
 
@@ -83,12 +84,16 @@ class Lock:
                 self.fd = None
 
 
+def _first_free(named: Callable[[int], Path], n: int) -> Path:
+    """``named(n)``, ``named(n + 1)`` ...: the first that names no file (nor a dangling link)."""
+    while (path := named(n)).exists() or path.is_symlink():
+        n += 1
+    return path
+
+
 def aside_name(partial: Path) -> Path:
     """The first free ``<partial>-<n>``: where the ``.partial`` of a killed run is kept."""
-    n = 1
-    while partial.with_name(f"{partial.name}-{n}").exists():
-        n += 1
-    return partial.with_name(f"{partial.name}-{n}")
+    return _first_free(lambda n: partial.with_name(f"{partial.name}-{n}"), 1)
 
 
 def beside(path: Path) -> Path:
@@ -98,9 +103,4 @@ def beside(path: Path) -> Path:
     >>> beside(Path("/nonexistent/run.mcap")).name
     'run.mcap'
     """
-    n = 1
-    out = path
-    while out.exists() or out.is_symlink():
-        n += 1
-        out = path.with_name(f"{path.stem}-{n}{path.suffix}")
-    return out
+    return _first_free(lambda n: path if n == 1 else path.with_name(f"{path.stem}-{n}{path.suffix}"), 1)

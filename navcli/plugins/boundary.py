@@ -37,7 +37,7 @@ import msgspec
 
 from ..bidding import PURPOSES, RESOURCES, SYSTEMS, Bid, Look, Move
 from ..pilot import Avoidance, Pilot, PilotOutput
-from .registry import Component, PluginError, failed
+from .registry import BLAME, Component, PluginError, failed
 
 
 class TooSlow(BaseException):
@@ -96,7 +96,7 @@ class Deadline:
     def too_slow(self) -> Overran:
         return Overran(
             f"{self.c.label} took more than robot.decision_limit_s = {self.limit_s:g} s of wall-clock time "
-            f"for one decision, and was stopped. The fault is the plugin's, not navcli's (a slow plugin may be "
+            f"for one decision, and was stopped. {BLAME} (a slow plugin may be "
             f"given more: --param robot.decision_limit_s=SECONDS)"
         )
 
@@ -180,11 +180,9 @@ def avoidance_problem(a: object, bid_cap: float, max_speed: float, schemas: Any)
         return f"returned a motion bid of {a.bid:g}, above the Pilot's cap {bid_cap:g} (pilot.bid_cap)"
     if a.bid < 0.0:
         return f"returned a motion bid of {a.bid:g}, below 0"
-    if type(a.info) is not dict:
-        return f"returned an info of {_short(a.info)}, not a dict of /pilot's field names to values"
-    problem = info_problem(a.info, schemas)
+    problem = returned_info_problem(a.info, schemas)
     if problem is not None:
-        return f"returned {problem}"
+        return problem
     if a.arrows and not all(
         isinstance(r, tuple) and len(r) == 3 and type(r[0]) is str and _number(r[1]) and _number(r[2]) for r in a.arrows
     ):
@@ -236,6 +234,15 @@ def info_problem(info: dict[str, Any], kind: Any) -> str | None:
     return None
 
 
+def returned_info_problem(info: object, kind: Any) -> str | None:
+    """What is wrong with the ``info`` a pilot's method returned (a dict that :func:`info_problem`
+    passes), said as what it returned, or None."""
+    if type(info) is not dict:
+        return f"returned an info of {_short(info)}, not a dict of /pilot's field names to values"
+    problem = info_problem(info, kind)
+    return f"returned {problem}" if problem is not None else None
+
+
 def bid_problem(b: object, bidder: str, max_speed: float) -> str | None:
     """What is wrong with ``b`` as a bid of ``bidder``'s, or None."""
     if not isinstance(b, Bid) or len(b) != 4:
@@ -271,10 +278,7 @@ def _where(method: Callable[..., Any]) -> str:
 
 
 def _blame(c: Component) -> str:
-    return (
-        f"The fault is the plugin's, not navcli's: `navcli plugins check {c.kind} {c.name}` tests it "
-        f"against navcli's contract"
-    )
+    return f"{BLAME}: `navcli plugins check {c.kind} {c.name}` tests it against navcli's contract"
 
 
 # --- the guarded pilot and agent -------------------------------------------------------------
@@ -303,11 +307,8 @@ def pilot_class(c: Component, limit_s: float) -> type:
             problem = bid_problem(b, SYSTEMS[0], self.max_speed)
             if problem is not None:
                 break
-        if problem is None and type(out.info) is not dict:
-            problem = f"returned an info of {_short(out.info)}, not a dict of /pilot's field names to values"
         if problem is None:
-            problem = info_problem(out.info, schemas)
-            problem = f"returned {problem}" if problem is not None else None
+            problem = returned_info_problem(out.info, schemas)
         if problem is not None:
             raise wrong(c, method, problem)
         return out

@@ -16,7 +16,7 @@ import dataclasses
 import math
 from typing import Any
 
-from .registry import Component, Kind, NavcliError, locate
+from .registry import BLAME, Component, Kind, NavcliError, locate
 
 CHECK_SCENARIO = "open-arena"
 """The bundled room the checker's missions run in (an empty room: any pilot should cross it)."""
@@ -228,7 +228,7 @@ def _policy_problems(c: Component) -> list[str]:
 
 def _said(e: Exception) -> str:
     """A plugin's fault without the advice to run the checker, which is running."""
-    return str(e).partition(". The fault is the plugin's")[0]
+    return str(e).partition(f". {BLAME}")[0]
 
 
 def _mission_problems(c: Component) -> list[str]:

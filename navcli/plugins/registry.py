@@ -429,6 +429,10 @@ def installed(kind: Kind) -> list[Component | tuple[str, str]]:
     return out
 
 
+BLAME = "The fault is the plugin's, not navcli's"
+"""How every plugin fault ends (the checker, running, cuts its message there)."""
+
+
 def failed(c: Component, e: BaseException, doing: str = "raised", at: Any = None) -> PluginError:
     """The :class:`PluginError` saying that ``c``'s code ``doing`` (``raised``, ``cannot be
     loaded`` ...) ``e``, where in its code, and what to do: one line. Where: the innermost frame
@@ -437,7 +441,7 @@ def failed(c: Component, e: BaseException, doing: str = "raised", at: Any = None
     navcli called."""
     what = f"{type(e).__name__}: {e}".strip().splitlines()[0][:300] if str(e) else type(e).__name__
     return PluginError(
-        f"{c.label} {doing}: {what}{_location(c, e, at)}. The fault is the plugin's, not navcli's: "
+        f"{c.label} {doing}: {what}{_location(c, e, at)}. {BLAME}: "
         f"`navcli plugins check {c.kind} {c.name}` tests it against navcli's contract; {HINT}"
     )
 
