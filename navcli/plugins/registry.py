@@ -429,8 +429,7 @@ def installed(kind: Kind) -> list[Component | tuple[str, str]]:
     return out
 
 
-BLAME = "The fault is the plugin's, not navcli's"
-"""How every plugin fault ends (the checker, running, cuts its message there)."""
+BLAME = "The fault is the plugin's, not navcli's"  # how every plugin fault ends: the checker cuts it there
 
 
 def failed(c: Component, e: BaseException, doing: str = "raised", at: Any = None) -> PluginError:
