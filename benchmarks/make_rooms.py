@@ -1,4 +1,5 @@
-"""How the held-out rooms ``scattered-8x8``, ``crossed-8x8`` and ``landmarks-drawn`` were made:
+"""How the held-out rooms ``scattered-8x8``, ``crossed-8x8``, ``drawn-8x8-a``, ``drawn-8x8-b``,
+``drawn-door`` and ``landmarks-drawn`` were made:
 drawn at random, once, from fixed seeds, before any run in them, and never reshaped ("check every
 result on a room you did not design the feature on").
 
@@ -11,7 +12,17 @@ diagonal from paper-8x8's), six point obstacles, two fences of 2-3 m at random a
 middles lie near the diagonal, six landmarks; every object keeps 0.6 m from the start, the target
 and each other (the robot's body fits between any two).
 
-    python benchmarks/make_rooms.py   # rewrites the three rooms' files in scenarios/
+``drawn-door`` (a trap room, like ``door-wall`` but drawn): 12 m x 10 m, start and target as in
+the bundled trap rooms, a wall across the room at a random height and tilt with one door of
+random width (1.2-1.8 m) at a random place along it, a landmark either side of the door on each
+side of the wall (2 m apart along the wall, as in ``door-wall``), six more landmarks and three
+point obstacles at random, each keeping 0.6 m from the others, the start, the target, the wall
+and the door (the door stays open).
+
+The seeds of ``drawn-8x8-a``, ``drawn-8x8-b`` and ``drawn-door`` came from ``secrets.randbelow``
+before any run in those rooms.
+
+    python benchmarks/make_rooms.py   # rewrites the rooms' files in scenarios/ and navcli/data/scenarios/
 """
 
 from __future__ import annotations
@@ -21,7 +32,10 @@ from pathlib import Path
 
 import numpy as np
 
-ROOT = Path(__file__).resolve().parents[1] / "scenarios"
+ROOTS = (
+    Path(__file__).resolve().parents[1] / "scenarios",
+    Path(__file__).resolve().parents[1] / "navcli" / "data" / "scenarios",
+)
 START, TARGET = (0.8, 7.2), (7.2, 0.8)
 GAP = 0.6
 
@@ -68,6 +82,11 @@ def room(seed: int) -> dict:
     return {"fences": fences, **points}
 
 
+def _save(name: str, lines: list[str]) -> None:
+    for root in ROOTS:
+        (root / f"{name}.yaml").write_text("\n".join(lines) + "\n")
+
+
 def write(name: str, seed: int, description: str) -> None:
     r = room(seed)
     f = lambda v: f"{v:.2f}"  # noqa: E731
@@ -106,7 +125,7 @@ def write(name: str, seed: int, description: str) -> None:
         "  fov_deg: 60",
         "  range: 6.0",
     ]
-    (ROOT / f"{name}.yaml").write_text("\n".join(lines) + "\n")
+    _save(name, lines)
 
 
 def landmarks(name: str, seed: int) -> None:
@@ -139,7 +158,57 @@ def landmarks(name: str, seed: int) -> None:
     ]
     lines += [f"  - {{id: {i}, at: [{f(x)}, {f(y)}]}}" for i, (x, y) in zip(ids, pts)]
     lines += ["noise:", "  odometry_drift_deg_per_m: 0.9", "mission:", "  time_limit: 600", "  seed: 1"]
-    (ROOT / f"{name}.yaml").write_text("\n".join(lines) + "\n")
+    _save(name, lines)
+
+
+def door_room(name: str, seed: int) -> None:
+    rng = np.random.default_rng(seed)
+    W, H, start, target = 12.0, 10.0, (6.0, 1.5), (6.0, 8.5)
+    y0, tilt = float(rng.uniform(4.3, 5.7)), float(rng.uniform(-0.08, 0.08))  # the wall: y = y0 + tilt (x - 6)
+    wall_y = lambda x: y0 + tilt * (x - 6.0)  # noqa: E731
+    width, door = float(rng.uniform(1.2, 1.8)), float(rng.uniform(1.5, 10.5))
+    lo, hi = door - width / 2, door + width / 2
+    walls = [((0.1, wall_y(0.1)), (lo, wall_y(lo))), ((hi, wall_y(hi)), (11.9, wall_y(11.9)))]
+    marks = [(door - 1.0, wall_y(door - 1.0) + dy) for dy in (-0.7, 0.7)]
+    marks += [(door + 1.0, wall_y(door + 1.0) + dy) for dy in (-0.7, 0.7)]
+    things: list = [
+        (start, None),
+        (target, None),
+        *walls,
+        ((lo, wall_y(lo)), (hi, wall_y(hi))),
+        *((m, None) for m in marks),
+    ]
+    points: dict[str, list] = {"circles": [], "landmarks": []}
+    for kind, n in (("landmarks", 6), ("circles", 3)):
+        while len(points[kind]) < n:
+            p = (float(rng.uniform(0.6, W - 0.6)), float(rng.uniform(0.6, H - 0.6)))
+            if _clear(p, things):
+                points[kind].append(p)
+                things.append((p, None))
+    f = lambda v: f"{v:.2f}"  # noqa: E731
+    lines = [
+        f"# A held-out trap room, drawn at random (benchmarks/make_rooms.py, seed {seed}) before any run",
+        "# in it, and never reshaped: the trap rooms' results on a room no rule was designed on.",
+        "version: 1",
+        f"name: {name}",
+        "description: >",
+        f"  Held-out 12 m x 10 m trap room (random, seed {seed}): a wall across with one {width:.2f} m door",
+        "  at a random place, marked by landmarks on both sides; six more landmarks, three point obstacles.",
+        f"arena: {{width: {W}, height: {H}}}",
+        "robot:",
+        f"  start: [{start[0]}, {start[1]}]",
+        "  heading_deg: 90",
+        "target:",
+        f"  at: [{target[0]}, {target[1]}]",
+        "obstacles:",
+    ]
+    lines += [f"  - segment: {{from: [{f(a[0])}, {f(a[1])}], to: [{f(b[0])}, {f(b[1])}]}}" for a, b in walls]
+    lines += [f"  - circle: {{center: [{f(x)}, {f(y)}], radius: 0.15}}" for x, y in points["circles"]]
+    lines += ["landmarks:"] + [
+        f"  - {{id: {chr(65 + i)}, at: [{f(x)}, {f(y)}]}}" for i, (x, y) in enumerate(marks + points["landmarks"])
+    ]
+    lines += ["mission:", "  time_limit: 1200", "  seed: 1"]
+    _save(name, lines)
 
 
 if __name__ == "__main__":
@@ -156,3 +225,11 @@ if __name__ == "__main__":
         "obstacles, two fences at random angles near the diagonal, six landmarks, the paper's pace.",
     )
     landmarks("landmarks-drawn", 36)
+    for name, seed in (("drawn-8x8-a", 37582), ("drawn-8x8-b", 68517)):
+        write(
+            name,
+            seed,
+            f"Held-out pilot comparison room (random, seed {seed}): opposite corners, six point "
+            "obstacles, two fences at random angles near the diagonal, six landmarks, the paper's pace.",
+        )
+    door_room("drawn-door", 63691)
