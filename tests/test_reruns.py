@@ -17,9 +17,7 @@ SECONDS = 30.0  # long enough for the pilots to steer around, short enough for a
 def trail(pilot: str, seed: int, **overrides: float) -> list[tuple[float, float, float]]:
     """The true pose of every tick of a ground-truth run on paper-8x8."""
     sc = load_scenario(SCENARIOS / "paper-8x8.yaml")
-    spec = RunSpec.build(
-        sc, pilot=pilot, seed=seed, perception="oracle", time_limit=SECONDS, overrides=dict(overrides)
-    )
+    spec = RunSpec.build(sc, pilot=pilot, seed=seed, perception="oracle", time_limit=SECONDS, overrides=dict(overrides))
     mission = Mission(spec, snapshots=False)
     poses = []
     while mission.outcome is None:
