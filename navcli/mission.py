@@ -39,9 +39,10 @@ if TYPE_CHECKING:
     from .learning.learning_agent import LearningAgent
 
 OUTCOMES = ("reached", "timeout", "blocked", "interrupted", "error")
-COMPONENTS = ("odometry", "camera", "rescuer", "plugins")
+COMPONENTS = ("odometry", "camera", "rescuer", "plugins", "motion")
 """The components that draw random numbers: the world's odometry errors, the camera's measurement
-errors, the Rescuer's random turns, and the plugins (a plugin pilot's or policy's ``rng``). Each
+errors, the Rescuer's random turns, the plugins (a plugin pilot's or policy's ``rng``) and the
+wheels' slip (``robot.slip_noise``; with it 0 nothing is drawn from its generator). Each
 draws from a generator of its own, spawned from the run's seed (docs/design.md, "Random numbers");
 a new component is added at the end, so the others keep their streams."""
 
@@ -104,7 +105,7 @@ class Mission:
         self.scenario = spec.scenario
         p = spec.params
         rngs = component_generators(spec.seed)
-        self.world = World(spec.scenario, rngs["odometry"], p.robot)
+        self.world = World(spec.scenario, rngs["odometry"], p.robot, rngs["motion"])
         self.perception = make_perception(spec.perception, spec.scenario, rngs["camera"], p)
         pilot = registry.pilot(spec.pilot)
         policies = registry.navigation(spec.navigation)

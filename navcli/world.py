@@ -8,6 +8,19 @@ are solved *after* the command is applied and the robot cannot push into or tunn
 wall. Bumper contacts come out as :class:`Bump` events; the robot's own belief of where it is
 comes from :class:`Odometry`, which sees the true motion through the scenario's noise.
 
+The wheels do not execute the command exactly (:class:`Slip`): as in Webots, the simulator of
+the papers' group ("noise to the robot movement and sensing", learning paper, section 6), every
+physics step each wheel's speed is multiplied by a factor of its own drawn uniformly from
+``[1 - s, 1 + s]``, with ``s`` the parameter ``robot.slip_noise`` (scenario ``noise.slip``). The
+Webots Reference Manual's DifferentialWheels node declares this field, ``slipNoise``, with the
+default 0.1: "a noise component of +/- 10 percent is added to the command for each simulation
+step ... different for each wheel ... a uniform distribution". The wheels of a differential
+drive sit on an axle as long as the robot's diameter. In Webots' kinematic model the wheel turns
+by the noisy amount and its encoder counts that turn (the encoder's own error, ``encoderNoise``,
+comes on top), so :class:`Odometry` measures the motion the robot executed, and its own errors
+(``noise.odometry``) play the encoder's part: the slip moves the robot and the dead reckoning
+follows it, independently of the dead reckoning's own error.
+
 Cost (our design): a control tick is PHYSICS_SUBSTEPS pymunk steps, and pymunk's own work is a
 small part of it (Chipmunk's solver is under 1 % of a mission's time); what costs is Python called
 per step. So per step Python runs only the servo (one callback) and reads the position once;
@@ -95,19 +108,63 @@ class Odometry:
         return self.pose
 
 
+class Slip:
+    """The wheels' execution noise of a differential drive (see the module docstring).
+
+    A command (``v`` m/s, ``omega`` rad/s) is the wheels' speeds ``v -/+ omega * axle / 2``; each
+    is multiplied by ``1 + u``, ``u`` uniform in ``[-noise, noise]`` and drawn per wheel and per
+    physics step, and the speeds executed are turned back into (v, omega). The draws of a control
+    tick are made at once (one call of the generator a tick, not one a physics step: the world
+    runs on the hot path), and no draw is made with ``noise`` 0, which executes the command as given.
+    """
+
+    def __init__(self, noise: float, axle: float, rng: np.random.Generator | None):
+        self.noise = noise
+        self.axle = axle
+        self.rng = rng
+        if noise > 0 and rng is None:
+            raise ValueError("wheel slip needs a generator of its own")
+
+    def factors(self) -> list[float]:
+        """The tick's factors, left and right wheel of each physics step in turn (2 x PHYSICS_SUBSTEPS)."""
+        rng = self.rng
+        assert rng is not None
+        n = self.noise
+        factors: list[float] = rng.uniform(1.0 - n, 1.0 + n, 2 * PHYSICS_SUBSTEPS).tolist()
+        return factors
+
+    def executed(self, v: float, omega: float, left: float, right: float) -> tuple[float, float]:
+        """The (v, omega) the wheels execute for the command (v, omega) with their factors ``left``
+        and ``right``."""
+        half = omega * self.axle / 2
+        vl, vr = (v - half) * left, (v + half) * right
+        return (vl + vr) / 2, (vr - vl) / self.axle
+
+
 class World:
     """The pymunk arena of one scenario, stepped one control tick at a time."""
 
-    def __init__(self, scenario: Scenario, rng: np.random.Generator, robot: RobotParams | None = None):
-        """``robot``: the body and drive limits, by default the scenario's (``scenario.params.robot``)."""
+    def __init__(
+        self,
+        scenario: Scenario,
+        rng: np.random.Generator,
+        robot: RobotParams | None = None,
+        motion_rng: np.random.Generator | None = None,
+    ):
+        """``rng`` draws the odometry's errors, ``motion_rng`` the wheels' slip (needed unless the
+        robot's ``slip_noise`` is 0); ``robot``: the body and drive limits, by default the
+        scenario's (``scenario.params.robot``)."""
         self.scenario = scenario
         self.robot = robot = robot or scenario.params.robot
+        self.slip = Slip(robot.slip_noise, 2 * robot.radius, motion_rng)
         self.max_speed = robot.max_speed
         self._substeps = 0
         self._pose: tuple[int, Pose] | None = None
         self.bumps = 0
         self._v = 0.0  # the drive's current (commanded, rate-limited) speed, m/s
         self._w = 0.0  # and turn rate, rad/s
+        self._ve = 0.0  # the speed the wheels execute this physics step (the drive's, slip added), m/s
+        self._we = 0.0  # and turn rate, rad/s
         self._last_touch: dict[pymunk.Shape, float] = {}  # when each thing was last touched, s
         self._contacts: set[pymunk.Shape] = set()  # what the robot touches now
         self._bumps: list[Bump] = []  # the bumps of the tick being stepped
@@ -161,8 +218,8 @@ class World:
         """The wheels' velocity servo, called by pymunk before it solves the contacts."""
         cp = self._cp_body
         a = chipmunk.cpBodyGetAngle(cp)  # body.angle, .velocity, .angular_velocity without pymunk's wrappers
-        chipmunk.cpBodySetVelocity(cp, (self._v * math.cos(a), self._v * math.sin(a)))
-        chipmunk.cpBodySetAngularVelocity(cp, self._w)
+        chipmunk.cpBodySetVelocity(cp, (self._ve * math.cos(a), self._ve * math.sin(a)))
+        chipmunk.cpBodySetAngularVelocity(cp, self._we)
 
     @property
     def time(self) -> float:
@@ -215,9 +272,15 @@ class World:
         self._bumps = bumps
         touching = False
         path, x, y = self._trail
-        for _ in range(PHYSICS_SUBSTEPS):
+        slip = self.slip
+        factors = slip.factors() if slip.noise > 0 else None
+        for i in range(PHYSICS_SUBSTEPS):
             self._v += min(max(v - self._v, -dv), dv)
             self._w += min(max(omega - self._w, -dw), dw)
+            if factors is None:
+                self._ve, self._we = self._v, self._w
+            else:
+                self._ve, self._we = slip.executed(self._v, self._w, factors[2 * i], factors[2 * i + 1])
             # Space.step's call: runs _drive, and _begin/_separate when a contact starts or ends
             chipmunk.cpSpaceStep(cp_space, dt)
             self._substeps += 1
@@ -262,4 +325,4 @@ class World:
 
     def stop(self) -> None:
         """Halt the drive at once (at the end of a mission)."""
-        self._v = self._w = 0.0
+        self._v = self._w = self._ve = self._we = 0.0

@@ -47,15 +47,19 @@ def _dump(d: dict) -> str:
     return f'{head},\n "poses": [\n  {rows}\n ]\n}}\n'
 
 
+@pytest.mark.parametrize("slip", [None, 0.0], ids=["default", "slip-0"])
 @pytest.mark.parametrize("pilot", ["potential-field", "geometric"])
-def test_paper_8x8_matches_its_golden_digest(pilot, tmp_path, request):
+def test_paper_8x8_matches_its_golden_digest(pilot, slip, tmp_path, request):
+    """The bundled mission as it runs, and with the wheels' slip off (``robot.slip_noise`` 0): the
+    second digest is the one of the deterministic drive, which the switch must give back exactly."""
     sc = load_scenario(SCENARIOS / "paper-8x8.yaml")
     out = tmp_path / f"{pilot}.mcap"
-    run_mission(RunSpec.build(sc, pilot=pilot, seed=1), out=out)
+    overrides = {} if slip is None else {"robot.slip_noise": slip}
+    run_mission(RunSpec.build(sc, pilot=pilot, seed=1, overrides=overrides), out=out)
     log = read_log(out)
     got = digest(log)
     assert log.summary["path_length_m"] == pytest.approx(path_length(log["/robot/pose"]), rel=0.01)
-    path = GOLDEN / f"paper-8x8-{pilot}.json"
+    path = GOLDEN / f"paper-8x8-{pilot}{'' if slip is None else '-slip-0'}.json"
     if request.config.getoption("--update-goldens"):
         path.write_text(_dump(got))
         pytest.skip(f"rewrote {path.name}")

@@ -322,7 +322,9 @@ def test_driving_while_turning_hard_along_a_wall_keeps_out_of_it_and_bumps_are_e
     turning as hard as it can toward the wall it drives along, it never gets into it, and each
     new contact is one bump event."""
     for speed in (0.3, 0.6, 2.0):
-        sc = make_scenario(robot={"start": [1.0, 0.6], "heading_deg": 0, "max_speed": speed}, noise={"odometry": 0.0})
+        sc = make_scenario(
+            robot={"start": [1.0, 0.6], "heading_deg": 0, "max_speed": speed}, noise={"odometry": 0.0, "slip": 0.0}
+        )
         world = World(sc, np.random.default_rng(0))
         pilot = Pilot(PILOT, sc.params.robot)
         bumps = 0
@@ -428,7 +430,7 @@ def test_a_robot_pinned_against_a_wall_notices_and_backs_away(make_scenario):
     """Real physics: the robot is sent straight into the east wall and the bumper's new-contact
     events are withheld from the pilot (a contact that lasts is no new bump), so only the stall
     watch can notice: commanded motion without progress starts the reflex, which backs away."""
-    sc = make_scenario(robot={"start": [5.2, 2.0], "heading_deg": 0}, noise={"odometry": 0.0})
+    sc = make_scenario(robot={"start": [5.2, 2.0], "heading_deg": 0}, noise={"odometry": 0.0, "slip": 0.0})
     world = World(sc, np.random.default_rng(0))
     pilot = Pilot(PILOT, ROBOT)  # no avoidance: it carries out the request
     into_the_wall = nav(Move(0.0, 0.3))

@@ -12,11 +12,14 @@ import navcli.world as world_module
 from navcli.world import World
 
 
-def world_for(make_scenario, speed=0.3, noise=0.0, **over) -> World:
+def world_for(make_scenario, speed=0.3, noise=0.0, slip=0.0, **over) -> World:
+    """A world whose wheels execute the command exactly unless ``slip`` says otherwise."""
     sc = make_scenario(
-        robot={"start": [1.0, 2.0], "heading_deg": 0, "max_speed": speed}, noise={"odometry": noise}, **over
+        robot={"start": [1.0, 2.0], "heading_deg": 0, "max_speed": speed},
+        noise={"odometry": noise, "slip": slip},
+        **over,
     )
-    return World(sc, np.random.default_rng(0))
+    return World(sc, np.random.default_rng(0), motion_rng=np.random.default_rng(1))
 
 
 def drive(world: World, v: float, omega: float, seconds: float):
@@ -121,7 +124,7 @@ def test_odometry_is_exact_without_noise(make_scenario):
 
 
 def test_odometry_distance_error_has_the_scenario_relative_spread(make_scenario):
-    sc = make_scenario(robot={"start": [1.0, 2.0], "heading_deg": 0}, noise={"odometry": 0.05})
+    sc = make_scenario(robot={"start": [1.0, 2.0], "heading_deg": 0}, noise={"odometry": 0.05, "slip": 0.0})
     rel = []
     for seed in range(40):
         w = World(sc, np.random.default_rng(seed))
@@ -139,7 +142,8 @@ def test_odometry_heading_drifts_along_a_straight_run_by_the_scenario_spread(mak
     parts (30 ticks of 0.03 m x sd 1 deg/m: sd 0.03 x sqrt(100) = 0.3 deg all told), while the
     true heading stays. Over 60 runs the spread is about 3 deg, the mean about 0."""
     sc = make_scenario(
-        robot={"start": [1.0, 2.0], "heading_deg": 0}, noise={"odometry": 0.0, "odometry_drift_deg_per_m": 1.0}
+        robot={"start": [1.0, 2.0], "heading_deg": 0},
+        noise={"odometry": 0.0, "odometry_drift_deg_per_m": 1.0, "slip": 0.0},
     )
     turned = []
     for seed in range(60):
@@ -173,3 +177,67 @@ def test_a_tick_stopped_between_physics_steps_keeps_path_and_pose_together(make_
     moved = math.hypot(w.pose.x - x0, w.pose.y - y0)
     assert moved > 0.005  # two steps at about 0.3 m/s: a run's log ends at this pose
     assert w.path_length - before == pytest.approx(moved, rel=1e-9)  # and its path length agrees with it
+
+
+# --- the wheels' slip (robot.slip_noise, Webots' DifferentialWheels slipNoise) ---
+
+
+def test_slip_factors_are_uniform_within_the_stated_bound_per_wheel_and_step():
+    """Uniform in [1 - s, 1 + s]: each factor within the bound, mean 1, SD s / sqrt(3) (0.0577 for
+    s = 0.1); 2 x PHYSICS_SUBSTEPS per tick, left and right not the same draw."""
+    from navcli.params import PHYSICS_SUBSTEPS
+    from navcli.world import Slip
+
+    slip = Slip(0.1, 0.5, np.random.default_rng(3))
+    ticks = [slip.factors() for _ in range(2000)]
+    assert all(len(f) == 2 * PHYSICS_SUBSTEPS for f in ticks)
+    f = np.array(ticks)
+    assert f.min() >= 0.9 and f.max() <= 1.1
+    assert float(f.mean()) == pytest.approx(1.0, abs=0.002)  # SE 0.0577 / sqrt(20000) = 0.0004
+    assert float(f.std()) == pytest.approx(0.1 / math.sqrt(3), rel=0.03)
+    assert abs(float(np.corrcoef(f[:, 0], f[:, 1])[0, 1])) < 0.05  # the wheels draw apart
+
+
+def test_slip_turns_the_wheels_speeds_back_into_the_drives():
+    """Wheels at v -/+ omega * axle / 2: equal factors scale both v and omega; a faster right
+    wheel alone turns the robot left by its extra speed over the axle."""
+    from navcli.world import Slip
+
+    s = Slip(0.1, 0.5, np.random.default_rng(0))
+    assert s.executed(0.2, 0.4, 1.05, 1.05) == pytest.approx((0.21, 0.42))
+    # v 0.2 straight, right wheel 10 % fast: right 0.22, left 0.2 -> v 0.21, omega 0.02 / 0.5 = 0.04
+    assert s.executed(0.2, 0.0, 1.0, 1.1) == pytest.approx((0.21, 0.04))
+
+
+def test_the_executed_speed_strays_by_the_stated_spread_tick_by_tick(make_scenario):
+    """Driving straight at 0.1 m/s with ``noise.slip: 0.1``: per physics step the forward speed is
+    the mean of the two wheels', relative SD 0.1 / sqrt(3) / sqrt(2); a tick averages 5 such steps,
+    so the distance driven per tick has relative SD 0.1 / sqrt(30) = 0.0183, and mean the command."""
+    w = world_for(make_scenario, speed=0.1, slip=0.1)
+    drive(w, 0.1, 0.0, 1.0)  # up to speed (0.5 m/s^2)
+    rel = []
+    for _ in range(300):
+        before = w.path_length
+        w.step(0.1, 0.0)
+        rel.append((w.path_length - before) / (0.1 * CONTROL_DT) - 1.0)
+    assert float(np.std(rel)) == pytest.approx(0.1 / math.sqrt(30), rel=0.15)  # SE of an SD, 300 samples: 4 %
+    assert abs(float(np.mean(rel))) < 0.005  # SE 0.0183 / sqrt(300) = 0.001
+    assert w.speed == pytest.approx((0.1, 0.0))  # the drive's own state keeps the command: no noise builds up in it
+
+
+def test_without_slip_the_robot_drives_the_command_exactly(make_scenario):
+    w = world_for(make_scenario, speed=0.1, slip=0.0)
+    drive(w, 0.1, 0.0, 1.0)
+    lengths = []
+    for _ in range(20):
+        before = w.path_length
+        w.step(0.1, 0.0)
+        lengths.append(w.path_length - before)
+    assert lengths == pytest.approx([0.1 * CONTROL_DT] * 20, abs=1e-9)
+    assert abs(w.pose.theta) < 1e-12
+
+
+def test_slip_needs_a_generator_of_its_own(make_scenario):
+    sc = make_scenario(noise={"slip": 0.1})
+    with pytest.raises(ValueError, match="generator"):
+        World(sc, np.random.default_rng(0))

@@ -30,7 +30,8 @@ def floor(spec: RunSpec, ticks: int) -> float:
     from ..mission import component_generators
     from ..world import World
 
-    world = World(spec.scenario, component_generators(spec.seed)["odometry"], spec.params.robot)
+    rngs = component_generators(spec.seed)
+    world = World(spec.scenario, rngs["odometry"], spec.params.robot, rngs["motion"])
     v = spec.params.robot.max_speed
     t0 = time.perf_counter()
     for k in range(ticks):

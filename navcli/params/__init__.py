@@ -82,6 +82,15 @@ class RobotParams(ParamSet):
     max_turn_accel: float = param(
         math.radians(180.0), "rad/s^2", "the turn's acceleration limit (180 deg/s^2)", above=0.0
     )
+    slip_noise: float = param(
+        0.1,
+        "",
+        """how far each wheel's executed speed may stray from its command, as a fraction: every
+        physics step each wheel's speed is multiplied by its own factor drawn uniformly from
+        [1 - slip_noise, 1 + slip_noise] (Webots' DifferentialWheels ``slipNoise``, whose default
+        0.1 this is); 0 executes the command exactly""",
+        at_most=0.5,
+    )
     decision_limit_s: float = param(
         5.0,
         "s",

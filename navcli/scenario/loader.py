@@ -129,19 +129,21 @@ class ScenarioReader(Reader):
         target = g(self.target, top["target"], landmarks or ())
         obstacles = g(self.obstacles, top.get("obstacles", default["obstacles"]), default=())
         mission = g(self.mission, top.get("mission", default["mission"]))
-        noise = g(self.noise, top.get("noise", default["noise"]))
+        noise, noise_params = g(self.noise, top.get("noise", default["noise"]), default=(None, {}))
         camera = g(self.camera, top.get("camera", default["camera"]))
         pilot_params = g(self.pilot, top.get("pilot", default["pilot"]), default={})
         nav_params = g(self.navigation, top.get("navigation", default["navigation"]), default={})
         if self.problems:
             raise ScenarioError(self.problems)
-        params = Params().override(robot_params | pilot_params | nav_params)
+        params = Params().override(robot_params | noise_params | pilot_params | nav_params)
         defaults = (
             Params().flat()
         )  # a cluster sets every bidding parameter: those it leaves at navcli's are not the file's
-        named = set(robot_params) | set(pilot_params) | self.named_navigation
+        named = set(robot_params) | set(noise_params) | set(pilot_params) | self.named_navigation
         given = frozenset(
-            k for k, v in (robot_params | pilot_params | nav_params).items() if k in named or defaults[k] != v
+            k
+            for k, v in (robot_params | noise_params | pilot_params | nav_params).items()
+            if k in named or defaults[k] != v
         )
         sc = Scenario(
             version, name, description, arena, robot, target, obstacles, landmarks, mission, noise, camera, params
@@ -282,16 +284,18 @@ class ScenarioReader(Reader):
             raise self.fail(P + ("pilot",), str(e)) from None
         return MissionSpec(pilot, *(self.field(m, "mission", k, P) for k in ("time_limit", "seed", "perception")))
 
-    def noise(self, v: Any) -> Noise:
+    def noise(self, v: Any) -> tuple[Noise, dict[str, float]]:
+        """The sensors' errors, and the parameters the block sets (``slip``, the wheels')."""
         P = ("noise",)
         m = self.block(v, "noise", P)
-        get = {k: self.field(m, "noise", k, P) for k in FIELDS["noise"]}
-        return Noise(
+        get = {k: self.field(m, "noise", k, P) for k, f in FIELDS["noise"].items() if f.kind != "param"}
+        noise = Noise(
             get["odometry"],
             math.radians(get["vision_heading_deg"]),
             get["vision_distance"],
             math.radians(get["odometry_drift_deg_per_m"]),
         )
+        return noise, self.params_of(m, "noise", P)
 
     def camera(self, v: Any) -> CameraSpec:
         P = ("camera",)

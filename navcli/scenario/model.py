@@ -92,7 +92,7 @@ FIELDS: dict[str, dict[str, Field]] = {
         "obstacles": Field(f"circle and segment obstacles, at most {MAX_ITEMS}", default=(), kind="list"),
         "landmarks": Field(f"landmarks, at most {MAX_ITEMS}, their ids unique", default=(), kind="list"),
         "mission": Field("the pilot, perception, time limit and seed", default={}, kind="block"),
-        "noise": Field("the sensors' errors; 0 turns a source off", default={}, kind="block"),
+        "noise": Field("the sensors' and the wheels' errors; 0 turns a source off", default={}, kind="block"),
         "camera": Field("the camera on its pan unit", default={}, kind="block"),
         "pilot": Field("the pilot's parameters of the pilot paper", default={}, kind="block"),
         "navigation": Field(
@@ -175,6 +175,7 @@ FIELDS: dict[str, dict[str, Field]] = {
         ),
         "vision_heading_deg": Field("standard deviation of a measured heading", Range(0.0, 20.0, "deg"), default=2.0),
         "vision_distance": Field("relative standard deviation of a measured distance", Range(0.0, 0.3), default=0.05),
+        "slip": _param("robot.slip_noise"),
     },
     "camera": {
         "fov_deg": Field("the field of view", Range(0.0, 360.0, "deg", lo_open=True), default=60.0),

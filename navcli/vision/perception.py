@@ -18,6 +18,9 @@ The agents never see the world; they see :class:`Beliefs`, made each tick by a p
   reports the other two.
 - :class:`OraclePerception` (``--perception oracle``): ground truth of every obstacle, landmark,
   wall and the target; for experiments that isolate the pilot from vision. Never the default.
+  It senses exactly, by design: it is the condition without a sensor's error, the camera's
+  measurement noise being vision's; its reruns vary through the wheels' slip
+  (:class:`navcli.world.Slip`), which moves the robot under either perception.
 
 Both own the camera, so looks are arbitrated, timed and counted the same way, and both pass on
 what the agents hear of the last tick: the look of the image taken (pan and purpose), the bumps felt.

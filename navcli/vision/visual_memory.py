@@ -237,7 +237,9 @@ class VisualMemory:
             return
         P = self.params
         sig, hd = self.odometry_noise, self.heading_drift
-        cal, walk = P.noise_bound * sig, P.walk_bound * sig
+        # the calibration error is relative to the true motion, the bound to the measured one: a
+        # reading (1 - b sigma) short leaves b sigma / (1 - b sigma) of what was measured unmeasured
+        cal, walk = P.noise_bound * sig / (1.0 - P.noise_bound * sig), P.walk_bound * sig
         hcal, hwalk = P.noise_bound * hd, P.walk_bound * hd
         floor = P.odometry_floor
         half = dtheta / 2
