@@ -427,3 +427,26 @@ def test_a_sensitivity_row_sets_scenario_fields_as_a_file_would():
     assert changed.sha256 != base.sha256 and changed.obstacles == base.obstacles
     with pytest.raises(ScenarioError, match="noise.no_such_field"):
         _scenario_with("paper-8x8", {"noise.no_such_field": 1})
+
+
+def test_the_results_pages_summary_counts_the_targets_beside_the_verdicts():
+    import sys
+
+    sys.path.insert(0, str(ROOT / "docs"))
+    try:
+        import make_results
+    finally:
+        sys.path.remove(str(ROOT / "docs"))
+    report = (
+        "## Rooms\n\n| room | ratio | target (at most 1.3) | stalls | target (none) |\n| --- | --- | --- | --- | --- |\n"
+        "| a | 1.0 | met | 1/2 | not met |\n| b | - | no verdict: 1 run ended in error | 0/2 | not met: x |\n\n"
+        "## Table 1\n\n| pilot | agreement |\n| --- | --- |\n| GP | agrees |\n| PF | does not agree (above) |\n"
+    )
+    assert make_results.summary_table(report).splitlines()[2:] == [
+        "| Table 1 | 1 | 1 | 0 |",
+        "",
+        "| targets of | met | not met | no verdict |",
+        "| --- | ---: | ---: | ---: |",
+        "| Rooms | 1 | 2 | 1 |",
+    ]
+    assert "targets of" not in make_results.summary_table(report.split("## Table 1")[1])  # none: no such table

@@ -404,10 +404,12 @@ def _gain_table(report: Report, groups: list[tuple[str | None, Any]]) -> None:
 
 
 def _switch_rows(report: Report, s: Settings, out: Path, ex) -> None:
-    """A row per switch of :data:`SENSITIVITY_ROWS`, per sensitivity room and perception."""
-    from ..analysis.tables import load_runs
+    """A row per switch of :data:`SENSITIVITY_ROWS`, per sensitivity room and perception: run as a
+    sweep's rows (no logs), into one results table."""
+    from ..analysis.tables import load_sweep
     from ..config import RunSpec
-    from .compare import plan, run_on
+    from .compare import reruns
+    from .sweep import SweepRun, run_sweep
 
     work, specs, label = [], [], {}
     for i, row in enumerate(SENSITIVITY_ROWS):
@@ -417,19 +419,25 @@ def _switch_rows(report: Report, s: Settings, out: Path, ex) -> None:
             sc = _scenario_with(room, fields)
             for perception in row.perceptions:
                 spec = RunSpec.build(sc, perception=perception, overrides=params)
-                jobs = plan([spec], list(PAPER_PILOTS), s.sensitivity_seeds, out / f"row{i}")
-                work += jobs
+                runs = [
+                    SweepRun(seeded.replace(pilot=pilot), i, params, None)
+                    for seeded in reruns(spec, {}, s.sensitivity_seeds)
+                    for pilot in PAPER_PILOTS
+                ]
+                work += runs
                 specs.append(spec)
-                label[f"{row.label}: {room} ({perception} perception)"] = [j.log for j in jobs]
-    run_on(work, ex)
-    runs = load_runs(paths=[j.log for j in work])
+                label[f"{row.label}: {room} ({perception} perception)"] = {r.spec.run_id for r in runs}
+    out.mkdir(parents=True, exist_ok=True)
+    table = out / "results.parquet"
+    run_sweep(work, table, ex)
+    every = load_sweep(table)
     report.text(
         "Each switch alone from the defaults (its row of navcli.experiments.reproduce.SENSITIVITY_ROWS, with the "
         f"parameters or scenario fields it changes), {s.sensitivity_seeds} seed(s) a room, pilot and perception: "
         + "; ".join(f"{r.label}: {_overrides_text(r.overrides)}" for r in SENSITIVITY_ROWS)
-        + "."
+        + f". Every run: {table}."
     )
-    _gain_table(report, [(name, runs[runs["log"].isin(logs)]) for name, logs in label.items()])
+    _gain_table(report, [(name, every[every["run_id"].isin(ids)]) for name, ids in label.items()])
     _conditions(report, out, specs)
 
 
