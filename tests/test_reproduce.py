@@ -450,3 +450,33 @@ def test_the_results_pages_summary_counts_the_targets_beside_the_verdicts():
         "| Rooms | 1 | 2 | 1 |",
     ]
     assert "targets of" not in make_results.summary_table(report.split("## Table 1")[1])  # none: no such table
+
+
+def test_a_room_with_an_errored_run_counts_it_and_gets_no_verdict():
+    import pandas as pd
+
+    from navcli.experiments.rooms import compare_rows, pilot_rows
+
+    runs = pd.DataFrame(
+        {
+            "pilot": ["geometric"] * 3 + ["potential-field"] * 3,
+            "outcome": ["reached", "reached", "reached", "reached", "reached", "error"],
+            "time_s": [100.0, 200.0, 300.0, 150.0, 250.0, 0.0],
+            "path_cm": [500.0, 1000.0, 1500.0, 700.0, 900.0, 0.0],
+            "stall_s": [0.0, 0.0, 61.0, 0.0, 90.0, 0.0],
+            "scenario": ["r"] * 6,
+            "perception": ["vision"] * 6,
+            "collisions": [0] * 6,
+            "camera_looks": [0] * 6,
+            "ticks": [1, 2, 3, 4, 5, 6],
+            "diverting_targets": [0] * 6,
+        }
+    )
+    gp = pilot_rows("r", "vision", "geometric", runs[runs["pilot"] == "geometric"])
+    # times 100, 200, 300: mean 200, SD 100; one run of three stalled, for 61 s
+    assert gp[3] == "3/3" and gp[4].startswith("200.0 ± 100.0 [") and gp[6:] == ["61", "1/3"]
+    pf = pilot_rows("r", "vision", "potential-field", runs[runs["pilot"] == "potential-field"])
+    assert pf[3] == "2/3, 1 errored" and pf[4].startswith("200.0 ± 70.7 [")  # 150 and 250: SD 50 * sqrt(2)
+    row = compare_rows("r", "vision", runs)
+    assert row[2] == "1.00" and row[3] == "no verdict: 1 run ended in error"  # 200 / 200
+    assert row[4] == "1/3" and row[5] == "no verdict: 1 run ended in error"
