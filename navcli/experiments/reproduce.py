@@ -6,7 +6,8 @@ Sections (each resumes from what an earlier run of the same command left in its 
 - ``pilots``: the pilot paper's Table 1 on ``paper-8x8`` with vision and with ground truth
   (:func:`table1`), the two pilots on every bundled room of the paper's size
   (:mod:`~navcli.experiments.rooms`), its sensitivity to what the paper leaves unstated (:func:`sensitivity`), and the
-  trap rooms' diverting targets beside the thesis' real-robot figures (:func:`traps`);
+  trap rooms' diverting targets beside the thesis' real-robot figures, and each room's endings
+  (:func:`traps`, :mod:`~navcli.experiments.trap_rooms`);
 - ``learning``: the learning paper's Table 1 (:func:`policies`) and Figure 3 (:func:`figure3`).
 
 Agreement is decided one way throughout (our design, :func:`verdict`): a paper's number *agrees*
@@ -42,14 +43,12 @@ from .. import __version__
 from ..analysis.stats import MIN_SAMPLE, bootstrap_mean, small_sample, wilson_interval
 from ..params import Params
 from ..scenario import bundled
-from . import learning_paper, rooms
+from . import learning_paper, rooms, trap_rooms
 from .document import Report, interval_text
 
 SCENARIOS = bundled.FOLDER
 SECTIONS = ("pilots", "learning")
 TRAP_ROOMS = ("river-bridges", "u-trap", "door-wall", "hidden-fence", "blocked-wall", "drawn-door")
-TRAP_REACHED_TARGET = 0.95
-"""Our target for the trap rooms: at least this share of each pilot's runs in each room reached."""
 
 # The papers' numbers (pilot paper, Table 1; learning paper, Table 1 and section 6; the thesis' robot)
 PAPER_TABLE1: dict[str, dict[str, tuple[float, float]]] = {
@@ -490,61 +489,8 @@ def traps(report: Report, s: Settings, out: Path, ex, pilots: tuple[str, ...] = 
         remarks.append(small_sample(pilot, _distinct(runs[runs["pilot"] == pilot]), "distinct runs"))
     report.table(["pilot", "quantity", "the thesis", "navcli", "agreement"], rows)
     report.notes([*remarks, *errors])
-    _trap_rooms_table(report, s, runs, PAPER_PILOTS + pilots)
+    trap_rooms.table(report, s.trap_rooms, runs, PAPER_PILOTS + pilots)
     _conditions(report, out, specs)
-
-
-def _trap_rooms_table(report: Report, s: Settings, runs, pilots: tuple[str, ...]) -> None:
-    """Per trap room and pilot: reached against :data:`TRAP_REACHED_TARGET`, how the runs that did
-    not reach ended (a ``blocked`` end, the Rescuer finding no way out, while time remained; a
-    time-out), and the contacts per run."""
-    report.text(
-        f"Per room and pilot. Targets: at least {TRAP_REACHED_TARGET:.0%} of the runs reached; no run ended "
-        'blocked ("no way out") while time remained. The thesis gives no figure of contacts for its robot, so '
-        "none stands beside navcli's. A set with a run that ended in error gets no verdict."
-    )
-    rows = []
-    for room in s.trap_rooms:
-        for pilot in pilots:
-            g = runs[(runs["scenario"] == room) & (runs["pilot"] == pilot) & (runs["outcome"] != "interrupted")]
-            rows.append(_trap_room_row(room, pilot, g))
-    report.table(
-        [
-            "room",
-            "pilot",
-            "reached [95 % CI]",
-            f"target (at least {TRAP_REACHED_TARGET:.0%})",
-            "ended blocked",
-            "target (none)",
-            "timed out",
-            "contacts per run [95 % CI]",
-            "the thesis' contacts",
-        ],
-        rows,
-    )
-
-
-def _trap_room_row(room: str, pilot: str, g) -> list[Any]:
-    """One trap room's row for one pilot (its runs ``g``, errors among them)."""
-    from ..analysis.tables import errored
-
-    n, bad = len(g), errored(g)
-    k = int((g["outcome"] == "reached").sum())
-    blocked, timeout = int((g["outcome"] == "blocked").sum()), int((g["outcome"] == "timeout").sum())
-    lo, hi = wilson_interval(k, n)
-    no = f"no verdict: {bad} run{'s' if bad != 1 else ''} ended in error" if bad else ""
-    m, c_lo, c_hi = bootstrap_mean(g["collisions"].to_numpy(dtype=float))
-    return [
-        room,
-        pilot,
-        f"{k}/{n} [{lo:.0%}, {hi:.0%}]" + (f", {bad} errored" if bad else "") if n else "-",
-        no or ("met" if n and k >= TRAP_REACHED_TARGET * n else "not met"),
-        f"{blocked}/{n}",
-        no or ("met" if blocked == 0 else "not met"),
-        f"{timeout}/{n}",
-        interval_text(m, c_lo, c_hi),
-        "no figure",
-    ]
 
 
 def _distinct(runs) -> int:
@@ -620,7 +566,7 @@ def reproduce(
     """Run the sections of ``which`` (``pilots``, ``learning`` or ``all``) into ``out`` and write
     ``report.md``, ``report.html`` and ``source.json`` (:func:`provenance.record`, with the count
     of runs that ended in error) there; returns the files written. ``pilots`` (plugins' names) run
-    beside the paper's two in Table 1 and the trap rooms."""
+    beside the paper's two in Table 1, the rooms of its size and the trap rooms."""
     from ..analysis.files import write_markdown
     from ..outputs import write_text
     from . import provenance
