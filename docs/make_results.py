@@ -50,16 +50,22 @@ def _sections(report: str) -> list[tuple[str, list[dict[str, str]]]]:
 
 
 def summary_table(report: str) -> str:
-    """What reproduces, by experiment: the report's verdicts counted (agrees / does not / no verdict)."""
+    """What reproduces, by experiment: the report's verdicts counted (agrees / does not / no verdict);
+    then, where the report holds targets (columns named ``target ...``), each section's targets
+    counted (met / not met / no verdict)."""
     lines = ["| experiment | agrees | does not agree | no verdict |", "| --- | ---: | ---: | ---: |"]
+    targets = ["", "| targets of | met | not met | no verdict |", "| --- | ---: | ---: | ---: |"]
     for title, rows in _sections(report):
         verdicts = [r["agreement"] for r in rows if "agreement" in r]
-        if not verdicts:
-            continue
-        agree = sum(v == "agrees" for v in verdicts)
-        disagree = sum(v.startswith("does not agree") for v in verdicts)
-        lines.append(f"| {title} | {agree} | {disagree} | {len(verdicts) - agree - disagree} |")
-    return "\n".join(lines) + "\n"
+        if verdicts:
+            agree = sum(v == "agrees" for v in verdicts)
+            disagree = sum(v.startswith("does not agree") for v in verdicts)
+            lines.append(f"| {title} | {agree} | {disagree} | {len(verdicts) - agree - disagree} |")
+        aims = [v for r in rows for k, v in r.items() if k.startswith("target")]
+        if aims:
+            met, missed = sum(v == "met" for v in aims), sum(v.startswith("not met") for v in aims)
+            targets.append(f"| {title} | {met} | {missed} | {len(aims) - met - missed} |")
+    return "\n".join(lines + (targets if len(targets) > 3 else [])) + "\n"
 
 
 def command(source: dict) -> str:

@@ -208,10 +208,11 @@ def test_table_1s_verdicts_count_identical_reruns_once_and_judge_no_pilot_with_a
     )
     table = pilot_table(runs).set_index("pilot")
     geo = rp._table1_rows("oracle", "geometric", runs, table)
-    assert geo[0][4] == "277.1 (no interval) (1 distinct of 45)" and geo[0][5] == "45/45"
-    assert geo[0][6] == "too few distinct reached runs to judge (1; 10 needed)"
+    assert geo[0][4] == "277.1 (no interval) (1 distinct of 45)" and geo[0][6] == "45/45"
+    assert geo[0][5] == "0.0"  # the SD of every reached run: the reruns repeat one run
+    assert geo[0][7] == "too few distinct reached runs to judge (1; 10 needed)"
     pf = rp._table1_rows("oracle", "potential-field", runs, table)
-    assert pf[0][5] == "44/45, 1 errored" and pf[0][6] == "no verdict: 1 run ended in error"
+    assert pf[0][6] == "44/45, 1 errored" and pf[0][7] == "no verdict: 1 run ended in error"
 
 
 def test_identical_pairs_count_once_in_a_verdicts_gain():

@@ -10,6 +10,7 @@ import statistics
 from dataclasses import replace
 from pathlib import Path
 
+import numpy as np
 import pytest
 from typer.testing import CliRunner
 
@@ -54,11 +55,18 @@ def done(tmp_path_factory) -> tuple[Path, str]:
     return out, _reproduce(out)
 
 
-def _rows(md: str, heading: str) -> list[list[str]]:
-    """The table under the section whose heading starts with ``heading``."""
+def _rows(md: str, heading: str, table: int = 0) -> list[list[str]]:
+    """The rows of the ``table``-th table (from 0) of the section whose heading starts with ``heading``."""
     part = md.split(f"## {heading}", 1)[1].split("\n## ", 1)[0]
-    lines = [ln for ln in part.splitlines() if ln.startswith("| ")]
-    return [[c.strip() for c in ln.strip("|").split("|")] for ln in lines[2:]]
+    tables: list[list[str]] = []
+    last = False
+    for ln in part.splitlines():
+        if ln.startswith("| ") and not last:
+            tables.append([])
+        if ln.startswith("| "):
+            tables[-1].append(ln)
+        last = ln.startswith("| ")
+    return [[c.strip() for c in ln.strip("|").split("|")] for ln in tables[table][2:]]
 
 
 def _mean(cell: str) -> float:
@@ -89,7 +97,9 @@ def test_the_pilots_table_is_the_mean_of_the_logs_it_names(done):
             assert _mean(path_row[4]) == pytest.approx(
                 statistics.mean(100 * s["path_length_m"] for s in reached), abs=0.05 + 1e-9
             )
-            assert time_row[5] == f"{sum(s['outcome'] == 'reached' for s in mine)}/{len(mine)}"
+            assert time_row[6] == f"{sum(s['outcome'] == 'reached' for s in mine)}/{len(mine)}"
+            times = [s["time_s"] for s in mine if s["outcome"] == "reached"]  # the SD: every reached run
+            assert float(time_row[5]) == pytest.approx(statistics.stdev(times), abs=0.05 + 1e-9)
 
 
 def test_the_trap_table_counts_the_logs_outcomes_and_diverting_targets(done):
@@ -126,10 +136,10 @@ def test_the_figure_is_written_and_named_and_the_html_holds_the_same_tables(done
     assert (out / img).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     html = (out / "report.html").read_text()
     assert (
-        html.count("<table>") == sum(ln.startswith("| ---") for ln in md.splitlines()) == 6
-    )  # every table, once (the sensitivity has two: pace and turns; what the robot senses)
+        html.count("<table>") == sum(ln.startswith("| ---") for ln in md.splitlines()) == 9
+    )  # every table, once (two each for the rooms, the sensitivity and the trap rooms)
     took = {r[0]: int(r[1].removesuffix(" s")) for r in _rows(md, "How long it took")}
-    assert len(took) == 6 and took["all"] >= max(v for k, v in took.items() if k != "all")  # five sections, then all
+    assert len(took) == 7 and took["all"] >= max(v for k, v in took.items() if k != "all")  # six sections, then all
 
 
 def test_a_second_run_resumes_what_the_first_left(done):
@@ -194,7 +204,7 @@ def test_a_users_pilot_runs_beside_the_papers_two_without_the_papers_numbers(don
     _, md = done
     rows = _rows(md, "Pilot paper, Table 1:")
     mine = [r for r in rows if r[1] == VFH]
-    assert len(mine) == 4 and all(r[3] == "-" and r[6] == "" for r in mine)  # no paper number, no verdict
+    assert len(mine) == 4 and all(r[3] == "-" and r[7] == "" for r in mine)  # no paper number, no verdict
     gains = [r for r in rows if r[1] == f"{VFH} gain %"]
     assert [r[0] for r in gains] == ["vision", "vision", "oracle", "oracle"] and all(r[3] == "-" for r in gains)
     r = CliRunner().invoke(app, ["reproduce", "pilots", "--pilot", "geometric"])
@@ -223,7 +233,7 @@ def test_no_interval_leaves_its_range_and_no_verdict_stands_without_a_paper_numb
     _, md = done
     checked = 0
     for heading, quantity, paper, navcli, agreement in (
-        ("Pilot paper, Table 1:", 2, 3, 4, 6),
+        ("Pilot paper, Table 1:", 2, 3, 4, 7),
         ("Trap rooms", 1, 2, 3, 4),
         ("Learning paper, Table 1", 1, 2, 3, 4),
     ):
@@ -254,7 +264,7 @@ def test_too_few_runs_give_no_verdict_and_the_notes_say_so(done):
     from navcli.analysis.stats import MIN_SAMPLE
 
     _, md = done
-    for heading, agreement in (("Pilot paper, Table 1:", 6), ("Learning paper, Table 1", 4)):
+    for heading, agreement in (("Pilot paper, Table 1:", 7), ("Learning paper, Table 1", 4)):
         verdicts = {r[agreement] for r in _rows(md, heading) if r[agreement]}
         assert verdicts and all(v.startswith("too few ") and f"{MIN_SAMPLE} needed" in v for v in verdicts)
     assert (
@@ -277,3 +287,196 @@ def test_the_report_records_its_provenance_and_that_no_run_errored(done):
     lines = md.splitlines()
     assert lines[3].startswith("Made from Python") and f"the {navcli.BUILD} build" in lines[3]
     assert "No run ended in error." in md.split("\n## ", 1)[0]  # at the top
+
+
+def _swing(scan: range = range(0)) -> tuple:
+    """A hand-made run, a pose a second for 200 s: 0.1 m/s along x for 50 s (to x = 5 m), then 100 s
+    swinging between x = 5 m (even seconds) and 5.5 m (odd), then 1 m/s on; ``scan``: the seconds
+    of a deliberate scan."""
+    t = np.arange(201, dtype=float)
+    x = np.where(t <= 50, 0.1 * t, np.where(t <= 150, 5.0 + 0.5 * (t % 2), 5.0 + (t - 150)))
+    counted = np.array([int(s) not in scan for s in t])
+    return t, np.column_stack([x, np.zeros_like(x)]), counted
+
+
+def test_the_stall_metric_on_a_hand_made_trace():
+    """Worked out: at 110 s the robot is at 5 m, where it was at 50 s; from then to 150 s, every
+    pose lies 0 m from the one 60 s before it (the same parity of seconds): one stall from 50 s to
+    150 s, 100 s (108 s alone: 5 m against 4.8 m at 48 s, a stall of 60 s; the others of the swing's
+    first minute are 0.4 m or more from theirs). With the seconds 60-109 a deliberate scan, the
+    clock loses 50 s: the swing's poses after it are 110 s of clock from where the robot drove
+    (x at most 4 m), and no 60 s of clock lies within the swing: no stall."""
+    from navcli.analysis.stall import STALL_M, STALL_S, longest_stall
+
+    assert (STALL_S, STALL_M) == (60.0, 0.3)
+    t, xy, _ = _swing()
+    assert longest_stall(t, xy) == pytest.approx(100.0)
+    t, xy, counted = _swing(range(60, 110))
+    assert longest_stall(t, xy, counted) == 0.0
+    assert longest_stall(np.arange(601.0), np.zeros((601, 2))) == pytest.approx(600.0)  # standing: all of it
+    drive = np.column_stack([0.05 * np.arange(601.0), np.zeros(601)])  # the paper's pace: 3 m a minute
+    assert longest_stall(np.arange(601.0), drive) == 0.0
+
+
+def test_a_deliberate_scan_is_the_rescuer_holding_the_stopped_wheels():
+    import pandas as pd
+
+    from navcli.analysis.stall import scanning
+
+    ns = [100, 200, 300, 400, 500]
+    bids = pd.DataFrame(
+        {
+            "log_time_ns": ns,
+            "motion.winner": ["navigation", "navigation", "pilot", "navigation", "navigation"],
+            "motion.actions.navigation.speed": [0.0, 0.0, 0.0, 0.05, 0.0],
+        }
+    )
+    nav = pd.DataFrame(
+        {"log_time_ns": ns, "forwarded.motion_agent": ["rescuer", "target-tracker", "rescuer", "rescuer", "rescuer"]}
+    )
+    poses = pd.DataFrame({"log_time_ns": [0, 100, 200, 300, 400, 500]})
+    # before any tick: no scan; then: stopped by the rescuer; the tracker's stop; the pilot holds
+    # the wheels; the rescuer drives; stopped by the rescuer
+    assert scanning(poses, bids, nav).tolist() == [False, True, False, False, False, True]
+    assert scanning(poses, bids, None).tolist() == [False] * 6  # no Navigation system's topic: no scan
+
+
+def test_the_rooms_are_every_bundled_room_of_the_papers_size():
+    from navcli.experiments.rooms import ROOM_SIZE, square_rooms
+    from navcli.scenario import bundled, load_scenario
+
+    sizes = {n: load_scenario(bundled.path(n)).arena for n in bundled.names()}
+    assert square_rooms() == tuple(n for n, a in sorted(sizes.items()) if (a.width, a.height) == ROOM_SIZE)
+    assert {"paper-8x8", "slanted-8x8", "drawn-8x8-a", "drawn-8x8-b"} <= set(square_rooms())
+    assert "u-trap" not in square_rooms() and "drawn-door" in FULL.trap_rooms
+
+
+def test_the_rooms_tables_are_the_logs_they_name(done):
+    """Per room, perception and pilot: reached, the mean and SD of time, the runs with a stall (the
+    stall recomputed from each log); per room and perception: the ratio of the mean times."""
+    from navcli.analysis.stall import STALL_S, run_stall
+    from navcli.experiments.rooms import TIME_RATIO_TARGET
+
+    out, md = done
+    heading = "Pilots on every 8 m x 8 m room"
+    rows, targets = _rows(md, heading), _rows(md, heading, 1)
+    with (out / "rooms" / "runs.csv").open() as f:
+        logs = [r["log"] for r in csv.DictReader(f)]
+    runs = [(read_log(p, topics=[]).summary, read_log(p, topics=[]).config["perception"], p) for p in logs]
+    assert len(runs) == 2 * len(PILOTS) * (TINY.reruns + TINY.room_reruns)  # paper-8x8 and slanted-8x8
+    assert len(rows) == 2 * 2 * len(PILOTS) and len(targets) == 4
+    means = {}
+    for room, perception, pilot, reached, time_cell, _, longest, stalled in rows:
+        mine = [(s, p) for s, per, p in runs if s["scenario"] == room and per == perception and s["pilot"] == pilot]
+        times = [s["time_s"] for s, _ in mine if s["outcome"] == "reached"]
+        assert reached.split(" ")[0] == f"{len(times)}/{len(mine)}"
+        assert _mean(time_cell) == pytest.approx(statistics.mean(times), abs=0.05 + 1e-9)
+        assert time_cell.split(" ")[2] == f"{statistics.stdev(times):.1f}"
+        stall = [run_stall(p) for _, p in mine]
+        assert int(longest) == round(max(stall)) and stalled == f"{sum(x >= STALL_S for x in stall)}/{len(mine)}"
+        means[room, perception, pilot] = statistics.mean(times)
+    for room, perception, ratio, verdict, pf_stalled, stall_verdict in targets:
+        want = means[room, perception, "potential-field"] / means[room, perception, "geometric"]
+        assert float(ratio) == pytest.approx(want, abs=0.005 + 1e-9)
+        assert verdict == ("met" if want <= TIME_RATIO_TARGET else "not met") or verdict.startswith(
+            "not met: PF reached"
+        )
+        assert stall_verdict == ("met" if pf_stalled.startswith("0/") else "not met")
+
+
+def test_the_trap_rooms_table_counts_each_rooms_endings(done):
+    out, md = done
+    rows = _rows(md, "Trap rooms", 1)
+    with (out / "traps" / "runs.csv").open() as f:
+        summaries = [read_log(r["log"], topics=[]).summary for r in csv.DictReader(f)]
+    order = ("potential-field", "geometric", VFH)  # the paper's two, then the user's
+    assert [r[:2] for r in rows] == [[room, p] for room in TINY.trap_rooms for p in order]
+    for room, pilot, reached, target, blocked, blocked_target, timeout, contacts, thesis in rows:
+        mine = [s for s in summaries if s["scenario"] == room and s["pilot"] == pilot]
+        k = sum(s["outcome"] == "reached" for s in mine)
+        assert reached.split(" ")[0] == f"{k}/{len(mine)}"
+        assert target == ("met" if k >= 0.95 * len(mine) else "not met")
+        ended = sum(s["outcome"] == "blocked" for s in mine)
+        assert blocked == f"{ended}/{len(mine)}" and blocked_target == ("met" if ended == 0 else "not met")
+        assert timeout == f"{sum(s['outcome'] == 'timeout' for s in mine)}/{len(mine)}"
+        assert _mean(contacts) == pytest.approx(statistics.mean(s["collisions"] for s in mine), abs=0.05 + 1e-9)
+        assert thesis == "no figure"  # the thesis gives no contacts figure
+
+
+def test_every_declared_sensitivity_row_is_in_the_report(done):
+    from navcli.experiments.reproduce import SENSITIVITY_ROWS
+
+    _, md = done
+    rows = _rows(md, "Pilot paper, Table 1's sensitivity", 1)
+    want = [
+        f"{r.label}: {room} ({p} perception)"
+        for r in SENSITIVITY_ROWS
+        for room in TINY.sensitivity_rooms
+        for p in r.perceptions
+    ]
+    assert [r[0] for r in rows[::2]] == want and [r[1] for r in rows[:2]] == ["time_s", "path_cm"]
+
+
+def test_a_sensitivity_row_sets_scenario_fields_as_a_file_would():
+    from navcli.experiments.reproduce import _scenario_with
+    from navcli.scenario import ScenarioError
+
+    base = _scenario_with("paper-8x8", {})
+    changed = _scenario_with("paper-8x8", {"noise.odometry": 0.0, "mission.time_limit": 100})
+    assert base.noise.odometry > 0 and changed.noise.odometry == 0.0 and changed.mission.time_limit == 100
+    assert changed.sha256 != base.sha256 and changed.obstacles == base.obstacles
+    with pytest.raises(ScenarioError, match="noise.no_such_field"):
+        _scenario_with("paper-8x8", {"noise.no_such_field": 1})
+
+
+def test_the_results_pages_summary_counts_the_targets_beside_the_verdicts():
+    import sys
+
+    sys.path.insert(0, str(ROOT / "docs"))
+    try:
+        import make_results
+    finally:
+        sys.path.remove(str(ROOT / "docs"))
+    report = (
+        "## Rooms\n\n| room | ratio | target (at most 1.3) | stalls | target (none) |\n| --- | --- | --- | --- | --- |\n"
+        "| a | 1.0 | met | 1/2 | not met |\n| b | - | no verdict: 1 run ended in error | 0/2 | not met: x |\n\n"
+        "## Table 1\n\n| pilot | agreement |\n| --- | --- |\n| GP | agrees |\n| PF | does not agree (above) |\n"
+    )
+    assert make_results.summary_table(report).splitlines()[2:] == [
+        "| Table 1 | 1 | 1 | 0 |",
+        "",
+        "| targets of | met | not met | no verdict |",
+        "| --- | ---: | ---: | ---: |",
+        "| Rooms | 1 | 2 | 1 |",
+    ]
+    assert "targets of" not in make_results.summary_table(report.split("## Table 1")[1])  # none: no such table
+
+
+def test_a_room_with_an_errored_run_counts_it_and_gets_no_verdict():
+    import pandas as pd
+
+    from navcli.experiments.rooms import compare_rows, pilot_rows
+
+    runs = pd.DataFrame(
+        {
+            "pilot": ["geometric"] * 3 + ["potential-field"] * 3,
+            "outcome": ["reached", "reached", "reached", "reached", "reached", "error"],
+            "time_s": [100.0, 200.0, 300.0, 150.0, 250.0, 0.0],
+            "path_cm": [500.0, 1000.0, 1500.0, 700.0, 900.0, 0.0],
+            "stall_s": [0.0, 0.0, 61.0, 0.0, 90.0, 0.0],
+            "scenario": ["r"] * 6,
+            "perception": ["vision"] * 6,
+            "collisions": [0] * 6,
+            "camera_looks": [0] * 6,
+            "ticks": [1, 2, 3, 4, 5, 6],
+            "diverting_targets": [0] * 6,
+        }
+    )
+    gp = pilot_rows("r", "vision", "geometric", runs[runs["pilot"] == "geometric"])
+    # times 100, 200, 300: mean 200, SD 100; one run of three stalled, for 61 s
+    assert gp[3] == "3/3" and gp[4].startswith("200.0 ± 100.0 [") and gp[6:] == ["61", "1/3"]
+    pf = pilot_rows("r", "vision", "potential-field", runs[runs["pilot"] == "potential-field"])
+    assert pf[3] == "2/3, 1 errored" and pf[4].startswith("200.0 ± 70.7 [")  # 150 and 250: SD 50 * sqrt(2)
+    row = compare_rows("r", "vision", runs)
+    assert row[2] == "1.00" and row[3] == "no verdict: 1 run ended in error"  # 200 / 200
+    assert row[4] == "1/3" and row[5] == "no verdict: 1 run ended in error"

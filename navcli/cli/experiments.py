@@ -423,14 +423,14 @@ def reproduce(
             "--pilot",
             metavar="NAME",
             help="Also run this pilot (an installed plugin's name, or module:Class) beside the "
-            "paper's two in Table 1 and the trap rooms; repeatable.",
+            "paper's two in Table 1, the rooms of the paper's size and the trap rooms; repeatable.",
         ),
     ] = None,
 ) -> None:
     """Both papers' experiments under their conditions, and a report of navcli's numbers with 95 %
     intervals beside the papers', saying what agrees (the pilot paper's Table 1 with both
-    perceptions and its sensitivity, the trap rooms' diverting targets, the learning paper's Table 1
-    and Figure 3). What earlier runs left in --out is kept: the same command resumes."""
+    perceptions, the two pilots on every bundled room of its size, its sensitivity, the trap rooms'
+    diverting targets, the learning paper's Table 1 and Figure 3). What earlier runs left in --out is kept: the same command resumes."""
     from ..experiments.reproduce import FULL, QUICK, REPORT_FILES, SECTIONS, reproduce as run_all_sections
 
     if which not in (*SECTIONS, "all"):

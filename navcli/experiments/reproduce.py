@@ -4,8 +4,10 @@ papers' numbers (``report.md``, its PNGs, and ``report.html``).
 Sections (each resumes from what an earlier run of the same command left in its folder):
 
 - ``pilots``: the pilot paper's Table 1 on ``paper-8x8`` with vision and with ground truth
-  (:func:`table1`), its sensitivity to what the paper leaves unstated (:func:`sensitivity`), and the
-  trap rooms' diverting targets beside the thesis' real-robot figures (:func:`traps`);
+  (:func:`table1`), the two pilots on every bundled room of the paper's size
+  (:mod:`~navcli.experiments.rooms`), its sensitivity to what the paper leaves unstated (:func:`sensitivity`), and the
+  trap rooms' diverting targets beside the thesis' real-robot figures, and each room's endings
+  (:func:`traps`, :mod:`~navcli.experiments.trap_rooms`);
 - ``learning``: the learning paper's Table 1 (:func:`policies`) and Figure 3 (:func:`figure3`).
 
 Agreement is decided one way throughout (our design, :func:`verdict`): a paper's number *agrees*
@@ -39,13 +41,14 @@ from typing import Any, Callable
 
 from .. import __version__
 from ..analysis.stats import MIN_SAMPLE, bootstrap_mean, small_sample, wilson_interval
+from ..params import Params
 from ..scenario import bundled
-from . import learning_paper
+from . import learning_paper, rooms, trap_rooms
 from .document import Report, interval_text
 
 SCENARIOS = bundled.FOLDER
 SECTIONS = ("pilots", "learning")
-TRAP_ROOMS = ("river-bridges", "u-trap", "door-wall", "hidden-fence", "blocked-wall")
+TRAP_ROOMS = ("river-bridges", "u-trap", "door-wall", "hidden-fence", "blocked-wall", "drawn-door")
 
 # The papers' numbers (pilot paper, Table 1; learning paper, Table 1 and section 6; the thesis' robot)
 PAPER_TABLE1: dict[str, dict[str, tuple[float, float]]] = {
@@ -64,6 +67,8 @@ class Settings:
     """How much of each experiment is run (the full sizes are the papers')."""
 
     reruns: int = 45  # Table 1: seeds per pilot and perception
+    room_reruns: int = 10  # the other rooms of the paper's size: seeds per room, pilot and perception
+    rooms: tuple[str, ...] | None = None  # those rooms; None: every bundled one (rooms.square_rooms)
     sensitivity_seeds: int = 10
     sensitivity_speeds: tuple[float, ...] = (0.05, 0.1, 0.3)
     sensitivity_rooms: tuple[str, ...] = ("paper-8x8", "slanted-8x8")
@@ -82,6 +87,8 @@ class Settings:
 FULL = Settings()
 QUICK = Settings(
     reruns=3,
+    room_reruns=2,
+    rooms=("paper-8x8", "slanted-8x8"),
     sensitivity_seeds=3,
     sensitivity_speeds=(0.05, 0.3),
     sensitivity_rooms=("paper-8x8",),
@@ -199,8 +206,9 @@ def table1(report: Report, s: Settings, out: Path, ex, pilots: tuple[str, ...] =
         "robot.max_speed). Means over the distinct reached runs (identical reruns count once) with bootstrap "
         "95 % intervals, against the paper's mean ± 1 SD (the spread of its runs); gains paired over the seeds "
         "both reached (identical pairs once), with bootstrap 95 % intervals, against the 95 % interval the "
-        f"paper's Table 1 gives its gain ({PAPER_RUNS} runs a pilot). A pilot with runs that ended in error gets "
-        "no verdict. Logs: " + str(out)
+        f"paper's Table 1 gives its gain ({PAPER_RUNS} runs a pilot). navcli's SD is over every reached run "
+        "(n - 1; 0 when the reruns repeat one run), beside the paper's SD. A pilot with runs that ended in error "
+        "gets no verdict. Logs: " + str(out)
     )
     rows: list[list[Any]] = []
     bases: list = []
@@ -227,7 +235,7 @@ def table1(report: Report, s: Settings, out: Path, ex, pilots: tuple[str, ...] =
                     f" ({every} pairs{f', {pairs} distinct' if pairs < every else ''})"
                 )
                 if pilot != "potential-field":
-                    rows.append([perception, f"{pilot} gain %", metric, "-", cells, "", ""])
+                    rows.append([perception, f"{pilot} gain %", metric, "-", cells, "", "", ""])
                     continue
                 p_lo, p_hi = paper_gain_interval(metric)
                 unit = "distinct pairs" if pairs < every else "pairs"
@@ -239,11 +247,14 @@ def table1(report: Report, s: Settings, out: Path, ex, pilots: tuple[str, ...] =
                         f"+{PAPER_GAINS[metric]:g} [{p_lo:+.1f}, {p_hi:+.1f}]",
                         cells,
                         "",
+                        "",
                         verdict((g["ci95_low"], g["ci95_high"]), (p_lo, p_hi), pairs, unit, errored=bad),
                     ]
                 )
         remarks += notes(runs, table.reset_index(), imps, "geometric")
-    report.table(["perception", "pilot", "quantity", "the paper", "navcli [95 % CI]", "reached", "agreement"], rows)
+    report.table(
+        ["perception", "pilot", "quantity", "the paper", "navcli [95 % CI]", "navcli SD", "reached", "agreement"], rows
+    )
     report.notes(remarks)
     report.text(
         "Run ids and every run's numbers: " + ", ".join(str(out / p / "runs.csv") for p in ("vision", "oracle"))
@@ -268,23 +279,26 @@ def _table1_rows(perception: str, pilot: str, runs, table) -> list[list[Any]]:
     count = f"{int(table.loc[pilot, 'reached'])}/{int(table.loc[pilot, 'runs'])}" + (f", {bad} errored" if bad else "")
     distinct = f" ({n} distinct of {reached})" if n < reached else ""
     rows = []
+    every = mine[mine["outcome"] == "reached"]
     for metric in ("time_s", "path_cm"):
         m, lo, hi = bootstrap_mean(ok[metric].to_numpy(dtype=float))
         cell = interval_text(m, lo, hi) + distinct
+        sd = f"{every[metric].std(ddof=1):.1f}" if len(every) > 1 else "-"
         if pilot not in PAPER_TABLE1:  # a user's pilot: the paper has no number for it
-            rows.append([perception, pilot, metric, "-", cell, count, ""])
+            rows.append([perception, pilot, metric, "-", cell, sd, count, ""])
             continue
-        paper, sd = PAPER_TABLE1[pilot][metric]
+        paper, paper_sd = PAPER_TABLE1[pilot][metric]
         unit = "distinct reached runs" if distinct else "reached runs"
         rows.append(
             [
                 perception,
                 pilot,
                 metric,
-                f"{paper:g} ± {sd:g} (SD)",
+                f"{paper:g} ± {paper_sd:g} (SD)",
                 cell,
+                sd,
                 count,
-                verdict((lo, hi), (paper - sd, paper + sd), n, unit, errored=bad),
+                verdict((lo, hi), (paper - paper_sd, paper + paper_sd), n, unit, errored=bad),
             ]
         )
     return rows
@@ -296,69 +310,159 @@ def _write_runs(runs, path: Path) -> None:
     write_csv(path, runs.drop(columns=["xy"], errors="ignore"))
 
 
-VISION_CHOICES = (
-    "{}",
-    "{vision.routines: 0}",
-    "{vision.line_objects: 0}",
-    "{vision.walls: known}",
-    "{vision.walls: felt}",
-    "{pilot.look_cap: 0.9}",
-    "{vision.routines: 0, vision.line_objects: 0, pilot.look_cap: 0.9}",
+@dataclass(frozen=True)
+class Row:
+    """A row of the sensitivity's table of switches: ``label`` and what it changes from the
+    defaults, ``overrides``: a parameter by its ``--param`` name (its group one of
+    :attr:`~navcli.params.Params.GROUPS`: ``pilot.look_cap``) or a field of the scenario by its
+    dotted place in the file (``noise.odometry``); run with each of ``perceptions``."""
+
+    label: str
+    overrides: dict[str, Any]
+    perceptions: tuple[str, ...] = ("vision", "oracle")
+
+
+VISION = ("vision",)
+SENSITIVITY_ROWS: tuple[Row, ...] = (
+    Row("navcli's defaults", {}),
+    Row("every look sees all", {"vision.routines": 0}, VISION),
+    Row("lines joined by geometry", {"vision.line_objects": 0}, VISION),
+    Row("walls known", {"vision.walls": "known"}, VISION),
+    Row("walls felt", {"vision.walls": "felt"}, VISION),
+    Row("eq. 1's look capped at 0.9", {"pilot.look_cap": 0.9}, VISION),
+    Row(
+        "the three alternatives together",
+        {"vision.routines": 0, "vision.line_objects": 0, "pilot.look_cap": 0.9},
+        VISION,
+    ),
 )
-"""navcli's choices where the papers are silent on what the robot senses, one at a time from the
-defaults (a plan's points), with vision: every look sees all, lines joined by geometry, the
-walls known or felt, eq. 1's look capped at 0.9, and all three alternative choices together."""
+"""The sensitivity's switches, one row each: navcli's choices where the papers are silent, one at a
+time from the defaults (and the three alternative sensing choices together). A switch gets its
+row here, and nowhere else: ``Row("label", {"group.name": value})``."""
 
 
 def sensitivity(report: Report, s: Settings, out: Path, ex) -> None:
     """Table 1's dependence on the unstated: speed and how a turn is executed (both perceptions),
-    and what the robot senses (:data:`VISION_CHOICES`, with vision)."""
-    from ..analysis.tables import error_notes, errored, improvements, load_sweep
+    and navcli's switches (:data:`SENSITIVITY_ROWS`)."""
+    from ..analysis.tables import load_sweep
     from .sweep import load_plan, plan_runs, run_sweep
 
     out.mkdir(parents=True, exist_ok=True)
     rooms = ", ".join(json.dumps(str(SCENARIOS / f"{r}.yaml")) for r in s.sensitivity_rooms)  # quoted: any path
-    head = (
+    plan_file = out / "plan.yaml"
+    plan_file.write_text(
         f"# navcli reproduce: the sensitivity's plan\nversion: 1\nscenarios: [{rooms}]\n"
         f"seeds: {s.sensitivity_seeds}\npilots: [potential-field, geometric]\n"
-    )
-    plans = {
-        "plan.yaml": head + "perception: [vision, oracle]\ngrid:\n"
+        "perception: [vision, oracle]\ngrid:\n"
         f"  robot.max_speed: [{', '.join(map(str, s.sensitivity_speeds))}]\n"
-        "  pilot.drive_while_turning: [true, false]\n",
-        "vision-choices.yaml": head + "perception: vision\npoints:\n" + "".join(f"  - {c}\n" for c in VISION_CHOICES),
-    }
+        "  pilot.drive_while_turning: [true, false]\n"
+    )
     report.heading("Pilot paper, Table 1's sensitivity (the paper states one condition)")
     report.text(
-        f"{s.sensitivity_seeds} seed(s) a point; the plans: {', '.join(str(out / f) for f in plans)}. The "
-        "paper has no numbers here: the column says how the potential field's gain moves with what it leaves "
-        "unstated: the robot's pace and how a turn is executed (both perceptions), then what the robot senses "
-        "(vision; each choice alone from the defaults, and navcli's three old choices together)."
+        f"{s.sensitivity_seeds} seed(s) a point. The paper has no numbers here: the column says how the potential "
+        "field's gain moves with what it leaves unstated: the robot's pace and how a turn is executed (both "
+        f"perceptions; the plan: {plan_file}), then each of navcli's switches from the defaults."
     )
-    for name, text in plans.items():
-        plan_file = out / name
-        plan_file.write_text(text)
-        table = out / (name.removesuffix(".yaml").replace("plan", "results") + ".parquet")
-        planned = plan_runs(load_plan(plan_file), None)
-        run_sweep(planned, table, ex)
-        runs = load_sweep(table)
-        runs = runs[runs["run_id"].isin({r.spec.run_id for r in planned})]  # the table keeps other plans' rows
+    table = out / "results.parquet"
+    planned = plan_runs(load_plan(plan_file), None)
+    run_sweep(planned, table, ex)
+    runs = load_sweep(table)
+    runs = runs[runs["run_id"].isin({r.spec.run_id for r in planned})]  # the table keeps other plans' rows
+    report.text(f"Every run: {table}.")
+    _gain_table(report, [(None, runs)])
+    _switch_rows(report, s, out / "switches", ex)
+
+
+def _gain_table(report: Report, groups: list[tuple[str | None, Any]]) -> None:
+    """The potential field's gain per condition of each group of runs (named by the group's label,
+    or by the condition where it has none), their errors and a small sample said in the notes; no
+    verdict: the paper has no number for these conditions."""
+    import pandas as pd
+
+    from ..analysis.tables import error_notes, errored, improvements
+
+    rows, pairs = [], []
+    for label, runs in groups:
         imps = improvements(runs, "geometric")
-        rows = [
+        pairs += [int(p) for p in imps["pairs"]]
+        rows += [
             [
-                r["condition"],
+                label or r["condition"],
                 r["metric"],
                 interval_text(r["improvement_pct"], r["ci95_low"], r["ci95_high"], sign=True),
                 int(r["pairs"]),
             ]
             for _, r in imps.iterrows()
-        ]  # no verdict: the paper has no number for these conditions
-        errors = error_notes(runs)
-        report.errored([f"Sensitivity: {e}" for e in errors], errored(runs))
-        report.text(f"Every run: {table}.")
-        report.table(["condition", "metric", "PF gain % [95 % CI]", "pairs"], rows)
-        few = small_sample("every condition", int(imps["pairs"].min()), "pairs at the fewest") if len(imps) else None
-        report.notes([few, *errors])
+        ]
+    runs = pd.concat([g for _, g in groups], ignore_index=True)
+    errors = error_notes(runs)
+    report.errored([f"Sensitivity: {e}" for e in errors], errored(runs))
+    report.table(["condition", "metric", "PF gain % [95 % CI]", "pairs"], rows)
+    few = small_sample("every condition", min(pairs), "pairs at the fewest") if pairs else None
+    report.notes([few, *errors])
+
+
+def _switch_rows(report: Report, s: Settings, out: Path, ex) -> None:
+    """A row per switch of :data:`SENSITIVITY_ROWS`, per sensitivity room and perception: run as a
+    sweep's rows (no logs), into one results table."""
+    from ..analysis.tables import load_sweep
+    from ..config import RunSpec
+    from .compare import reruns
+    from .sweep import SweepRun, run_sweep
+
+    work, specs, label = [], [], {}
+    for i, row in enumerate(SENSITIVITY_ROWS):
+        params = {k: v for k, v in row.overrides.items() if k.split(".", 1)[0] in Params.GROUPS}
+        fields = {k: v for k, v in row.overrides.items() if k not in params}
+        for room in s.sensitivity_rooms:
+            sc = _scenario_with(room, fields)
+            for perception in row.perceptions:
+                spec = RunSpec.build(sc, perception=perception, overrides=params)
+                runs = [
+                    SweepRun(seeded.replace(pilot=pilot), i, params, None)
+                    for seeded in reruns(spec, {}, s.sensitivity_seeds)
+                    for pilot in PAPER_PILOTS
+                ]
+                work += runs
+                specs.append(spec)
+                label[f"{row.label}: {room} ({perception} perception)"] = {r.spec.run_id for r in runs}
+    out.mkdir(parents=True, exist_ok=True)
+    table = out / "results.parquet"
+    run_sweep(work, table, ex)
+    every = load_sweep(table)
+    report.text(
+        "Each switch alone from the defaults (its row of navcli.experiments.reproduce.SENSITIVITY_ROWS, with the "
+        f"parameters or scenario fields it changes), {s.sensitivity_seeds} seed(s) a room, pilot and perception: "
+        + "; ".join(f"{r.label}: {_overrides_text(r.overrides)}" for r in SENSITIVITY_ROWS)
+        + f". Every run: {table}."
+    )
+    _gain_table(report, [(name, every[every["run_id"].isin(ids)]) for name, ids in label.items()])
+    _conditions(report, out, specs)
+
+
+def _overrides_text(overrides: dict[str, Any]) -> str:
+    """``a=1, b=x`` (``the defaults`` for none)."""
+    return ", ".join(f"{k}={v}" for k, v in overrides.items()) or "the defaults"
+
+
+def _scenario_with(room: str, fields: dict[str, Any]):
+    """The bundled ``room`` with the scenario ``fields`` (dotted places in its file) set: its YAML
+    edited and read again, so every field is checked as a scenario file's is."""
+    if not fields:
+        return _scenario(room)
+    import yaml
+
+    from ..scenario import parse_scenario
+
+    doc = yaml.safe_load((SCENARIOS / f"{room}.yaml").read_text())
+    for name, value in fields.items():
+        *parents, leaf = name.split(".")
+        node = doc
+        for part in parents:
+            node = node.setdefault(part, {})
+        node[leaf] = value
+    where = f"{room} with {_overrides_text(fields)}"
+    return parse_scenario(yaml.safe_dump(doc, sort_keys=False), where)
 
 
 def traps(report: Report, s: Settings, out: Path, ex, pilots: tuple[str, ...] = ()) -> None:
@@ -385,6 +489,7 @@ def traps(report: Report, s: Settings, out: Path, ex, pilots: tuple[str, ...] = 
         remarks.append(small_sample(pilot, _distinct(runs[runs["pilot"] == pilot]), "distinct runs"))
     report.table(["pilot", "quantity", "the thesis", "navcli", "agreement"], rows)
     report.notes([*remarks, *errors])
+    trap_rooms.table(report, s.trap_rooms, runs, PAPER_PILOTS + pilots)
     _conditions(report, out, specs)
 
 
@@ -461,7 +566,7 @@ def reproduce(
     """Run the sections of ``which`` (``pilots``, ``learning`` or ``all``) into ``out`` and write
     ``report.md``, ``report.html`` and ``source.json`` (:func:`provenance.record`, with the count
     of runs that ended in error) there; returns the files written. ``pilots`` (plugins' names) run
-    beside the paper's two in Table 1 and the trap rooms."""
+    beside the paper's two in Table 1, the rooms of its size and the trap rooms."""
     from ..analysis.files import write_markdown
     from ..outputs import write_text
     from . import provenance
@@ -499,6 +604,12 @@ def reproduce(
         if which in ("pilots", "all"):
             steps += [
                 ("Table 1 (pilots)", lambda: table1(report, settings, out / "table1", ex, pilots)),
+                (
+                    "rooms",
+                    lambda: rooms.section(
+                        report, settings, out / "rooms", out / "table1", ex, pilots, _scenario, _write_runs
+                    ),
+                ),
                 ("sensitivity", lambda: sensitivity(report, settings, out / "sensitivity", ex)),
                 ("trap rooms", lambda: traps(report, settings, out / "traps", ex, pilots)),
             ]
