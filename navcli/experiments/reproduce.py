@@ -325,6 +325,7 @@ class Row:
 VISION = ("vision",)
 SENSITIVITY_ROWS: tuple[Row, ...] = (
     Row("navcli's defaults", {}),
+    Row("no wheel slip (the command driven exactly)", {"robot.slip_noise": 0.0}),
     Row("every look sees all", {"vision.routines": 0}, VISION),
     Row("lines joined by geometry", {"vision.line_objects": 0}, VISION),
     Row("walls known", {"vision.walls": "known"}, VISION),
