@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import pytest
 from hypothesis import assume, given, settings
@@ -12,6 +13,7 @@ from navcli.bidding import Look
 from navcli.fuzzy import FuzzyPoint
 from navcli.navigation.beta_map import BetaNetwork, collinearity, encode, recall
 from navcli.navigation.regions import first_crossing, triangulate
+from navcli.params import NAVIGATION
 
 CRISP = (0.0, 0.0, 0.0, 0.0)
 coord = st.floats(-8.0, 8.0)
@@ -394,12 +396,22 @@ def test_an_edge_where_a_failed_one_was_is_that_edge_again_under_its_new_names()
     assert not isinstance(again, NoCrossing) and again.edge != renamed
     # a map that never failed there takes the renamed edge; one that failed far from it does too
     assert MapManager().diverting_target(beliefs("obstacle-9", 0.05), (0.0, 4.0)).edge == renamed
-    far = MapManager()
+    by_ends = replace(NAVIGATION, dead_end_radius=0.0)  # matched by its ends alone (the dead end's radius: below)
+    far = MapManager(by_ends)
     far.diverting_target(beliefs("obstacle-1", 0.0), (0.0, 4.0))
     far.report_blocked(c.edge)
     moved = 2.5 * SAME_PLACE_M
     far_edge = far.diverting_target(beliefs("obstacle-9", moved), (0.0, 4.0)).edge
-    assert far_edge == MapManager().diverting_target(beliefs("obstacle-9", moved), (0.0, 4.0)).edge
+    assert far_edge == MapManager(by_ends).diverting_target(beliefs("obstacle-9", moved), (0.0, 4.0)).edge
+    # remembered by place, the dead end is that edge again: its middle moved by half of 1.25 m, inside
+    # dead_end_radius (1 m), though its moved end lies 1.25 m from where it was, beyond SAME_PLACE_M
+    assert 2.5 * SAME_PLACE_M / 2 < NAVIGATION.dead_end_radius < 2.5 * SAME_PLACE_M
+    near = MapManager()
+    near.diverting_target(beliefs("obstacle-1", 0.0), (0.0, 4.0))
+    near.report_blocked(c.edge)
+    assert near.dead_ends == [pytest.approx((0.3 / 2 + -2.0 / 2, 2.2 / 2 + 2.0 / 2))]  # the middle of A-(0.3, 2.2)
+    renamed_far = frozenset(k.replace("obstacle-1:", "obstacle-9:") for k in c.edge)
+    assert near.diverting_target(beliefs("obstacle-9", moved), (0.0, 4.0)).edge not in (far_edge, renamed_far)
 
 
 def test_an_edge_to_a_virtual_landmark_is_the_failed_one_again_only_the_same_way_out():

@@ -187,7 +187,7 @@ def _sweep(r: Rescuer):
 
 
 def test_rescuer_sweeps_then_blocked_diverts_crosses_and_restores_the_original_target():
-    p = NAVIGATION
+    p = replace(NAVIGATION, stall_rule=False)  # the long window alone (the stall rule: its own tests)
     r = Rescuer(p, np.random.default_rng(0))
     t = _sweep(r)
     assert r.state == "normal"
@@ -253,10 +253,11 @@ CROSSINGS = (
 def test_rescuer_abandons_a_diverting_target_that_cannot_be_reached_and_asks_again_until_no_way_is_left():
     """The Rescuer's rule: failures end no mission by their count. Each diverting target not crossed
     is abandoned, the map told of its edge, and another asked for; the mission ends blocked only
-    when the map shows no way out, and again after a look around."""
+    when the map shows no way out, and again after a look around (with ``gives_up``: by default
+    it never ends the mission)."""
     from navcli.navigation.regions import NoCrossing
 
-    r = Rescuer(NAVIGATION, np.random.default_rng(0))
+    r = Rescuer(replace(NAVIGATION, gives_up=True), np.random.default_rng(0))
     none_left = NoCrossing("every edge out is blocked", trapped=True)
     t, give_up, events, failed = _bumped_until_given_up(r, _sweep(r), [*CROSSINGS, none_left, none_left])
     assert give_up == "no way out: every edge out is blocked"
@@ -268,17 +269,38 @@ def test_rescuer_abandons_a_diverting_target_that_cannot_be_reached_and_asks_aga
 
 
 def test_a_rescuer_that_never_gives_up_goes_on_asking_the_map():
-    """``gives_up`` 0 (long benchmarks): neither the map's "no way out", twice, nor a count of
-    failures ends the mission; the Rescuer explores and asks the map again each time."""
+    """``gives_up`` off (the default): neither the map's "no way out", twice, nor a count of
+    failures ends the mission; where it would give up, the Rescuer turns by a random angle and
+    asks the map again at once (the thesis), and explores when the answer is still none."""
     from navcli.navigation.regions import NoCrossing
 
     none_left = NoCrossing("every edge out is blocked", trapped=True)
     for extra in ({}, {"max_diverting_failures": 2}):
-        r = Rescuer(replace(NAVIGATION, gives_up=0, **extra), np.random.default_rng(0))
+        r = Rescuer(replace(NAVIGATION, **extra), np.random.default_rng(0))
         answers = itertools.chain(CROSSINGS, itertools.repeat(none_left))
         t, give_up, events, failed = _bumped_until_given_up(r, _sweep(r), answers, limit=2000.0)
         assert give_up is None and len(failed) > len(CROSSINGS) + 3, extra  # asked again and again
-        assert sum("would give up" in m for m in events) >= 2
+        turns = [i for i, m in enumerate(events) if "not giving up: turning by" in m]
+        assert len(turns) >= 2, extra
+        # each such turn is followed by a request (answered "no way out": exploring) before any bump
+        assert all("no diverting target" in events[i + 1] and "exploring" in events[i + 1] for i in turns), extra
+
+
+def test_not_giving_up_turns_by_a_random_angle_from_the_runs_generator():
+    """The turn that replaces giving up is drawn uniformly within ``random_turn_deg`` from the
+    Rescuer's generator: two generators of one seed turn alike, of two seeds differently."""
+    from navcli.navigation.regions import NoCrossing
+
+    def first_turn(seed):
+        r = Rescuer(NAVIGATION, np.random.default_rng(seed))
+        t = _sweep(r)
+        r._trapped = True  # the map said "no way out" once already
+        t, out, _ = _blocked_until_asked(r, t, NoCrossing("every edge out is blocked", trapped=True))
+        assert out.give_up is None and r.state == "turn" and r._ask_after_turn
+        return r._turn_to
+
+    a, b, c = first_turn(1), first_turn(1), first_turn(2)
+    assert a == b and a != c and all(abs(x) <= math.radians(NAVIGATION.random_turn_deg) for x in (a, c))
 
 
 def test_a_target_found_again_starts_the_next_loss_with_fresh_scans():
@@ -341,7 +363,7 @@ def test_bumped_out_of_a_diverting_target_the_robot_drives_out_before_the_map_is
 def test_the_count_of_failures_may_still_end_a_mission():
     """``max_diverting_failures`` > 0 (3: a switch for the rule of ending after three): that many abandoned
     diverting targets end the mission, each taking ``blocked_bumps`` bumps, not the time limit."""
-    p = replace(NAVIGATION, max_diverting_failures=2)
+    p = replace(NAVIGATION, max_diverting_failures=2, gives_up=True)
     r = Rescuer(p, np.random.default_rng(0))
     t, give_up, events, failed = _bumped_until_given_up(r, _sweep(r), CROSSINGS)
     assert give_up == "2 diverting targets failed"
@@ -410,7 +432,7 @@ def test_a_trap_with_no_way_out_ends_blocked_well_before_its_time_limit():
     from navcli.mission import Mission
 
     sc = load_scenario(SCENARIOS / "trap-box.yaml")
-    m = Mission(RunSpec.build(sc, pilot="geometric"))
+    m = Mission(RunSpec.build(sc, pilot="geometric", overrides={"navigation.gives_up": True}))
     while m.outcome is None:
         m.step()
     assert m.outcome == "blocked" and m.reason.split(": ")[1] == "no way out", m.reason
@@ -563,7 +585,7 @@ def test_after_a_diverting_target_is_crossed_a_target_in_sight_is_headed_for_dir
 def test_the_rescuer_gives_up_only_when_the_map_still_shows_no_way_out_after_exploring():
     from navcli.navigation.regions import NoCrossing
 
-    r = Rescuer(NAVIGATION, np.random.default_rng(0))
+    r = Rescuer(replace(NAVIGATION, gives_up=True), np.random.default_rng(0))
     t = _sweep(r)
     trapped = NoCrossing("every edge out is blocked", trapped=True)
     t, out, _ = _blocked_until_asked(r, t, trapped)
@@ -586,7 +608,7 @@ def test_looking_around_is_bounded_by_the_count_of_failures_when_there_is_one():
     default), the robot goes on looking, since the map may yet learn a way."""
     from navcli.navigation.regions import NoCrossing
 
-    r = Rescuer(replace(NAVIGATION, max_diverting_failures=3), np.random.default_rng(0))
+    r = Rescuer(replace(NAVIGATION, max_diverting_failures=3, gives_up=True), np.random.default_rng(0))
     t = _sweep(r)
     looked, give_up, asked = None, None, 0
 

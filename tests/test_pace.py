@@ -5,6 +5,8 @@ backup) lasts as long as the robot takes to cover its distance, so a robot at 0.
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 
@@ -19,6 +21,7 @@ from test_navigation import _sweep, situation
 from test_pilots import beliefs
 
 SPEEDS = (0.05, 0.1, 0.3, 0.6)
+LONG_ONLY = replace(NAVIGATION, stall_rule=False)  # the long window (the stall rule: its own tests below)
 
 
 def test_the_rescuers_windows_are_never_shorter_than_a_few_stops():
@@ -38,7 +41,7 @@ def test_the_rescuer_gives_a_slow_robot_the_time_its_progress_takes(speed):
     robot = RobotParams(max_speed=speed)
     window = NAVIGATION.blocked_window_m / speed
     asked = []
-    r = Rescuer(NAVIGATION, np.random.default_rng(0), robot)
+    r = Rescuer(LONG_ONLY, np.random.default_rng(0), robot)
     assert r.window_s == pytest.approx(window) and r.timeout_s == pytest.approx(NAVIGATION.diverting_timeout_m / speed)
     t = t0 = _sweep(r)
     while t < t0 + 3 * window:  # three windows of slow progress
@@ -60,7 +63,7 @@ def test_the_diverting_timeout_is_a_distance(speed):
     """A diverting target held while the robot keeps getting closer to its line (never blocked)
     fails once the robot could have driven diverting_timeout_m at full speed."""
     robot = RobotParams(max_speed=speed)
-    r = Rescuer(NAVIGATION, np.random.default_rng(0), robot)
+    r = Rescuer(LONG_ONLY, np.random.default_rng(0), robot)
     t = _sweep(r)
     crossing = Crossing("L", "R", (30.0, 1.0), (30.0, -1.0), 3.0)
     asked = []

@@ -73,6 +73,8 @@ MIN_WINDOW_S = 20.0
 """s: the shortest blocked window and diverting timeout, whatever the speed (our design: a few of
 the stops that take fixed time, a scan of five looks about 4 s, a reflex 4-6 s, so a fast robot
 is not declared blocked by its own stops; at 0.3 m/s the windows are 40 s and 90 s)."""
+Ask = Callable[[Edge | None], Crossing | NoCrossing | None]
+"""The Rescuer's question to the Map Manager: ``ask(failed_edge)`` (see :meth:`Rescuer.decide`)."""
 LOST_SCANS = 3  # scans (each followed by a random turn) before the map is asked for a way toward a lost target
 STATES = ("sweep", "normal", "lost", "turn", "drive", "explore")
 """The Rescuer's states, as ``/navigation.rescuer`` says: its initial sweep, normal (no rescue), scanning
@@ -116,6 +118,7 @@ class Rescuer:
         self._scan = 0  # index into scan_pans_deg
         self._turn_to: float | None = None  # odometry-frame heading to turn to
         self._scan_after_turn = False  # exploring: the turn is followed by a drive and a scan for landmarks
+        self._ask_after_turn = False  # not giving up: the random turn is followed by a request to the map
         self._drive_from: Pose | None = None  # exploring: where the drive began (odometry frame)
         self._drive_since = 0.0
         self._drive_known = 0  # landmarks known when it began: it ends when something new is seen
@@ -134,103 +137,25 @@ class Rescuer:
         self._progress_best = math.inf
         self._progress_since = 0.0
         self._bumps: deque[float] = deque()
+        # the stall window, s, and where the robot was within it (time, odometry x, y), oldest first
+        self.stall_s = max(params.stall_window_s, robot.time_to_drive(params.stall_window_m))
+        self._trail: deque[tuple[float, float, float]] = deque()
 
     # -- the state machine
-    def decide(self, s: Situation, ask: Callable[[Edge | None], Crossing | NoCrossing | None]) -> Rescue:
+    def decide(self, s: Situation, ask: Ask) -> Rescue:
         """``ask(failed_edge)`` tells the Map Manager of the edge of a failed diverting target (if
-        any) and asks it for a diverting target toward the original target (or why there is none)."""
-        b = s.beliefs
-        events: list[tuple[str, str]] = []
-        for bump in b.bumps:
-            self._bumps.append(bump.time)
-        while self._bumps and self._bumps[0] < s.time - self.window_s:
-            self._bumps.popleft()
+        any) and asks it for a diverting target toward the original target (or why there is none).
 
+        Each state's phase either answers for this tick or hands over to the next (a turn ends in
+        a drive, a drive in a look around, a look around in normal)."""
+        events: list[tuple[str, str]] = []
+        self._count_bumps(s)
         if s.I_a <= self.params.I_a_bar:
             self._lost_scans = 0  # found again, in whatever state: the next loss starts its scans afresh
-        if self.state == "sweep":
-            if self._scanned(b.looked):
-                self._enter("normal", s)
-                events.append(("info", "initial sweep done"))
-            else:
-                return Rescue(self._scan_bids(), events=tuple(events))
-
-        if self.state == "turn":
-            assert self._turn_to is not None  # set by the turn's start
-            err = wrap_angle(self._turn_to - b.odometry.theta)
-            if abs(err) > math.radians(10.0):
-                return Rescue(
-                    (Bid(self.name, "motion", Move(err, 0.0), self.params.rescuer_bid),), events=tuple(events)
-                )
-            if self._scan_after_turn:
-                self._scan_after_turn = False
-                if self.params.explore_m > 0:
-                    self._enter("drive", s)
-                    self._drive_from, self._drive_since, self._drive_known = b.odometry, s.time, len(s.landmarks)
-                elif self.params.rescuer_looks:
-                    self._enter("explore", s)
-                    return Rescue(self._scan_bids(), events=tuple(events))
-                else:
-                    self._enter("normal", s)
-            else:
-                self._enter("normal", s)
-
-        if self.state == "drive":
-            o, start = b.odometry, self._drive_from
-            assert start is not None  # set by the drive's start
-            driven = math.hypot(o.x - start.x, o.y - start.y)
-            if (
-                driven < self.params.explore_m
-                and not b.bumps
-                and len(s.landmarks) <= self._drive_known
-                and b.pilot_blocked is None
-                and s.time - self._drive_since < self.drive_s
-            ):
-                pans = self.params.scan_pans_deg  # looking around on the way for landmarks, a pan an image
-                if looked_at(b.looked, Look(math.radians(pans[self._scan % len(pans)]), "search")):
-                    self._scan += 1
-                v = self.params.rescuer_bid
-                bids: tuple[Bid, ...] = (
-                    Bid(self.name, "motion", Move(wrap_angle(start.theta - o.theta), self.speed), v),
-                )
-                if self.params.rescuer_looks:
-                    bids += (Bid(self.name, "camera", Look(math.radians(pans[self._scan % len(pans)]), "search"), v),)
-                return Rescue(bids, events=tuple(events))
-            events.append(("info", f"explored {driven:.1f} m away from the target"))
-            self._enter("explore" if self.params.rescuer_looks else "normal", s)
-
-        if self.state == "explore":
-            if not self._scanned(b.looked):
-                return Rescue(self._scan_bids(), events=tuple(events))
-            self._enter("normal", s)
-            events.append(("info", f"looked around: {len(s.landmarks)} landmarks in view or remembered"))
-
-        if self.state == "lost":
-            if s.I_a <= self.params.I_a_bar:
-                self._lost_scans = 0
-                self._enter("normal", s)
-                events.append(("info", f"target found again (I_a = {s.I_a:.2f})"))
-            elif self._scanned(b.looked):
-                self._lost_scans += 1
-                if self._lost_scans >= LOST_SCANS:
-                    # our design: what hides the target is most often a long obstacle, and scanning on where
-                    # the robot stands shows it nothing new; the map's way toward where the target is
-                    # believed to be (its belief's centre) leads past it, and no failure is counted
-                    self._lost_scans = 0
-                    self._enter("normal", s)
-                    events.append(
-                        (
-                            "warning",
-                            f"target not found in {LOST_SCANS} scans: asking the map for a way "
-                            "toward where it is believed to be",
-                        )
-                    )
-                    return self._request(s, events, ask)
-                self._start_turn(b.odometry, events, "target still lost after a scan")
-                return Rescue(events=tuple(events))
-            else:
-                return Rescue(self._scan_bids(), events=tuple(events))
-
+        for phase in (self._sweep_phase, self._turn_phase, self._drive_phase, self._explore_phase, self._lost_phase):
+            out = phase(s, events, ask)
+            if out is not None:
+                return out
         if (
             self.state == "normal"
             and self._crossing is None
@@ -240,42 +165,171 @@ class Rescuer:
             self.state, self._scan = "lost", 0
             events.append(("warning", f"target lost (I_a = {s.I_a:.2f} > {self.params.I_a_bar:g}): stopping to scan"))
             return Rescue(self._scan_bids(), events=tuple(events))
+        return self._normal_phase(s, events, ask)
 
-        line = self._diverting_line(s)
-        if line is not None and self._crossed(line):
-            crossed = self._crossing
-            assert crossed is not None  # a diverting line is that of a crossing
-            self._clear_crossing(s, "crossed")
-            self._trapped = False  # a way out was found: the map's "no way out" before it is old news
-            line = None
-            # the next step of the way, from the region the robot is in now; none once the target is in
-            # sight (our design: the regions' way may still go round, through virtual landmarks' regions)
-            after = None if self.params.sight_ends_way and _in_sight(s) else ask(None)
-            if isinstance(after, Crossing) and after.edge != crossed.edge:
-                since = self._crossing_since
-                self._set_crossing(after, s)  # the same diverting target's way, one step on: not counted again,
-                self._crossing_since = since  # and its timeout runs on: the way as a whole must be done in time
-                events.append(
-                    (
-                        "info",
-                        f"diverting target crossed between {crossed.left} and {crossed.right}; "
-                        f"next: cross between {after.left} (left) and {after.right} (right)",
-                    )
-                )
-                return Rescue((), self._diverting_line(s), tuple(events))
+    def _count_bumps(self, s: Situation) -> None:
+        for bump in s.beliefs.bumps:
+            self._bumps.append(bump.time)
+        while self._bumps and self._bumps[0] < s.time - self.window_s:
+            self._bumps.popleft()
+
+    def _sweep_phase(self, s: Situation, events: list[tuple[str, str]], ask: Ask) -> Rescue | None:
+        """The initial sweep: look at each pan, then normal."""
+        if self.state != "sweep":
+            return None
+        if not self._scanned(s.beliefs.looked):
+            return Rescue(self._scan_bids(), events=tuple(events))
+        self._enter("normal", s)
+        events.append(("info", "initial sweep done"))
+        return None
+
+    def _turn_phase(self, s: Situation, events: list[tuple[str, str]], ask: Ask) -> Rescue | None:
+        """Turning to ``_turn_to``; then a drive out (exploring), a look around, a new request to
+        the map (after the random turn that replaces giving up), or normal."""
+        if self.state != "turn":
+            return None
+        b = s.beliefs
+        assert self._turn_to is not None  # set by the turn's start
+        err = wrap_angle(self._turn_to - b.odometry.theta)
+        if abs(err) > math.radians(10.0):
+            return Rescue((Bid(self.name, "motion", Move(err, 0.0), self.params.rescuer_bid),), events=tuple(events))
+        if self._ask_after_turn:
+            # the thesis' Rescuer with no diverting target: turn by a random angle and ask again;
+            # asked anew (not as the second "no way out" in a row), a closed map sends it exploring
+            self._ask_after_turn = False
+            self._trapped = False
+            self._enter("normal", s)
+            return self._request(s, events, ask)
+        if not self._scan_after_turn:
+            self._enter("normal", s)
+            return None
+        self._scan_after_turn = False
+        if self.params.explore_m > 0:
+            self._enter("drive", s)
+            self._drive_from, self._drive_since, self._drive_known = b.odometry, s.time, len(s.landmarks)
+        elif self.params.rescuer_looks:
+            self._enter("explore", s)
+            return Rescue(self._scan_bids(), events=tuple(events))
+        else:
+            self._enter("normal", s)
+        return None
+
+    def _drive_phase(self, s: Situation, events: list[tuple[str, str]], ask: Ask) -> Rescue | None:
+        """Exploring: drive away, looking around, until ``explore_m`` is driven, something is
+        bumped or seen new, the Pilot reports a long obstacle, or the drive takes too long."""
+        if self.state != "drive":
+            return None
+        b = s.beliefs
+        o, start = b.odometry, self._drive_from
+        assert start is not None  # set by the drive's start
+        driven = math.hypot(o.x - start.x, o.y - start.y)
+        if (
+            driven < self.params.explore_m
+            and not b.bumps
+            and len(s.landmarks) <= self._drive_known
+            and b.pilot_blocked is None
+            and s.time - self._drive_since < self.drive_s
+        ):
+            pans = self.params.scan_pans_deg  # looking around on the way for landmarks, a pan an image
+            if looked_at(b.looked, Look(math.radians(pans[self._scan % len(pans)]), "search")):
+                self._scan += 1
+            v = self.params.rescuer_bid
+            bids: tuple[Bid, ...] = (Bid(self.name, "motion", Move(wrap_angle(start.theta - o.theta), self.speed), v),)
+            if self.params.rescuer_looks:
+                bids += (Bid(self.name, "camera", Look(math.radians(pans[self._scan % len(pans)]), "search"), v),)
+            return Rescue(bids, events=tuple(events))
+        events.append(("info", f"explored {driven:.1f} m away from the target"))
+        self._enter("explore" if self.params.rescuer_looks else "normal", s)
+        return None
+
+    def _explore_phase(self, s: Situation, events: list[tuple[str, str]], ask: Ask) -> Rescue | None:
+        """Exploring: look around for landmarks, then normal."""
+        if self.state != "explore":
+            return None
+        if not self._scanned(s.beliefs.looked):
+            return Rescue(self._scan_bids(), events=tuple(events))
+        self._enter("normal", s)
+        events.append(("info", f"looked around: {len(s.landmarks)} landmarks in view or remembered"))
+        return None
+
+    def _lost_phase(self, s: Situation, events: list[tuple[str, str]], ask: Ask) -> Rescue | None:
+        """The target lost: scan, turn by a random angle, scan again; after ``LOST_SCANS`` scans,
+        ask the map for a way toward where the target is believed to be."""
+        if self.state != "lost":
+            return None
+        if s.I_a <= self.params.I_a_bar:
+            self._lost_scans = 0
+            self._enter("normal", s)
+            events.append(("info", f"target found again (I_a = {s.I_a:.2f})"))
+            return None
+        if not self._scanned(s.beliefs.looked):
+            return Rescue(self._scan_bids(), events=tuple(events))
+        self._lost_scans += 1
+        if self._lost_scans >= LOST_SCANS:
+            # our design: what hides the target is most often a long obstacle, and scanning on where
+            # the robot stands shows it nothing new; the map's way toward where the target is
+            # believed to be (its belief's centre) leads past it, and no failure is counted
+            self._lost_scans = 0
+            self._enter("normal", s)
             events.append(
                 (
-                    "info",
-                    f"diverting target crossed between {crossed.left} and {crossed.right}: back to the original target",
+                    "warning",
+                    f"target not found in {LOST_SCANS} scans: asking the map for a way toward where it is believed to be",
                 )
             )
-            self._last_crossed = crossed.edge
+            return self._request(s, events, ask)
+        self._start_turn(s.beliefs.odometry, events, "target still lost after a scan")
+        return Rescue(events=tuple(events))
+
+    def _normal_phase(self, s: Situation, events: list[tuple[str, str]], ask: Ask) -> Rescue:
+        """No rescue under way: follow a diverting target until crossed, and watch for being blocked."""
+        line = self._diverting_line(s)
+        if line is not None and self._crossed(line):
+            step = self._on_crossed(s, events, ask)
+            if step is not None:
+                return step
+            line = None
         why = self._blocked(s, line)
         if why is None:
             return Rescue((), line, tuple(events))
         if self.params.blocked_ends:  # the learning paper's trials end when the robot is blocked
-            return self._give_up(why, events, s)
-        abandoned = None
+            return self._end(why, events)
+        return self._on_blocked(s, why, events, ask)
+
+    def _on_crossed(self, s: Situation, events: list[tuple[str, str]], ask: Ask) -> Rescue | None:
+        """The diverting target was crossed: its way's next step, if the map gives one (a Rescue),
+        or back to the original target (None)."""
+        crossed = self._crossing
+        assert crossed is not None  # a diverting line is that of a crossing
+        self._clear_crossing(s, "crossed")
+        self._trapped = False  # a way out was found: the map's "no way out" before it is old news
+        # the next step of the way, from the region the robot is in now; none once the target is in
+        # sight (our design: the regions' way may still go round, through virtual landmarks' regions)
+        after = None if self.params.sight_ends_way and _in_sight(s) else ask(None)
+        if isinstance(after, Crossing) and after.edge != crossed.edge:
+            since = self._crossing_since
+            self._set_crossing(after, s)  # the same diverting target's way, one step on: not counted again,
+            self._crossing_since = since  # and its timeout runs on: the way as a whole must be done in time
+            events.append(
+                (
+                    "info",
+                    f"diverting target crossed between {crossed.left} and {crossed.right}; "
+                    f"next: cross between {after.left} (left) and {after.right} (right)",
+                )
+            )
+            return Rescue((), self._diverting_line(s), tuple(events))
+        events.append(
+            (
+                "info",
+                f"diverting target crossed between {crossed.left} and {crossed.right}: back to the original target",
+            )
+        )
+        self._last_crossed = crossed.edge
+        return None
+
+    def _on_blocked(self, s: Situation, why: str, events: list[tuple[str, str]], ask: Ask) -> Rescue:
+        """Blocked for ``why``: another way if the Pilot sees the way closed; else count the
+        failed diverting target (held, or crossed and leading nowhere) and ask for a new one."""
         caught = len(self._bumps) >= self.params.blocked_bumps  # (before the abandoned crossing clears them)
         tried = self._crossing.edge if self._crossing is not None else self._last_crossed
         if tried is not None and s.beliefs.pilot_blocked is not None:
@@ -291,26 +345,7 @@ class Rescuer:
                 self._clear_crossing(s, "replaced: the way seen closed")
                 self._last_crossed = None
                 return self._divert(again, s, events)
-        if self._crossing is not None:
-            self.failures += 1
-            c = self._crossing
-            events.append(
-                (
-                    "warning",
-                    f"diverting target between {c.left} and {c.right} abandoned ({why}; {self.failures} failed)",
-                )
-            )
-            abandoned = c.edge
-            self._clear_crossing(s, "abandoned")
-        else:
-            events.append(("warning", f"blocked: {why}"))
-            if self._last_crossed is not None:  # the last diverting target was crossed but led nowhere
-                self.failures += 1
-                abandoned, self._last_crossed = self._last_crossed, None
-                if self.tried and self.tried[-1][2] == "crossed":
-                    self.tried[-1] = (*self.tried[-1][:2], "crossed, led nowhere")
-                end_u, end_v = ends(abandoned)
-                events.append(("warning", f"crossing between {end_u} and {end_v} led nowhere ({self.failures} failed)"))
+        abandoned = self._count_failure(s, why, events)
         if self.params.gives_up and 0 < self.params.max_diverting_failures <= self.failures:
             return self._give_up(f"{self.failures} diverting targets failed", events, s)
         if abandoned is not None and caught:
@@ -322,11 +357,36 @@ class Rescuer:
             return Rescue(events=tuple(events))
         return self._request(s, events, ask, abandoned)
 
+    def _count_failure(self, s: Situation, why: str, events: list[tuple[str, str]]) -> Edge | None:
+        """The edge of the diverting target that failed, if one did: the one held (abandoned), or
+        the last one crossed, which led nowhere; counted in ``failures``."""
+        if self._crossing is not None:
+            self.failures += 1
+            c = self._crossing
+            events.append(
+                (
+                    "warning",
+                    f"diverting target between {c.left} and {c.right} abandoned ({why}; {self.failures} failed)",
+                )
+            )
+            self._clear_crossing(s, "abandoned")
+            return c.edge
+        events.append(("warning", f"blocked: {why}"))
+        if self._last_crossed is None:
+            return None
+        self.failures += 1  # the last diverting target was crossed but led nowhere
+        abandoned, self._last_crossed = self._last_crossed, None
+        if self.tried and self.tried[-1][2] == "crossed":
+            self.tried[-1] = (*self.tried[-1][:2], "crossed, led nowhere")
+        end_u, end_v = ends(abandoned)
+        events.append(("warning", f"crossing between {end_u} and {end_v} led nowhere ({self.failures} failed)"))
+        return abandoned
+
     def _request(
         self,
         s: Situation,
         events: list[tuple[str, str]],
-        ask: Callable[[Edge | None], Crossing | NoCrossing | None],
+        ask: Ask,
         abandoned: Edge | None = None,
     ) -> Rescue:
         """Ask the map for a diverting target (telling it of the ``abandoned`` edge, if any) and set
@@ -342,7 +402,9 @@ class Rescuer:
                 return self._give_up(f"no way out: {why}", events, s)
             self._trapped = trapped
             self._explorations += 1
-            if 0 < self.params.max_diverting_failures < self._explorations:  # looking around bounded as failures are
+            if (
+                self.params.gives_up and 0 < self.params.max_diverting_failures < self._explorations
+            ):  # looking around bounded as failures are
                 return self._give_up(
                     f"the map gives no diverting target after {self._explorations - 1} looks around ({why})", events, s
                 )
@@ -369,12 +431,19 @@ class Rescuer:
         return Rescue((stop,), self._diverting_line(s), tuple(events))
 
     def _give_up(self, why: str, events: list[tuple[str, str]], s: Situation) -> Rescue:
-        """End the mission as ``blocked`` for ``why``, said in the events too; with ``gives_up`` 0,
-        say so and explore instead (the robot goes on until the time limit)."""
-        if not self.params.gives_up:
-            self._trapped, self._explorations = False, 0
-            self._explore(s, events, f"would give up ({why}), but gives_up is 0")
-            return Rescue(events=tuple(events))
+        """With ``gives_up``, end the mission as ``blocked`` for ``why``; without (the default),
+        turn by a random angle and ask the map again once turned (the thesis' Rescuer with no
+        diverting target), so the robot goes on until the time limit."""
+        if self.params.gives_up:
+            return self._end(why, events)
+        self._trapped, self._explorations = False, 0
+        self._start_turn(s.beliefs.odometry, events, f"{why}; not giving up")
+        self._ask_after_turn = True
+        self._reset_progress(s)
+        return Rescue(events=tuple(events))
+
+    def _end(self, why: str, events: list[tuple[str, str]]) -> Rescue:
+        """End the mission as ``blocked`` for ``why``, said in the events too."""
         events.append(("error", f"giving up: {why}"))
         return Rescue(events=tuple(events), give_up=why)
 
@@ -457,6 +526,7 @@ class Rescuer:
         self._progress_best = math.inf
         self._progress_since = s.time
         self._bumps.clear()
+        self._trail.clear()
 
     def _blocked(self, s: Situation, line: tuple[Point, Point] | None) -> str | None:
         """Why the robot is blocked on its way to the current target (``line``: the diverting line,
@@ -477,7 +547,28 @@ class Rescuer:
             return "the diverting target was not crossed in time"
         if s.time - self._progress_since > self.window_s:
             return "no progress toward the target"
+        if held is None and p.stall_rule:
+            return self._stalled(s)
         return held
+
+    def _stalled(self, s: Situation) -> str | None:
+        """The short no-progress rule: over the last ``stall_s`` seconds (the stall window,
+        ``max(stall_window_s, stall_window_m / robot.max_speed)``), the robot moved less than
+        ``stall_progress`` net (odometry): it came less than that closer to any target, whatever
+        path it drove. The trail restarts with every state change (a deliberate scan or turn is
+        no stall) and every new target."""
+        o = s.beliefs.odometry
+        trail = self._trail
+        trail.append((s.time, o.x, o.y))
+        while len(trail) > 1 and trail[1][0] <= s.time - self.stall_s:
+            trail.popleft()  # keep the last place at or before the window's start
+        t0, x0, y0 = trail[0]
+        if s.time - t0 < self.stall_s:
+            return None
+        net = math.hypot(o.x - x0, o.y - y0)
+        if net >= self.params.stall_progress:
+            return None
+        return f"no progress: {net:.2f} m net in {s.time - t0:.0f} s"
 
     def _stuck(self, s: Situation) -> str | None:
         """Why the robot is held where it is, whatever its target: the Pilot reports a long

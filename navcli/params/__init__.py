@@ -290,6 +290,25 @@ class NavigationParams(ParamSet):
         above=0.0,
     )
     blocked_progress: float = param(0.5, "m", "closer to the target that counts as progress", above=0.0)
+    stall_rule: bool = param(
+        True,
+        "",
+        """the short no-progress rule: the robot moved less than stall_progress net
+        over the stall window is blocked (a potential field caught in a minimum, swinging between two obstacles
+        without a bump); off: only the long window of blocked_window_m""",
+    )
+    stall_window_s: float = param(
+        20.0, "s", "the stall window: at least this long, or stall_window_m at robot.max_speed", above=0.0
+    )
+    stall_window_m: float = param(
+        1.5,
+        "m",
+        "the stall window: as long as the robot takes to drive this far at robot.max_speed (30 s at 5 cm/s)",
+        above=0.0,
+    )
+    stall_progress: float = param(
+        0.3, "m", "less net displacement than this over the stall window: no progress", above=0.0
+    )
     blocked_bumps: int = param(3, "", "or this many bumps within the blocked window: blocked", at_least=1)
     diverting_timeout_m: float = param(
         27.0,
@@ -299,7 +318,11 @@ class NavigationParams(ParamSet):
     )
     max_diverting_failures: int = param(0, "", "failed diverting targets that end the mission; 0: no count does")
     gives_up: bool = param(
-        True, "", "off: the Rescuer never ends a mission (long benchmarks, tests that need a long run)"
+        False,
+        "",
+        """on: the Rescuer ends the mission blocked when the map shows no way out twice
+        (or max_diverting_failures is reached); off: it turns by a random angle and asks the map again, as the
+        thesis' Rescuer does with no diverting target, until the time limit""",
     )
     random_turn_deg: float = param(
         120.0, "deg", "with no diverting target: turn by up to this much", above=0.0, at_most=180.0
@@ -367,6 +390,19 @@ class NavigationParams(ParamSet):
     )
     virtual_distance: float = param(10.0, "m", "Map Manager: virtual landmarks beyond the hull edges", above=0.0)
     blocked_cost: float = param(1000.0, "", "Map Manager: the cost of a region arc known to be blocked", above=1.0)
+    seen_closed_cost: float = param(
+        100.0,
+        "",
+        """Map Manager: the cost of an arc a remembered long obstacle was seen across
+        (one the memory no longer holds): a way worse than any open one, cleared when the robot sees both its
+        landmarks with no known obstacle across; 0: a block for good, which can close the robot in""",
+    )
+    dead_end_radius: float = param(
+        1.0,
+        "m",
+        """Map Manager: an edge whose middle lies this near the middle of a failed
+        diverting target's edge is that dead end again and costs as much; 0: failed edges matched by their ends only""",
+    )
     diverting_in_sight: bool = param(
         True,
         "",
