@@ -140,6 +140,22 @@ def test_given_what_blocks_the_view_the_diverting_target_is_the_farthest_edge_of
     assert first_crossing(r, robot, target).edge == frozenset("AB")
 
 
+def test_an_edge_whose_middle_is_seen_past_a_walls_end_is_not_handed_over():
+    """A wall from (5, 3.5) to (2.6, 3.5) ends left of the sight line from the robot (2, -1) to
+    D-C's middle (2, 4), which it so clears; but the line to the point a quarter in from C,
+    (3, 4), meets y = 3.5 at x = 2.9, on the wall: the robot, led at D-C, would wedge between
+    the wall's end and C. The edge handed over is the diagonal A-C, whose middle half (1, 1) to
+    (3, 3) lies wholly below the wall."""
+    from navcli.navigation.regions import crossing_along
+
+    r = triangulate(SQUARE)
+    robot, target = (2.0, -1.0), (2.0, 6.5)
+    wall = ("wall", (5.0, 3.5), (2.6, 3.5))
+    assert not crossing_along(robot, (2.0, 4.0), wall[1], wall[2], 0.0)  # the middle alone is in sight
+    assert crossing_along(robot, (3.0, 4.0), wall[1], wall[2], 0.0)
+    assert first_crossing(r, robot, target, lines=[wall]).edge == frozenset("AC")
+
+
 def test_a_logged_run_is_the_same_file_whatever_pythons_hash_seed(tmp_path):
     """Same scenario + seed + version = same log, byte for byte, in any process: the map's
     landmarks once followed the order of a set of strings, which ``PYTHONHASHSEED`` changes."""
@@ -336,6 +352,57 @@ def test_what_a_fence_was_seen_to_block_between_landmarks_stays_known_when_the_m
     assert through.edge == frozenset("AE")
     way = mm.diverting_target(forgot, shift(target))
     assert way.edge not in expected and way.cost > through.cost  # round it
+
+    # seen open: an image showing both landmarks of a pair, no known fence across, clears its
+    # record (records are taken at the first image and every SEEN_EVERY-th after it)
+    from navcli.navigation.map_manager import SEEN_EVERY
+
+    def image(mm, t, shown):
+        for i in range(SEEN_EVERY):  # the landmarks ``shown`` are in each image, the others were seen at 0
+            now = t + i * 0.1
+            then = tuple(KnownLandmark(k, point(*p), now if k in shown else 0.0) for k, p in rel.items())
+            mm.observe(Beliefs(now, Pose(0, 0, 0), shift(target), None, (), looked=Look(0.0, "search"), landmarks=then))
+
+    image(mm, 1.0, {"A", "C"})  # (the first image was the one that saw the fence)
+    assert set(mm.seen_blocked) == expected - {frozenset("AC")}
+    kept = MapManager(replace(NAVIGATION, seen_closed_cost=0.0))  # closed for good
+    kept.observe(seen)
+    image(kept, 1.0, set(marks))
+    assert set(kept.seen_blocked) == expected
+
+
+def test_a_way_seen_closed_costs_more_and_never_closes_the_robot_in():
+    """Records of a fence the memory no longer holds across every edge of the robot's region:
+    the way out through one costs 1 + seen_closed_cost (100) for that arc, and the map gives it;
+    with ``seen_closed_cost`` 0, the records block as a known fence does and the map shows no way
+    out."""
+    from navcli.beliefs import Beliefs, KnownLandmark
+    from navcli.geometry import Pose
+    from navcli.navigation.map_manager import MapManager
+
+    point = lambda x, y: FuzzyPoint(x, y, (0.02, 0.014, 0.006, 0.0))  # noqa: E731
+    marks = {"A": (-2.0, -1.0), "B": (2.0, -1.0), "C": (0.0, 2.0), "D": (0.0, 6.0), "E": (4.0, 4.0)}
+    target = (0.5, 4.5)  # beyond C, in region C-D-E
+    b = Beliefs(
+        0.0,
+        Pose(0, 0, 0),
+        target,
+        None,
+        (),
+        landmarks=tuple(KnownLandmark(k, point(*p), 0.0) for k, p in marks.items()),
+    )
+    r = triangulate(marks, NAVIGATION.virtual_distance)
+    start = r.region_of((0.0, 0.0))
+    assert {r.ids[v] for v in r.triangles[start]} == set("ABC")
+    around = {e: "fence-1" for i, j, e in r.edges() if start in (i, j)}
+    assert set(around) == {frozenset(p) for p in ("AB", "BC", "AC")}
+    for cost, trapped in ((NAVIGATION.seen_closed_cost, False), (0.0, True)):
+        mm = MapManager(replace(NAVIGATION, seen_closed_cost=cost))
+        mm.seen_blocked = dict(around)
+        c = mm.diverting_target(b, target)
+        assert isinstance(c, NoCrossing) == trapped and (not trapped or c.trapped)
+        if not trapped:  # one recorded arc on the way out (A-C or B-C toward the target), then open arcs
+            assert 1.0 + cost < c.cost < 1.0 + cost + 10.0
 
 
 def test_way_out_is_a_way_through_edges_not_blocked_out_of_the_robots_regions():

@@ -12,7 +12,16 @@ What the thesis says, and how we do it:
   the robot scanned until it gave up). No failure is counted.
 - **Blocked**: the robot makes no progress toward its target (``blocked_progress`` metres closer
   within the blocked window), or it hits something ``blocked_bumps`` times within that window
-  (the Pilot's report of an obstacle it cannot easily avoid). The Rescuer asks the Map Manager for
+  (the Pilot's report of an obstacle it cannot easily avoid), or it **stalls** (``stall_rule``,
+  our design): its net displacement over the last ``W`` seconds, ``W = max(stall_window_s,
+  stall_window_m / robot.max_speed)`` (20 s, 1.5 m: 30 s at 5 cm/s), is less than
+  ``stall_progress`` (0.3 m). Net displacement bounds how much closer the robot came to any
+  target, whatever path it drove: a potential field in a minimum, swinging between a box and a
+  post with its turn flipping each decision, drives on and never bumps, but stays where it was,
+  and the long window (12 m: 240 s at 5 cm/s) would leave it there for minutes. The pilot
+  paper's diverting targets are there "to escape from a difficult or blocked position". The
+  stall window restarts at every change of state (the sweep, scans, turns and drives out are
+  deliberate), every new target and every bump (the Pilot's reflex stops and looks around). The Rescuer asks the Map Manager for
   a **diverting target**, a pair of landmarks to pass between, and broadcasts it as the current
   target (the Pilot crosses it through its safe corridor). When it is crossed the original target
   is restored. If none can be computed, the Rescuer **explores** (our design, after MLL): it
@@ -38,15 +47,21 @@ What the thesis says, and how we do it:
   sweep, no scans: the camera is the Learning Agent's; a lost target is left to it), and the
   first blocked situation ends the mission ``blocked`` (its trials "terminate ... if the robot
   is blocked").
-- **Giving up**: only a diverting target tried and failed is a failure, and no count of them ends
-  the mission (``max_diverting_failures`` set to 3 ends it at the third, which ends many runs in
-  rooms with a way out; set, it also bounds the looks around
-  in a row that the map answers with no diverting target). The mission ends ``blocked`` when the
-  map shows no way out of the robot's regions (every edge out closed by known obstacles), and
-  shows it again after the robot has looked around once more with no diverting target crossed in
-  between; otherwise it goes on until the time limit. The reason is given in the outcome and the
-  events.
-  ``gives_up`` 0 turns even that into one more look around (long benchmarks).
+- **Never giving up** (``gives_up`` off, the default): only a diverting target tried and failed
+  is a failure, and nothing ends the mission before its time limit. Where the map shows no way
+  out of the robot's regions (every edge out closed by known obstacles) again after the robot
+  has looked around once more with no diverting target crossed in between, the thesis' Rescuer,
+  with no diverting target to compute, turns by a random angle and asks again: so does this one,
+  by an angle drawn uniformly within ``random_turn_deg`` from the Navigation system's generator,
+  then asks the map at once (asked anew, a closed map sends it exploring). ``gives_up`` on ends
+  the mission ``blocked`` there instead, with the reason in the outcome and the events; with it,
+  ``max_diverting_failures`` set to 3 ends it at the third failure (which ends many runs in
+  rooms with a way out), and bounds the looks around in a row that the map answers with no
+  diverting target.
+
+The state machine (:meth:`Rescuer.decide`) is a phase per state: the sweep, a turn, a drive out,
+a look around, a lost target's scans, and normal (following a diverting target, watching for
+being blocked), each answering for the tick or handing over to the next.
 
 The Rescuer bids ``rescuer_bid`` (1.0, our design: its actions are the emergencies of the
 Navigation system, and a stop is always safe) to stop while it sweeps or scans, to look at each
@@ -168,8 +183,12 @@ class Rescuer:
         return self._normal_phase(s, events, ask)
 
     def _count_bumps(self, s: Situation) -> None:
+        """Count the bumps of the blocked window; a bump also restarts the stall window (the
+        Pilot's reflex stops, looks around and backs up: a deliberate stop, no stall; bumps
+        have their own rule, ``blocked_bumps``)."""
         for bump in s.beliefs.bumps:
             self._bumps.append(bump.time)
+            self._trail.clear()
         while self._bumps and self._bumps[0] < s.time - self.window_s:
             self._bumps.popleft()
 
@@ -556,7 +575,7 @@ class Rescuer:
         ``max(stall_window_s, stall_window_m / robot.max_speed)``), the robot moved less than
         ``stall_progress`` net (odometry): it came less than that closer to any target, whatever
         path it drove. The trail restarts with every state change (a deliberate scan or turn is
-        no stall) and every new target."""
+        no stall), every new target and every bump (the Pilot's reflex looks around)."""
         o = s.beliefs.odometry
         trail = self._trail
         trail.append((s.time, o.x, o.y))
