@@ -17,9 +17,12 @@ agents' questions. It makes no bids.
   leaves no room between it and the edge's end, or when a diverting target through them failed, and the first edge of the cheapest path to the target's
   region. What the long obstacles block between two landmarks is kept from every image
   (``seen_blocked``), as the thesis' map keeps the arcs reported blocked: the visual memory
-  forgets a fence and sees it again under a new key, landmark ids stay (our design; an edge seen
-  blocked wrongly is still used, at ``blocked_cost``, when nothing else leads on). A failed edge is
-  also known by where its ends were (:data:`SAME_PLACE_M`), since obstacle points are named anew.
+  forgets a fence and sees it again under a new key, landmark ids stay (our design). A failed edge is
+  also known by where its ends were (:data:`SAME_PLACE_M`), since obstacle points are named anew,
+  and as a dead end by place: edges whose middle lies within ``dead_end_radius`` of its middle
+  cost ``seen_closed_cost``. A way closed only by such a record (``seen_blocked``) costs
+  ``seen_closed_cost`` too, is not counted as closing the robot in, and its record goes when an
+  image shows both its landmarks with no known long obstacle across.
   When there is none, why (:class:`~.regions.NoCrossing`), telling apart a map that knows too
   little (look around: too few landmarks, or every way to the target blocked by known obstacles
   and failed diverting targets, which more landmarks may open) from one that shows no way out:
@@ -261,12 +264,14 @@ class MapManager:
             if self.failed_at
             else []
         )  # failed before, under other names
-        again += self._at_dead_ends(regions, again)
         blocked = dict(self.blocked)
         for e in (*now, *again):
             blocked[e] = blocked.get(e, 0.0) + 1.0
-        for e in remembered:  # a way seen closed costs more, and stays open to try
-            blocked[e] = blocked.get(e, 0.0) + self.params.seen_closed_cost / self.params.blocked_cost
+        # a way seen closed, or through a dead end's place, costs more and stays open to try (the
+        # only way out of a U may pass by the place where a diverting target failed)
+        share = self.params.seen_closed_cost / self.params.blocked_cost if self.params.seen_closed_cost > 0 else 1.0
+        for e in (*remembered, *self._at_dead_ends(regions, again)):
+            blocked[e] = blocked.get(e, 0.0) + share
         sight = (
             [(o.key, o.a, o.b) for o in beliefs.obstacles if not o.is_point] if self.params.diverting_in_sight else None
         )
@@ -304,10 +309,12 @@ class MapManager:
         return out
 
     def _at_dead_ends(self, regions: Regions, skip: list[Edge]) -> list[Edge]:
-        """Edges not yet known as failed whose place (:meth:`_dead_end`) lies within
+        """Edges not yet known as failed whose place (:func:`_dead_end`) lies within
         ``dead_end_radius`` of that of an edge whose diverting target failed: the same dead end
         under other landmarks (our design: a robot sent again and again into the pocket where a
-        wall meets the side wall, each time across an edge of other ends)."""
+        wall meets the side wall, each time across an edge of other ends). They cost as a way
+        seen closed does, not as a failure: the only way out of a U passes by its mouth, where
+        the first diverting target may have failed."""
         radius = self.params.dead_end_radius
         if radius <= 0 or not self.dead_ends:
             return []

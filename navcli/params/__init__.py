@@ -401,7 +401,8 @@ class NavigationParams(ParamSet):
         1.0,
         "m",
         """Map Manager: an edge whose middle lies this near the middle of a failed
-        diverting target's edge is that dead end again and costs as much; 0: failed edges matched by their ends only""",
+        diverting target's edge passes by that dead end and costs seen_closed_cost (blocked_cost when that is 0);
+        0: failed edges matched by their ends only""",
     )
     diverting_in_sight: bool = param(
         True,
