@@ -16,7 +16,7 @@ from navcli.beliefs import Beliefs, Bump
 from navcli.bidding import Bid, Look, Move
 from navcli.config import RunSpec
 from navcli.fuzzy import ALPHAS, CUT, FuzzyPoint
-from navcli.geometry import Pose
+from navcli.geometry import Pose, wrap_angle
 from navcli.navigation import Communicator, DistanceEstimator, NavigationSystem, RiskManager, Situation, TargetTracker
 from navcli.navigation.regions import Crossing
 from navcli.navigation.rescuer import Rescuer
@@ -464,6 +464,27 @@ def _blocked_until_asked(r, t, answer, limit=200.0):
         out = r.decide(situation(time=t), ask)
         events += [m for _, m in out.events]
     return t, out, events
+
+
+def test_with_the_target_in_the_robots_region_the_rescuer_only_turns_by_a_random_angle():
+    """The map's way is straight (the target in the robot's own region): the Rescuer turns by a
+    random angle within random_turn_deg and goes back to normal, no drive away, no failure; with
+    ``turn_when_here`` off it explores (the turn is followed by a drive out)."""
+    from navcli.navigation.regions import NoCrossing
+
+    here = NoCrossing("the target is in the robot's region", here=True)
+    for turn, after in ((True, "normal"), (False, "drive")):
+        r = Rescuer(replace(NAVIGATION, turn_when_here=turn), np.random.default_rng(0))
+        t, out, events = _blocked_until_asked(r, _sweep(r), here)
+        assert r.state == "turn" and r.failures == 0 and out.give_up is None
+        lim = math.radians(NAVIGATION.random_turn_deg)
+        away = math.atan2(4.0, 3.0) + math.pi  # exploring: within half of it of the way away from (3, 4)
+        if turn:
+            assert abs(r._turn_to) <= lim and not any("exploring" in m for m in events)
+        else:
+            assert abs(wrap_angle(r._turn_to - away)) <= lim / 2 and any("exploring" in m for m in events)
+        r.decide(situation(time=t + 0.1, odometry=Pose(0.0, 0.0, r._turn_to)), lambda f: here)
+        assert r.state == after, turn
 
 
 def test_a_request_the_map_cannot_answer_leads_to_exploring_not_to_a_failure():

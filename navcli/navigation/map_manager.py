@@ -279,7 +279,7 @@ class MapManager:
         if c is None:
             same = regions.region_of((0.0, 0.0)) == regions.region_of(target)
             if same:
-                return NoCrossing("the target is in the robot's region")
+                return NoCrossing("the target is in the robot's region", here=True)
             return NoCrossing(
                 "every way to the target is blocked, by known obstacles or by diverting targets that failed"
             )

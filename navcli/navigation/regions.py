@@ -98,10 +98,12 @@ class NoCrossing:
     """Why no diverting target could be given: ``why`` in words; ``trapped`` when every edge out
     of the robot's region is blocked (the map shows no way out), else the map does not yet know
     enough (too few landmarks, the target's region is the robot's, no path cheaper than a blocked
-    arc) and looking around may tell it more."""
+    arc) and looking around may tell it more; ``here`` when the target lies in the robot's own
+    region (the map has no way to give but the straight one)."""
 
     why: str
     trapped: bool = False
+    here: bool = False  # the target is in the robot's region: the map's way is straight to it
 
 
 @dataclass(frozen=True)

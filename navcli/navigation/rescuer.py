@@ -29,7 +29,10 @@ What the thesis says, and how we do it:
   drives up to ``explore_m`` that way looking around until it sees a landmark it did not know
   (what hides the landmarks from where it is blocked is a long obstacle; they are back the way
   it came), scans for landmarks, then, blocked again, asks again with what was learned; this is
-  no failure. Once a diverting target is crossed, the original target in sight (no known long
+  no failure. When the map has none because the target lies in the robot's own region (its way
+  is straight; ``turn_when_here``), the Rescuer only turns by a random angle, as the thesis'
+  Rescuer does with no diverting target: driving away would only lengthen the way, and the turn
+  takes a potential field out of its minimum. Once a diverting target is crossed, the original target in sight (no known long
   obstacle across the straight way to it, ``sight_ends_way``) ends the way. If one is not crossed within
   the diverting timeout (or the robot is blocked again on the way), its edge is reported blocked
   to the Map Manager and another is asked for. So is the edge of one that was crossed when the
@@ -420,6 +423,12 @@ class Rescuer:
             if trapped and self._trapped:  # no way out, still, after looking around for one
                 return self._give_up(f"no way out: {why}", events, s)
             self._trapped = trapped
+            if crossing is not None and crossing.here and self.params.turn_when_here:
+                # the thesis' Rescuer with no diverting target: a random turn; the map knows the way
+                # is straight, so driving away from the target to explore would only lengthen it
+                self._start_turn(s.beliefs.odometry, events, f"no diverting target ({why})")
+                self._reset_progress(s)
+                return Rescue(events=tuple(events))
             self._explorations += 1
             if (
                 self.params.gives_up and 0 < self.params.max_diverting_failures < self._explorations

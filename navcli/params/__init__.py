@@ -335,6 +335,13 @@ class NavigationParams(ParamSet):
         what hides the landmarks from where the robot is blocked is a long obstacle, about 3 m in the papers'
         rooms); 0: turn and scan in place (navcli before)""",
     )
+    turn_when_here: bool = param(
+        True,
+        "",
+        """blocked with the target in the robot's own region (the map's way is
+        straight): turn by a random angle within random_turn_deg, as the thesis' Rescuer with no diverting target;
+        off: explore (turn away, drive explore_m, look around)""",
+    )
     sight_ends_way: bool = param(
         True,
         "",
