@@ -282,8 +282,8 @@ def test_a_rescuer_that_never_gives_up_goes_on_asking_the_map():
         assert give_up is None and len(failed) > len(CROSSINGS) + 3, extra  # asked again and again
         turns = [i for i, m in enumerate(events) if "not giving up: turning by" in m]
         assert len(turns) >= 2, extra
-        # each such turn is followed by a request (answered "no way out": exploring) before any bump
-        assert all("no diverting target" in events[i + 1] and "exploring" in events[i + 1] for i in turns), extra
+        # each such turn is followed by a request at once (answered "no way out": going on)
+        assert all("still no diverting target: going on" in events[i + 1] for i in turns), extra
 
 
 def test_not_giving_up_turns_by_a_random_angle_from_the_runs_generator():
@@ -485,6 +485,25 @@ def test_with_the_target_in_the_robots_region_the_rescuer_only_turns_by_a_random
             assert abs(wrap_angle(r._turn_to - away)) <= lim / 2 and any("exploring" in m for m in events)
         r.decide(situation(time=t + 0.1, odometry=Pose(0.0, 0.0, r._turn_to)), lambda f: here)
         assert r.state == after, turn
+
+
+def test_a_lost_target_in_the_robots_region_is_explored_for_not_turned_for():
+    """After LOST_SCANS scans the map is asked for a way toward the lost target; its answer that
+    the target is in the robot's region sends the robot exploring (what hides a target is most
+    often a long obstacle), not only turning."""
+    from navcli.navigation.regions import NoCrossing
+
+    r = Rescuer(NAVIGATION, np.random.default_rng(0))
+    t, looked, asked, events = _sweep(r), None, [], []
+    here = NoCrossing("the target is in the robot's region", here=True)
+    while not asked and t < 200.0:
+        t += 0.1
+        s = situation(time=t, I_a=0.9, looked=looked, odometry=Pose(0.0, 0.0, r._turn_to or 0.0))
+        out = r.decide(s, lambda f: asked.append(f) or here)
+        looked = next((b.action for b in out.bids if b.resource == "camera"), None)
+        events += [m for _, m in out.events]
+    assert asked == [None] and any("target not found" in m for m in events)
+    assert "exploring" in events[-1] and r.state == "turn" and r._scan_after_turn
 
 
 def test_a_request_the_map_cannot_answer_leads_to_exploring_not_to_a_failure():

@@ -271,3 +271,22 @@ def test_a_bump_restarts_the_stall_window():
             bumps, bumped = (Bump(t, "obstacle 0", (0.3, 0.0), 0.0),), t
         r.decide(situation(time=t, bumps=bumps), ask)
     assert ask.calls == [None] and r.stall_s <= t - bumped <= r.stall_s + 2 * CONTROL_DT
+
+
+def test_a_robot_led_away_from_its_target_is_blocked_after_stall_approach_windows():
+    """At 5 cm/s the stall window is 30 s; a robot driving straight away from its target at full
+    speed moves 1.5 m net in each window (no stall by displacement) but comes no closer: blocked
+    once ``stall_approach`` (2) windows, 60 s, are over, not after the long window's 240 s; with
+    ``stall_approach`` 0, not before 240 s."""
+    speed, target = 0.05, (5.0, 0.0)
+    for approach, lo, hi in ((2.0, 60.0, 60.0 + 2 * CONTROL_DT), (0.0, 240.0, 300.0)):
+        r = Rescuer(
+            replace(NAVIGATION, stall_approach=approach), np.random.default_rng(0), RobotParams(max_speed=speed)
+        )
+        t = t0 = _sweep(r)
+        ask = _Ask()
+        while not ask.calls and t < t0 + 300.0:
+            t += CONTROL_DT
+            odo = Pose(-speed * (t - t0), 0.0, 0.0)
+            r.decide(situation(target=odo.to_local(target), time=t, odometry=odo), ask)
+        assert ask.calls == [None] and lo <= t - t0 <= hi, approach

@@ -18,7 +18,9 @@ What the thesis says, and how we do it:
   ``stall_progress`` (0.3 m). Net displacement bounds how much closer the robot came to any
   target, whatever path it drove: a potential field in a minimum, swinging between a box and a
   post with its turn flipping each decision, drives on and never bumps, but stays where it was,
-  and the long window (12 m: 240 s at 5 cm/s) would leave it there for minutes. The pilot
+  and the long window (12 m: 240 s at 5 cm/s) would leave it there for minutes. It also stalls
+  when over ``stall_approach`` (2) stall windows it came less than ``stall_progress`` closer to
+  its current target, whatever its displacement (a field that leads it away along a wall). The pilot
   paper's diverting targets are there "to escape from a difficult or blocked position". The
   stall window restarts at every change of state (the sweep, scans, turns and drives out are
   deliberate), every new target and every bump (the Pilot's reflex stops and looks around). The Rescuer asks the Map Manager for
@@ -32,7 +34,8 @@ What the thesis says, and how we do it:
   no failure. When the map has none because the target lies in the robot's own region (its way
   is straight; ``turn_when_here``), the Rescuer only turns by a random angle, as the thesis'
   Rescuer does with no diverting target: driving away would only lengthen the way, and the turn
-  takes a potential field out of its minimum. Once a diverting target is crossed, the original target in sight (no known long
+  takes a potential field out of its minimum (a lost target is explored for: what hides it is
+  most often a long obstacle). Once a diverting target is crossed, the original target in sight (no known long
   obstacle across the straight way to it, ``sight_ends_way``) ends the way. If one is not crossed within
   the diverting timeout (or the robot is blocked again on the way), its edge is reported blocked
   to the Map Manager and another is asked for. So is the edge of one that was crossed when the
@@ -56,7 +59,8 @@ What the thesis says, and how we do it:
   has looked around once more with no diverting target crossed in between, the thesis' Rescuer,
   with no diverting target to compute, turns by a random angle and asks again: so does this one,
   by an angle drawn uniformly within ``random_turn_deg`` from the Navigation system's generator,
-  then asks the map at once (asked anew, a closed map sends it exploring). ``gives_up`` on ends
+  then asks the map at once; with still none, the other agents drive on from the new heading,
+  and the next blocked situation asks anew (exploring first). ``gives_up`` on ends
   the mission ``blocked`` there instead, with the reason in the outcome and the events; with it,
   ``max_diverting_failures`` set to 3 ends it at the third failure (which ends many runs in
   rooms with a way out), and bounds the looks around in a row that the map answers with no
@@ -158,6 +162,7 @@ class Rescuer:
         # the stall window, s, and where the robot was within it (time, odometry x, y), oldest first
         self.stall_s = max(params.stall_window_s, robot.time_to_drive(params.stall_window_m))
         self._trail: deque[tuple[float, float, float]] = deque()
+        self._approach: deque[tuple[float, float]] = deque()  # (time, distance to the target) over the longer window
 
     # -- the state machine
     def decide(self, s: Situation, ask: Ask) -> Rescue:
@@ -192,6 +197,7 @@ class Rescuer:
         for bump in s.beliefs.bumps:
             self._bumps.append(bump.time)
             self._trail.clear()
+            self._approach.clear()
         while self._bumps and self._bumps[0] < s.time - self.window_s:
             self._bumps.popleft()
 
@@ -217,11 +223,17 @@ class Rescuer:
             return Rescue((Bid(self.name, "motion", Move(err, 0.0), self.params.rescuer_bid),), events=tuple(events))
         if self._ask_after_turn:
             # the thesis' Rescuer with no diverting target: turn by a random angle and ask again;
-            # asked anew (not as the second "no way out" in a row), a closed map sends it exploring
+            # with still none, the other agents drive on from the new heading, and the next
+            # blocked situation asks anew (exploring first: a robot pinned against the wall
+            # opposite its target drove into that wall again and again)
             self._ask_after_turn = False
             self._trapped = False
             self._enter("normal", s)
-            return self._request(s, events, ask)
+            again = ask(None)
+            if isinstance(again, Crossing):
+                return self._divert(again, s, events)
+            events.append(("info", "turned; still no diverting target: going on"))
+            return Rescue(events=tuple(events))
         if not self._scan_after_turn:
             self._enter("normal", s)
             return None
@@ -299,7 +311,7 @@ class Rescuer:
                     f"target not found in {LOST_SCANS} scans: asking the map for a way toward where it is believed to be",
                 )
             )
-            return self._request(s, events, ask)
+            return self._request(s, events, ask, lost=True)
         self._start_turn(s.beliefs.odometry, events, "target still lost after a scan")
         return Rescue(events=tuple(events))
 
@@ -410,9 +422,12 @@ class Rescuer:
         events: list[tuple[str, str]],
         ask: Ask,
         abandoned: Edge | None = None,
+        lost: bool = False,
     ) -> Rescue:
         """Ask the map for a diverting target (telling it of the ``abandoned`` edge, if any) and set
-        it; with none, explore, or end the mission when the map still shows no way out."""
+        it; with none, turn (the target in the robot's region, unless it is ``lost``: what hides
+        it is then most often a long obstacle), explore, or give up when the map still shows no
+        way out."""
         untold, self._untold = self._untold, None
         if untold is not None and abandoned is not None:
             ask(untold)  # two failures to tell (rare): the first one's answer is not the robot's way now
@@ -423,7 +438,7 @@ class Rescuer:
             if trapped and self._trapped:  # no way out, still, after looking around for one
                 return self._give_up(f"no way out: {why}", events, s)
             self._trapped = trapped
-            if crossing is not None and crossing.here and self.params.turn_when_here:
+            if crossing is not None and crossing.here and self.params.turn_when_here and not lost:
                 # the thesis' Rescuer with no diverting target: a random turn; the map knows the way
                 # is straight, so driving away from the target to explore would only lengthen it
                 self._start_turn(s.beliefs.odometry, events, f"no diverting target ({why})")
@@ -555,6 +570,7 @@ class Rescuer:
         self._progress_since = s.time
         self._bumps.clear()
         self._trail.clear()
+        self._approach.clear()
 
     def _blocked(self, s: Situation, line: tuple[Point, Point] | None) -> str | None:
         """Why the robot is blocked on its way to the current target (``line``: the diverting line,
@@ -576,16 +592,19 @@ class Rescuer:
         if s.time - self._progress_since > self.window_s:
             return "no progress toward the target"
         if held is None and p.stall_rule:
-            return self._stalled(s)
+            return self._stalled(s, aim)
         return held
 
-    def _stalled(self, s: Situation) -> str | None:
+    def _stalled(self, s: Situation, aim: Point) -> str | None:
         """The short no-progress rule: over the last ``stall_s`` seconds (the stall window,
         ``max(stall_window_s, stall_window_m / robot.max_speed)``), the robot moved less than
         ``stall_progress`` net (odometry): it came less than that closer to any target, whatever
         path it drove. The trail restarts with every state change (a deliberate scan or turn is
         no stall), every new target and every bump (the Pilot's reflex looks around)."""
         o = s.beliefs.odometry
+        closer = self._closer(s, aim) if self.params.stall_approach > 0 else None
+        if closer is not None:
+            return closer
         trail = self._trail
         trail.append((s.time, o.x, o.y))
         while len(trail) > 1 and trail[1][0] <= s.time - self.stall_s:
@@ -597,6 +616,21 @@ class Rescuer:
         if net >= self.params.stall_progress:
             return None
         return f"no progress: {net:.2f} m net in {s.time - t0:.0f} s"
+
+    def _closer(self, s: Situation, aim: Point) -> str | None:
+        """The stall rule's second clause (``stall_approach`` windows, our design): over that many
+        stall windows the robot came less than ``stall_progress`` closer to its current target,
+        whatever its displacement (a potential field led round and away along a wall)."""
+        span = self.params.stall_approach * self.stall_s
+        d = math.hypot(*aim)
+        trail = self._approach
+        trail.append((s.time, d))
+        while len(trail) > 1 and trail[1][0] <= s.time - span:
+            trail.popleft()
+        t0, d0 = trail[0]
+        if s.time - t0 < span or d0 - d >= self.params.stall_progress:
+            return None
+        return f"no progress: {d0 - d:.2f} m closer in {s.time - t0:.0f} s"
 
     def _stuck(self, s: Situation) -> str | None:
         """Why the robot is held where it is, whatever its target: the Pilot reports a long

@@ -207,6 +207,12 @@ class PilotParams(ParamSet):
         above=0.0,
     )
     stall_min_distance: float = param(0.1, "m", "commanded in that window before a stall can be called", above=0.0)
+    stall_approach: float = param(
+        2.0,
+        "",
+        """and blocked when, over this many stall windows, the robot came less than
+        stall_progress closer to its target (led away round and round); 0: the net displacement alone""",
+    )
     stall_progress: float = param(
         0.2, "", "a stall: less than this fraction of the commanded distance moved", at_most=1.0
     )
@@ -305,6 +311,12 @@ class NavigationParams(ParamSet):
         "m",
         "the stall window: as long as the robot takes to drive this far at robot.max_speed (30 s at 5 cm/s)",
         above=0.0,
+    )
+    stall_approach: float = param(
+        2.0,
+        "",
+        """and blocked when, over this many stall windows, the robot came less than
+        stall_progress closer to its target (led away round and round); 0: the net displacement alone""",
     )
     stall_progress: float = param(
         0.3, "m", "less net displacement than this over the stall window: no progress", above=0.0
