@@ -144,8 +144,8 @@ def test_an_edge_whose_middle_is_seen_past_a_walls_end_is_not_handed_over():
     """A wall from (5, 3.5) to (2.6, 3.5) ends left of the sight line from the robot (2, -1) to
     D-C's middle (2, 4), which it so clears; but the line to the point a quarter in from C,
     (3, 4), meets y = 3.5 at x = 2.9, on the wall: the robot, led at D-C, would wedge between
-    the wall's end and C. The edge handed over is the diagonal A-C, whose middle half (1, 1) to
-    (3, 3) lies wholly below the wall."""
+    the wall's end and C. Seen whole (``diverting_seen_whole``), the edge handed over is the
+    diagonal A-C, whose middle half (1, 1) to (3, 3) lies wholly below the wall."""
     from navcli.navigation.regions import crossing_along
 
     r = triangulate(SQUARE)
@@ -153,7 +153,8 @@ def test_an_edge_whose_middle_is_seen_past_a_walls_end_is_not_handed_over():
     wall = ("wall", (5.0, 3.5), (2.6, 3.5))
     assert not crossing_along(robot, (2.0, 4.0), wall[1], wall[2], 0.0)  # the middle alone is in sight
     assert crossing_along(robot, (3.0, 4.0), wall[1], wall[2], 0.0)
-    assert first_crossing(r, robot, target, lines=[wall]).edge == frozenset("AC")
+    assert first_crossing(r, robot, target, lines=[wall], whole=True).edge == frozenset("AC")
+    assert first_crossing(r, robot, target, lines=[wall]).edge == frozenset("CD")  # its middle alone
 
 
 def test_a_logged_run_is_the_same_file_whatever_pythons_hash_seed(tmp_path):

@@ -275,7 +275,9 @@ class MapManager:
         sight = (
             [(o.key, o.a, o.b) for o in beliefs.obstacles if not o.is_point] if self.params.diverting_in_sight else None
         )
-        c = first_crossing(regions, (0.0, 0.0), target, blocked, self.params.blocked_cost, sight)
+        c = first_crossing(
+            regions, (0.0, 0.0), target, blocked, self.params.blocked_cost, sight, self.params.diverting_seen_whole
+        )
         if c is None:
             same = regions.region_of((0.0, 0.0)) == regions.region_of(target)
             if same:

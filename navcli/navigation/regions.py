@@ -309,6 +309,7 @@ def first_crossing(
     blocked: dict[Edge, float] | None = None,
     blocked_cost: float = 1000.0,
     lines: list[tuple[str, Point, Point]] | None = None,
+    whole: bool = False,
 ) -> Crossing | None:
     """The first edge of the cheapest path from the robot's region to the target's (arcs cost 1,
     or ``blocked_cost`` times the count in ``blocked``); ``None`` when they are the same region
@@ -345,7 +346,7 @@ def first_crossing(
     path.reverse()
     shared_of = {frozenset((i, j)): e for i, j, e in arcs}
     edges = [shared_of[frozenset(pair)] for pair in zip(path, path[1:])]
-    shared = _farthest_in_sight(regions, robot, edges, lines) if lines is not None else edges[0]
+    shared = _farthest_in_sight(regions, robot, edges, lines, whole) if lines is not None else edges[0]
     u, v = sorted(shared)
     (pu0, pu1), (pv0, pv1) = (regions.points[regions.ids.index(k)] for k in (u, v))
     pu, pv = (float(pu0), float(pu1)), (float(pv0), float(pv1))
@@ -358,11 +359,12 @@ def first_crossing(
 
 
 def _farthest_in_sight(
-    regions: Regions, robot: Point, edges: list[Edge], lines: list[tuple[str, Point, Point]]
+    regions: Regions, robot: Point, edges: list[Edge], lines: list[tuple[str, Point, Point]], whole: bool = False
 ) -> Edge:
     """The last of the path's ``edges`` between two real things (landmarks or obstacle points:
     a virtual landmark may lie beyond the room's walls) whose middle half the robot sees whole
-    (:func:`_seen_whole`); the first edge when none farther is.
+    (:func:`_seen_whole`; without ``whole``, whose middle it sees); the first edge when none
+    farther is.
 
     Seeing the middle alone is not enough: past the end of a wall (or of a fence drawn short),
     the sight line to an edge's middle may clear it while the edge lies beyond the wall, and the
@@ -373,7 +375,12 @@ def _farthest_in_sight(
         if any(k.startswith("~") for k in e):
             continue
         a, b = (pos[k] for k in sorted(e))
-        if _seen_whole(robot, a, b, lines):
+        mid = ((a[0] + b[0]) / 2, (a[1] + b[1]) / 2)
+        if (
+            _seen_whole(robot, a, b, lines)
+            if whole
+            else not any(crossing_along(robot, mid, p, q, 0.0) for _, p, q in lines)
+        ):
             return e
     return edges[0]
 

@@ -79,7 +79,6 @@ generator.
 from __future__ import annotations
 
 import math
-from collections import deque
 from typing import Callable, NamedTuple
 
 import numpy as np
@@ -87,14 +86,11 @@ import numpy as np
 from ..bidding import Bid, Look, Move, looked_at
 from ..geometry import ORIGIN, Point, Pose, midpoint, segments_intersect, wrap_angle
 from ..params import NAVIGATION, ROBOT, NavigationParams, RobotParams
+from .progress import MIN_WINDOW_S, Progress
+from .scanning import STOP, Scanning
 from .regions import Crossing, Edge, NoCrossing, ends
 from .situation import Situation
 
-STOP = Move(0.0, 0.0)  # a value: one serves every stop
-MIN_WINDOW_S = 20.0
-"""s: the shortest blocked window and diverting timeout, whatever the speed (our design: a few of
-the stops that take fixed time, a scan of five looks about 4 s, a reflex 4-6 s, so a fast robot
-is not declared blocked by its own stops; at 0.3 m/s the windows are 40 s and 90 s)."""
 Ask = Callable[[Edge | None], Crossing | NoCrossing | None]
 """The Rescuer's question to the Map Manager: ``ask(failed_edge)`` (see :meth:`Rescuer.decide`)."""
 LOST_SCANS = 3  # scans (each followed by a random turn) before the map is asked for a way toward a lost target
@@ -124,14 +120,15 @@ def _in_sight(s: Situation) -> bool:
     )
 
 
-class Rescuer:
+class Rescuer(Scanning):
     name = "rescuer"
 
     def __init__(
         self, params: NavigationParams = NAVIGATION, rng: np.random.Generator | None = None, robot: RobotParams = ROBOT
     ):
         self.params = params
-        self.window_s = max(robot.time_to_drive(params.blocked_window_m), MIN_WINDOW_S)  # the blocked window, s
+        self.progress = Progress(params, robot)
+        self.window_s, self.stall_s = self.progress.window_s, self.progress.stall_s  # the blocked and stall windows, s
         self.timeout_s = max(robot.time_to_drive(params.diverting_timeout_m), MIN_WINDOW_S)  # the diverting timeout, s
         self.speed = robot.max_speed
         self.drive_s = 2.0 * robot.time_to_drive(params.explore_m)  # the longest an exploring drive lasts, s
@@ -156,13 +153,6 @@ class Rescuer:
         self.failures = 0
         self.tried: list[tuple[Point, Point, str]] = []  # each diverting line ended (odometry frame) and how
         self.diverting_targets = 0
-        self._progress_best = math.inf
-        self._progress_since = 0.0
-        self._bumps: deque[float] = deque()
-        # the stall window, s, and where the robot was within it (time, odometry x, y), oldest first
-        self.stall_s = max(params.stall_window_s, robot.time_to_drive(params.stall_window_m))
-        self._trail: deque[tuple[float, float, float]] = deque()
-        self._approach: deque[tuple[float, float]] = deque()  # (time, distance to the target) over the longer window
 
     # -- the state machine
     def decide(self, s: Situation, ask: Ask) -> Rescue:
@@ -172,7 +162,7 @@ class Rescuer:
         Each state's phase either answers for this tick or hands over to the next (a turn ends in
         a drive, a drive in a look around, a look around in normal)."""
         events: list[tuple[str, str]] = []
-        self._count_bumps(s)
+        self.progress.count_bumps(s)
         if s.I_a <= self.params.I_a_bar:
             self._lost_scans = 0  # found again, in whatever state: the next loss starts its scans afresh
         for phase in (self._sweep_phase, self._turn_phase, self._drive_phase, self._explore_phase, self._lost_phase):
@@ -189,17 +179,6 @@ class Rescuer:
             events.append(("warning", f"target lost (I_a = {s.I_a:.2f} > {self.params.I_a_bar:g}): stopping to scan"))
             return Rescue(self._scan_bids(), events=tuple(events))
         return self._normal_phase(s, events, ask)
-
-    def _count_bumps(self, s: Situation) -> None:
-        """Count the bumps of the blocked window; a bump also restarts the stall window (the
-        Pilot's reflex stops, looks around and backs up: a deliberate stop, no stall; bumps
-        have their own rule, ``blocked_bumps``)."""
-        for bump in s.beliefs.bumps:
-            self._bumps.append(bump.time)
-            self._trail.clear()
-            self._approach.clear()
-        while self._bumps and self._bumps[0] < s.time - self.window_s:
-            self._bumps.popleft()
 
     def _sweep_phase(self, s: Situation, events: list[tuple[str, str]], ask: Ask) -> Rescue | None:
         """The initial sweep: look at each pan, then normal."""
@@ -364,7 +343,7 @@ class Rescuer:
     def _on_blocked(self, s: Situation, why: str, events: list[tuple[str, str]], ask: Ask) -> Rescue:
         """Blocked for ``why``: another way if the Pilot sees the way closed; else count the
         failed diverting target (held, or crossed and leading nowhere) and ask for a new one."""
-        caught = len(self._bumps) >= self.params.blocked_bumps  # (before the abandoned crossing clears them)
+        caught = self.progress.caught()  # (before the abandoned crossing clears them)
         tried = self._crossing.edge if self._crossing is not None else self._last_crossed
         if tried is not None and s.beliefs.pilot_blocked is not None:
             # the Pilot sees a long obstacle across the way: the map, which knows it now, may lead
@@ -490,36 +469,6 @@ class Rescuer:
         events.append(("error", f"giving up: {why}"))
         return Rescue(events=tuple(events), give_up=why)
 
-    # -- scans and turns
-    def _scan_look(self) -> Look:
-        """The look of the scan's current pan: a scan for the lost target (the target and the
-        known landmarks) when the target is lost; a search for new landmarks otherwise (the
-        initial sweep, and looking around to explore)."""
-        pan = math.radians(self.params.scan_pans_deg[self._scan])
-        return Look(pan, "scan" if self.state == "lost" else "search")
-
-    def _scan_bids(self) -> tuple[Bid, ...]:
-        v = self.params.rescuer_bid
-        return (Bid(self.name, "motion", STOP, v), Bid(self.name, "camera", self._scan_look(), v))
-
-    def _scanned(self, looked: Look | None) -> bool:
-        """Advance the scan when the camera reports the look asked for; True when all are done."""
-        if self._scan < len(self.params.scan_pans_deg) and looked_at(looked, self._scan_look()):
-            self._scan += 1
-        return self._scan >= len(self.params.scan_pans_deg)
-
-    def _start_turn(self, odo: Pose, events: list[tuple[str, str]], why: str, away: Point | None = None) -> None:
-        """Turn by a random angle of up to ``random_turn_deg``; exploring (``away``: the target,
-        egocentric), to a random heading within half that of the one away from the target."""
-        lim = math.radians(self.params.random_turn_deg)
-        if away is None:
-            angle = float(self.rng.uniform(-lim, lim))
-        else:
-            angle = wrap_angle(math.atan2(away[1], away[0]) + math.pi + float(self.rng.uniform(-lim / 2, lim / 2)))
-        self._turn_to = wrap_angle(odo.theta + angle)
-        self.state = "turn"
-        events.append(("warning", f"{why}: turning by {math.degrees(angle):.0f} deg"))
-
     def _enter(self, state: str, s: Situation) -> None:
         self.state, self._scan = state, 0
         self._reset_progress(s)
@@ -566,71 +515,29 @@ class Rescuer:
 
     # -- blocked
     def _reset_progress(self, s: Situation) -> None:
-        self._progress_best = math.inf
-        self._progress_since = s.time
-        self._bumps.clear()
-        self._trail.clear()
-        self._approach.clear()
+        self.progress.reset(s.time)
 
     def _blocked(self, s: Situation, line: tuple[Point, Point] | None) -> str | None:
         """Why the robot is blocked on its way to the current target (``line``: the diverting line,
         if one is held), or None: the Pilot reports a long obstacle ahead it cannot easily avoid
-        (the thesis' blocked situation), no progress within the window, too many bumps within
-        it, or a diverting target held too long."""
+        (the thesis' blocked situation), no progress within the blocked window, too many bumps
+        within it, a diverting target held too long, or a stall (not in the learning paper's
+        task, whose trials end at its own blocked situations)."""
         p = self.params
         aim = s.aim if line is None else midpoint(*line)
         if aim is None:  # the learning paper's task: "blocked by the landmarks or by the wall", known target or not
             return self._stuck(s) if p.blocked_ends else None
-        d = math.hypot(*aim)
-        if d < self._progress_best - p.blocked_progress:
-            self._progress_best, self._progress_since = d, s.time
+        self.progress.came_closer(s, aim)
         held = self._stuck(s)
         if held is not None and s.beliefs.pilot_blocked is not None:
             return held  # (the Pilot's report first, then the windows, then the bumps)
         if self._crossing is not None and s.time - self._crossing_since > self.timeout_s:
             return "the diverting target was not crossed in time"
-        if s.time - self._progress_since > self.window_s:
+        if self.progress.window_over(s):
             return "no progress toward the target"
-        if held is None and p.stall_rule:
-            return self._stalled(s, aim)
+        if held is None and p.stall_rule and not p.blocked_ends:
+            return self.progress.stalled(s, aim)
         return held
-
-    def _stalled(self, s: Situation, aim: Point) -> str | None:
-        """The short no-progress rule: over the last ``stall_s`` seconds (the stall window,
-        ``max(stall_window_s, stall_window_m / robot.max_speed)``), the robot moved less than
-        ``stall_progress`` net (odometry): it came less than that closer to any target, whatever
-        path it drove. The trail restarts with every state change (a deliberate scan or turn is
-        no stall), every new target and every bump (the Pilot's reflex looks around)."""
-        o = s.beliefs.odometry
-        closer = self._closer(s, aim) if self.params.stall_approach > 0 else None
-        if closer is not None:
-            return closer
-        trail = self._trail
-        trail.append((s.time, o.x, o.y))
-        while len(trail) > 1 and trail[1][0] <= s.time - self.stall_s:
-            trail.popleft()  # keep the last place at or before the window's start
-        t0, x0, y0 = trail[0]
-        if s.time - t0 < self.stall_s:
-            return None
-        net = math.hypot(o.x - x0, o.y - y0)
-        if net >= self.params.stall_progress:
-            return None
-        return f"no progress: {net:.2f} m net in {s.time - t0:.0f} s"
-
-    def _closer(self, s: Situation, aim: Point) -> str | None:
-        """The stall rule's second clause (``stall_approach`` windows, our design): over that many
-        stall windows the robot came less than ``stall_progress`` closer to its current target,
-        whatever its displacement (a potential field led round and away along a wall)."""
-        span = self.params.stall_approach * self.stall_s
-        d = math.hypot(*aim)
-        trail = self._approach
-        trail.append((s.time, d))
-        while len(trail) > 1 and trail[1][0] <= s.time - span:
-            trail.popleft()
-        t0, d0 = trail[0]
-        if s.time - t0 < span or d0 - d >= self.params.stall_progress:
-            return None
-        return f"no progress: {d0 - d:.2f} m closer in {s.time - t0:.0f} s"
 
     def _stuck(self, s: Situation) -> str | None:
         """Why the robot is held where it is, whatever its target: the Pilot reports a long
@@ -638,6 +545,6 @@ class Rescuer:
         the blocked window."""
         if s.beliefs.pilot_blocked is not None:
             return f"the Pilot reports {s.beliefs.pilot_blocked} ahead, which it cannot easily avoid"
-        if len(self._bumps) >= self.params.blocked_bumps:
-            return f"{len(self._bumps)} bumps"
+        if self.progress.caught():
+            return f"{len(self.progress.bumps)} bumps"
         return None

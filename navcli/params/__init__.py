@@ -428,6 +428,13 @@ class NavigationParams(ParamSet):
         "",
         "the diverting target is the farthest edge of the way the robot sees straight; off: the first (navcli before)",
     )
+    diverting_seen_whole: bool = param(
+        False,
+        "",
+        """in sight means the edge's middle half seen whole (sight lines to its middle
+        and quarter points clear, no obstacle's end between: never an edge beyond a wall's end); off: its middle
+        alone (measured: as fast or faster in the trap rooms and slanted-8x8, 5 reruns)""",
+    )
 
 
 @dataclass(frozen=True)
