@@ -52,7 +52,8 @@ What the thesis says, and how we do it:
 - **The learning paper's task** (``rescuer_looks`` 0, ``blocked_ends`` 1): no looks at all (no
   sweep, no scans: the camera is the Learning Agent's; a lost target is left to it), and the
   first blocked situation ends the mission ``blocked`` (its trials "terminate ... if the robot
-  is blocked").
+  is blocked"), by the blocked window and the bumps: the stall rule, a rescue of the potential
+  field, is not applied to its trials.
 - **Never giving up** (``gives_up`` off, the default): only a diverting target tried and failed
   is a failure, and nothing ends the mission before its time limit. Where the map shows no way
   out of the robot's regions (every edge out closed by known obstacles) again after the robot
@@ -68,7 +69,9 @@ What the thesis says, and how we do it:
 
 The state machine (:meth:`Rescuer.decide`) is a phase per state: the sweep, a turn, a drive out,
 a look around, a lost target's scans, and normal (following a diverting target, watching for
-being blocked), each answering for the tick or handing over to the next.
+being blocked), each answering for the tick or handing over to the next. The windows that say
+the robot is blocked are kept by :class:`~.progress.Progress`; the scans and turns are
+:class:`~.scanning.Scanning`'s.
 
 The Rescuer bids ``rescuer_bid`` (1.0, our design: its actions are the emergencies of the
 Navigation system, and a stop is always safe) to stop while it sweeps or scans, to look at each
