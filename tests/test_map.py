@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import pytest
 from hypothesis import assume, given, settings
@@ -12,6 +13,7 @@ from navcli.bidding import Look
 from navcli.fuzzy import FuzzyPoint
 from navcli.navigation.beta_map import BetaNetwork, collinearity, encode, recall
 from navcli.navigation.regions import first_crossing, triangulate
+from navcli.params import NAVIGATION
 
 CRISP = (0.0, 0.0, 0.0, 0.0)
 coord = st.floats(-8.0, 8.0)
@@ -136,6 +138,23 @@ def test_given_what_blocks_the_view_the_diverting_target_is_the_farthest_edge_of
     fence = ("fence", (0.5, 3.0), (3.5, 3.2))
     assert first_crossing(r, robot, target, lines=[fence]).edge == frozenset("AC")
     assert first_crossing(r, robot, target).edge == frozenset("AB")
+
+
+def test_an_edge_whose_middle_is_seen_past_a_walls_end_is_not_handed_over():
+    """A wall from (5, 3.5) to (2.6, 3.5) ends left of the sight line from the robot (2, -1) to
+    D-C's middle (2, 4), which it so clears; but the line to the point a quarter in from C,
+    (3, 4), meets y = 3.5 at x = 2.9, on the wall: the robot, led at D-C, would wedge between
+    the wall's end and C. Seen whole (``diverting_seen_whole``), the edge handed over is the
+    diagonal A-C, whose middle half (1, 1) to (3, 3) lies wholly below the wall."""
+    from navcli.navigation.regions import crossing_along
+
+    r = triangulate(SQUARE)
+    robot, target = (2.0, -1.0), (2.0, 6.5)
+    wall = ("wall", (5.0, 3.5), (2.6, 3.5))
+    assert not crossing_along(robot, (2.0, 4.0), wall[1], wall[2], 0.0)  # the middle alone is in sight
+    assert crossing_along(robot, (3.0, 4.0), wall[1], wall[2], 0.0)
+    assert first_crossing(r, robot, target, lines=[wall], whole=True).edge == frozenset("AC")
+    assert first_crossing(r, robot, target, lines=[wall]).edge == frozenset("CD")  # its middle alone
 
 
 def test_a_logged_run_is_the_same_file_whatever_pythons_hash_seed(tmp_path):
@@ -335,6 +354,57 @@ def test_what_a_fence_was_seen_to_block_between_landmarks_stays_known_when_the_m
     way = mm.diverting_target(forgot, shift(target))
     assert way.edge not in expected and way.cost > through.cost  # round it
 
+    # seen open: an image showing both landmarks of a pair, no known fence across, clears its
+    # record (records are taken at the first image and every SEEN_EVERY-th after it)
+    from navcli.navigation.map_manager import SEEN_EVERY
+
+    def image(mm, t, shown):
+        for i in range(SEEN_EVERY):  # the landmarks ``shown`` are in each image, the others were seen at 0
+            now = t + i * 0.1
+            then = tuple(KnownLandmark(k, point(*p), now if k in shown else 0.0) for k, p in rel.items())
+            mm.observe(Beliefs(now, Pose(0, 0, 0), shift(target), None, (), looked=Look(0.0, "search"), landmarks=then))
+
+    image(mm, 1.0, {"A", "C"})  # (the first image was the one that saw the fence)
+    assert set(mm.seen_blocked) == expected - {frozenset("AC")}
+    kept = MapManager(replace(NAVIGATION, seen_closed_cost=0.0))  # closed for good
+    kept.observe(seen)
+    image(kept, 1.0, set(marks))
+    assert set(kept.seen_blocked) == expected
+
+
+def test_a_way_seen_closed_costs_more_and_never_closes_the_robot_in():
+    """Records of a fence the memory no longer holds across every edge of the robot's region:
+    the way out through one costs 1 + seen_closed_cost (100) for that arc, and the map gives it;
+    with ``seen_closed_cost`` 0, the records block as a known fence does and the map shows no way
+    out."""
+    from navcli.beliefs import Beliefs, KnownLandmark
+    from navcli.geometry import Pose
+    from navcli.navigation.map_manager import MapManager
+
+    point = lambda x, y: FuzzyPoint(x, y, (0.02, 0.014, 0.006, 0.0))  # noqa: E731
+    marks = {"A": (-2.0, -1.0), "B": (2.0, -1.0), "C": (0.0, 2.0), "D": (0.0, 6.0), "E": (4.0, 4.0)}
+    target = (0.5, 4.5)  # beyond C, in region C-D-E
+    b = Beliefs(
+        0.0,
+        Pose(0, 0, 0),
+        target,
+        None,
+        (),
+        landmarks=tuple(KnownLandmark(k, point(*p), 0.0) for k, p in marks.items()),
+    )
+    r = triangulate(marks, NAVIGATION.virtual_distance)
+    start = r.region_of((0.0, 0.0))
+    assert {r.ids[v] for v in r.triangles[start]} == set("ABC")
+    around = {e: "fence-1" for i, j, e in r.edges() if start in (i, j)}
+    assert set(around) == {frozenset(p) for p in ("AB", "BC", "AC")}
+    for cost, trapped in ((NAVIGATION.seen_closed_cost, False), (0.0, True)):
+        mm = MapManager(replace(NAVIGATION, seen_closed_cost=cost))
+        mm.seen_blocked = dict(around)
+        c = mm.diverting_target(b, target)
+        assert isinstance(c, NoCrossing) == trapped and (not trapped or c.trapped)
+        if not trapped:  # one recorded arc on the way out (A-C or B-C toward the target), then open arcs
+            assert 1.0 + cost < c.cost < 1.0 + cost + 10.0
+
 
 def test_way_out_is_a_way_through_edges_not_blocked_out_of_the_robots_regions():
     r = triangulate(SQUARE)
@@ -394,12 +464,22 @@ def test_an_edge_where_a_failed_one_was_is_that_edge_again_under_its_new_names()
     assert not isinstance(again, NoCrossing) and again.edge != renamed
     # a map that never failed there takes the renamed edge; one that failed far from it does too
     assert MapManager().diverting_target(beliefs("obstacle-9", 0.05), (0.0, 4.0)).edge == renamed
-    far = MapManager()
+    by_ends = replace(NAVIGATION, dead_end_radius=0.0)  # matched by its ends alone (the dead end's radius: below)
+    far = MapManager(by_ends)
     far.diverting_target(beliefs("obstacle-1", 0.0), (0.0, 4.0))
     far.report_blocked(c.edge)
     moved = 2.5 * SAME_PLACE_M
     far_edge = far.diverting_target(beliefs("obstacle-9", moved), (0.0, 4.0)).edge
-    assert far_edge == MapManager().diverting_target(beliefs("obstacle-9", moved), (0.0, 4.0)).edge
+    assert far_edge == MapManager(by_ends).diverting_target(beliefs("obstacle-9", moved), (0.0, 4.0)).edge
+    # remembered by place, the dead end is that edge again: its middle moved by half of 1.25 m, inside
+    # dead_end_radius (1 m), though its moved end lies 1.25 m from where it was, beyond SAME_PLACE_M
+    assert 2.5 * SAME_PLACE_M / 2 < NAVIGATION.dead_end_radius < 2.5 * SAME_PLACE_M
+    near = MapManager()
+    near.diverting_target(beliefs("obstacle-1", 0.0), (0.0, 4.0))
+    near.report_blocked(c.edge)
+    assert near.dead_ends == [pytest.approx((0.3 / 2 + -2.0 / 2, 2.2 / 2 + 2.0 / 2))]  # the middle of A-(0.3, 2.2)
+    renamed_far = frozenset(k.replace("obstacle-1:", "obstacle-9:") for k in c.edge)
+    assert near.diverting_target(beliefs("obstacle-9", moved), (0.0, 4.0)).edge not in (far_edge, renamed_far)
 
 
 def test_an_edge_to_a_virtual_landmark_is_the_failed_one_again_only_the_same_way_out():

@@ -16,7 +16,7 @@ from navcli.beliefs import Beliefs, Bump
 from navcli.bidding import Bid, Look, Move
 from navcli.config import RunSpec
 from navcli.fuzzy import ALPHAS, CUT, FuzzyPoint
-from navcli.geometry import Pose
+from navcli.geometry import Pose, wrap_angle
 from navcli.navigation import Communicator, DistanceEstimator, NavigationSystem, RiskManager, Situation, TargetTracker
 from navcli.navigation.regions import Crossing
 from navcli.navigation.rescuer import Rescuer
@@ -187,7 +187,7 @@ def _sweep(r: Rescuer):
 
 
 def test_rescuer_sweeps_then_blocked_diverts_crosses_and_restores_the_original_target():
-    p = NAVIGATION
+    p = replace(NAVIGATION, stall_rule=False)  # the long window alone (the stall rule: its own tests)
     r = Rescuer(p, np.random.default_rng(0))
     t = _sweep(r)
     assert r.state == "normal"
@@ -253,10 +253,11 @@ CROSSINGS = (
 def test_rescuer_abandons_a_diverting_target_that_cannot_be_reached_and_asks_again_until_no_way_is_left():
     """The Rescuer's rule: failures end no mission by their count. Each diverting target not crossed
     is abandoned, the map told of its edge, and another asked for; the mission ends blocked only
-    when the map shows no way out, and again after a look around."""
+    when the map shows no way out, and again after a look around (with ``gives_up``: by default
+    it never ends the mission)."""
     from navcli.navigation.regions import NoCrossing
 
-    r = Rescuer(NAVIGATION, np.random.default_rng(0))
+    r = Rescuer(replace(NAVIGATION, gives_up=True), np.random.default_rng(0))
     none_left = NoCrossing("every edge out is blocked", trapped=True)
     t, give_up, events, failed = _bumped_until_given_up(r, _sweep(r), [*CROSSINGS, none_left, none_left])
     assert give_up == "no way out: every edge out is blocked"
@@ -268,17 +269,38 @@ def test_rescuer_abandons_a_diverting_target_that_cannot_be_reached_and_asks_aga
 
 
 def test_a_rescuer_that_never_gives_up_goes_on_asking_the_map():
-    """``gives_up`` 0 (long benchmarks): neither the map's "no way out", twice, nor a count of
-    failures ends the mission; the Rescuer explores and asks the map again each time."""
+    """``gives_up`` off (the default): neither the map's "no way out", twice, nor a count of
+    failures ends the mission; where it would give up, the Rescuer turns by a random angle and
+    asks the map again at once (the thesis), and explores when the answer is still none."""
     from navcli.navigation.regions import NoCrossing
 
     none_left = NoCrossing("every edge out is blocked", trapped=True)
     for extra in ({}, {"max_diverting_failures": 2}):
-        r = Rescuer(replace(NAVIGATION, gives_up=0, **extra), np.random.default_rng(0))
+        r = Rescuer(replace(NAVIGATION, **extra), np.random.default_rng(0))
         answers = itertools.chain(CROSSINGS, itertools.repeat(none_left))
         t, give_up, events, failed = _bumped_until_given_up(r, _sweep(r), answers, limit=2000.0)
         assert give_up is None and len(failed) > len(CROSSINGS) + 3, extra  # asked again and again
-        assert sum("would give up" in m for m in events) >= 2
+        turns = [i for i, m in enumerate(events) if "not giving up: turning by" in m]
+        assert len(turns) >= 2, extra
+        # each such turn is followed by a request at once (answered "no way out": going on)
+        assert all("still no diverting target: going on" in events[i + 1] for i in turns), extra
+
+
+def test_not_giving_up_turns_by_a_random_angle_from_the_runs_generator():
+    """The turn that replaces giving up is drawn uniformly within ``random_turn_deg`` from the
+    Rescuer's generator: two generators of one seed turn alike, of two seeds differently."""
+    from navcli.navigation.regions import NoCrossing
+
+    def first_turn(seed):
+        r = Rescuer(NAVIGATION, np.random.default_rng(seed))
+        t = _sweep(r)
+        r._trapped = True  # the map said "no way out" once already
+        t, out, _ = _blocked_until_asked(r, t, NoCrossing("every edge out is blocked", trapped=True))
+        assert out.give_up is None and r.state == "turn" and r._ask_after_turn
+        return r._turn_to
+
+    a, b, c = first_turn(1), first_turn(1), first_turn(2)
+    assert a == b and a != c and all(abs(x) <= math.radians(NAVIGATION.random_turn_deg) for x in (a, c))
 
 
 def test_a_target_found_again_starts_the_next_loss_with_fresh_scans():
@@ -341,7 +363,7 @@ def test_bumped_out_of_a_diverting_target_the_robot_drives_out_before_the_map_is
 def test_the_count_of_failures_may_still_end_a_mission():
     """``max_diverting_failures`` > 0 (3: a switch for the rule of ending after three): that many abandoned
     diverting targets end the mission, each taking ``blocked_bumps`` bumps, not the time limit."""
-    p = replace(NAVIGATION, max_diverting_failures=2)
+    p = replace(NAVIGATION, max_diverting_failures=2, gives_up=True)
     r = Rescuer(p, np.random.default_rng(0))
     t, give_up, events, failed = _bumped_until_given_up(r, _sweep(r), CROSSINGS)
     assert give_up == "2 diverting targets failed"
@@ -410,7 +432,7 @@ def test_a_trap_with_no_way_out_ends_blocked_well_before_its_time_limit():
     from navcli.mission import Mission
 
     sc = load_scenario(SCENARIOS / "trap-box.yaml")
-    m = Mission(RunSpec.build(sc, pilot="geometric"))
+    m = Mission(RunSpec.build(sc, pilot="geometric", overrides={"navigation.gives_up": True}))
     while m.outcome is None:
         m.step()
     assert m.outcome == "blocked" and m.reason.split(": ")[1] == "no way out", m.reason
@@ -442,6 +464,46 @@ def _blocked_until_asked(r, t, answer, limit=200.0):
         out = r.decide(situation(time=t), ask)
         events += [m for _, m in out.events]
     return t, out, events
+
+
+def test_with_the_target_in_the_robots_region_the_rescuer_only_turns_by_a_random_angle():
+    """The map's way is straight (the target in the robot's own region): the Rescuer turns by a
+    random angle within random_turn_deg and goes back to normal, no drive away, no failure; with
+    ``turn_when_here`` off it explores (the turn is followed by a drive out)."""
+    from navcli.navigation.regions import NoCrossing
+
+    here = NoCrossing("the target is in the robot's region", here=True)
+    for turn, after in ((True, "normal"), (False, "drive")):
+        r = Rescuer(replace(NAVIGATION, turn_when_here=turn), np.random.default_rng(0))
+        t, out, events = _blocked_until_asked(r, _sweep(r), here)
+        assert r.state == "turn" and r.failures == 0 and out.give_up is None
+        lim = math.radians(NAVIGATION.random_turn_deg)
+        away = math.atan2(4.0, 3.0) + math.pi  # exploring: within half of it of the way away from (3, 4)
+        if turn:
+            assert abs(r._turn_to) <= lim and not any("exploring" in m for m in events)
+        else:
+            assert abs(wrap_angle(r._turn_to - away)) <= lim / 2 and any("exploring" in m for m in events)
+        r.decide(situation(time=t + 0.1, odometry=Pose(0.0, 0.0, r._turn_to)), lambda f: here)
+        assert r.state == after, turn
+
+
+def test_a_lost_target_in_the_robots_region_is_explored_for_not_turned_for():
+    """After LOST_SCANS scans the map is asked for a way toward the lost target; its answer that
+    the target is in the robot's region sends the robot exploring (what hides a target is most
+    often a long obstacle), not only turning."""
+    from navcli.navigation.regions import NoCrossing
+
+    r = Rescuer(NAVIGATION, np.random.default_rng(0))
+    t, looked, asked, events = _sweep(r), None, [], []
+    here = NoCrossing("the target is in the robot's region", here=True)
+    while not asked and t < 200.0:
+        t += 0.1
+        s = situation(time=t, I_a=0.9, looked=looked, odometry=Pose(0.0, 0.0, r._turn_to or 0.0))
+        out = r.decide(s, lambda f: asked.append(f) or here)
+        looked = next((b.action for b in out.bids if b.resource == "camera"), None)
+        events += [m for _, m in out.events]
+    assert asked == [None] and any("target not found" in m for m in events)
+    assert "exploring" in events[-1] and r.state == "turn" and r._scan_after_turn
 
 
 def test_a_request_the_map_cannot_answer_leads_to_exploring_not_to_a_failure():
@@ -563,7 +625,7 @@ def test_after_a_diverting_target_is_crossed_a_target_in_sight_is_headed_for_dir
 def test_the_rescuer_gives_up_only_when_the_map_still_shows_no_way_out_after_exploring():
     from navcli.navigation.regions import NoCrossing
 
-    r = Rescuer(NAVIGATION, np.random.default_rng(0))
+    r = Rescuer(replace(NAVIGATION, gives_up=True), np.random.default_rng(0))
     t = _sweep(r)
     trapped = NoCrossing("every edge out is blocked", trapped=True)
     t, out, _ = _blocked_until_asked(r, t, trapped)
@@ -586,7 +648,7 @@ def test_looking_around_is_bounded_by_the_count_of_failures_when_there_is_one():
     default), the robot goes on looking, since the map may yet learn a way."""
     from navcli.navigation.regions import NoCrossing
 
-    r = Rescuer(replace(NAVIGATION, max_diverting_failures=3), np.random.default_rng(0))
+    r = Rescuer(replace(NAVIGATION, max_diverting_failures=3, gives_up=True), np.random.default_rng(0))
     t = _sweep(r)
     looked, give_up, asked = None, None, 0
 

@@ -5,6 +5,8 @@ backup) lasts as long as the robot takes to cover its distance, so a robot at 0.
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 
@@ -13,12 +15,14 @@ from navcli.config import RunSpec
 from navcli.mission import Mission
 from navcli.navigation.regions import Crossing
 from navcli.navigation.rescuer import Rescuer
+from navcli.geometry import Pose
 from navcli.params import CONTROL_DT, NAVIGATION, PILOT, RobotParams
 from navcli.pilot.base import Pilot
 from test_navigation import _sweep, situation
 from test_pilots import beliefs
 
 SPEEDS = (0.05, 0.1, 0.3, 0.6)
+LONG_ONLY = replace(NAVIGATION, stall_rule=False)  # the long window (the stall rule: its own tests below)
 
 
 def test_the_rescuers_windows_are_never_shorter_than_a_few_stops():
@@ -38,7 +42,7 @@ def test_the_rescuer_gives_a_slow_robot_the_time_its_progress_takes(speed):
     robot = RobotParams(max_speed=speed)
     window = NAVIGATION.blocked_window_m / speed
     asked = []
-    r = Rescuer(NAVIGATION, np.random.default_rng(0), robot)
+    r = Rescuer(LONG_ONLY, np.random.default_rng(0), robot)
     assert r.window_s == pytest.approx(window) and r.timeout_s == pytest.approx(NAVIGATION.diverting_timeout_m / speed)
     t = t0 = _sweep(r)
     while t < t0 + 3 * window:  # three windows of slow progress
@@ -60,7 +64,7 @@ def test_the_diverting_timeout_is_a_distance(speed):
     """A diverting target held while the robot keeps getting closer to its line (never blocked)
     fails once the robot could have driven diverting_timeout_m at full speed."""
     robot = RobotParams(max_speed=speed)
-    r = Rescuer(NAVIGATION, np.random.default_rng(0), robot)
+    r = Rescuer(LONG_ONLY, np.random.default_rng(0), robot)
     t = _sweep(r)
     crossing = Crossing("L", "R", (30.0, 1.0), (30.0, -1.0), 3.0)
     asked = []
@@ -164,3 +168,125 @@ def test_a_mission_around_an_obstacle_is_reached_at_any_speed(make_scenario, spe
         events += [e.message for e in m.step().events]
     assert m.outcome == "reached", (m.reason, events[-5:])
     assert not [e for e in events if "blocked" in e or "stalled" in e]
+
+
+# -- the stall rule: a short window in time and distance ----------------------------------------
+STALL_S = {0.05: 30.0, 0.1: 20.0, 0.3: 20.0, 0.6: 20.0}  # max(20 s, 1.5 m / speed)
+
+
+@pytest.mark.parametrize("speed", SPEEDS)
+def test_a_robot_standing_still_is_stalled_after_the_stall_window_at_any_speed(speed):
+    """The stall window is max(stall_window_s, stall_window_m / max_speed): 30 s at 5 cm/s (1.5 m
+    at 0.05 m/s), 20 s from 0.075 m/s up; a robot that does not move is blocked when it is over,
+    before the long window (12 m: 240 s at 5 cm/s, 40 s at 0.3 m/s; 20 s, the same, at 0.6 m/s)."""
+    assert (NAVIGATION.stall_window_s, NAVIGATION.stall_window_m) == (20.0, 1.5)
+    r = Rescuer(NAVIGATION, np.random.default_rng(0), RobotParams(max_speed=speed))
+    assert r.stall_s == pytest.approx(STALL_S[speed]) and r.stall_s <= r.window_s
+    t = swept = _sweep(r)
+    asked = []
+    while not asked and t < swept + r.window_s:
+        t += CONTROL_DT
+        r.decide(situation(time=t), lambda f: asked.append(f))
+    # the trail starts at the first tick after the sweep; blocked once it spans the window
+    assert asked == [None] and r.stall_s <= t - swept <= r.stall_s + 2 * CONTROL_DT
+
+
+def _swing(r, t, until, ask, period=8.0, amplitude=1.2, target=(5.0, 5.0)):
+    """Drive back and forth along x between 0 and ``amplitude`` m (a triangle wave of ``period``
+    s: 2.4 m in 8 s, 0.3 m/s), the target fixed in the odometry frame; returns the time and the
+    path length driven when the Rescuer first asked the map (or ``until``)."""
+    start, path, x_last = t, 0.0, 0.0
+    while t < until:
+        t += CONTROL_DT
+        phase = ((t - start) % period) / period
+        x = amplitude * (2 * phase if phase < 0.5 else 2 - 2 * phase)
+        path += abs(x - x_last)
+        x_last = x
+        odo = Pose(x, 0.0, 0.0)
+        r.decide(situation(target=odo.to_local(target), time=t, odometry=odo), ask)
+        if ask.calls:
+            return t, path
+    return t, path
+
+
+class _Ask:
+    def __init__(self):
+        self.calls = []
+
+    def __call__(self, failed):
+        self.calls.append(failed)
+        return None
+
+
+def test_a_robot_swinging_between_two_obstacles_is_stalled_though_it_drives_on():
+    """At 0.3 m/s swinging 1.2 m back and forth (8 s a swing, never bumping), the robot drives
+    6 m in the 20 s window but its net displacement over the window, 1.2 - 2x for x where the
+    window began (2.5 swings back), falls below 0.3 m within every half swing (4 s): blocked
+    between 20 and 24 s. By the long rule alone it is not blocked before its 40 s window."""
+    speed = 0.3
+    r = Rescuer(NAVIGATION, np.random.default_rng(0), RobotParams(max_speed=speed))
+    ask = _Ask()
+    t0 = _sweep(r)
+    t, path = _swing(r, t0, t0 + 60.0, ask)
+    assert ask.calls == [None] and 20.0 <= t - t0 <= 24.0 + 2 * CONTROL_DT and path > 6.0
+    r = Rescuer(LONG_ONLY, np.random.default_rng(0), RobotParams(max_speed=speed))
+    ask = _Ask()
+    t0 = _sweep(r)
+    t, _ = _swing(r, t0, t0 + 60.0, ask)
+    assert t - t0 > 40.0  # (the best distance is set in the first swing, 40 s before)
+
+
+def test_a_deliberate_scan_is_no_stall():
+    """The robot stands still while the Rescuer scans for a lost target for 25 s (a camera slow
+    to answer), longer than the 20 s window: no stall is declared during the scan, and the trail
+    starts again when it ends, so the still robot is blocked 20 s after the scan, not at once."""
+    r = Rescuer(NAVIGATION, np.random.default_rng(0), RobotParams(max_speed=0.3))
+    t = _sweep(r)
+    ask = _Ask()
+    scan_end = t + 25.0
+    while t < scan_end:  # lost: the Rescuer scans (no look reported: the scan waits)
+        t += CONTROL_DT
+        out = r.decide(situation(time=t, I_a=0.9), ask)
+        assert r.state == "lost" and not ask.calls and out.bids
+    while not ask.calls and t < scan_end + 60.0:  # found again; still not moving
+        t += CONTROL_DT
+        r.decide(situation(time=t), ask)
+    assert ask.calls == [None] and r.stall_s <= t - scan_end <= r.stall_s + 2 * CONTROL_DT
+
+
+def test_a_bump_restarts_the_stall_window():
+    """The Pilot's reflex after a bump stops and looks around (a deliberate stop): a still robot
+    bumping once 15 s after the sweep is blocked 20 s after the bump, not 20 s after the sweep
+    (one bump is not the three of ``blocked_bumps``)."""
+    from navcli.beliefs import Bump
+
+    r = Rescuer(NAVIGATION, np.random.default_rng(0), RobotParams(max_speed=0.3))
+    t = swept = _sweep(r)
+    ask = _Ask()
+    bumped = None
+    while not ask.calls and t < swept + 60.0:
+        t += CONTROL_DT
+        bumps = ()
+        if bumped is None and t >= swept + 15.0:
+            bumps, bumped = (Bump(t, "obstacle 0", (0.3, 0.0), 0.0),), t
+        r.decide(situation(time=t, bumps=bumps), ask)
+    assert ask.calls == [None] and r.stall_s <= t - bumped <= r.stall_s + 2 * CONTROL_DT
+
+
+def test_a_robot_led_away_from_its_target_is_blocked_after_stall_approach_windows():
+    """At 5 cm/s the stall window is 30 s; a robot driving straight away from its target at full
+    speed moves 1.5 m net in each window (no stall by displacement) but comes no closer: blocked
+    once ``stall_approach`` (2) windows, 60 s, are over, not after the long window's 240 s; with
+    ``stall_approach`` 0, not before 240 s."""
+    speed, target = 0.05, (5.0, 0.0)
+    for approach, lo, hi in ((2.0, 60.0, 60.0 + 2 * CONTROL_DT), (0.0, 240.0, 300.0)):
+        r = Rescuer(
+            replace(NAVIGATION, stall_approach=approach), np.random.default_rng(0), RobotParams(max_speed=speed)
+        )
+        t = t0 = _sweep(r)
+        ask = _Ask()
+        while not ask.calls and t < t0 + 300.0:
+            t += CONTROL_DT
+            odo = Pose(-speed * (t - t0), 0.0, 0.0)
+            r.decide(situation(target=odo.to_local(target), time=t, odometry=odo), ask)
+        assert ask.calls == [None] and lo <= t - t0 <= hi, approach

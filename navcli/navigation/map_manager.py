@@ -17,9 +17,12 @@ agents' questions. It makes no bids.
   leaves no room between it and the edge's end, or when a diverting target through them failed, and the first edge of the cheapest path to the target's
   region. What the long obstacles block between two landmarks is kept from every image
   (``seen_blocked``), as the thesis' map keeps the arcs reported blocked: the visual memory
-  forgets a fence and sees it again under a new key, landmark ids stay (our design; an edge seen
-  blocked wrongly is still used, at ``blocked_cost``, when nothing else leads on). A failed edge is
-  also known by where its ends were (:data:`SAME_PLACE_M`), since obstacle points are named anew.
+  forgets a fence and sees it again under a new key, landmark ids stay (our design). A failed edge is
+  also known by where its ends were (:data:`SAME_PLACE_M`), since obstacle points are named anew,
+  and as a dead end by place: edges whose middle lies within ``dead_end_radius`` of its middle
+  cost ``seen_closed_cost``. A way closed only by such a record (``seen_blocked``) costs
+  ``seen_closed_cost`` too, is not counted as closing the robot in, and its record goes when an
+  image shows both its landmarks with no known long obstacle across.
   When there is none, why (:class:`~.regions.NoCrossing`), telling apart a map that knows too
   little (look around: too few landmarks, or every way to the target blocked by known obstacles
   and failed diverting targets, which more landmarks may open) from one that shows no way out:
@@ -105,6 +108,7 @@ class MapManager:
         self.failed_at: list[tuple[tuple[Point, ...], float | None]] = []  # where each one was (_place), odometry frame
         self._where: dict[str, Point] = {}  # where the regions' points were when last asked, odometry frame
         self.seen_blocked: dict[Edge, str] = {}  # landmark pairs a known long obstacle was seen across: by what
+        self.dead_ends: list[Point] = []  # where each failed diverting target's edge was (_dead_end), odometry frame
         self._recalled: dict[str, _Recalled] = {}
         self._tick = 0
         self._images = 0
@@ -121,23 +125,30 @@ class MapManager:
             return 0
         self._images += 1
         known = self.memory_points(beliefs)
-        lines = (
-            [(o.key, o.a, o.b) for o in beliefs.obstacles if not o.is_point and not o.wall]
-            if (self._images - 1) % SEEN_EVERY == 0
-            else ()
-        )  # the first image, then every fourth
-        if lines:  # what the obstacles block between landmarks stays known when the memory forgets them
-            marks = {k: (p.x, p.y) for k, p in known.items() if k != self.target_key}
-            for e, key in crossed_pairs(marks, lines).items():
-                self.seen_blocked.setdefault(e, key)
         fresh = beliefs.time - CONTROL_DT - 1e-6
         shown = {k for k, lm in self._landmarks(beliefs) if lm[1] >= fresh}
+        if (self._images - 1) % SEEN_EVERY == 0:  # the first image, then every fourth
+            self._record_closed(beliefs, known, shown)
         if not shown:
             return 0
         viewframe = {k: p for k, p in known.items() if p.imprecision() <= self.params.map_encode_imprecision}
         if len(viewframe) < 4:
             return 0
         return len(self.network.learn(viewframe, targets=shown & set(viewframe)))
+
+    def _record_closed(self, beliefs: Beliefs, known: dict[str, FuzzyPoint], shown: set[str]) -> None:
+        """What the known long obstacles block between landmarks stays known when the memory
+        forgets them (``seen_blocked``); with ``seen_closed_cost``, a pair whose two landmarks
+        this image showed with no known obstacle across is seen open, and its record goes (a
+        remembered fence drifts with odometry, and may lie across a door it never closed)."""
+        lines = [(o.key, o.a, o.b) for o in beliefs.obstacles if not o.is_point and not o.wall]
+        marks = {k: (p.x, p.y) for k, p in known.items() if k != self.target_key}
+        closed = crossed_pairs(marks, lines) if lines else {}
+        if self.params.seen_closed_cost > 0:
+            for e in [e for e in self.seen_blocked if e <= shown and e not in closed]:
+                del self.seen_blocked[e]
+        for e, key in closed.items():
+            self.seen_blocked.setdefault(e, key)
 
     def _landmarks(self, beliefs: Beliefs) -> Iterator[tuple[str, tuple[FuzzyPoint, float]]]:
         for lm in beliefs.landmarks:
@@ -234,10 +245,15 @@ class MapManager:
     def diverting_target(self, beliefs: Beliefs, target: Point) -> Crossing | NoCrossing:
         """The first edge to cross toward ``target`` (egocentric), or why there is none."""
         marks = self.landmark_estimates(beliefs)
-        regions, known = self._regions(beliefs, marks)
+        regions, now = self._regions(beliefs, marks, remembered=False)
+        known = self._with_records(now)
         if regions is None:
             return NoCrossing(f"{len(marks)} landmark(s) mapped, too few for regions")
-        if not way_out(regions, (0.0, 0.0), known, target):  # what is known to close it in, not what failed
+        # with seen_closed_cost, a way closed only by the record of an obstacle the memory no longer
+        # holds costs more and stays open to try; without, it blocks as a known obstacle does
+        remembered = set(known) - set(now) if self.params.seen_closed_cost > 0 else set()
+        now = known if not remembered else now
+        if not way_out(regions, (0.0, 0.0), now, target):  # what is known to close it in, not what failed
             return NoCrossing(
                 "the known obstacles close in the robot's regions: every edge out is blocked", trapped=True
             )
@@ -249,22 +265,31 @@ class MapManager:
             else []
         )  # failed before, under other names
         blocked = dict(self.blocked)
-        for e in (*known, *again):
+        for e in (*now, *again):
             blocked[e] = blocked.get(e, 0.0) + 1.0
+        # a way seen closed, or through a dead end's place, costs more and stays open to try (the
+        # only way out of a U may pass by the place where a diverting target failed)
+        share = self.params.seen_closed_cost / self.params.blocked_cost if self.params.seen_closed_cost > 0 else 1.0
+        for e in (*remembered, *self._at_dead_ends(regions, again)):
+            blocked[e] = blocked.get(e, 0.0) + share
         sight = (
             [(o.key, o.a, o.b) for o in beliefs.obstacles if not o.is_point] if self.params.diverting_in_sight else None
         )
-        c = first_crossing(regions, (0.0, 0.0), target, blocked, self.params.blocked_cost, sight)
+        c = first_crossing(
+            regions, (0.0, 0.0), target, blocked, self.params.blocked_cost, sight, self.params.diverting_seen_whole
+        )
         if c is None:
             same = regions.region_of((0.0, 0.0)) == regions.region_of(target)
             if same:
-                return NoCrossing("the target is in the robot's region")
+                return NoCrossing("the target is in the robot's region", here=True)
             return NoCrossing(
                 "every way to the target is blocked, by known obstacles or by diverting targets that failed"
             )
         return c
 
-    def _regions(self, beliefs: Beliefs, marks: dict[str, FuzzyPoint]) -> tuple[Regions | None, dict[Edge, str]]:
+    def _regions(
+        self, beliefs: Beliefs, marks: dict[str, FuzzyPoint], remembered: bool = True
+    ) -> tuple[Regions | None, dict[Edge, str]]:
         """The regions of the mapped ``marks`` and the known long obstacles, and the edges the
         known obstacles block (:func:`~.regions.blocked_edges`, with what blocks each). The long
         obstacles split the regions and block the edges they cross; the room's walls only where
@@ -276,14 +301,47 @@ class MapManager:
             return None, {}
         walls = [(o.key, o.a, o.b) for o in beliefs.obstacles if o.wall]
         known = blocked_edges(regions, lines, self.passable, walls)
+        return regions, self._with_records(known) if remembered else known
+
+    def _with_records(self, known: dict[Edge, str]) -> dict[Edge, str]:
+        """``known`` and the edges recorded as seen blocked (``seen_blocked``)."""
+        out = dict(known)
         for e, key in self.seen_blocked.items():
-            known.setdefault(e, key)
-        return regions, known
+            out.setdefault(e, key)
+        return out
+
+    def _at_dead_ends(self, regions: Regions, skip: list[Edge]) -> list[Edge]:
+        """Edges not yet known as failed whose place (:func:`_dead_end`) lies within
+        ``dead_end_radius`` of that of an edge whose diverting target failed: the same dead end
+        under other landmarks (our design: a robot sent again and again into the pocket where a
+        wall meets the side wall, each time across an edge of other ends). They cost as a way
+        seen closed does, not as a failure: the only way out of a U passes by its mouth, where
+        the first diverting target may have failed."""
+        radius = self.params.dead_end_radius
+        if radius <= 0 or not self.dead_ends:
+            return []
+        odo_where = self._where
+        out = []
+        for _, _, e in regions.edges():
+            if e in self.blocked or e in skip:
+                continue
+            at = _dead_end([odo_where[k] for k in sorted(e)], [k.startswith("~") for k in sorted(e)], radius)
+            if at is not None and any(math.dist(at, d) <= radius for d in self.dead_ends):
+                out.append(e)
+        return out
 
     def report_blocked(self, edge: Edge) -> None:
         """A diverting target through ``edge`` failed: make its arc costly, and that of any edge
-        later found where its ends were (:data:`SAME_PLACE_M`)."""
+        later found where its ends were (:data:`SAME_PLACE_M`) or near its place
+        (``dead_end_radius``)."""
         self.blocked[edge] = self.blocked.get(edge, 0.0) + 1.0
+        if all(k in self._where for k in edge):
+            keys = sorted(edge)
+            at = _dead_end(
+                [self._where[k] for k in keys], [k.startswith("~") for k in keys], self.params.dead_end_radius
+            )
+            if at is not None and all(math.dist(at, d) > SAME_PLACE_M for d in self.dead_ends):
+                self.dead_ends.append(at)
         place = self._place(edge)
         if place is not None and not self._failed_before(place):  # once per place: the list stays short
             self.failed_at.append(place)
@@ -327,3 +385,19 @@ class MapManager:
         tris = tuple((corners[a], corners[b], corners[c]) for a, b, c in r.triangles.tolist())
         vertices = {k: (float(x), float(y)) for k, (x, y) in zip(r.ids, r.points)}
         return MapSnapshot(marks, units, tris, blocked, vertices)
+
+
+def _dead_end(where: list[Point], virtual: list[bool], radius: float) -> Point | None:
+    """The place of an edge (its ends ``where``, odometry frame, and which are virtual) as a dead
+    end: its middle; with one virtual end, the point ``radius`` from its real end toward the
+    virtual one (a virtual landmark lies metres out, beyond the room's walls); None for two
+    virtual ends."""
+    (a, b), (va, vb) = where, virtual
+    if va and vb:
+        return None
+    if not (va or vb):
+        return ((a[0] + b[0]) / 2, (a[1] + b[1]) / 2)
+    real, out = (b, a) if va else (a, b)
+    d = math.dist(real, out)
+    f = min(1.0, radius / d) if d > 0 else 0.0
+    return (real[0] + (out[0] - real[0]) * f, real[1] + (out[1] - real[1]) * f)

@@ -22,7 +22,10 @@ Levitt and Lawton's qualitative navigation:
   memory's keys and the obstacle's length, so they are not stable over a run as landmarks' are;
 - two regions sharing an edge are joined by an arc whose cost is 1, or ``blocked_cost`` when the
   edge is known to be blocked (a long obstacle crosses it, or a diverting target through it
-  failed); the shortest path is ``scipy.sparse.csgraph.dijkstra``;
+  failed), or ``seen_closed_cost`` when only a remembered obstacle the memory no longer holds
+  was seen across it (the Map Manager's ``seen_blocked``: a way seen closed costs more and is
+  tried again, never closed for good); the shortest path is ``scipy.sparse.csgraph.dijkstra``;
+  :func:`way_out` takes as closed only what the obstacles the memory holds block;
 - the robot's region (and the target's) is the triangle holding it, or the nearest one.
 
 Everything is in one frame (the robot's, egocentric); landmark ids keep edges stable over time.
@@ -95,10 +98,12 @@ class NoCrossing:
     """Why no diverting target could be given: ``why`` in words; ``trapped`` when every edge out
     of the robot's region is blocked (the map shows no way out), else the map does not yet know
     enough (too few landmarks, the target's region is the robot's, no path cheaper than a blocked
-    arc) and looking around may tell it more."""
+    arc) and looking around may tell it more; ``here`` when the target lies in the robot's own
+    region (the map has no way to give but the straight one)."""
 
     why: str
     trapped: bool = False
+    here: bool = False  # the target is in the robot's region: the map's way is straight to it
 
 
 @dataclass(frozen=True)
@@ -304,6 +309,7 @@ def first_crossing(
     blocked: dict[Edge, float] | None = None,
     blocked_cost: float = 1000.0,
     lines: list[tuple[str, Point, Point]] | None = None,
+    whole: bool = False,
 ) -> Crossing | None:
     """The first edge of the cheapest path from the robot's region to the target's (arcs cost 1,
     or ``blocked_cost`` times the count in ``blocked``); ``None`` when they are the same region
@@ -340,7 +346,7 @@ def first_crossing(
     path.reverse()
     shared_of = {frozenset((i, j)): e for i, j, e in arcs}
     edges = [shared_of[frozenset(pair)] for pair in zip(path, path[1:])]
-    shared = _farthest_in_sight(regions, robot, edges, lines) if lines is not None else edges[0]
+    shared = _farthest_in_sight(regions, robot, edges, lines, whole) if lines is not None else edges[0]
     u, v = sorted(shared)
     (pu0, pu1), (pv0, pv1) = (regions.points[regions.ids.index(k)] for k in (u, v))
     pu, pv = (float(pu0), float(pu1)), (float(pv0), float(pv1))
@@ -353,20 +359,61 @@ def first_crossing(
 
 
 def _farthest_in_sight(
-    regions: Regions, robot: Point, edges: list[Edge], lines: list[tuple[str, Point, Point]]
+    regions: Regions, robot: Point, edges: list[Edge], lines: list[tuple[str, Point, Point]], whole: bool = False
 ) -> Edge:
     """The last of the path's ``edges`` between two real things (landmarks or obstacle points:
-    a virtual landmark may lie beyond the room's walls) whose middle the robot sees straight,
-    no known line across the sight line; the first edge when none farther is."""
+    a virtual landmark may lie beyond the room's walls) whose middle half the robot sees whole
+    (:func:`_seen_whole`; without ``whole``, whose middle it sees); the first edge when none
+    farther is.
+
+    Seeing the middle alone is not enough: past the end of a wall (or of a fence drawn short),
+    the sight line to an edge's middle may clear it while the edge lies beyond the wall, and the
+    robot, led at it, wedges between the wall's end and a landmark. The middle half is where
+    the Pilot crosses (its safe corridor keeps it off the ends)."""
     pos = dict(zip(regions.ids, map(tuple, regions.points)))
     for e in reversed(edges[1:]):
         if any(k.startswith("~") for k in e):
             continue
         a, b = (pos[k] for k in sorted(e))
         mid = ((a[0] + b[0]) / 2, (a[1] + b[1]) / 2)
-        if not any(crossing_along(robot, mid, p, q, 0.0) for _, p, q in lines):
+        if (
+            _seen_whole(robot, a, b, lines)
+            if whole
+            else not any(crossing_along(robot, mid, p, q, 0.0) for _, p, q in lines)
+        ):
             return e
     return edges[0]
+
+
+def _seen_whole(robot: Point, a: Point, b: Point, lines: list[tuple[str, Point, Point]]) -> bool:
+    """Does the robot see the middle half of edge ``ab`` whole: no line across the sight lines
+    to its middle and to the points a quarter in from each end, and no line's end within the
+    triangle of the robot and those two points?
+
+    >>> wall = [("wall", (0.0, 1.0), (1.5, 1.0))]
+    >>> _seen_whole((0.0, 0.0), (-1.0, 2.0), (1.0, 2.0), wall), _seen_whole((0.0, 0.0), (3.0, 2.0), (5.0, 2.0), wall)
+    (False, True)
+    >>> _seen_whole((0.0, 0.0), (0.0, 2.5), (4.0, 2.5), [("fence", (1.6, 3.5), (1.6, 2.1))])  # its end pokes in
+    False
+    """
+    q1 = (a[0] + (b[0] - a[0]) / 4, a[1] + (b[1] - a[1]) / 4)
+    q3 = (a[0] + 3 * (b[0] - a[0]) / 4, a[1] + 3 * (b[1] - a[1]) / 4)
+    mid = ((a[0] + b[0]) / 2, (a[1] + b[1]) / 2)
+    for _, p, q in lines:
+        if any(crossing_along(robot, end, p, q, 0.0) for end in (mid, q1, q3)):
+            return False
+        if any(_strictly_inside(r, robot, q1, q3) for r in (p, q)):
+            return False
+    return True
+
+
+def _strictly_inside(p: Point, a: Point, b: Point, c: Point) -> bool:
+    """Is ``p`` inside triangle ``abc``, farther than ``CROSS_MARGIN`` from each of its sides?"""
+    sides = [
+        ((v[0] - u[0]) * (p[1] - u[1]) - (v[1] - u[1]) * (p[0] - u[0])) / (math.dist(u, v) or 1.0)
+        for u, v in ((a, b), (b, c), (c, a))
+    ]
+    return all(d > CROSS_MARGIN for d in sides) or all(d < -CROSS_MARGIN for d in sides)
 
 
 def _inside(p: Point, a: np.ndarray, b: np.ndarray, c: np.ndarray) -> bool:

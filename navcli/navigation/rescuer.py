@@ -12,7 +12,18 @@ What the thesis says, and how we do it:
   the robot scanned until it gave up). No failure is counted.
 - **Blocked**: the robot makes no progress toward its target (``blocked_progress`` metres closer
   within the blocked window), or it hits something ``blocked_bumps`` times within that window
-  (the Pilot's report of an obstacle it cannot easily avoid). The Rescuer asks the Map Manager for
+  (the Pilot's report of an obstacle it cannot easily avoid), or it **stalls** (``stall_rule``,
+  our design): its net displacement over the last ``W`` seconds, ``W = max(stall_window_s,
+  stall_window_m / robot.max_speed)`` (20 s, 1.5 m: 30 s at 5 cm/s), is less than
+  ``stall_progress`` (0.3 m). Net displacement bounds how much closer the robot came to any
+  target, whatever path it drove: a potential field in a minimum, swinging between a box and a
+  post with its turn flipping each decision, drives on and never bumps, but stays where it was,
+  and the long window (12 m: 240 s at 5 cm/s) would leave it there for minutes. It also stalls
+  when over ``stall_approach`` (2) stall windows it came less than ``stall_progress`` closer to
+  its current target, whatever its displacement (a field that leads it away along a wall). The pilot
+  paper's diverting targets are there "to escape from a difficult or blocked position". The
+  stall window restarts at every change of state (the sweep, scans, turns and drives out are
+  deliberate), every new target and every bump (the Pilot's reflex stops and looks around). The Rescuer asks the Map Manager for
   a **diverting target**, a pair of landmarks to pass between, and broadcasts it as the current
   target (the Pilot crosses it through its safe corridor). When it is crossed the original target
   is restored. If none can be computed, the Rescuer **explores** (our design, after MLL): it
@@ -20,7 +31,11 @@ What the thesis says, and how we do it:
   drives up to ``explore_m`` that way looking around until it sees a landmark it did not know
   (what hides the landmarks from where it is blocked is a long obstacle; they are back the way
   it came), scans for landmarks, then, blocked again, asks again with what was learned; this is
-  no failure. Once a diverting target is crossed, the original target in sight (no known long
+  no failure. When the map has none because the target lies in the robot's own region (its way
+  is straight; ``turn_when_here``), the Rescuer only turns by a random angle, as the thesis'
+  Rescuer does with no diverting target: driving away would only lengthen the way, and the turn
+  takes a potential field out of its minimum (a lost target is explored for: what hides it is
+  most often a long obstacle). Once a diverting target is crossed, the original target in sight (no known long
   obstacle across the straight way to it, ``sight_ends_way``) ends the way. If one is not crossed within
   the diverting timeout (or the robot is blocked again on the way), its edge is reported blocked
   to the Map Manager and another is asked for. So is the edge of one that was crossed when the
@@ -37,16 +52,26 @@ What the thesis says, and how we do it:
 - **The learning paper's task** (``rescuer_looks`` 0, ``blocked_ends`` 1): no looks at all (no
   sweep, no scans: the camera is the Learning Agent's; a lost target is left to it), and the
   first blocked situation ends the mission ``blocked`` (its trials "terminate ... if the robot
-  is blocked").
-- **Giving up**: only a diverting target tried and failed is a failure, and no count of them ends
-  the mission (``max_diverting_failures`` set to 3 ends it at the third, which ends many runs in
-  rooms with a way out; set, it also bounds the looks around
-  in a row that the map answers with no diverting target). The mission ends ``blocked`` when the
-  map shows no way out of the robot's regions (every edge out closed by known obstacles), and
-  shows it again after the robot has looked around once more with no diverting target crossed in
-  between; otherwise it goes on until the time limit. The reason is given in the outcome and the
-  events.
-  ``gives_up`` 0 turns even that into one more look around (long benchmarks).
+  is blocked"), by the blocked window and the bumps: the stall rule, a rescue of the potential
+  field, is not applied to its trials.
+- **Never giving up** (``gives_up`` off, the default): only a diverting target tried and failed
+  is a failure, and nothing ends the mission before its time limit. Where the map shows no way
+  out of the robot's regions (every edge out closed by known obstacles) again after the robot
+  has looked around once more with no diverting target crossed in between, the thesis' Rescuer,
+  with no diverting target to compute, turns by a random angle and asks again: so does this one,
+  by an angle drawn uniformly within ``random_turn_deg`` from the Navigation system's generator,
+  then asks the map at once; with still none, the other agents drive on from the new heading,
+  and the next blocked situation asks anew (exploring first). ``gives_up`` on ends
+  the mission ``blocked`` there instead, with the reason in the outcome and the events; with it,
+  ``max_diverting_failures`` set to 3 ends it at the third failure (which ends many runs in
+  rooms with a way out), and bounds the looks around in a row that the map answers with no
+  diverting target.
+
+The state machine (:meth:`Rescuer.decide`) is a phase per state: the sweep, a turn, a drive out,
+a look around, a lost target's scans, and normal (following a diverting target, watching for
+being blocked), each answering for the tick or handing over to the next. The windows that say
+the robot is blocked are kept by :class:`~.progress.Progress`; the scans and turns are
+:class:`~.scanning.Scanning`'s.
 
 The Rescuer bids ``rescuer_bid`` (1.0, our design: its actions are the emergencies of the
 Navigation system, and a stop is always safe) to stop while it sweeps or scans, to look at each
@@ -57,7 +82,6 @@ generator.
 from __future__ import annotations
 
 import math
-from collections import deque
 from typing import Callable, NamedTuple
 
 import numpy as np
@@ -65,14 +89,13 @@ import numpy as np
 from ..bidding import Bid, Look, Move, looked_at
 from ..geometry import ORIGIN, Point, Pose, midpoint, segments_intersect, wrap_angle
 from ..params import NAVIGATION, ROBOT, NavigationParams, RobotParams
+from .progress import MIN_WINDOW_S, Progress
+from .scanning import STOP, Scanning
 from .regions import Crossing, Edge, NoCrossing, ends
 from .situation import Situation
 
-STOP = Move(0.0, 0.0)  # a value: one serves every stop
-MIN_WINDOW_S = 20.0
-"""s: the shortest blocked window and diverting timeout, whatever the speed (our design: a few of
-the stops that take fixed time, a scan of five looks about 4 s, a reflex 4-6 s, so a fast robot
-is not declared blocked by its own stops; at 0.3 m/s the windows are 40 s and 90 s)."""
+Ask = Callable[[Edge | None], Crossing | NoCrossing | None]
+"""The Rescuer's question to the Map Manager: ``ask(failed_edge)`` (see :meth:`Rescuer.decide`)."""
 LOST_SCANS = 3  # scans (each followed by a random turn) before the map is asked for a way toward a lost target
 STATES = ("sweep", "normal", "lost", "turn", "drive", "explore")
 """The Rescuer's states, as ``/navigation.rescuer`` says: its initial sweep, normal (no rescue), scanning
@@ -100,14 +123,15 @@ def _in_sight(s: Situation) -> bool:
     )
 
 
-class Rescuer:
+class Rescuer(Scanning):
     name = "rescuer"
 
     def __init__(
         self, params: NavigationParams = NAVIGATION, rng: np.random.Generator | None = None, robot: RobotParams = ROBOT
     ):
         self.params = params
-        self.window_s = max(robot.time_to_drive(params.blocked_window_m), MIN_WINDOW_S)  # the blocked window, s
+        self.progress = Progress(params, robot)
+        self.window_s, self.stall_s = self.progress.window_s, self.progress.stall_s  # the blocked and stall windows, s
         self.timeout_s = max(robot.time_to_drive(params.diverting_timeout_m), MIN_WINDOW_S)  # the diverting timeout, s
         self.speed = robot.max_speed
         self.drive_s = 2.0 * robot.time_to_drive(params.explore_m)  # the longest an exploring drive lasts, s
@@ -116,6 +140,7 @@ class Rescuer:
         self._scan = 0  # index into scan_pans_deg
         self._turn_to: float | None = None  # odometry-frame heading to turn to
         self._scan_after_turn = False  # exploring: the turn is followed by a drive and a scan for landmarks
+        self._ask_after_turn = False  # not giving up: the random turn is followed by a request to the map
         self._drive_from: Pose | None = None  # exploring: where the drive began (odometry frame)
         self._drive_since = 0.0
         self._drive_known = 0  # landmarks known when it began: it ends when something new is seen
@@ -131,106 +156,22 @@ class Rescuer:
         self.failures = 0
         self.tried: list[tuple[Point, Point, str]] = []  # each diverting line ended (odometry frame) and how
         self.diverting_targets = 0
-        self._progress_best = math.inf
-        self._progress_since = 0.0
-        self._bumps: deque[float] = deque()
 
     # -- the state machine
-    def decide(self, s: Situation, ask: Callable[[Edge | None], Crossing | NoCrossing | None]) -> Rescue:
+    def decide(self, s: Situation, ask: Ask) -> Rescue:
         """``ask(failed_edge)`` tells the Map Manager of the edge of a failed diverting target (if
-        any) and asks it for a diverting target toward the original target (or why there is none)."""
-        b = s.beliefs
-        events: list[tuple[str, str]] = []
-        for bump in b.bumps:
-            self._bumps.append(bump.time)
-        while self._bumps and self._bumps[0] < s.time - self.window_s:
-            self._bumps.popleft()
+        any) and asks it for a diverting target toward the original target (or why there is none).
 
+        Each state's phase either answers for this tick or hands over to the next (a turn ends in
+        a drive, a drive in a look around, a look around in normal)."""
+        events: list[tuple[str, str]] = []
+        self.progress.count_bumps(s)
         if s.I_a <= self.params.I_a_bar:
             self._lost_scans = 0  # found again, in whatever state: the next loss starts its scans afresh
-        if self.state == "sweep":
-            if self._scanned(b.looked):
-                self._enter("normal", s)
-                events.append(("info", "initial sweep done"))
-            else:
-                return Rescue(self._scan_bids(), events=tuple(events))
-
-        if self.state == "turn":
-            assert self._turn_to is not None  # set by the turn's start
-            err = wrap_angle(self._turn_to - b.odometry.theta)
-            if abs(err) > math.radians(10.0):
-                return Rescue(
-                    (Bid(self.name, "motion", Move(err, 0.0), self.params.rescuer_bid),), events=tuple(events)
-                )
-            if self._scan_after_turn:
-                self._scan_after_turn = False
-                if self.params.explore_m > 0:
-                    self._enter("drive", s)
-                    self._drive_from, self._drive_since, self._drive_known = b.odometry, s.time, len(s.landmarks)
-                elif self.params.rescuer_looks:
-                    self._enter("explore", s)
-                    return Rescue(self._scan_bids(), events=tuple(events))
-                else:
-                    self._enter("normal", s)
-            else:
-                self._enter("normal", s)
-
-        if self.state == "drive":
-            o, start = b.odometry, self._drive_from
-            assert start is not None  # set by the drive's start
-            driven = math.hypot(o.x - start.x, o.y - start.y)
-            if (
-                driven < self.params.explore_m
-                and not b.bumps
-                and len(s.landmarks) <= self._drive_known
-                and b.pilot_blocked is None
-                and s.time - self._drive_since < self.drive_s
-            ):
-                pans = self.params.scan_pans_deg  # looking around on the way for landmarks, a pan an image
-                if looked_at(b.looked, Look(math.radians(pans[self._scan % len(pans)]), "search")):
-                    self._scan += 1
-                v = self.params.rescuer_bid
-                bids: tuple[Bid, ...] = (
-                    Bid(self.name, "motion", Move(wrap_angle(start.theta - o.theta), self.speed), v),
-                )
-                if self.params.rescuer_looks:
-                    bids += (Bid(self.name, "camera", Look(math.radians(pans[self._scan % len(pans)]), "search"), v),)
-                return Rescue(bids, events=tuple(events))
-            events.append(("info", f"explored {driven:.1f} m away from the target"))
-            self._enter("explore" if self.params.rescuer_looks else "normal", s)
-
-        if self.state == "explore":
-            if not self._scanned(b.looked):
-                return Rescue(self._scan_bids(), events=tuple(events))
-            self._enter("normal", s)
-            events.append(("info", f"looked around: {len(s.landmarks)} landmarks in view or remembered"))
-
-        if self.state == "lost":
-            if s.I_a <= self.params.I_a_bar:
-                self._lost_scans = 0
-                self._enter("normal", s)
-                events.append(("info", f"target found again (I_a = {s.I_a:.2f})"))
-            elif self._scanned(b.looked):
-                self._lost_scans += 1
-                if self._lost_scans >= LOST_SCANS:
-                    # our design: what hides the target is most often a long obstacle, and scanning on where
-                    # the robot stands shows it nothing new; the map's way toward where the target is
-                    # believed to be (its belief's centre) leads past it, and no failure is counted
-                    self._lost_scans = 0
-                    self._enter("normal", s)
-                    events.append(
-                        (
-                            "warning",
-                            f"target not found in {LOST_SCANS} scans: asking the map for a way "
-                            "toward where it is believed to be",
-                        )
-                    )
-                    return self._request(s, events, ask)
-                self._start_turn(b.odometry, events, "target still lost after a scan")
-                return Rescue(events=tuple(events))
-            else:
-                return Rescue(self._scan_bids(), events=tuple(events))
-
+        for phase in (self._sweep_phase, self._turn_phase, self._drive_phase, self._explore_phase, self._lost_phase):
+            out = phase(s, events, ask)
+            if out is not None:
+                return out
         if (
             self.state == "normal"
             and self._crossing is None
@@ -240,43 +181,172 @@ class Rescuer:
             self.state, self._scan = "lost", 0
             events.append(("warning", f"target lost (I_a = {s.I_a:.2f} > {self.params.I_a_bar:g}): stopping to scan"))
             return Rescue(self._scan_bids(), events=tuple(events))
+        return self._normal_phase(s, events, ask)
 
-        line = self._diverting_line(s)
-        if line is not None and self._crossed(line):
-            crossed = self._crossing
-            assert crossed is not None  # a diverting line is that of a crossing
-            self._clear_crossing(s, "crossed")
-            self._trapped = False  # a way out was found: the map's "no way out" before it is old news
-            line = None
-            # the next step of the way, from the region the robot is in now; none once the target is in
-            # sight (our design: the regions' way may still go round, through virtual landmarks' regions)
-            after = None if self.params.sight_ends_way and _in_sight(s) else ask(None)
-            if isinstance(after, Crossing) and after.edge != crossed.edge:
-                since = self._crossing_since
-                self._set_crossing(after, s)  # the same diverting target's way, one step on: not counted again,
-                self._crossing_since = since  # and its timeout runs on: the way as a whole must be done in time
-                events.append(
-                    (
-                        "info",
-                        f"diverting target crossed between {crossed.left} and {crossed.right}; "
-                        f"next: cross between {after.left} (left) and {after.right} (right)",
-                    )
-                )
-                return Rescue((), self._diverting_line(s), tuple(events))
+    def _sweep_phase(self, s: Situation, events: list[tuple[str, str]], ask: Ask) -> Rescue | None:
+        """The initial sweep: look at each pan, then normal."""
+        if self.state != "sweep":
+            return None
+        if not self._scanned(s.beliefs.looked):
+            return Rescue(self._scan_bids(), events=tuple(events))
+        self._enter("normal", s)
+        events.append(("info", "initial sweep done"))
+        return None
+
+    def _turn_phase(self, s: Situation, events: list[tuple[str, str]], ask: Ask) -> Rescue | None:
+        """Turning to ``_turn_to``; then a drive out (exploring), a look around, a new request to
+        the map (after the random turn that replaces giving up), or normal."""
+        if self.state != "turn":
+            return None
+        b = s.beliefs
+        assert self._turn_to is not None  # set by the turn's start
+        err = wrap_angle(self._turn_to - b.odometry.theta)
+        if abs(err) > math.radians(10.0):
+            return Rescue((Bid(self.name, "motion", Move(err, 0.0), self.params.rescuer_bid),), events=tuple(events))
+        if self._ask_after_turn:
+            # the thesis' Rescuer with no diverting target: turn by a random angle and ask again;
+            # with still none, the other agents drive on from the new heading, and the next
+            # blocked situation asks anew (exploring first: a robot pinned against the wall
+            # opposite its target drove into that wall again and again)
+            self._ask_after_turn = False
+            self._trapped = False
+            self._enter("normal", s)
+            again = ask(None)
+            if isinstance(again, Crossing):
+                return self._divert(again, s, events)
+            events.append(("info", "turned; still no diverting target: going on"))
+            return Rescue(events=tuple(events))
+        if not self._scan_after_turn:
+            self._enter("normal", s)
+            return None
+        self._scan_after_turn = False
+        if self.params.explore_m > 0:
+            self._enter("drive", s)
+            self._drive_from, self._drive_since, self._drive_known = b.odometry, s.time, len(s.landmarks)
+        elif self.params.rescuer_looks:
+            self._enter("explore", s)
+            return Rescue(self._scan_bids(), events=tuple(events))
+        else:
+            self._enter("normal", s)
+        return None
+
+    def _drive_phase(self, s: Situation, events: list[tuple[str, str]], ask: Ask) -> Rescue | None:
+        """Exploring: drive away, looking around, until ``explore_m`` is driven, something is
+        bumped or seen new, the Pilot reports a long obstacle, or the drive takes too long."""
+        if self.state != "drive":
+            return None
+        b = s.beliefs
+        o, start = b.odometry, self._drive_from
+        assert start is not None  # set by the drive's start
+        driven = math.hypot(o.x - start.x, o.y - start.y)
+        if (
+            driven < self.params.explore_m
+            and not b.bumps
+            and len(s.landmarks) <= self._drive_known
+            and b.pilot_blocked is None
+            and s.time - self._drive_since < self.drive_s
+        ):
+            pans = self.params.scan_pans_deg  # looking around on the way for landmarks, a pan an image
+            if looked_at(b.looked, Look(math.radians(pans[self._scan % len(pans)]), "search")):
+                self._scan += 1
+            v = self.params.rescuer_bid
+            bids: tuple[Bid, ...] = (Bid(self.name, "motion", Move(wrap_angle(start.theta - o.theta), self.speed), v),)
+            if self.params.rescuer_looks:
+                bids += (Bid(self.name, "camera", Look(math.radians(pans[self._scan % len(pans)]), "search"), v),)
+            return Rescue(bids, events=tuple(events))
+        events.append(("info", f"explored {driven:.1f} m away from the target"))
+        self._enter("explore" if self.params.rescuer_looks else "normal", s)
+        return None
+
+    def _explore_phase(self, s: Situation, events: list[tuple[str, str]], ask: Ask) -> Rescue | None:
+        """Exploring: look around for landmarks, then normal."""
+        if self.state != "explore":
+            return None
+        if not self._scanned(s.beliefs.looked):
+            return Rescue(self._scan_bids(), events=tuple(events))
+        self._enter("normal", s)
+        events.append(("info", f"looked around: {len(s.landmarks)} landmarks in view or remembered"))
+        return None
+
+    def _lost_phase(self, s: Situation, events: list[tuple[str, str]], ask: Ask) -> Rescue | None:
+        """The target lost: scan, turn by a random angle, scan again; after ``LOST_SCANS`` scans,
+        ask the map for a way toward where the target is believed to be."""
+        if self.state != "lost":
+            return None
+        if s.I_a <= self.params.I_a_bar:
+            self._lost_scans = 0
+            self._enter("normal", s)
+            events.append(("info", f"target found again (I_a = {s.I_a:.2f})"))
+            return None
+        if not self._scanned(s.beliefs.looked):
+            return Rescue(self._scan_bids(), events=tuple(events))
+        self._lost_scans += 1
+        if self._lost_scans >= LOST_SCANS:
+            # our design: what hides the target is most often a long obstacle, and scanning on where
+            # the robot stands shows it nothing new; the map's way toward where the target is
+            # believed to be (its belief's centre) leads past it, and no failure is counted
+            self._lost_scans = 0
+            self._enter("normal", s)
             events.append(
                 (
-                    "info",
-                    f"diverting target crossed between {crossed.left} and {crossed.right}: back to the original target",
+                    "warning",
+                    f"target not found in {LOST_SCANS} scans: asking the map for a way toward where it is believed to be",
                 )
             )
-            self._last_crossed = crossed.edge
+            return self._request(s, events, ask, lost=True)
+        self._start_turn(s.beliefs.odometry, events, "target still lost after a scan")
+        return Rescue(events=tuple(events))
+
+    def _normal_phase(self, s: Situation, events: list[tuple[str, str]], ask: Ask) -> Rescue:
+        """No rescue under way: follow a diverting target until crossed, and watch for being blocked."""
+        line = self._diverting_line(s)
+        if line is not None and self._crossed(line):
+            step = self._on_crossed(s, events, ask)
+            if step is not None:
+                return step
+            line = None
         why = self._blocked(s, line)
         if why is None:
             return Rescue((), line, tuple(events))
         if self.params.blocked_ends:  # the learning paper's trials end when the robot is blocked
-            return self._give_up(why, events, s)
-        abandoned = None
-        caught = len(self._bumps) >= self.params.blocked_bumps  # (before the abandoned crossing clears them)
+            return self._end(why, events)
+        return self._on_blocked(s, why, events, ask)
+
+    def _on_crossed(self, s: Situation, events: list[tuple[str, str]], ask: Ask) -> Rescue | None:
+        """The diverting target was crossed: its way's next step, if the map gives one (a Rescue),
+        or back to the original target (None)."""
+        crossed = self._crossing
+        assert crossed is not None  # a diverting line is that of a crossing
+        self._clear_crossing(s, "crossed")
+        self._trapped = False  # a way out was found: the map's "no way out" before it is old news
+        # the next step of the way, from the region the robot is in now; none once the target is in
+        # sight (our design: the regions' way may still go round, through virtual landmarks' regions)
+        after = None if self.params.sight_ends_way and _in_sight(s) else ask(None)
+        if isinstance(after, Crossing) and after.edge != crossed.edge:
+            since = self._crossing_since
+            self._set_crossing(after, s)  # the same diverting target's way, one step on: not counted again,
+            self._crossing_since = since  # and its timeout runs on: the way as a whole must be done in time
+            events.append(
+                (
+                    "info",
+                    f"diverting target crossed between {crossed.left} and {crossed.right}; "
+                    f"next: cross between {after.left} (left) and {after.right} (right)",
+                )
+            )
+            return Rescue((), self._diverting_line(s), tuple(events))
+        events.append(
+            (
+                "info",
+                f"diverting target crossed between {crossed.left} and {crossed.right}: back to the original target",
+            )
+        )
+        self._last_crossed = crossed.edge
+        return None
+
+    def _on_blocked(self, s: Situation, why: str, events: list[tuple[str, str]], ask: Ask) -> Rescue:
+        """Blocked for ``why``: another way if the Pilot sees the way closed; else count the
+        failed diverting target (held, or crossed and leading nowhere) and ask for a new one."""
+        caught = self.progress.caught()  # (before the abandoned crossing clears them)
         tried = self._crossing.edge if self._crossing is not None else self._last_crossed
         if tried is not None and s.beliefs.pilot_blocked is not None:
             # the Pilot sees a long obstacle across the way: the map, which knows it now, may lead
@@ -291,26 +361,7 @@ class Rescuer:
                 self._clear_crossing(s, "replaced: the way seen closed")
                 self._last_crossed = None
                 return self._divert(again, s, events)
-        if self._crossing is not None:
-            self.failures += 1
-            c = self._crossing
-            events.append(
-                (
-                    "warning",
-                    f"diverting target between {c.left} and {c.right} abandoned ({why}; {self.failures} failed)",
-                )
-            )
-            abandoned = c.edge
-            self._clear_crossing(s, "abandoned")
-        else:
-            events.append(("warning", f"blocked: {why}"))
-            if self._last_crossed is not None:  # the last diverting target was crossed but led nowhere
-                self.failures += 1
-                abandoned, self._last_crossed = self._last_crossed, None
-                if self.tried and self.tried[-1][2] == "crossed":
-                    self.tried[-1] = (*self.tried[-1][:2], "crossed, led nowhere")
-                end_u, end_v = ends(abandoned)
-                events.append(("warning", f"crossing between {end_u} and {end_v} led nowhere ({self.failures} failed)"))
+        abandoned = self._count_failure(s, why, events)
         if self.params.gives_up and 0 < self.params.max_diverting_failures <= self.failures:
             return self._give_up(f"{self.failures} diverting targets failed", events, s)
         if abandoned is not None and caught:
@@ -322,15 +373,43 @@ class Rescuer:
             return Rescue(events=tuple(events))
         return self._request(s, events, ask, abandoned)
 
+    def _count_failure(self, s: Situation, why: str, events: list[tuple[str, str]]) -> Edge | None:
+        """The edge of the diverting target that failed, if one did: the one held (abandoned), or
+        the last one crossed, which led nowhere; counted in ``failures``."""
+        if self._crossing is not None:
+            self.failures += 1
+            c = self._crossing
+            events.append(
+                (
+                    "warning",
+                    f"diverting target between {c.left} and {c.right} abandoned ({why}; {self.failures} failed)",
+                )
+            )
+            self._clear_crossing(s, "abandoned")
+            return c.edge
+        events.append(("warning", f"blocked: {why}"))
+        if self._last_crossed is None:
+            return None
+        self.failures += 1  # the last diverting target was crossed but led nowhere
+        abandoned, self._last_crossed = self._last_crossed, None
+        if self.tried and self.tried[-1][2] == "crossed":
+            self.tried[-1] = (*self.tried[-1][:2], "crossed, led nowhere")
+        end_u, end_v = ends(abandoned)
+        events.append(("warning", f"crossing between {end_u} and {end_v} led nowhere ({self.failures} failed)"))
+        return abandoned
+
     def _request(
         self,
         s: Situation,
         events: list[tuple[str, str]],
-        ask: Callable[[Edge | None], Crossing | NoCrossing | None],
+        ask: Ask,
         abandoned: Edge | None = None,
+        lost: bool = False,
     ) -> Rescue:
         """Ask the map for a diverting target (telling it of the ``abandoned`` edge, if any) and set
-        it; with none, explore, or end the mission when the map still shows no way out."""
+        it; with none, turn (the target in the robot's region, unless it is ``lost``: what hides
+        it is then most often a long obstacle), explore, or give up when the map still shows no
+        way out."""
         untold, self._untold = self._untold, None
         if untold is not None and abandoned is not None:
             ask(untold)  # two failures to tell (rare): the first one's answer is not the robot's way now
@@ -341,8 +420,16 @@ class Rescuer:
             if trapped and self._trapped:  # no way out, still, after looking around for one
                 return self._give_up(f"no way out: {why}", events, s)
             self._trapped = trapped
+            if crossing is not None and crossing.here and self.params.turn_when_here and not lost:
+                # the thesis' Rescuer with no diverting target: a random turn; the map knows the way
+                # is straight, so driving away from the target to explore would only lengthen it
+                self._start_turn(s.beliefs.odometry, events, f"no diverting target ({why})")
+                self._reset_progress(s)
+                return Rescue(events=tuple(events))
             self._explorations += 1
-            if 0 < self.params.max_diverting_failures < self._explorations:  # looking around bounded as failures are
+            if (
+                self.params.gives_up and 0 < self.params.max_diverting_failures < self._explorations
+            ):  # looking around bounded as failures are
                 return self._give_up(
                     f"the map gives no diverting target after {self._explorations - 1} looks around ({why})", events, s
                 )
@@ -369,44 +456,21 @@ class Rescuer:
         return Rescue((stop,), self._diverting_line(s), tuple(events))
 
     def _give_up(self, why: str, events: list[tuple[str, str]], s: Situation) -> Rescue:
-        """End the mission as ``blocked`` for ``why``, said in the events too; with ``gives_up`` 0,
-        say so and explore instead (the robot goes on until the time limit)."""
-        if not self.params.gives_up:
-            self._trapped, self._explorations = False, 0
-            self._explore(s, events, f"would give up ({why}), but gives_up is 0")
-            return Rescue(events=tuple(events))
+        """With ``gives_up``, end the mission as ``blocked`` for ``why``; without (the default),
+        turn by a random angle and ask the map again once turned (the thesis' Rescuer with no
+        diverting target), so the robot goes on until the time limit."""
+        if self.params.gives_up:
+            return self._end(why, events)
+        self._trapped, self._explorations = False, 0
+        self._start_turn(s.beliefs.odometry, events, f"{why}; not giving up")
+        self._ask_after_turn = True
+        self._reset_progress(s)
+        return Rescue(events=tuple(events))
+
+    def _end(self, why: str, events: list[tuple[str, str]]) -> Rescue:
+        """End the mission as ``blocked`` for ``why``, said in the events too."""
         events.append(("error", f"giving up: {why}"))
         return Rescue(events=tuple(events), give_up=why)
-
-    # -- scans and turns
-    def _scan_look(self) -> Look:
-        """The look of the scan's current pan: a scan for the lost target (the target and the
-        known landmarks) when the target is lost; a search for new landmarks otherwise (the
-        initial sweep, and looking around to explore)."""
-        pan = math.radians(self.params.scan_pans_deg[self._scan])
-        return Look(pan, "scan" if self.state == "lost" else "search")
-
-    def _scan_bids(self) -> tuple[Bid, ...]:
-        v = self.params.rescuer_bid
-        return (Bid(self.name, "motion", STOP, v), Bid(self.name, "camera", self._scan_look(), v))
-
-    def _scanned(self, looked: Look | None) -> bool:
-        """Advance the scan when the camera reports the look asked for; True when all are done."""
-        if self._scan < len(self.params.scan_pans_deg) and looked_at(looked, self._scan_look()):
-            self._scan += 1
-        return self._scan >= len(self.params.scan_pans_deg)
-
-    def _start_turn(self, odo: Pose, events: list[tuple[str, str]], why: str, away: Point | None = None) -> None:
-        """Turn by a random angle of up to ``random_turn_deg``; exploring (``away``: the target,
-        egocentric), to a random heading within half that of the one away from the target."""
-        lim = math.radians(self.params.random_turn_deg)
-        if away is None:
-            angle = float(self.rng.uniform(-lim, lim))
-        else:
-            angle = wrap_angle(math.atan2(away[1], away[0]) + math.pi + float(self.rng.uniform(-lim / 2, lim / 2)))
-        self._turn_to = wrap_angle(odo.theta + angle)
-        self.state = "turn"
-        events.append(("warning", f"{why}: turning by {math.degrees(angle):.0f} deg"))
 
     def _enter(self, state: str, s: Situation) -> None:
         self.state, self._scan = state, 0
@@ -454,29 +518,28 @@ class Rescuer:
 
     # -- blocked
     def _reset_progress(self, s: Situation) -> None:
-        self._progress_best = math.inf
-        self._progress_since = s.time
-        self._bumps.clear()
+        self.progress.reset(s.time)
 
     def _blocked(self, s: Situation, line: tuple[Point, Point] | None) -> str | None:
         """Why the robot is blocked on its way to the current target (``line``: the diverting line,
         if one is held), or None: the Pilot reports a long obstacle ahead it cannot easily avoid
-        (the thesis' blocked situation), no progress within the window, too many bumps within
-        it, or a diverting target held too long."""
+        (the thesis' blocked situation), no progress within the blocked window, too many bumps
+        within it, a diverting target held too long, or a stall (not in the learning paper's
+        task, whose trials end at its own blocked situations)."""
         p = self.params
         aim = s.aim if line is None else midpoint(*line)
         if aim is None:  # the learning paper's task: "blocked by the landmarks or by the wall", known target or not
             return self._stuck(s) if p.blocked_ends else None
-        d = math.hypot(*aim)
-        if d < self._progress_best - p.blocked_progress:
-            self._progress_best, self._progress_since = d, s.time
+        self.progress.came_closer(s, aim)
         held = self._stuck(s)
         if held is not None and s.beliefs.pilot_blocked is not None:
             return held  # (the Pilot's report first, then the windows, then the bumps)
         if self._crossing is not None and s.time - self._crossing_since > self.timeout_s:
             return "the diverting target was not crossed in time"
-        if s.time - self._progress_since > self.window_s:
+        if self.progress.window_over(s):
             return "no progress toward the target"
+        if held is None and p.stall_rule and not p.blocked_ends:
+            return self.progress.stalled(s, aim)
         return held
 
     def _stuck(self, s: Situation) -> str | None:
@@ -485,6 +548,6 @@ class Rescuer:
         the blocked window."""
         if s.beliefs.pilot_blocked is not None:
             return f"the Pilot reports {s.beliefs.pilot_blocked} ahead, which it cannot easily avoid"
-        if len(self._bumps) >= self.params.blocked_bumps:
-            return f"{len(self._bumps)} bumps"
+        if self.progress.caught():
+            return f"{len(self.progress.bumps)} bumps"
         return None

@@ -216,6 +216,12 @@ class PilotParams(ParamSet):
         above=0.0,
     )
     stall_min_distance: float = param(0.1, "m", "commanded in that window before a stall can be called", above=0.0)
+    stall_approach: float = param(
+        2.0,
+        "",
+        """and blocked when, over this many stall windows, the robot came less than
+        stall_progress closer to its target (led away round and round); 0: the net displacement alone""",
+    )
     stall_progress: float = param(
         0.2, "", "a stall: less than this fraction of the commanded distance moved", at_most=1.0
     )
@@ -299,6 +305,31 @@ class NavigationParams(ParamSet):
         above=0.0,
     )
     blocked_progress: float = param(0.5, "m", "closer to the target that counts as progress", above=0.0)
+    stall_rule: bool = param(
+        True,
+        "",
+        """the short no-progress rule: the robot moved less than stall_progress net
+        over the stall window is blocked (a potential field caught in a minimum, swinging between two obstacles
+        without a bump); off: only the long window of blocked_window_m""",
+    )
+    stall_window_s: float = param(
+        20.0, "s", "the stall window: at least this long, or stall_window_m at robot.max_speed", above=0.0
+    )
+    stall_window_m: float = param(
+        1.5,
+        "m",
+        "the stall window: as long as the robot takes to drive this far at robot.max_speed (30 s at 5 cm/s)",
+        above=0.0,
+    )
+    stall_approach: float = param(
+        2.0,
+        "",
+        """and blocked when, over this many stall windows, the robot came less than
+        stall_progress closer to its target (led away round and round); 0: the net displacement alone""",
+    )
+    stall_progress: float = param(
+        0.3, "m", "less net displacement than this over the stall window: no progress", above=0.0
+    )
     blocked_bumps: int = param(3, "", "or this many bumps within the blocked window: blocked", at_least=1)
     diverting_timeout_m: float = param(
         27.0,
@@ -308,7 +339,11 @@ class NavigationParams(ParamSet):
     )
     max_diverting_failures: int = param(0, "", "failed diverting targets that end the mission; 0: no count does")
     gives_up: bool = param(
-        True, "", "off: the Rescuer never ends a mission (long benchmarks, tests that need a long run)"
+        False,
+        "",
+        """on: the Rescuer ends the mission blocked when the map shows no way out twice
+        (or max_diverting_failures is reached); off: it turns by a random angle and asks the map again, as the
+        thesis' Rescuer does with no diverting target, until the time limit""",
     )
     random_turn_deg: float = param(
         120.0, "deg", "with no diverting target: turn by up to this much", above=0.0, at_most=180.0
@@ -320,6 +355,13 @@ class NavigationParams(ParamSet):
         random_turn_deg), drive up to this far looking around until a new landmark is seen, then scan (our design:
         what hides the landmarks from where the robot is blocked is a long obstacle, about 3 m in the papers'
         rooms); 0: turn and scan in place (navcli before)""",
+    )
+    turn_when_here: bool = param(
+        True,
+        "",
+        """blocked with the target in the robot's own region (the map's way is
+        straight): turn by a random angle within random_turn_deg, as the thesis' Rescuer with no diverting target;
+        off: explore (turn away, drive explore_m, look around)""",
     )
     sight_ends_way: bool = param(
         True,
@@ -376,10 +418,31 @@ class NavigationParams(ParamSet):
     )
     virtual_distance: float = param(10.0, "m", "Map Manager: virtual landmarks beyond the hull edges", above=0.0)
     blocked_cost: float = param(1000.0, "", "Map Manager: the cost of a region arc known to be blocked", above=1.0)
+    seen_closed_cost: float = param(
+        100.0,
+        "",
+        """Map Manager: the cost of an arc a remembered long obstacle was seen across
+        (one the memory no longer holds): a way worse than any open one, cleared when the robot sees both its
+        landmarks with no known obstacle across; 0: a block for good, which can close the robot in""",
+    )
+    dead_end_radius: float = param(
+        1.0,
+        "m",
+        """Map Manager: an edge whose middle lies this near the middle of a failed
+        diverting target's edge passes by that dead end and costs seen_closed_cost (blocked_cost when that is 0);
+        0: failed edges matched by their ends only""",
+    )
     diverting_in_sight: bool = param(
         True,
         "",
         "the diverting target is the farthest edge of the way the robot sees straight; off: the first (navcli before)",
+    )
+    diverting_seen_whole: bool = param(
+        False,
+        "",
+        """in sight means the edge's middle half seen whole (sight lines to its middle
+        and quarter points clear, no obstacle's end between: never an edge beyond a wall's end); off: its middle
+        alone (measured: as fast or faster in the trap rooms and slanted-8x8, 5 reruns)""",
     )
 
 
