@@ -326,6 +326,11 @@ VISION = ("vision",)
 SENSITIVITY_ROWS: tuple[Row, ...] = (
     Row("navcli's defaults", {}),
     Row("no wheel slip (the command driven exactly)", {"robot.slip_noise": 0.0}),
+    Row("no stall rule (only the long blocked window)", {"navigation.stall_rule": False}),
+    Row("gives up when the map shows no way out", {"navigation.gives_up": True}, VISION),
+    Row("ways seen closed block for good", {"navigation.seen_closed_cost": 0.0}, VISION),
+    Row("dead ends matched by their ends only", {"navigation.dead_end_radius": 0.0}, VISION),
+    Row("diverting edges handed over only when seen whole", {"navigation.diverting_seen_whole": True}, VISION),
     Row("every look sees all", {"vision.routines": 0}, VISION),
     Row("lines joined by geometry", {"vision.line_objects": 0}, VISION),
     Row("walls known", {"vision.walls": "known"}, VISION),

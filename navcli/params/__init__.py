@@ -216,12 +216,6 @@ class PilotParams(ParamSet):
         above=0.0,
     )
     stall_min_distance: float = param(0.1, "m", "commanded in that window before a stall can be called", above=0.0)
-    stall_approach: float = param(
-        2.0,
-        "",
-        """and blocked when, over this many stall windows, the robot came less than
-        stall_progress closer to its target (led away round and round); 0: the net displacement alone""",
-    )
     stall_progress: float = param(
         0.2, "", "a stall: less than this fraction of the commanded distance moved", at_most=1.0
     )
