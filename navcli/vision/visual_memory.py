@@ -28,7 +28,7 @@ import math
 from dataclasses import dataclass, field
 
 from ..fuzzy import ALPHAS, CUT, FuzzyAngle, FuzzyPoint
-from ..params import VISION, VisionParams
+from ..params import ROBOT, VISION, VisionParams
 from . import line_pieces
 from .line_pieces import END_TIE
 from .camera import Detection, Sighting
@@ -101,6 +101,7 @@ class Memory:
     prior: bool = False  # told at the start: never forgotten
     seen: float = 0.0  # simulated time of the last sighting
     exact: tuple[bool, ...] = ()
+    felt_from: tuple[float, float] | None = None  # a lone bump: the robot's centre when it was felt
 
     def imprecision(self) -> float:
         """I(l) of the object's worst-known point (section 5.1 of the learning-agent paper)."""
@@ -174,7 +175,8 @@ class VisualMemory:
 
     ``odometry_noise`` is the odometry's relative deviation (scenario ``noise.odometry``) and
     ``heading_drift`` its heading drift (rad per metre, ``noise.odometry_drift_deg_per_m``),
-    from which :meth:`move` bounds the drift."""
+    from which :meth:`move` bounds the drift; ``robot_radius`` the robot's body, through which no
+    line felt by the bumpers may pass (:meth:`add_bump`)."""
 
     odometry_noise: float
     params: VisionParams = VISION
@@ -182,6 +184,7 @@ class VisualMemory:
     forgotten: list[str] = field(default_factory=list)
     _n: int = 0
     heading_drift: float = 0.0
+    robot_radius: float = ROBOT.radius
 
     def add(
         self, key: str, kind: str, points: list[tuple[float, float]], radius: float, r0: float, prior: bool = False
@@ -200,25 +203,105 @@ class VisualMemory:
 
     def add_bump(self, spot: Spot, radius: float, time: float = 0.0) -> Memory:
         """What the bumpers found (notes, section 2, Pilot: "bump points close to each other or to
-        landmarks are merged into a long obstacle between landmarks"): a bump within
-        ``bump_merge`` metres of a remembered bump becomes, with it, one linear obstacle spanning
-        both; one that near a landmark, a linear obstacle from the landmark to it. So a wall the
-        camera never saw, found by touch at two places, is known as one long obstacle, which the
-        Pilot avoids as such and the Map Manager sees across the region edges it blocks."""
+        landmarks are merged into a long obstacle between landmarks"), so that a wall the camera
+        never saw, found by touch at two places, is known as one long obstacle, which the Pilot
+        avoids as such and the Map Manager sees across the region edges it blocks.
+
+        A bumper knows where on the body it was pressed and odometry where the robot was, not what
+        it touched; so "one object" is judged from those alone (``vision.bump_lines``, default
+        ``one-object``; :meth:`_add_bump_near` is ``near``):
+
+        1. a bump on a remembered line (a fence, a wall, a line felt before; :meth:`_line_under`)
+           confirms it and draws nothing new;
+        2. a bump where a lone point is remembered (:func:`_same_point`) is fused with it: one
+           point felt twice is no line, and never a second copy;
+        3. a bump joins the nearest lone bump within ``bump_merge`` that may be on the same
+           object (:meth:`_one_object`): the line between them clears the robot's body where it
+           stood at each bump, and the robot stood on one side of that line both times (a bump
+           in front and one behind are two objects, with the robot between them);
+        4. else a landmark within ``bump_merge`` whose line to the bump clears the body: a line
+           from the landmark to it;
+        5. else it is remembered as a lone bump, with where the robot stood."""
+        if self.params.bump_lines == "near":
+            return self._add_bump_near(spot, radius, time)
+        line = self._line_under(spot)
+        if line is not None:
+            line.seen = time
+            return line
+        points = [m for m in self.items.values() if _lone(m) and _same_point(m.spots[0], spot)]
+        if points:
+            m = min(points, key=lambda m: _gap(m.spots[0], spot))
+            m.spots[0] = fuse(m.spots[0], spot)
+            m.seen = time
+            if m.kind == "bump":
+                m.felt_from = (0.0, 0.0)
+            return m
         near = self.params.bump_merge
-
-        def d(m: Memory) -> float:
-            return math.hypot(m.spots[0].x - spot.x, m.spots[0].y - spot.y)
-
-        bumps = [m for m in self.items.values() if m.kind == "bump" and len(m.spots) == 1 and d(m) <= near]
+        bumps = [
+            m
+            for m in self.items.values()
+            if m.kind == "bump" and len(m.spots) == 1 and _gap(m.spots[0], spot) <= near and self._one_object(m, spot)
+        ]
         if bumps:
-            other = min(bumps, key=d)
+            other = min(bumps, key=lambda m: _gap(m.spots[0], spot))
             del self.items[other.key]
             return self.add_found("obstacle", [other.spots[0], spot], radius, time)
-        marks = [m for m in self.items.values() if m.kind == "landmark" and d(m) <= near]
+        body = self.robot_radius
+        marks = [
+            m
+            for m in self.items.values()
+            if m.kind == "landmark" and _gap(m.spots[0], spot) <= near and _clears((0.0, 0.0), m.spots[0], spot, body)
+        ]
         if marks:
-            mark = min(marks, key=d)
-            a = mark.spots[0]
+            a = min(marks, key=lambda m: _gap(m.spots[0], spot)).spots[0]
+            return self.add_found("obstacle", [Spot(a.x, a.y, a.r0, a.r1), spot], radius, time)
+        m = self.add_found("bump", [spot], radius, time)
+        m.felt_from = (0.0, 0.0)
+        return m
+
+    def _line_under(self, spot: Spot) -> Memory | None:
+        """The remembered linear obstacle (not the target) that the bump ``spot`` may lie on: its
+        centre no farther from the line's crisp segment than the line's half-width, the bump's
+        support and the larger 70 % cut of the line's ends (how far the line may be off)."""
+        best, best_d = None, math.inf
+        for m in self.items.values():
+            if len(m.spots) != 2 or m.kind == "target":
+                continue
+            a, b = m.spots
+            d = _to_segment(spot.x, spot.y, a.x, a.y, b.x, b.y)
+            if d <= m.radius + spot.r0 + max(a.radius(CUT), b.radius(CUT)) and d < best_d:
+                best, best_d = m, d
+        return best
+
+    def _one_object(self, bump: Memory, spot: Spot) -> bool:
+        """May the remembered lone ``bump`` and the bump ``spot`` felt now be on one object: the
+        line between them passes no nearer than the robot's radius to where the robot stood at
+        either bump (now: the origin), and both times the robot stood on the same side of it?"""
+        p, was, body = bump.spots[0], bump.felt_from, self.robot_radius
+        if was is None:
+            return False
+        if not (_clears(was, p, spot, body) and _clears((0.0, 0.0), p, spot, body)):
+            return False
+        ux, uy = spot.x - p.x, spot.y - p.y
+        then = ux * (was[1] - p.y) - uy * (was[0] - p.x)
+        now = ux * (0.0 - p.y) - uy * (0.0 - p.x)
+        return then * now > 0.0
+
+    def _add_bump_near(self, spot: Spot, radius: float, time: float) -> Memory:
+        """``vision.bump_lines`` ``near``: a bump within ``bump_merge`` of a remembered bump
+        becomes, with it, one linear obstacle spanning both; one near a landmark, a linear
+        obstacle from the landmark to it; whatever lies between them."""
+        near = self.params.bump_merge
+        bumps = [
+            m for m in self.items.values() if m.kind == "bump" and len(m.spots) == 1 and _gap(m.spots[0], spot) <= near
+        ]
+        if bumps:
+            other = min(bumps, key=lambda m: _gap(m.spots[0], spot))
+            del self.items[other.key]
+            return self.add_found("obstacle", [other.spots[0], spot], radius, time)
+        marks = [m for m in self.items.values() if m.kind == "landmark" and _gap(m.spots[0], spot) <= near]
+        if marks:
+            a = min(marks, key=lambda m: _gap(m.spots[0], spot)).spots[0]
             return self.add_found("obstacle", [Spot(a.x, a.y, a.r0, a.r1), spot], radius, time)
         return self.add_found("bump", [spot], radius, time)
 
@@ -271,6 +354,10 @@ class VisualMemory:
                     r0 += hwalk * sqrt(vh)
                 p.drift = (jx, jy, kx, ky, vt, vs, run, hx, hy, vh)
                 p.r0 = r0
+            f = m.felt_from
+            if f is not None:  # where the robot stood moves as the points do, crisp
+                x, y = f[0] - sx, f[1] - sy
+                m.felt_from = (c * x - s * y, s * x + c * y)
 
     def shove(self, slip: float) -> None:
         """Sliding along something may have moved the robot ``slip`` metres sideways, which the
@@ -354,7 +441,12 @@ class VisualMemory:
         (both are honest points of it; the farther is the better bound of its extent). So the
         remembered line is the stretch between two honest points of the obstacle, never a join
         of pieces, and no more certain than its ends. Points and bumps that lie on a new line are
-        dropped: they were it."""
+        dropped: they were it.
+
+        The obstacle is one rigid thing: where a sighting corrects one end (fuses it) and leaves
+        the other as remembered, the other end moves with it (:func:`_carried`), so the line
+        keeps its length and direction instead of tilting toward where odometry had carried the
+        uncorrected end (``vision.fence_rigid``)."""
         if len(spots) == 1:
             spots = [spots[0], _copy(spots[0])]  # two spots: each end is moved on its own
         m = self.items.get(key)
@@ -368,6 +460,12 @@ class VisualMemory:
         if math.hypot(ux, uy) < 1e-9:
             ux, uy = spots[0].x - spots[1].x, spots[0].y - spots[1].y
         ends_now = [_end(a, ea, spots[0], ends[0], ux, uy, b), _end(b, eb, spots[1], ends[1], -ux, -uy, a)]
+        if self.params.fence_rigid:
+            fused = (ea and ends[0], eb and ends[1])  # an end seen that was known: corrected
+            if fused[0] and not fused[1] and ends_now[1] is b:
+                ends_now[1] = _carried(b, ends_now[0].x - a.x, ends_now[0].y - a.y)
+            elif fused[1] and not fused[0] and ends_now[0] is a:
+                ends_now[0] = _carried(a, ends_now[1].x - b.x, ends_now[1].y - b.y)
         if ends_now[0] is ends_now[1]:
             ends_now[1] = _copy(ends_now[1])
         m.spots = ends_now
@@ -415,6 +513,15 @@ def _copy(s: Spot) -> Spot:
     return Spot(s.x, s.y, s.base, s.r1, s.drift, s.r0)
 
 
+def _carried(s: Spot, dx: float, dy: float) -> Spot:
+    """The end ``s`` of a linear obstacle moved by ``(dx, dy)`` with its other end, which a
+    sighting corrected by that much: its support grown by the move, so that it still holds the
+    whole of the support it had (honest whatever the correction; the move is what odometry shifted
+    both ends by, bar the turn's share between them)."""
+    grow = math.hypot(dx, dy)
+    return Spot(s.x + dx, s.y + dy, s.base + grow, s.r1, s.drift, s.r0 + grow)
+
+
 def _end(mem: Spot, mem_exact: bool, obs: Spot, obs_exact: bool, ux: float, uy: float, origin: Spot) -> Spot:
     """One end of an identified linear obstacle after a sighting (see
     :meth:`VisualMemory._observe_line`): ``mem`` remembered, ``obs`` seen, each flagged as the
@@ -437,3 +544,27 @@ def _same_point(a: Spot, b: Spot) -> bool:
     it, and the fusion of two things, each honest, can hold neither: an obstacle's remembered point
     lay outside its support in 9 of 24 paper-8x8 runs.)"""
     return math.hypot(a.x - b.x, a.y - b.y) <= min(a.r0, b.r0)
+
+
+def _gap(a: Spot, b: Spot) -> float:
+    """The distance between two spots' centres (m)."""
+    return math.hypot(a.x - b.x, a.y - b.y)
+
+
+def _lone(m: Memory) -> bool:
+    """Is ``m`` an unidentified point: a plain obstacle point or a bump?"""
+    return m.kind in ("obstacle", "bump") and len(m.spots) == 1
+
+
+def _to_segment(px: float, py: float, ax: float, ay: float, bx: float, by: float) -> float:
+    """The distance from ``(px, py)`` to the segment from ``(ax, ay)`` to ``(bx, by)`` (m)."""
+    ux, uy = bx - ax, by - ay
+    l2 = ux * ux + uy * uy
+    t = 0.0 if l2 == 0.0 else max(0.0, min(1.0, ((px - ax) * ux + (py - ay) * uy) / l2))
+    return math.hypot(ax + t * ux - px, ay + t * uy - py)
+
+
+def _clears(at: tuple[float, float], a: Spot, b: Spot, body: float) -> bool:
+    """Does the segment between the centres of ``a`` and ``b`` stay at least ``body`` (m) from
+    ``at``, so that a robot standing there is not on it?"""
+    return _to_segment(at[0], at[1], a.x, a.y, b.x, b.y) >= body
