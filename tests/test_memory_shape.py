@@ -88,13 +88,22 @@ def test_one_place_felt_four_times_is_one_point_not_two_copies_of_a_line():
 
 def test_a_bump_on_a_remembered_fence_confirms_it_and_one_off_it_is_its_own():
     """A fence at x = 0.35 (ends' supports 0.05 m, their 70 % cuts 0.015 m, half-width 0.025 m):
-    a bump on it draws nothing and marks the fence felt now. The fence at x = 0.65 instead: the
+    a bump on it draws nothing, marks the fence felt now and moves it onto the contact. The fence at x = 0.65 instead: the
     bump 0.3 m off it, beyond 0.025 + 0.1 + 0.015 = 0.14 m, is a bump of its own."""
     mem = VisualMemory(0.0)
     mem._observe_line("segment:f", "obstacle", [bump(RIM, -1.0), bump(RIM, 1.0)], (True, True), 0.025, 0.0)
     mem.items["segment:f"].spots = [Spot(RIM, -1.0, 0.05, 0.0), Spot(RIM, 1.0, 0.05, 0.0)]
     assert mem.add_bump(bump(RIM, 0.2), 0.05, time=5.0).key == "segment:f"
     assert list(mem.items) == ["segment:f"] and mem.items["segment:f"].seen == 5.0
+    # in contact the fence's middle is 0.25 + 0.025 m from the robot's centre: moved 0.075 m nearer,
+    # whole, each end's support grown by as much (0.05 + 0.075)
+    ends = [(s.x, s.y, s.r0) for s in mem.items["segment:f"].spots]
+    assert [tuple(round(v, 9) for v in e) for e in ends] == [(0.275, -1.0, 0.125), (0.275, 1.0, 0.125)]
+    beyond = VisualMemory(0.0)  # the robot's centre faces no part of the fence: a touch of its end, nothing moves
+    beyond._observe_line("segment:g", "obstacle", [bump(RIM, 0.1), bump(RIM, 1.0)], (True, True), 0.025, 0.0)
+    beyond.items["segment:g"].spots = [Spot(0.3, 0.1, 0.05, 0.0), Spot(0.3, 1.0, 0.05, 0.0)]
+    beyond.add_bump(bump(0.3, 0.18), 0.05)
+    assert [(s.x, s.y) for s in beyond.items["segment:g"].spots] == [(0.3, 0.1), (0.3, 1.0)]
     off = VisualMemory(0.0)
     off._observe_line("segment:f", "obstacle", [bump(0.65, -1.0), bump(0.65, 1.0)], (True, True), 0.025, 0.0)
     off.items["segment:f"].spots = [Spot(0.65, -1.0, 0.05, 0.0), Spot(0.65, 1.0, 0.05, 0.0)]

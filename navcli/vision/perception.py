@@ -307,8 +307,8 @@ def anchors(memory: VisualMemory) -> dict[str, tuple[str | None, str | None]]:
     70 % cuts of both (how far either may be off), never more than :data:`ANCHOR_GAP` plus the
     robot's radius (ours: a gap the robot's body might pass, a door beside a landmark, is never
     closed by a blurred sighting; the rooms put landmarks 0.36-0.55 m from fence ends, and one
-    room two at them). A fence's end that was never seen is anchored nowhere. Where the room puts no landmark at a fence's end
-    (all the bundled rooms), the end is the fence's own, measured by the camera like a landmark."""
+    room two at them). A fence's end never seen is anchored nowhere: its end is its own, measured
+    by the camera like a landmark. The oracle perception needs none of this: it knows every end."""
     marks = [m for m in memory.items.values() if m.kind == "landmark"]
     out: dict[str, tuple[str | None, str | None]] = {}
     for m in memory.items.values():

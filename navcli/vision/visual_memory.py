@@ -212,7 +212,8 @@ class VisualMemory:
         ``one-object``; :meth:`_add_bump_near` is ``near``):
 
         1. a bump on a remembered line (a fence, a wall, a line felt before; :meth:`_line_under`)
-           confirms it and draws nothing new;
+           confirms it and draws nothing new; the line, one rigid object, is moved across onto the
+           contact (:func:`_onto`), the bump being far sharper than a line seen from afar;
         2. a bump where a lone point is remembered (:func:`_same_point`) is fused with it: one
            point felt twice is no line, and never a second copy;
         3. a bump joins the nearest lone bump within ``bump_merge`` that may be on the same
@@ -226,6 +227,7 @@ class VisualMemory:
             return self._add_bump_near(spot, radius, time)
         line = self._line_under(spot)
         if line is not None:
+            _onto(line, spot, self.robot_radius)
             line.seen = time
             return line
         points = [m for m in self.items.values() if _lone(m) and _same_point(m.spots[0], spot)]
@@ -262,14 +264,17 @@ class VisualMemory:
     def _line_under(self, spot: Spot) -> Memory | None:
         """The remembered linear obstacle (not the target) that the bump ``spot`` may lie on: its
         centre no farther from the line's crisp segment than the line's half-width, the bump's
-        support and the larger 70 % cut of the line's ends (how far the line may be off)."""
+        support and the 70 % cut of the line there (its ends' cuts, linear in between: how far the
+        line may be off)."""
         best, best_d = None, math.inf
         for m in self.items.values():
             if len(m.spots) != 2 or m.kind == "target":
                 continue
             a, b = m.spots
-            d = _to_segment(spot.x, spot.y, a.x, a.y, b.x, b.y)
-            if d <= m.radius + spot.r0 + max(a.radius(CUT), b.radius(CUT)) and d < best_d:
+            t = _along(spot.x, spot.y, a.x, a.y, b.x, b.y)
+            d = math.hypot(a.x + t * (b.x - a.x) - spot.x, a.y + t * (b.y - a.y) - spot.y)
+            cut = (1.0 - t) * a.radius(CUT) + t * b.radius(CUT)
+            if d <= m.radius + spot.r0 + cut and d < best_d:
                 best, best_d = m, d
         return best
 
@@ -556,12 +561,37 @@ def _lone(m: Memory) -> bool:
     return m.kind in ("obstacle", "bump") and len(m.spots) == 1
 
 
-def _to_segment(px: float, py: float, ax: float, ay: float, bx: float, by: float) -> float:
-    """The distance from ``(px, py)`` to the segment from ``(ax, ay)`` to ``(bx, by)`` (m)."""
+def _along(px: float, py: float, ax: float, ay: float, bx: float, by: float) -> float:
+    """Where along the segment from ``(ax, ay)`` (0) to ``(bx, by)`` (1) the point nearest
+    ``(px, py)`` lies."""
     ux, uy = bx - ax, by - ay
     l2 = ux * ux + uy * uy
-    t = 0.0 if l2 == 0.0 else max(0.0, min(1.0, ((px - ax) * ux + (py - ay) * uy) / l2))
-    return math.hypot(ax + t * ux - px, ay + t * uy - py)
+    return 0.0 if l2 == 0.0 else max(0.0, min(1.0, ((px - ax) * ux + (py - ay) * uy) / l2))
+
+
+def _to_segment(px: float, py: float, ax: float, ay: float, bx: float, by: float) -> float:
+    """The distance from ``(px, py)`` to the segment from ``(ax, ay)`` to ``(bx, by)`` (m)."""
+    t = _along(px, py, ax, ay, bx, by)
+    return math.hypot(ax + t * (bx - ax) - px, ay + t * (by - ay) - py)
+
+
+def _onto(m: Memory, spot: Spot, body: float) -> None:
+    """Move the remembered line ``m`` across, rigidly, so that it touches the robot, on the side
+    where the bump ``spot`` was felt: in contact, the line's middle lies ``body`` plus its
+    half-width from the robot's centre. Only where the robot's centre faces the line between its
+    ends (beyond an end the contact is with the end, or with another thing); each end's support
+    grows by the move, so it still holds all it held."""
+    a, b = m.spots
+    ux, uy = b.x - a.x, b.y - a.y
+    length = math.hypot(ux, uy)
+    if length == 0.0 or not 0.0 <= -(a.x * ux + a.y * uy) / (length * length) <= 1.0:
+        return
+    nx, ny = -uy / length, ux / length
+    side = spot.x * nx + spot.y * ny
+    if side == 0.0:
+        return
+    off = math.copysign(body + m.radius, side) - (a.x * nx + a.y * ny)  # the line's move across
+    m.spots = [_carried(e, off * nx, off * ny) for e in (a, b)]
 
 
 def _clears(at: tuple[float, float], a: Spot, b: Spot, body: float) -> bool:
