@@ -29,7 +29,7 @@ from dataclasses import dataclass, field
 
 from ..fuzzy import ALPHAS, CUT, FuzzyAngle, FuzzyPoint
 from ..params import ROBOT, VISION, VisionParams
-from . import line_pieces
+from . import bumps, line_pieces
 from .line_pieces import END_TIE
 from .camera import Detection, Sighting
 
@@ -211,13 +211,13 @@ class VisualMemory:
         it touched; so "one object" is judged from those alone (``vision.bump_lines``, default
         ``one-object``; :meth:`_add_bump_near` is ``near``):
 
-        1. a bump on a remembered line (a fence, a wall, a line felt before; :meth:`_line_under`)
+        1. a bump on a remembered line (a fence, a wall, a line felt before; :func:`.bumps.line_under`)
            confirms it and draws nothing new; the line, one rigid object, is moved across onto the
-           contact (:func:`_onto`), the bump being far sharper than a line seen from afar;
+           contact (:func:`.bumps.onto`), the bump being far sharper than a line seen from afar;
         2. a bump where a lone point is remembered (:func:`_same_point`) is fused with it: one
            point felt twice is no line, and never a second copy;
         3. a bump joins the nearest lone bump within ``bump_merge`` that may be on the same
-           object (:meth:`_one_object`): the line between them clears the robot's body where it
+           object (:func:`.bumps.one_object`): the line between them clears the robot's body where it
            stood at each bump, and the robot stood on one side of that line both times (a bump
            in front and one behind are two objects, with the robot between them);
         4. else a landmark within ``bump_merge`` whose line to the bump clears the body: a line
@@ -225,88 +225,64 @@ class VisualMemory:
         5. else it is remembered as a lone bump, with where the robot stood."""
         if self.params.bump_lines == "near":
             return self._add_bump_near(spot, radius, time)
-        line = self._line_under(spot)
+        line = bumps.line_under(self.items.values(), spot)
         if line is not None:
-            _onto(line, spot, self.robot_radius)
+            bumps.onto(line, spot, self.robot_radius)
             line.seen = time
             return line
-        points = [m for m in self.items.values() if _lone(m) and _same_point(m.spots[0], spot)]
+        points = [m for m in self.items.values() if bumps.lone(m) and _same_point(m.spots[0], spot)]
         if points:
-            m = min(points, key=lambda m: _gap(m.spots[0], spot))
+            m = min(points, key=lambda m: bumps.gap(m.spots[0], spot))
             m.spots[0] = fuse(m.spots[0], spot)
             m.seen = time
             if m.kind == "bump":
                 m.felt_from = (0.0, 0.0)
             return m
         near = self.params.bump_merge
-        bumps = [
+        felt = [
             m
             for m in self.items.values()
-            if m.kind == "bump" and len(m.spots) == 1 and _gap(m.spots[0], spot) <= near and self._one_object(m, spot)
+            if m.kind == "bump"
+            and len(m.spots) == 1
+            and bumps.gap(m.spots[0], spot) <= near
+            and bumps.one_object(m, spot, self.robot_radius)
         ]
-        if bumps:
-            other = min(bumps, key=lambda m: _gap(m.spots[0], spot))
+        if felt:
+            other = min(felt, key=lambda m: bumps.gap(m.spots[0], spot))
             del self.items[other.key]
             return self.add_found("obstacle", [other.spots[0], spot], radius, time)
         body = self.robot_radius
         marks = [
             m
             for m in self.items.values()
-            if m.kind == "landmark" and _gap(m.spots[0], spot) <= near and _clears((0.0, 0.0), m.spots[0], spot, body)
+            if m.kind == "landmark"
+            and bumps.gap(m.spots[0], spot) <= near
+            and bumps.clears((0.0, 0.0), m.spots[0], spot, body)
         ]
         if marks:
-            a = min(marks, key=lambda m: _gap(m.spots[0], spot)).spots[0]
+            a = min(marks, key=lambda m: bumps.gap(m.spots[0], spot)).spots[0]
             return self.add_found("obstacle", [Spot(a.x, a.y, a.r0, a.r1), spot], radius, time)
         m = self.add_found("bump", [spot], radius, time)
         m.felt_from = (0.0, 0.0)
         return m
-
-    def _line_under(self, spot: Spot) -> Memory | None:
-        """The remembered linear obstacle (not the target) that the bump ``spot`` may lie on: its
-        centre no farther from the line's crisp segment than the line's half-width, the bump's
-        support and the 70 % cut of the line there (its ends' cuts, linear in between: how far the
-        line may be off)."""
-        best, best_d = None, math.inf
-        for m in self.items.values():
-            if len(m.spots) != 2 or m.kind == "target":
-                continue
-            a, b = m.spots
-            t = _along(spot.x, spot.y, a.x, a.y, b.x, b.y)
-            d = math.hypot(a.x + t * (b.x - a.x) - spot.x, a.y + t * (b.y - a.y) - spot.y)
-            cut = (1.0 - t) * a.radius(CUT) + t * b.radius(CUT)
-            if d <= m.radius + spot.r0 + cut and d < best_d:
-                best, best_d = m, d
-        return best
-
-    def _one_object(self, bump: Memory, spot: Spot) -> bool:
-        """May the remembered lone ``bump`` and the bump ``spot`` felt now be on one object: the
-        line between them passes no nearer than the robot's radius to where the robot stood at
-        either bump (now: the origin), and both times the robot stood on the same side of it?"""
-        p, was, body = bump.spots[0], bump.felt_from, self.robot_radius
-        if was is None:
-            return False
-        if not (_clears(was, p, spot, body) and _clears((0.0, 0.0), p, spot, body)):
-            return False
-        ux, uy = spot.x - p.x, spot.y - p.y
-        then = ux * (was[1] - p.y) - uy * (was[0] - p.x)
-        now = ux * (0.0 - p.y) - uy * (0.0 - p.x)
-        return then * now > 0.0
 
     def _add_bump_near(self, spot: Spot, radius: float, time: float) -> Memory:
         """``vision.bump_lines`` ``near``: a bump within ``bump_merge`` of a remembered bump
         becomes, with it, one linear obstacle spanning both; one near a landmark, a linear
         obstacle from the landmark to it; whatever lies between them."""
         near = self.params.bump_merge
-        bumps = [
-            m for m in self.items.values() if m.kind == "bump" and len(m.spots) == 1 and _gap(m.spots[0], spot) <= near
+        felt = [
+            m
+            for m in self.items.values()
+            if m.kind == "bump" and len(m.spots) == 1 and bumps.gap(m.spots[0], spot) <= near
         ]
-        if bumps:
-            other = min(bumps, key=lambda m: _gap(m.spots[0], spot))
+        if felt:
+            other = min(felt, key=lambda m: bumps.gap(m.spots[0], spot))
             del self.items[other.key]
             return self.add_found("obstacle", [other.spots[0], spot], radius, time)
-        marks = [m for m in self.items.values() if m.kind == "landmark" and _gap(m.spots[0], spot) <= near]
+        marks = [m for m in self.items.values() if m.kind == "landmark" and bumps.gap(m.spots[0], spot) <= near]
         if marks:
-            a = min(marks, key=lambda m: _gap(m.spots[0], spot)).spots[0]
+            a = min(marks, key=lambda m: bumps.gap(m.spots[0], spot)).spots[0]
             return self.add_found("obstacle", [Spot(a.x, a.y, a.r0, a.r1), spot], radius, time)
         return self.add_found("bump", [spot], radius, time)
 
@@ -449,7 +425,7 @@ class VisualMemory:
         dropped: they were it.
 
         The obstacle is one rigid thing: where a sighting corrects one end (fuses it) and leaves
-        the other as remembered, the other end moves with it (:func:`_carried`), so the line
+        the other as remembered, the other end moves with it (:func:`.bumps.carried`), so the line
         keeps its length and direction instead of tilting toward where odometry had carried the
         uncorrected end (``vision.fence_rigid``)."""
         if len(spots) == 1:
@@ -468,9 +444,9 @@ class VisualMemory:
         if self.params.fence_rigid:
             fused = (ea and ends[0], eb and ends[1])  # an end seen that was known: corrected
             if fused[0] and not fused[1] and ends_now[1] is b:
-                ends_now[1] = _carried(b, ends_now[0].x - a.x, ends_now[0].y - a.y)
+                ends_now[1] = bumps.carried(b, ends_now[0].x - a.x, ends_now[0].y - a.y)
             elif fused[1] and not fused[0] and ends_now[0] is a:
-                ends_now[0] = _carried(a, ends_now[1].x - b.x, ends_now[1].y - b.y)
+                ends_now[0] = bumps.carried(a, ends_now[1].x - b.x, ends_now[1].y - b.y)
         if ends_now[0] is ends_now[1]:
             ends_now[1] = _copy(ends_now[1])
         m.spots = ends_now
@@ -518,15 +494,6 @@ def _copy(s: Spot) -> Spot:
     return Spot(s.x, s.y, s.base, s.r1, s.drift, s.r0)
 
 
-def _carried(s: Spot, dx: float, dy: float) -> Spot:
-    """The end ``s`` of a linear obstacle moved by ``(dx, dy)`` with its other end, which a
-    sighting corrected by that much: its support grown by the move, so that it still holds the
-    whole of the support it had (honest whatever the correction; the move is what odometry shifted
-    both ends by, bar the turn's share between them)."""
-    grow = math.hypot(dx, dy)
-    return Spot(s.x + dx, s.y + dy, s.base + grow, s.r1, s.drift, s.r0 + grow)
-
-
 def _end(mem: Spot, mem_exact: bool, obs: Spot, obs_exact: bool, ux: float, uy: float, origin: Spot) -> Spot:
     """One end of an identified linear obstacle after a sighting (see
     :meth:`VisualMemory._observe_line`): ``mem`` remembered, ``obs`` seen, each flagged as the
@@ -549,52 +516,3 @@ def _same_point(a: Spot, b: Spot) -> bool:
     it, and the fusion of two things, each honest, can hold neither: an obstacle's remembered point
     lay outside its support in 9 of 24 paper-8x8 runs.)"""
     return math.hypot(a.x - b.x, a.y - b.y) <= min(a.r0, b.r0)
-
-
-def _gap(a: Spot, b: Spot) -> float:
-    """The distance between two spots' centres (m)."""
-    return math.hypot(a.x - b.x, a.y - b.y)
-
-
-def _lone(m: Memory) -> bool:
-    """Is ``m`` an unidentified point: a plain obstacle point or a bump?"""
-    return m.kind in ("obstacle", "bump") and len(m.spots) == 1
-
-
-def _along(px: float, py: float, ax: float, ay: float, bx: float, by: float) -> float:
-    """Where along the segment from ``(ax, ay)`` (0) to ``(bx, by)`` (1) the point nearest
-    ``(px, py)`` lies."""
-    ux, uy = bx - ax, by - ay
-    l2 = ux * ux + uy * uy
-    return 0.0 if l2 == 0.0 else max(0.0, min(1.0, ((px - ax) * ux + (py - ay) * uy) / l2))
-
-
-def _to_segment(px: float, py: float, ax: float, ay: float, bx: float, by: float) -> float:
-    """The distance from ``(px, py)`` to the segment from ``(ax, ay)`` to ``(bx, by)`` (m)."""
-    t = _along(px, py, ax, ay, bx, by)
-    return math.hypot(ax + t * (bx - ax) - px, ay + t * (by - ay) - py)
-
-
-def _onto(m: Memory, spot: Spot, body: float) -> None:
-    """Move the remembered line ``m`` across, rigidly, so that it touches the robot, on the side
-    where the bump ``spot`` was felt: in contact, the line's middle lies ``body`` plus its
-    half-width from the robot's centre. Only where the robot's centre faces the line between its
-    ends (beyond an end the contact is with the end, or with another thing); each end's support
-    grows by the move, so it still holds all it held."""
-    a, b = m.spots
-    ux, uy = b.x - a.x, b.y - a.y
-    length = math.hypot(ux, uy)
-    if length == 0.0 or not 0.0 <= -(a.x * ux + a.y * uy) / (length * length) <= 1.0:
-        return
-    nx, ny = -uy / length, ux / length
-    side = spot.x * nx + spot.y * ny
-    if side == 0.0:
-        return
-    off = math.copysign(body + m.radius, side) - (a.x * nx + a.y * ny)  # the line's move across
-    m.spots = [_carried(e, off * nx, off * ny) for e in (a, b)]
-
-
-def _clears(at: tuple[float, float], a: Spot, b: Spot, body: float) -> bool:
-    """Does the segment between the centres of ``a`` and ``b`` stay at least ``body`` (m) from
-    ``at``, so that a robot standing there is not on it?"""
-    return _to_segment(at[0], at[1], a.x, a.y, b.x, b.y) >= body
