@@ -441,11 +441,11 @@ class VisualMemory:
         if math.hypot(ux, uy) < 1e-9:
             ux, uy = spots[0].x - spots[1].x, spots[0].y - spots[1].y
         ends_now = [_end(a, ea, spots[0], ends[0], ux, uy, b), _end(b, eb, spots[1], ends[1], -ux, -uy, a)]
-        if self.params.fence_rigid:
-            fused = (ea and ends[0], eb and ends[1])  # an end seen that was known: corrected
-            if fused[0] and not fused[1] and ends_now[1] is b:
+        if self.params.fence_rigid:  # an end seen sharper than known corrects it; the other comes along
+            fixed = (ea and ends[0] and _corrects(a, spots[0]), eb and ends[1] and _corrects(b, spots[1]))
+            if fixed[0] and not (eb and ends[1]) and ends_now[1] is b:
                 ends_now[1] = bumps.carried(b, ends_now[0].x - a.x, ends_now[0].y - a.y)
-            elif fused[1] and not fused[0] and ends_now[0] is a:
+            elif fixed[1] and not (ea and ends[0]) and ends_now[0] is a:
                 ends_now[0] = bumps.carried(a, ends_now[1].x - b.x, ends_now[1].y - b.y)
         if ends_now[0] is ends_now[1]:
             ends_now[1] = _copy(ends_now[1])
@@ -492,6 +492,13 @@ def _copy(s: Spot) -> Spot:
     """A spot of its own at the same place (:meth:`VisualMemory.move` moves every spot it holds
     once: one spot held twice would be moved twice)."""
     return Spot(s.x, s.y, s.base, s.r1, s.drift, s.r0)
+
+
+def _corrects(mem: Spot, obs: Spot) -> bool:
+    """Does the sighting ``obs`` of a remembered end ``mem`` tell where it is: sharper than the
+    memory, and within it (supports that do not meet are a wrong memory, replaced, no correction
+    of the rest of the obstacle; a blurred sighting moves the fused centre by its own noise)?"""
+    return obs.r0 < mem.r0 and math.hypot(obs.x - mem.x, obs.y - mem.y) <= mem.r0 + obs.r0
 
 
 def _end(mem: Spot, mem_exact: bool, obs: Spot, obs_exact: bool, ux: float, uy: float, origin: Spot) -> Spot:
