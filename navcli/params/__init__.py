@@ -432,9 +432,10 @@ class VisionParams(ParamSet):
     fence_rigid: bool = param(
         True,
         "",
-        """a fence is one object: when a sighting corrects one of its ends and not the
-        other, the other end is moved with it, its support grown by the move (vision/visual_memory.py); off: each
-        end corrected on its own (navcli before: a fence's line drifted and tilted)""",
+        """a fence is one object: when a sighting of one of its ends, sharper than the
+        memory and within it, corrects that end and not the other, the other end is moved with it, its support
+        grown by the move (vision/visual_memory.py); off: each end corrected on its own (navcli before: a fence's
+        line drifted and tilted)""",
     )
     line_join_gap: float = param(
         0.5, "m", "stretches of a fence or wall seen apart are one only if they overlap or are this near"
