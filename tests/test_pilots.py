@@ -15,7 +15,7 @@ from navcli.bidding import Bid, Look, Move
 from navcli.pilot.geometric import GeometricPilot, blocked_interval
 from navcli.geometry import Pose
 from navcli.mission import Mission
-from navcli.params import CONTROL_DT, PILOT, PILOT_CEILING, ROBOT
+from navcli.params import CONTROL_DT, PILOT, PILOT_CEILING, ROBOT, ParamError
 from navcli.beliefs import Beliefs, KnownObstacle
 from navcli.pilot.base import Pilot
 from navcli.pilot.potential_field import PotentialFieldPilot, passable_gap
@@ -175,30 +175,30 @@ def test_eq1_look_bid_grows_with_distance_since_the_last_look_ahead():
     assert p.look_bid() == 0.0
     p.since_look = 0.5
     assert p.look_bid() == pytest.approx((0.5 / PILOT.look_d_max) ** PILOT.look_exponent)
-    p.since_look = 0.9
-    assert p.look_bid() == pytest.approx(0.81)  # (0.9 / 1) ** 2, under the ceiling
     p.since_look = 5.0
-    assert p.look_bid() == 0.9  # past d_m: (5 / 1) ** 2 = 25, held at the Pilot's ceiling
-    uncapped = PotentialFieldPilot(replace(PILOT, look_cap=1.0), ROBOT)
-    uncapped.since_look = 5.0
-    assert uncapped.look_bid() == 1.0  # eq. 1 as written (navcli before): 1 past d_m
+    assert p.look_bid() == 1.0  # past d_m, "the maximum distance allowed to travel without looking ahead"
+    capped = PotentialFieldPilot(replace(PILOT, look_cap=0.9), ROBOT)
+    capped.since_look = 5.0
+    assert capped.look_bid() == pytest.approx(0.9)  # navcli before: capped like the motion bid (eq. 9)
     out = p.decide(beliefs())
-    assert any(b.resource == "camera" and b.value == 0.9 for b in out.bids)
+    assert any(b.resource == "camera" and b.value == 1.0 for b in out.bids)
     p.decide(beliefs(looked=Look(math.radians(60), "obstacles")))  # Vision reports the image it took
-    assert p.look_bid() == 0.9  # a look to the side is not a look ahead
+    assert p.look_bid() == 1.0  # a look to the side is not a look ahead
     p.decide(beliefs(looked=Look(0.0, "target")))
-    assert p.look_bid() == 0.9  # nor a look ahead for another purpose (obstacles not looked for)
+    assert p.look_bid() == 1.0  # nor a look ahead for another purpose (obstacles not looked for)
     p.decide(beliefs(looked=Look(0.0, "obstacles")))
     assert p.look_bid() == 0.0
 
 
 @pytest.mark.parametrize("pilot", [PotentialFieldPilot, GeometricPilot])
 def test_no_bid_of_the_pilot_exceeds_the_ceiling_of_the_architecture(pilot):
-    """Every bid of a Pilot, for the wheels or the camera, is at most 0.9 (``PILOT_CEILING``),
-    with the default parameters, however far it drove without a look, by an obstacle or not, and
-    in a bump's reflex; the declared defaults of both caps are the ceiling."""
-    assert PILOT_CEILING == 0.9 and PILOT.look_cap == PILOT_CEILING and PILOT.bid_cap == PILOT_CEILING
-    p = pilot(PILOT, ROBOT)
+    """With ``pilot.look_cap`` 0.9, every bid of a Pilot, for the wheels or the camera, is at most
+    0.9 (``PILOT_CEILING``), however far it drove without a look, by an obstacle or not, and in a
+    bump's reflex; the motion cap's default is the ceiling, and may not be set above it."""
+    assert PILOT_CEILING == 0.9 and PILOT.bid_cap == PILOT_CEILING
+    with pytest.raises(ParamError, match="at most 0.9"):
+        replace(PILOT, bid_cap=0.95)
+    p = pilot(replace(PILOT, look_cap=PILOT_CEILING), ROBOT)
     values = []
     for since in (0.0, 0.5, 0.949, 0.95, 1.0, 3.0, 100.0):
         p.since_look = since

@@ -92,12 +92,12 @@ def test_a_random_plan_is_a_seeded_sample_within_its_ranges(tmp_path):
 
 
 def test_a_plan_of_points_gives_each_point_whole_with_the_defaults_filling_in(tmp_path):
-    body = "seeds: 1\npoints:\n  - {}\n  - {vision.routines: 0}\n  - {vision.walls: felt, pilot.look_cap: 1.0}\n"
+    body = "seeds: 1\npoints:\n  - {}\n  - {vision.routines: 0}\n  - {vision.walls: felt, pilot.look_cap: 0.9}\n"
     points = sweep.load_plan(_plan(tmp_path, body)).points
     assert points == (
-        {"vision.routines": 1, "vision.walls": "seen", "pilot.look_cap": 0.9},
-        {"vision.routines": 0, "vision.walls": "seen", "pilot.look_cap": 0.9},
-        {"vision.routines": 1, "vision.walls": "felt", "pilot.look_cap": 1.0},
+        {"vision.routines": 1, "vision.walls": "seen", "pilot.look_cap": 1.0},
+        {"vision.routines": 0, "vision.walls": "seen", "pilot.look_cap": 1.0},
+        {"vision.routines": 1, "vision.walls": "felt", "pilot.look_cap": 0.9},
     )
 
 

@@ -302,12 +302,12 @@ VISION_CHOICES = (
     "{vision.line_objects: 0}",
     "{vision.walls: known}",
     "{vision.walls: felt}",
-    "{pilot.look_cap: 1.0}",
-    "{vision.routines: 0, vision.line_objects: 0, pilot.look_cap: 1.0}",
+    "{pilot.look_cap: 0.9}",
+    "{vision.routines: 0, vision.line_objects: 0, pilot.look_cap: 0.9}",
 )
 """navcli's choices where the papers are silent on what the robot senses, one at a time from the
 defaults (a plan's points), with vision: every look sees all, lines joined by geometry, the
-walls known or felt, eq. 1's look up to 1 (above the Pilot's 0.9 ceiling), and all three alternative choices together."""
+walls known or felt, eq. 1's look capped at 0.9, and all three alternative choices together."""
 
 
 def sensitivity(report: Report, s: Settings, out: Path, ex) -> None:

@@ -219,11 +219,12 @@ class PilotParams(ParamSet):
     look_d_max: float = param(1.0, "m", "eq. 1: d_m, the longest drive without looking ahead", above=0.0)
     look_exponent: float = param(2.0, "", "eq. 1: s, the look-ahead bid's exponent", above=0.0)
     look_cap: float = param(
-        PILOT_CEILING,
+        1.0,
         "",
-        """eq. 1's look bid never above this: 0.9, the ceiling of every bid of the Pilot
-        (the architecture: "its bids never exceed 0.9"), so that another system may win the camera; 1 is eq. 1 as
-        written (navcli before: the bid reaches 1 at d_m), above the ceiling, kept only for the sensitivity table""",
+        """eq. 1's bid never above this: 1, eq. 1 as written (d_m is "the maximum distance
+        allowed to travel without looking ahead", so the bid reaches 1 there); 0.9 (PILOT_CEILING, the architecture's
+        ceiling of the Pilot's bids; navcli before) lets the Risk Manager's searches, bid above 0.9 while the risk is
+        high (always, in a room without landmarks), keep the Pilot from ever looking ahead""",
         at_most=1.0,
     )
     look_ahead_cone: float = param(math.radians(30.0), "rad", "a look this close to straight ahead resets d_l of eq. 1")

@@ -19,16 +19,16 @@ Navigation system's. This module holds what every pilot shares:
   the visual memory now holds); the same reflex when the robot stalls, pushing without moving
   (over the time it takes to drive ``stall_window_m`` at full speed, so a slow robot is not
   taken for a stalled one);
-- the **look-ahead camera bid** (eq. 1): ``(d_l / d_m) ** s``, at most ``look_cap`` (0.9,
-  :data:`navcli.params.PILOT_CEILING`, the most it may be): every bid of the Pilot stays within
-  the architecture's ceiling of 0.9, so that another system may overrule it, for the camera as
-  for the wheels (eq. 9). ``d_m`` is "the maximum distance allowed to travel without looking
-  ahead": the bid reaches the cap before it, and ties go to the Pilot; a Risk Manager's search,
-  bid above 0.9 when the risk is high, wins the camera over the look ahead. ``look_cap`` 1 (eq. 1
-  as written, navcli before: the look won the camera at ``d_m``) breaks the ceiling, and is kept for
-  the sensitivity table: with it the Risk Manager's searches cannot starve the look ahead, and on
-  paper-8x8 with a heading drift of 2 degrees per metre the geometric pilot took 235-300 s where it
-  takes 410-900 s under the ceiling (seeds 1-3).
+- the **look-ahead camera bid** (eq. 1): ``(d_l / d_m) ** s``, at most ``look_cap`` (1: eq. 1 as
+  written). ``d_m`` is "the maximum distance allowed to travel without looking ahead", so the bid
+  reaches 1 there and the Pilot's look wins the camera (ties go to the Pilot). The 0.9 of eq. 9
+  caps the Pilot's motion bid, so that another system may overrule its driving; capping the look
+  with it too (``look_cap`` 0.9, navcli before) let the Risk Manager's looks, bid above 0.9
+  whenever the risk passes ``R_bar``, keep the Pilot from ever looking ahead, which mattered once
+  only a look for obstacles finds obstacles (:mod:`navcli.vision.routines`): on paper-8x8 the
+  geometric pilot then took 480 s where it takes 270 s (10 seeds). So the look is the one bid of
+  the Pilot that may pass :data:`navcli.params.PILOT_CEILING`; ``look_cap`` 0.9 honours the
+  ceiling.
 
 The avoidance strategies subclass :class:`Pilot` and implement :meth:`Pilot.avoid`:
 :mod:`navcli.pilot.potential_field` (the paper's pilot) and :mod:`navcli.pilot.geometric` (the
