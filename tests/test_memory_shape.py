@@ -201,7 +201,7 @@ def test_a_fence_keeps_its_length_and_direction_under_drift(err, turn_err, lengt
     half = length / 2
     ux, uy = math.cos(direction), math.sin(direction)
     ends = [(3.0 - half * ux, -half * uy), (3.0 + half * ux, half * uy)]
-    mem = VisualMemory(0.0)
+    mem = VisualMemory(0.0, replace(VISION, fence_rigid=True))
     mem._observe_line("segment:f", "obstacle", [Spot(x, y, 2.0, 0.0) for x, y in ends], (True, True), 0.025, 0.0)
     mem.move(1.0 + err, 0.3 + turn_err)
     mem.shove(0.5)  # (bounds the error the test's noise-free memory does not allow for)

@@ -424,10 +424,11 @@ class VisualMemory:
         of pieces, and no more certain than its ends. Points and bumps that lie on a new line are
         dropped: they were it.
 
-        The obstacle is one rigid thing: where a sighting corrects one end (fuses it) and leaves
-        the other as remembered, the other end moves with it (:func:`.bumps.carried`), so the line
-        keeps its length and direction instead of tilting toward where odometry had carried the
-        uncorrected end (``vision.fence_rigid``)."""
+        With ``vision.fence_rigid`` (off by default: in the trap rooms it cost reached runs and
+        contacts) the obstacle is one rigid thing: where a sighting sharper than the memory
+        corrects one end and leaves the other as remembered, the other end moves with it
+        (:func:`.bumps.carried`), so the line keeps its length and direction instead of tilting
+        toward where odometry had carried the uncorrected end."""
         if len(spots) == 1:
             spots = [spots[0], _copy(spots[0])]  # two spots: each end is moved on its own
         m = self.items.get(key)
