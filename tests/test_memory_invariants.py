@@ -10,6 +10,7 @@ distance and turn scaled by a per-run and a per-tick factor)."""
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 from hypothesis import assume, given
 from hypothesis import strategies as st
@@ -173,34 +174,37 @@ def test_a_copied_spot_keeps_the_drift_it_has_gathered():
 
 
 def test_bumps_within_the_merge_distance_join_the_nearest_into_one_obstacle():
-    """``bump_merge`` 1 m: a bump joins the nearer of two remembered bumps within 1 m of it, one
-    exactly 1 m away (within), none 1.6 m away; a bump within 1 m of a landmark is a line from the
-    nearest landmark; the obstacle made takes the new bump's radius and time."""
+    """``vision.bump_lines`` ``near`` (navcli before), ``bump_merge`` 1 m: a bump joins the nearer
+    of two remembered bumps within 1 m of it, one exactly 1 m away (within), none 1.6 m away; a
+    bump within 1 m of a landmark is a line from the nearest landmark; the obstacle made takes
+    the new bump's radius and time."""
     near = VISION.bump_merge
-    mem = VisualMemory(odometry_noise=0.0)
+    old = replace(VISION, bump_lines="near")
+
+    mem = VisualMemory(0.0, old)
     mem.add_bump(Spot(0.0, 0.0, 0.1, 0.0), 0.1, time=1.0)
     mem.add_bump(Spot(0.0, 1.8, 0.1, 0.0), 0.1, time=1.5)  # 1.8 m from the first: apart
     mem.add_bump(Spot(0.0, 0.8, 0.1, 0.0), 0.1, time=1.8)  # 0.8 m from the first, 1 m from the second
     assert sorted(m.kind for m in mem.items.values()) == ["bump", "obstacle"]
     line = next(m for m in mem.items.values() if m.kind == "obstacle")
     assert [(s.x, s.y) for s in line.spots] == [(0.0, 0.0), (0.0, 0.8)] and (line.radius, line.seen) == (0.1, 1.8)
-    far = VisualMemory(odometry_noise=0.0)
+    far = VisualMemory(0.0, old)
     far.add_bump(Spot(3.0, 0.0, 0.1, 0.0), 0.1)
     far.add_bump(Spot(1.4, 0.0, 0.1, 0.0), 0.1)
     far.add_bump(Spot(3.0 + near, 0.0, 0.1, 0.0), 0.2, time=2.0)  # exactly bump_merge from (3, 0)
     line = next(m for m in far.items.values() if m.kind == "obstacle")
     assert [(s.x, s.y) for s in line.spots] == [(3.0, 0.0), (4.0, 0.0)] and (line.radius, line.seen) == (0.2, 2.0)
-    marks = VisualMemory(odometry_noise=0.0)
+    marks = VisualMemory(0.0, old)
     marks.add("L1", "landmark", [(5.0, 5.0)], 0.1, 0.2)
     marks.add("L2", "landmark", [(1.0, 0.0)], 0.1, 0.3)
     marks.add("L3", "landmark", [(0.3, 0.0)], 0.1, 0.4)
     m = marks.add_bump(Spot(0.0, 0.0, 0.1, 0.0), 0.15, time=3.0)  # L3 the nearest, 0.3 m away
     assert m.kind == "obstacle" and [(s.x, s.y, s.r0) for s in m.spots] == [(0.3, 0.0, 0.4), (0.0, 0.0, 0.1)]
     assert (m.radius, m.seen) == (0.15, 3.0)
-    edge = VisualMemory(odometry_noise=0.0)
+    edge = VisualMemory(0.0, old)
     edge.add("L", "landmark", [(near, 0.0)], 0.1, 0.2)
     assert edge.add_bump(Spot(0.0, 0.0, 0.1, 0.0), 0.1).kind == "obstacle"  # a landmark exactly 1 m away: within
-    alone = VisualMemory(odometry_noise=0.0).add_bump(Spot(0.0, 0.0, 0.1, 0.0), 0.12, time=4.0)
+    alone = VisualMemory(0.0, old).add_bump(Spot(0.0, 0.0, 0.1, 0.0), 0.12, time=4.0)
     assert (alone.kind, alone.radius, alone.seen) == ("bump", 0.12, 4.0)
     snap = {r.key: r for r in marks.snapshot()}
     assert set(snap) == set(marks.items) and snap["L1"].spots == ((5.0, 5.0, 0.2 + 0.7 * (0.0 - 0.2), 0.2),)

@@ -28,7 +28,7 @@ from navcli.params import (
 def test_a_value_out_of_range_is_refused_when_the_set_is_made():
     with pytest.raises(ParamError, match="robot.max_speed must be above 0, got -1"):
         Params(robot=RobotParams(max_speed=-1.0))
-    with pytest.raises(ParamError, match="pilot.bid_cap must be at most 1, got 1.5"):
+    with pytest.raises(ParamError, match="pilot.bid_cap must be at most 0.9, got 1.5"):
         PilotParams(bid_cap=1.5)
     with pytest.raises(ParamError, match="navigation.blocked_bumps expects a whole number"):
         NavigationParams(blocked_bumps=2.5)

@@ -15,7 +15,7 @@ from navcli.bidding import Bid, Look, Move
 from navcli.pilot.geometric import GeometricPilot, blocked_interval
 from navcli.geometry import Pose
 from navcli.mission import Mission
-from navcli.params import CONTROL_DT, PILOT, ROBOT
+from navcli.params import CONTROL_DT, PILOT, PILOT_CEILING, ROBOT, ParamError
 from navcli.beliefs import Beliefs, KnownObstacle
 from navcli.pilot.base import Pilot
 from navcli.pilot.potential_field import PotentialFieldPilot, passable_gap
@@ -188,6 +188,25 @@ def test_eq1_look_bid_grows_with_distance_since_the_last_look_ahead():
     assert p.look_bid() == 1.0  # nor a look ahead for another purpose (obstacles not looked for)
     p.decide(beliefs(looked=Look(0.0, "obstacles")))
     assert p.look_bid() == 0.0
+
+
+@pytest.mark.parametrize("pilot", [PotentialFieldPilot, GeometricPilot])
+def test_no_bid_of_the_pilot_exceeds_the_ceiling_of_the_architecture(pilot):
+    """With ``pilot.look_cap`` 0.9, every bid of a Pilot, for the wheels or the camera, is at most
+    0.9 (``PILOT_CEILING``), however far it drove without a look, by an obstacle or not, and in a
+    bump's reflex; the motion cap's default is the ceiling, and may not be set above it."""
+    assert PILOT_CEILING == 0.9 and PILOT.bid_cap == PILOT_CEILING
+    with pytest.raises(ParamError, match="at most 0.9"):
+        replace(PILOT, bid_cap=0.95)
+    p = pilot(replace(PILOT, look_cap=PILOT_CEILING), ROBOT)
+    values = []
+    for since in (0.0, 0.5, 0.949, 0.95, 1.0, 3.0, 100.0):
+        p.since_look = since
+        for obstacles in ([], [fence(0.45)]):
+            values += [b.value for b in p.decide(beliefs(obstacles)).bids]
+    p.decide(beliefs(odom=Pose(1.0, 1.0, 0.0)))
+    values += [b.value for b in p.decide(beliefs(bumps=[Bump(3.0, "obstacle 0", (1.4, 1.0), 0.0)])).bids]
+    assert len(values) >= 14 and max(values) == pytest.approx(0.9) and max(values) <= PILOT_CEILING
 
 
 # -- reflexes (section 3.5) --------------------------------------------------------------------

@@ -21,7 +21,7 @@ from navcli.scenario import load_scenario
 from navcli.training.task import NavigationTask, Start, task_spec
 from navcli.vision.camera import Camera
 from navcli.vision.perception import VisionPerception
-from navcli.vision.visual_memory import VisualMemory
+from navcli.vision.visual_memory import Spot, VisualMemory
 
 OLD = dataclasses.replace(VISION, routines=0, line_objects=0)
 NOISELESS = {"odometry": 0.0, "vision_heading_deg": 0.0, "vision_distance": 0.0}
@@ -180,7 +180,6 @@ def test_a_fence_cut_by_the_view_is_one_object_whose_ends_say_what_was_seen(make
 
 
 def test_a_cut_point_keeps_the_farthest_extent_and_never_moves_a_seen_end():
-    from navcli.vision.visual_memory import Spot
 
     mem = VisualMemory(0.0)
     s = lambda x, y, r=0.05: Spot(x, y, r, 0.0)  # noqa: E731
@@ -260,8 +259,10 @@ def test_how_the_robot_knows_the_walls(make_scenario, walls):
 
 
 def test_a_fence_between_landmarks_ends_at_them(make_scenario):
-    """The thesis' linear obstacles run between landmarks: a fence whose ends stand at landmarks
-    takes its ends from where the memory holds those landmarks, even when only its middle was seen."""
+    """The thesis' linear obstacles run between landmarks: a fence whose ends the robot has seen
+    at landmarks it remembers takes its ends from where the memory holds those landmarks, once
+    they are the sharper; seen only in its middle, it is anchored nowhere (the robot cannot know
+    where it ends)."""
     sc = make_scenario(
         arena={"width": 10.0, "height": 6.0},
         robot={"start": [5.0, 1.0], "heading_deg": 90},
@@ -278,17 +279,34 @@ def test_a_fence_between_landmarks_ends_at_them(make_scenario):
         p.camera.pan = math.radians(pan)
         p.memory.observe(p.camera.capture(truth, "search", p.memory.items), 0.0)
     assert {"P", "Q"} <= set(p.memory.items)
+    p.learn_anchors()
     (fence,) = [o for o in p.observe(0.0, truth, truth).obstacles if o.key == "segment:o0"]
     at = {k: (p.memory.items[k].spots[0].x, p.memory.items[k].spots[0].y) for k in "PQ"}
-    assert {fence.a, fence.b} == {at["P"], at["Q"]}  # the ends are where the memory holds P and Q
-    unanchored = p.memory.items["segment:o0"].spots
-    assert all(math.dist((s.x, s.y), at["P"]) > 1.0 for s in unanchored)  # (the fence's own ends: its middle)
+    assert all(math.dist(end, at[k]) > 1.0 for end in (fence.a, fence.b) for k in "PQ")  # its middle: not anchored
+    fence_m = p.memory.items["segment:o0"]  # its ends seen close by, sharp: 0.24 m from P's and Q's centres
+    assert p.memory.items["P"].radius == 0.15 and fence_m.radius == 0.025
+    ends = [(at["P"][0], at["P"][1] - 0.24), (at["Q"][0], at["Q"][1] + 0.24)]
+    fence_m.spots = [Spot(*e, 0.04, 0.0) for e in ends]
+    fence_m.exact = (True, True)
+    for k in "PQ":
+        p.memory.items[k].spots[0] = Spot(*at[k], 0.05, 0.0)
+    # the bodies' gap 0.24 - 0.15 - 0.025 = 0.065 m <= 0.05 + 0.3 x 0.04 + 0.3 x 0.05 = 0.077 m: anchored
+    p.learn_anchors()
+    (fence,) = [o for o in p.observe(0.0, truth, truth).obstacles if o.key == "segment:o0"]
+    assert (fence.a, fence.b) == (ends[0], ends[1])  # its own ends, sharper than the landmarks
+    fence_m.spots = [Spot(*e, 0.2, 0.0) for e in ends]  # the fence's ends blur, the landmarks stay sharp
+    (fence,) = [o for o in p.observe(0.0, truth, truth).obstacles if o.key == "segment:o0"]
+    assert (fence.a, fence.b) == (at["P"], at["Q"])  # the ends are where the memory holds P and Q
+    far = p.memory.items["segment:o0"]
+    far.spots = [Spot(ends[0][0], ends[0][1] - 0.3, 0.04, 0.0), Spot(ends[1][0], ends[1][1] + 0.3, 0.04, 0.0)]
+    p._anchors.clear()  # its ends 0.54 m from P's and Q's centres: a gap of 0.365 m, as by a door
+    p.learn_anchors()
+    assert p._anchors == {}
 
 
 def test_a_line_seen_by_one_sample_has_two_ends_each_moved_once():
     """One sample of a fence stands for both its ends: two spots, so that odometry moves each once
     (one spot held twice was moved twice: the line ran off with the robot, 4 m in 60 s)."""
-    from navcli.vision.visual_memory import Spot
 
     mem = VisualMemory(0.0)
     mem._observe_line("segment:f", "obstacle", [Spot(2.0, 1.0, 0.05, 0.0)], (False, False), 0.025, 0.0)

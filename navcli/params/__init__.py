@@ -113,6 +113,12 @@ class RobotParams(ParamSet):
         return metres / self.max_speed
 
 
+PILOT_CEILING = 0.9
+"""No bid of the Pilot, for the wheels or the camera, exceeds this (pilot paper, eq. 9's 0.9; the
+architecture: the Pilot's "bids never exceed 0.9"), so that another system can always overrule it:
+the most ``pilot.bid_cap`` and ``pilot.look_cap`` may be."""
+
+
 @dataclass(frozen=True)
 class PilotParams(ParamSet):
     """Parameters of the Pilot (pilot paper, sections 3.4 and 4); a scenario's ``pilot:`` block
@@ -125,7 +131,7 @@ class PilotParams(ParamSet):
     R_min: float = param(
         0.40, "m", "eq. 3-4: the prohibited area's radius beyond an obstacle's surface", at_least=0.01, at_most=5.0
     )
-    bid_cap: float = param(0.9, "", "eq. 9: the Pilot never bids above this", at_most=1.0)
+    bid_cap: float = param(PILOT_CEILING, "", "eq. 9: the Pilot's motion bid never above this", at_most=PILOT_CEILING)
     heading_gain: float = param(1.5, "1/s", "turn rate per radian of heading error")
     drive_while_turning: bool = param(
         True,
@@ -225,8 +231,9 @@ class PilotParams(ParamSet):
         1.0,
         "",
         """eq. 1's bid never above this: 1, eq. 1 as written (d_m is "the maximum distance
-        allowed to travel without looking ahead", so the bid reaches 1 there); 0.9 (navcli before: the cap of eq. 9's
-        motion bid)""",
+        allowed to travel without looking ahead", so the bid reaches 1 there); 0.9 (PILOT_CEILING, the architecture's
+        ceiling of the Pilot's bids; navcli before) lets the Risk Manager's searches, bid above 0.9 while the risk is
+        high (always, in a room without landmarks), keep the Pilot from ever looking ahead""",
         at_most=1.0,
     )
     look_ahead_cone: float = param(math.radians(30.0), "rad", "a look this close to straight ahead resets d_l of eq. 1")
@@ -479,6 +486,24 @@ class VisionParams(ParamSet):
     odometry_floor: float = param(0.005, "", "relative odometry error the memory allows for even without noise")
     bump_radius: float = param(0.10, "m", "support radius of an obstacle found by the bumpers", above=0.0)
     bump_merge: float = param(1.0, "m", "a bump this near another bump or a landmark joins it in a long obstacle")
+    bump_lines: str = param(
+        "one-object",
+        "",
+        """which bumps join into a long obstacle (vision/visual_memory.py): one-object, only
+        two felt on one object as far as the robot can tell (the line between them clear of the robot's body
+        where it stood at each bump, the robot on one side of it at both; a bump on a remembered line or point
+        confirms it instead of drawing another); near, any two within bump_merge (navcli before: lines through
+        the robot's own body, one line drawn four times)""",
+        choices=("one-object", "near"),
+    )
+    fence_rigid: bool = param(
+        False,
+        "",
+        """on: a fence is one object: when a sighting of one of its ends, sharper than the
+        memory and within it, corrects that end and not the other, the other end is moved with it, its support grown
+        by the move (vision/visual_memory.py); off: each end corrected on its own (a fence's line may drift and tilt;
+        on, 20 seeds of the five trap rooms reached 195/200 with 3.9 contacts a run, off 198/200 with 2.7)""",
+    )
     line_join_gap: float = param(
         0.5, "m", "stretches of a fence or wall seen apart are one only if they overlap or are this near"
     )

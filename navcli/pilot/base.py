@@ -26,7 +26,9 @@ Navigation system's. This module holds what every pilot shares:
   with it too (``look_cap`` 0.9, navcli before) let the Risk Manager's looks, bid above 0.9
   whenever the risk passes ``R_bar``, keep the Pilot from ever looking ahead, which mattered once
   only a look for obstacles finds obstacles (:mod:`navcli.vision.routines`): on paper-8x8 the
-  geometric pilot then took 480 s where it takes 270 s (10 seeds).
+  geometric pilot then took 480 s where it takes 270 s (10 seeds). So the look is the one bid of
+  the Pilot that may pass :data:`navcli.params.PILOT_CEILING`; ``look_cap`` 0.9 honours the
+  ceiling.
 
 The avoidance strategies subclass :class:`Pilot` and implement :meth:`Pilot.avoid`:
 :mod:`navcli.pilot.potential_field` (the paper's pilot) and :mod:`navcli.pilot.geometric` (the

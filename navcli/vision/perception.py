@@ -34,7 +34,7 @@ from typing import Container, Iterable
 import numpy as np
 
 from ..beliefs import Beliefs, Bump, KnownLandmark, KnownObstacle
-from ..fuzzy import ALPHAS, FuzzyPoint
+from ..fuzzy import ALPHAS, CUT, FuzzyPoint
 from ..bidding import Look
 from ..geometry import Point, Pose, midpoint, motion_between
 from ..params import COLLISION_SLOP, CONTROL_DT, PHYSICS_DT, ROBOT, VISION, Params, RobotParams, VisionParams
@@ -157,7 +157,9 @@ class VisionPerception(_Senses):
     ):
         super().__init__(scenario, rng, params)
         self.robot = robot
-        self.memory = VisualMemory(scenario.noise.odometry, params, heading_drift=scenario.noise.heading_drift)
+        self.memory = VisualMemory(
+            scenario.noise.odometry, params, heading_drift=scenario.noise.heading_drift, robot_radius=robot.radius
+        )
         start = Pose(*scenario.robot.start, scenario.robot.heading)
         told = params.distance_floor  # what the robot is told is precise to a couple of cm
         t = scenario.target
@@ -174,7 +176,7 @@ class VisionPerception(_Senses):
                     f"wall:{key}", "wall", [start.to_local(a), start.to_local(b)], 0.0, told, prior=True
                 )
                 m.exact = (True, True)
-        self._anchors = anchors(scenario)
+        self._anchors: dict[str, list[str | None]] = {}
         self._ticks = 0
 
     def observe(self, time: float, truth: Pose, odometry: Pose) -> Beliefs:
@@ -249,7 +251,17 @@ class VisionPerception(_Senses):
         dets = super().look(time, truth, request)
         if dets:
             self.memory.observe(dets, time)
+            self.learn_anchors()
         return dets
+
+    def learn_anchors(self) -> None:
+        """Take in the fences that, as now remembered, end at landmarks (:func:`anchors`): once
+        seen so, an end stays anchored at its landmark (where the memory holds the landmark, when
+        that is the sharper: :meth:`_anchored`)."""
+        for key, ends in anchors(self.memory).items():
+            held = self._anchors.setdefault(key, [None, None])
+            for i, lm in enumerate(ends):
+                held[i] = lm or held[i]
 
     def snapshot(self) -> tuple[Remembered, ...]:
         """The memory as values, for the log."""
@@ -281,30 +293,49 @@ class VisionPerception(_Senses):
 
 
 ANCHOR_GAP = 0.05
-"""m: a fence whose end is this close to a landmark's body (beyond the fence's half-width) ends
-at that landmark (:func:`anchors`)."""
+"""m: a fence whose end is this close to a landmark's body (beyond the fence's half-width, and
+what the memory may be off by) ends at that landmark (:func:`anchors`)."""
 
 
-def anchors(scenario: Scenario) -> dict[str, tuple[str | None, str | None]]:
-    """The fences that stand between landmarks, by their memory key (``segment:<key>``): for each
-    end, the landmark it ends at, or None.
+def anchors(memory: VisualMemory) -> dict[str, tuple[str | None, str | None]]:
+    """The fences that, as the robot perceives them, stand between landmarks, by their memory key:
+    for each end, the landmark it ends at, or None.
 
     The thesis' linear obstacles run between landmarks ("landmark-to-landmark line obstacles", the
-    Pilot grows them into rounded rectangles), so the robot knows such a fence by its two
-    landmarks, and its ends are where it holds them to be (:meth:`VisionPerception._anchored`).
-    Where the room gives no landmark at a fence's end (all the bundled rooms), the end is the
-    fence's own, measured by the camera like a landmark (:mod:`.camera`, :mod:`.visual_memory`)."""
+    Pilot grows them into rounded rectangles), so the robot knows such a fence by its landmarks,
+    and its ends are where it holds them to be (:meth:`VisionPerception._anchored`). The robot
+    learns it by sight: an end of an identified fence that it has seen (not where a view cut the
+    fence) lies, in memory, at a remembered landmark: the gap between their bodies (the centres'
+    distance less the landmark's and the fence's half-widths) at most :data:`ANCHOR_GAP` plus the
+    70 % cuts of both (how far either may be off), never more than :data:`ANCHOR_GAP` plus the
+    robot's radius (ours: a gap the robot's body might pass, a door beside a landmark, is never
+    closed by a blurred sighting; the rooms put landmarks 0.36-0.55 m from fence ends, and one
+    room two at them). A fence's end never seen is anchored nowhere: its end is its own, measured
+    by the camera like a landmark. The oracle perception needs none of this: it knows every end."""
+    marks = [m for m in memory.items.values() if m.kind == "landmark"]
     out: dict[str, tuple[str | None, str | None]] = {}
-    for o in scenario.objects:
-        if o.kind != "segment":
+    for m in memory.items.values():
+        if m.kind != "obstacle" or len(m.spots) != 2 or len(m.exact) != 2:
             continue
         ends = tuple(
-            next((lm.id for lm in scenario.landmarks if math.dist(p, lm.at) <= lm.radius + o.radius + ANCHOR_GAP), None)
-            for p in (o.a, o.b)
+            _landmark_at(e, m.radius, marks, memory.robot_radius) if m.exact[i] else None for i, e in enumerate(m.spots)
         )
         if ends != (None, None):
-            out[f"segment:{o.key}"] = (ends[0], ends[1])
+            out[m.key] = (ends[0], ends[1])
     return out
+
+
+def _landmark_at(end: Spot, radius: float, marks: list[Memory], most: float) -> str | None:
+    """The key of the remembered landmark nearest the fence end ``end`` (of half-width ``radius``)
+    that it may stand at, its uncertainty counted up to ``most`` m (see :func:`anchors`), or None."""
+    best, best_d = None, math.inf
+    for lm in marks:
+        s = lm.spots[0]
+        d = math.hypot(s.x - end.x, s.y - end.y)
+        gap = d - lm.radius - radius
+        if gap <= ANCHOR_GAP + min(end.radius(CUT) + s.radius(CUT), most) and d < best_d:
+            best, best_d = lm.key, d
+    return best
 
 
 Perception = OraclePerception | VisionPerception

@@ -28,8 +28,8 @@ import math
 from dataclasses import dataclass, field
 
 from ..fuzzy import ALPHAS, CUT, FuzzyAngle, FuzzyPoint
-from ..params import VISION, VisionParams
-from . import line_pieces
+from ..params import ROBOT, VISION, VisionParams
+from . import bumps, line_pieces
 from .line_pieces import END_TIE
 from .camera import Detection, Sighting
 
@@ -101,6 +101,7 @@ class Memory:
     prior: bool = False  # told at the start: never forgotten
     seen: float = 0.0  # simulated time of the last sighting
     exact: tuple[bool, ...] = ()
+    felt_from: tuple[float, float] | None = None  # a lone bump: the robot's centre when it was felt
 
     def imprecision(self) -> float:
         """I(l) of the object's worst-known point (section 5.1 of the learning-agent paper)."""
@@ -174,7 +175,8 @@ class VisualMemory:
 
     ``odometry_noise`` is the odometry's relative deviation (scenario ``noise.odometry``) and
     ``heading_drift`` its heading drift (rad per metre, ``noise.odometry_drift_deg_per_m``),
-    from which :meth:`move` bounds the drift."""
+    from which :meth:`move` bounds the drift; ``robot_radius`` the robot's body, through which no
+    line felt by the bumpers may pass (:meth:`add_bump`)."""
 
     odometry_noise: float
     params: VisionParams = VISION
@@ -182,6 +184,7 @@ class VisualMemory:
     forgotten: list[str] = field(default_factory=list)
     _n: int = 0
     heading_drift: float = 0.0
+    robot_radius: float = ROBOT.radius
 
     def add(
         self, key: str, kind: str, points: list[tuple[float, float]], radius: float, r0: float, prior: bool = False
@@ -200,25 +203,86 @@ class VisualMemory:
 
     def add_bump(self, spot: Spot, radius: float, time: float = 0.0) -> Memory:
         """What the bumpers found (notes, section 2, Pilot: "bump points close to each other or to
-        landmarks are merged into a long obstacle between landmarks"): a bump within
-        ``bump_merge`` metres of a remembered bump becomes, with it, one linear obstacle spanning
-        both; one that near a landmark, a linear obstacle from the landmark to it. So a wall the
-        camera never saw, found by touch at two places, is known as one long obstacle, which the
-        Pilot avoids as such and the Map Manager sees across the region edges it blocks."""
+        landmarks are merged into a long obstacle between landmarks"), so that a wall the camera
+        never saw, found by touch at two places, is known as one long obstacle, which the Pilot
+        avoids as such and the Map Manager sees across the region edges it blocks.
+
+        A bumper knows where on the body it was pressed and odometry where the robot was, not what
+        it touched; so "one object" is judged from those alone (``vision.bump_lines``, default
+        ``one-object``; :meth:`_add_bump_near` is ``near``):
+
+        1. a bump on a remembered line (a fence, a wall, a line felt before; :func:`.bumps.line_under`)
+           confirms it and draws nothing new; the line, one rigid object, is moved across onto the
+           contact (:func:`.bumps.onto`), the bump being far sharper than a line seen from afar;
+        2. a bump where a lone point is remembered (:func:`_same_point`) is fused with it: one
+           point felt twice is no line, and never a second copy;
+        3. a bump joins the nearest lone bump within ``bump_merge`` that may be on the same
+           object (:func:`.bumps.one_object`): the line between them clears the robot's body where it
+           stood at each bump, and the robot stood on one side of that line both times (a bump
+           in front and one behind are two objects, with the robot between them);
+        4. else a landmark within ``bump_merge`` whose line to the bump clears the body: a line
+           from the landmark to it;
+        5. else it is remembered as a lone bump, with where the robot stood."""
+        if self.params.bump_lines == "near":
+            return self._add_bump_near(spot, radius, time)
+        line = bumps.line_under(self.items.values(), spot)
+        if line is not None:
+            bumps.onto(line, spot, self.robot_radius)
+            line.seen = time
+            return line
+        points = [m for m in self.items.values() if bumps.lone(m) and _same_point(m.spots[0], spot)]
+        if points:
+            m = min(points, key=lambda m: bumps.gap(m.spots[0], spot))
+            m.spots[0] = fuse(m.spots[0], spot)
+            m.seen = time
+            if m.kind == "bump":
+                m.felt_from = (0.0, 0.0)
+            return m
         near = self.params.bump_merge
-
-        def d(m: Memory) -> float:
-            return math.hypot(m.spots[0].x - spot.x, m.spots[0].y - spot.y)
-
-        bumps = [m for m in self.items.values() if m.kind == "bump" and len(m.spots) == 1 and d(m) <= near]
-        if bumps:
-            other = min(bumps, key=d)
+        felt = [
+            m
+            for m in self.items.values()
+            if m.kind == "bump"
+            and len(m.spots) == 1
+            and bumps.gap(m.spots[0], spot) <= near
+            and bumps.one_object(m, spot, self.robot_radius)
+        ]
+        if felt:
+            other = min(felt, key=lambda m: bumps.gap(m.spots[0], spot))
             del self.items[other.key]
             return self.add_found("obstacle", [other.spots[0], spot], radius, time)
-        marks = [m for m in self.items.values() if m.kind == "landmark" and d(m) <= near]
+        body = self.robot_radius
+        marks = [
+            m
+            for m in self.items.values()
+            if m.kind == "landmark"
+            and bumps.gap(m.spots[0], spot) <= near
+            and bumps.clears((0.0, 0.0), m.spots[0], spot, body)
+        ]
         if marks:
-            mark = min(marks, key=d)
-            a = mark.spots[0]
+            a = min(marks, key=lambda m: bumps.gap(m.spots[0], spot)).spots[0]
+            return self.add_found("obstacle", [Spot(a.x, a.y, a.r0, a.r1), spot], radius, time)
+        m = self.add_found("bump", [spot], radius, time)
+        m.felt_from = (0.0, 0.0)
+        return m
+
+    def _add_bump_near(self, spot: Spot, radius: float, time: float) -> Memory:
+        """``vision.bump_lines`` ``near``: a bump within ``bump_merge`` of a remembered bump
+        becomes, with it, one linear obstacle spanning both; one near a landmark, a linear
+        obstacle from the landmark to it; whatever lies between them."""
+        near = self.params.bump_merge
+        felt = [
+            m
+            for m in self.items.values()
+            if m.kind == "bump" and len(m.spots) == 1 and bumps.gap(m.spots[0], spot) <= near
+        ]
+        if felt:
+            other = min(felt, key=lambda m: bumps.gap(m.spots[0], spot))
+            del self.items[other.key]
+            return self.add_found("obstacle", [other.spots[0], spot], radius, time)
+        marks = [m for m in self.items.values() if m.kind == "landmark" and bumps.gap(m.spots[0], spot) <= near]
+        if marks:
+            a = min(marks, key=lambda m: bumps.gap(m.spots[0], spot)).spots[0]
             return self.add_found("obstacle", [Spot(a.x, a.y, a.r0, a.r1), spot], radius, time)
         return self.add_found("bump", [spot], radius, time)
 
@@ -273,6 +337,10 @@ class VisualMemory:
                     r0 += hwalk * sqrt(vh)
                 p.drift = (jx, jy, kx, ky, vt, vs, run, hx, hy, vh)
                 p.r0 = r0
+            f = m.felt_from
+            if f is not None:  # where the robot stood moves as the points do, crisp
+                x, y = f[0] - sx, f[1] - sy
+                m.felt_from = (c * x - s * y, s * x + c * y)
 
     def shove(self, slip: float) -> None:
         """Sliding along something may have moved the robot ``slip`` metres sideways, which the
@@ -356,7 +424,13 @@ class VisualMemory:
         (both are honest points of it; the farther is the better bound of its extent). So the
         remembered line is the stretch between two honest points of the obstacle, never a join
         of pieces, and no more certain than its ends. Points and bumps that lie on a new line are
-        dropped: they were it."""
+        dropped: they were it.
+
+        With ``vision.fence_rigid`` (off by default: in the trap rooms it cost reached runs and
+        contacts) the obstacle is one rigid thing: where a sighting sharper than the memory
+        corrects one end and leaves the other as remembered, the other end moves with it
+        (:func:`.bumps.carried`), so the line keeps its length and direction instead of tilting
+        toward where odometry had carried the uncorrected end."""
         if len(spots) == 1:
             spots = [spots[0], _copy(spots[0])]  # two spots: each end is moved on its own
         m = self.items.get(key)
@@ -370,6 +444,12 @@ class VisualMemory:
         if math.hypot(ux, uy) < 1e-9:
             ux, uy = spots[0].x - spots[1].x, spots[0].y - spots[1].y
         ends_now = [_end(a, ea, spots[0], ends[0], ux, uy, b), _end(b, eb, spots[1], ends[1], -ux, -uy, a)]
+        if self.params.fence_rigid:  # an end seen sharper than known corrects it; the other comes along
+            fixed = (ea and ends[0] and _corrects(a, spots[0]), eb and ends[1] and _corrects(b, spots[1]))
+            if fixed[0] and not (eb and ends[1]) and ends_now[1] is b:
+                ends_now[1] = bumps.carried(b, ends_now[0].x - a.x, ends_now[0].y - a.y)
+            elif fixed[1] and not (ea and ends[0]) and ends_now[0] is a:
+                ends_now[0] = bumps.carried(a, ends_now[1].x - b.x, ends_now[1].y - b.y)
         if ends_now[0] is ends_now[1]:
             ends_now[1] = _copy(ends_now[1])
         m.spots = ends_now
@@ -415,6 +495,13 @@ def _copy(s: Spot) -> Spot:
     """A spot of its own at the same place (:meth:`VisualMemory.move` moves every spot it holds
     once: one spot held twice would be moved twice)."""
     return Spot(s.x, s.y, s.base, s.r1, s.drift, s.r0)
+
+
+def _corrects(mem: Spot, obs: Spot) -> bool:
+    """Does the sighting ``obs`` of a remembered end ``mem`` tell where it is: sharper than the
+    memory, and within it (supports that do not meet are a wrong memory, replaced, no correction
+    of the rest of the obstacle; a blurred sighting moves the fused centre by its own noise)?"""
+    return obs.r0 < mem.r0 and math.hypot(obs.x - mem.x, obs.y - mem.y) <= mem.r0 + obs.r0
 
 
 def _end(mem: Spot, mem_exact: bool, obs: Spot, obs_exact: bool, ux: float, uy: float, origin: Spot) -> Spot:
