@@ -336,6 +336,8 @@ SENSITIVITY_ROWS: tuple[Row, ...] = (
     Row("walls known", {"vision.walls": "known"}, VISION),
     Row("walls felt", {"vision.walls": "felt"}, VISION),
     Row("eq. 1's look capped at 0.9", {"pilot.look_cap": 0.9}, VISION),
+    Row("bumps joined by nearness alone", {"vision.bump_lines": "near"}, VISION),
+    Row("a fence corrected at one end moves whole", {"vision.fence_rigid": True}, VISION),
     Row(
         "the three alternatives together",
         {"vision.routines": 0, "vision.line_objects": 0, "pilot.look_cap": 0.9},
