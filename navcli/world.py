@@ -244,9 +244,12 @@ class World:
 
     @property
     def path_length(self) -> float:
-        """Metres travelled, summed physics step by physics step. A tick stopped between two steps
-        (Ctrl-C, SIGTERM) has its last steps counted as the straight line to where the robot is, so
-        the path length always agrees with the pose a run ends at."""
+        """Metres travelled, summed control tick by control tick: the path through the poses the
+        log holds, a pose a tick (the wheels' slip, drawn per physics step, jitters the robot by
+        fractions of a millimetre within a tick, most of all while it turns on the spot; summed step
+        by step, that jitter would count as travel). A tick stopped between two steps (Ctrl-C,
+        SIGTERM) has its steps counted as the straight line to where the robot is, so the path
+        length always agrees with the pose a run ends at."""
         path, x, y = self._trail
         p = self.body.position
         return path + math.hypot(p.x - x, p.y - y)
@@ -271,7 +274,6 @@ class World:
         bumps: list[Bump] = []
         self._bumps = bumps
         touching = False
-        path, x, y = self._trail
         slip = self.slip
         factors = slip.factors() if slip.noise > 0 else None
         for i in range(PHYSICS_SUBSTEPS):
@@ -284,13 +286,12 @@ class World:
             # Space.step's call: runs _drive, and _begin/_separate when a contact starts or ends
             chipmunk.cpSpaceStep(cp_space, dt)
             self._substeps += 1
-            p = chipmunk.cpBodyGetPosition(cp_body)
-            path += math.hypot(p.x - x, p.y - y)
-            x, y = p.x, p.y
-            self._trail = (path, x, y)  # one assignment: a stop between two steps leaves it whole
             if contacts:
                 touching = True
         self.touching = touching
+        path, x, y = self._trail
+        p = chipmunk.cpBodyGetPosition(cp_body)
+        self._trail = (path + math.hypot(p.x - x, p.y - y), p.x, p.y)  # one assignment: never half made
         self.odometry.update(*motion_between(start, self.pose))
         return bumps
 
