@@ -52,6 +52,36 @@ def _clear(p, things) -> bool:
     return all((_dist_to_segment(p, a, b) if b else math.dist(p, a)) > GAP for a, b in things)
 
 
+def _scatter(rng, things: list, kinds: tuple[tuple[str, int], ...], width: float, height: float) -> dict:
+    """Points drawn uniformly 0.6 m inside a ``width`` x ``height`` room, each clear of ``things``
+    (to which it is added): ``n`` of each ``kind``, kind by kind."""
+    points: dict[str, list] = {kind: [] for kind, _ in kinds}
+    for kind, n in kinds:
+        while len(points[kind]) < n:
+            p = (float(rng.uniform(0.6, width - 0.6)), float(rng.uniform(0.6, height - 0.6)))
+            if _clear(p, things):
+                points[kind].append(p)
+                things.append((p, None))
+    return points
+
+
+def _f(v: float) -> str:
+    return f"{v:.2f}"
+
+
+def _circles(points: list) -> list[str]:
+    return [f"  - circle: {{center: [{_f(x)}, {_f(y)}], radius: 0.15}}" for x, y in points]
+
+
+def _segments(ends: list) -> list[str]:
+    return [f"  - segment: {{from: [{_f(a[0])}, {_f(a[1])}], to: [{_f(b[0])}, {_f(b[1])}]}}" for a, b in ends]
+
+
+def _landmarks(points: list) -> list[str]:
+    """The ``landmarks:`` block, ids A, B, ... in order."""
+    return ["landmarks:"] + [f"  - {{id: {chr(65 + i)}, at: [{_f(x)}, {_f(y)}]}}" for i, (x, y) in enumerate(points)]
+
+
 def room(seed: int) -> dict:
     rng = np.random.default_rng(seed)
     things: list = [(START, None), (TARGET, None)]
@@ -72,14 +102,7 @@ def room(seed: int) -> dict:
         ):
             fences.append((a, b))
             things.append((a, b))
-    points = {"circles": [], "landmarks": []}
-    for kind in ("circles", "landmarks"):
-        while len(points[kind]) < 6:
-            p = (float(rng.uniform(0.6, 7.4)), float(rng.uniform(0.6, 7.4)))
-            if _clear(p, things):
-                points[kind].append(p)
-                things.append((p, None))
-    return {"fences": fences, **points}
+    return {"fences": fences, **_scatter(rng, things, (("circles", 6), ("landmarks", 6)), 8.0, 8.0)}
 
 
 def _save(name: str, lines: list[str]) -> None:
@@ -89,7 +112,6 @@ def _save(name: str, lines: list[str]) -> None:
 
 def write(name: str, seed: int, description: str) -> None:
     r = room(seed)
-    f = lambda v: f"{v:.2f}"  # noqa: E731
     lines = [
         f"# A held-out room, drawn at random (benchmarks/make_rooms.py, seed {seed}) before any run in it,",
         "# and never reshaped: results here check what was designed on paper-8x8 and slanted-8x8.",
@@ -107,11 +129,7 @@ def write(name: str, seed: int, description: str) -> None:
         "  tolerance: 0.3",
         "obstacles:",
     ]
-    lines += [f"  - circle: {{center: [{f(x)}, {f(y)}], radius: 0.15}}" for x, y in r["circles"]]
-    lines += [f"  - segment: {{from: [{f(a[0])}, {f(a[1])}], to: [{f(b[0])}, {f(b[1])}]}}" for a, b in r["fences"]]
-    lines += ["landmarks:"] + [
-        f"  - {{id: {chr(65 + i)}, at: [{f(x)}, {f(y)}]}}" for i, (x, y) in enumerate(r["landmarks"])
-    ]
+    lines += _circles(r["circles"]) + _segments(r["fences"]) + _landmarks(r["landmarks"])
     lines += [
         "mission:",
         "  pilot: potential-field",
@@ -138,7 +156,6 @@ def landmarks(name: str, seed: int) -> None:
             pts.append(p)
     target = int(rng.integers(12))
     ids = [chr(65 + i) if i != target else "T" for i in range(12)]
-    f = lambda v: f"{v:.2f}"  # noqa: E731
     lines = [
         f"# A held-out landmarks room, drawn at random (benchmarks/make_rooms.py, seed {seed}) before any run",
         "# in it, and never reshaped: the learning paper's Table 1 on a room training never saw.",
@@ -156,7 +173,7 @@ def landmarks(name: str, seed: int) -> None:
         "  tolerance: 0.3",
         "landmarks:",
     ]
-    lines += [f"  - {{id: {i}, at: [{f(x)}, {f(y)}]}}" for i, (x, y) in zip(ids, pts)]
+    lines += [f"  - {{id: {i}, at: [{_f(x)}, {_f(y)}]}}" for i, (x, y) in zip(ids, pts)]
     lines += ["noise:", "  odometry_drift_deg_per_m: 0.9", "mission:", "  time_limit: 600", "  seed: 1"]
     _save(name, lines)
 
@@ -178,14 +195,7 @@ def door_room(name: str, seed: int) -> None:
         ((lo, wall_y(lo)), (hi, wall_y(hi))),
         *((m, None) for m in marks),
     ]
-    points: dict[str, list] = {"circles": [], "landmarks": []}
-    for kind, n in (("landmarks", 6), ("circles", 3)):
-        while len(points[kind]) < n:
-            p = (float(rng.uniform(0.6, W - 0.6)), float(rng.uniform(0.6, H - 0.6)))
-            if _clear(p, things):
-                points[kind].append(p)
-                things.append((p, None))
-    f = lambda v: f"{v:.2f}"  # noqa: E731
+    points = _scatter(rng, things, (("landmarks", 6), ("circles", 3)), W, H)
     lines = [
         f"# A held-out trap room, drawn at random (benchmarks/make_rooms.py, seed {seed}) before any run",
         "# in it, and never reshaped: the trap rooms' results on a room no rule was designed on.",
@@ -202,11 +212,7 @@ def door_room(name: str, seed: int) -> None:
         f"  at: [{target[0]}, {target[1]}]",
         "obstacles:",
     ]
-    lines += [f"  - segment: {{from: [{f(a[0])}, {f(a[1])}], to: [{f(b[0])}, {f(b[1])}]}}" for a, b in walls]
-    lines += [f"  - circle: {{center: [{f(x)}, {f(y)}], radius: 0.15}}" for x, y in points["circles"]]
-    lines += ["landmarks:"] + [
-        f"  - {{id: {chr(65 + i)}, at: [{f(x)}, {f(y)}]}}" for i, (x, y) in enumerate(marks + points["landmarks"])
-    ]
+    lines += _segments(walls) + _circles(points["circles"]) + _landmarks(marks + points["landmarks"])
     lines += ["mission:", "  time_limit: 1200", "  seed: 1"]
     _save(name, lines)
 
