@@ -65,3 +65,21 @@ def make_scenario(write_scenario):
         return load_scenario(write_scenario(scenario_dict(**over)))
 
     return make
+
+
+def module_in_folder(folder: Path, monkeypatch, name: str, source: str):
+    """A generator for a fixture (``yield from``): the plugin module ``name.py`` holding ``source``
+    in ``folder``, made the current folder, found fresh by the registry; yields ``folder``, then
+    forgets the module again."""
+    import sys
+
+    from navcli.plugins import registry
+
+    (folder / f"{name}.py").write_text(source)
+    monkeypatch.chdir(folder)
+    monkeypatch.setattr(sys, "path", list(sys.path))  # the registry adds the current folder: this test's only
+    sys.modules.pop(name, None)
+    registry.clear_caches()
+    yield folder
+    sys.modules.pop(name, None)
+    registry.clear_caches()

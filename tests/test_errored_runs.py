@@ -6,19 +6,17 @@ raise on one seed), never borrowed from a bug of navcli's."""
 
 from __future__ import annotations
 
-import sys
 
 import pandas as pd
 import pytest
 from typer.testing import CliRunner
 
-from conftest import SCENARIOS
+from conftest import SCENARIOS, module_in_folder
 from navcli.analysis.tables import distinct_runs, improvements, markdown, notes, pilot_table
 from navcli.cli import app
 from navcli.cli.errors import EXIT_BAD_INPUT, EXIT_FAILED_MISSION, EXIT_RUNS_ERRORED
 from navcli.experiments import reproduce as rp
 from navcli.experiments.document import Report
-from navcli.plugins import registry
 
 FAILING = '''
 """A pilot that raises after its first simulated second: a deliberate failure."""
@@ -101,14 +99,7 @@ def test_a_sweep_tables_errors_are_its_runs_reasons(tmp_path):
 @pytest.fixture
 def failing(tmp_path, monkeypatch):
     """The failing pilot's module (``failing.py``) in the current folder, found as failing:Failing."""
-    (tmp_path / "failing.py").write_text(FAILING)
-    monkeypatch.chdir(tmp_path)
-    monkeypatch.setattr(sys, "path", list(sys.path))
-    sys.modules.pop("failing", None)
-    registry.clear_caches()
-    yield tmp_path
-    sys.modules.pop("failing", None)
-    registry.clear_caches()
+    yield from module_in_folder(tmp_path, monkeypatch, "failing", FAILING)
 
 
 def test_compare_pilots_exits_4_when_every_run_of_a_pilot_errored_and_its_table_says_so(failing):

@@ -13,7 +13,7 @@ import pytest
 from mcap.reader import make_reader
 from typer.testing import CliRunner
 
-from conftest import SCENARIOS
+from conftest import SCENARIOS, module_in_folder
 from navcli import NavcliError
 from navcli.analysis import read_log
 from navcli.cli import app
@@ -104,14 +104,7 @@ class GoStraight:
 @pytest.fixture
 def folder(tmp_path, monkeypatch):
     """A plain folder holding the test plugins' module (``swerve.py``), as the current folder."""
-    (tmp_path / "swerve.py").write_text(SWERVE)
-    monkeypatch.chdir(tmp_path)
-    monkeypatch.setattr(sys, "path", list(sys.path))  # the registry adds the current folder: this test's only
-    sys.modules.pop("swerve", None)
-    registry.clear_caches()
-    yield tmp_path
-    sys.modules.pop("swerve", None)
-    registry.clear_caches()
+    yield from module_in_folder(tmp_path, monkeypatch, "swerve", SWERVE)
 
 
 def _room(folder):
