@@ -10,6 +10,7 @@ from dataclasses import replace
 from hypothesis import given
 from hypothesis import strategies as st
 
+from navcli.geometry import distance_to_segment
 from navcli.params import VISION
 from navcli.vision.perception import anchors
 from navcli.vision.visual_memory import Spot, VisualMemory
@@ -127,14 +128,9 @@ def test_a_landmark_behind_the_robot_is_not_joined_to_a_bump_in_front():
 
 
 def _through_body(mem: VisualMemory, body: float) -> bool:
-    for m in mem.items.values():
-        if len(m.spots) == 2:
-            a, b = m.spots
-            ux, uy = b.x - a.x, b.y - a.y
-            t = max(0.0, min(1.0, -(a.x * ux + a.y * uy) / (ux * ux + uy * uy or 1.0)))
-            if math.hypot(a.x + t * ux, a.y + t * uy) < body - 1e-9:
-                return True
-    return False
+    """Does a remembered line pass within ``body`` of the robot's centre (the memory's origin)?"""
+    lines = (m.spots for m in mem.items.values() if len(m.spots) == 2)
+    return any(distance_to_segment((0.0, 0.0), (a.x, a.y), (b.x, b.y)) < body - 1e-9 for a, b in lines)
 
 
 @given(st.lists(st.tuples(st.floats(-math.pi, math.pi), st.floats(-0.5, 0.5), st.floats(-1.0, 1.0)), max_size=12))

@@ -80,15 +80,15 @@ def longest_stall(
 
 
 def scanning(poses: pd.DataFrame, bids: pd.DataFrame | None, navigation: pd.DataFrame | None) -> np.ndarray:
-    """Per pose of ``poses``, whether the tick it closes was a deliberate scan (module docstring):
-    the latest ``/bids`` and ``/navigation`` messages at or before the pose's time."""
+    """Per pose of ``poses`` (in time order), whether the tick it closes was a deliberate scan
+    (module docstring): the latest ``/bids`` and ``/navigation`` messages at or before the pose's time."""
     if bids is None or navigation is None or bids.empty or navigation.empty:
         return np.zeros(len(poses), dtype=bool)
     speed = bids.get("motion.actions.navigation.speed", pd.Series(np.nan, index=bids.index))
     tick = pd.DataFrame(
         {
             "log_time_ns": bids["log_time_ns"],
-            "held": (bids.get("motion.winner") == "navigation").to_numpy() & (speed.fillna(np.nan) == 0.0).to_numpy(),
+            "held": (bids.get("motion.winner") == "navigation").to_numpy() & (speed == 0.0).to_numpy(),
         }
     )
     agent = navigation.get("forwarded.motion_agent", pd.Series("", index=navigation.index))
@@ -98,9 +98,7 @@ def scanning(poses: pd.DataFrame, bids: pd.DataFrame | None, navigation: pd.Data
         how="left",
     )
     tick["scan"] = tick["held"] & (tick["agent"] == SCANNER)
-    at = pd.merge_asof(
-        poses[["log_time_ns"]].sort_values("log_time_ns"), tick[["log_time_ns", "scan"]], on="log_time_ns"
-    )
+    at = pd.merge_asof(poses[["log_time_ns"]], tick[["log_time_ns", "scan"]], on="log_time_ns")
     return at["scan"].fillna(False).to_numpy(dtype=bool)
 
 

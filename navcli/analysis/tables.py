@@ -410,6 +410,15 @@ def errored(runs: pd.DataFrame) -> int:
     return int((runs["outcome"] == "error").sum())
 
 
+def errored_verdict(n: int) -> str:
+    """The verdict on a set holding ``n`` (at least one) runs that ended in error.
+
+    >>> errored_verdict(1), errored_verdict(2)
+    ('no verdict: 1 run ended in error', 'no verdict: 2 runs ended in error')
+    """
+    return f"no verdict: {n} run{'s' if n != 1 else ''} ended in error"
+
+
 def paired_improvement(base: np.ndarray, pilot: np.ndarray, seed: int = 0) -> tuple[float, float, float, float]:
     """(improvement %, CI low, CI high, p-value) for paired samples; NaNs when fewer than 2 pairs."""
     n = len(base)

@@ -121,9 +121,11 @@ def verdict(
     >>> verdict((250.1, 250.4), (215.4, 379.2), 44, errored=1)
     'no verdict: 1 run ended in error'
     """
+    from ..analysis.tables import errored_verdict
+
     lo, hi = navcli
     if errored:
-        return f"no verdict: {errored} run{'s' if errored != 1 else ''} ended in error"
+        return errored_verdict(errored)
     if n < MIN_SAMPLE:
         return f"too few {unit} to judge ({n}; {MIN_SAMPLE} needed)"
     if not (math.isfinite(lo) and math.isfinite(hi)):

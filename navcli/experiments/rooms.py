@@ -115,8 +115,10 @@ def ratio_verdict(ratio: float, pf_reached: int, gp_reached: int, errored: int) 
     >>> ratio_verdict(math.nan, 0, 10, 0), ratio_verdict(math.nan, 3, 0, 0), ratio_verdict(1.0, 10, 10, 2)
     ('not met: PF reached 0 runs, GP 10', 'no verdict: GP reached no run', 'no verdict: 2 runs ended in error')
     """
+    from ..analysis.tables import errored_verdict
+
     if errored:
-        return f"no verdict: {errored} run{'s' if errored != 1 else ''} ended in error"
+        return errored_verdict(errored)
     if gp_reached == 0:
         return "no verdict: GP reached no run"
     if pf_reached < gp_reached:
@@ -130,18 +132,20 @@ def stall_verdict(stalled: int, errored: int) -> str:
     >>> stall_verdict(0, 0), stall_verdict(1, 0), stall_verdict(0, 1)
     ('met', 'not met', 'no verdict: 1 run ended in error')
     """
+    from ..analysis.tables import errored_verdict
+
     if errored:
-        return f"no verdict: {errored} run{'s' if errored != 1 else ''} ended in error"
+        return errored_verdict(errored)
     return "met" if stalled == 0 else "not met"
 
 
 def pilot_rows(room: str, perception: str, pilot: str, g) -> list[Any]:
     """A pilot's row on a room: reached of runs, the spread of time and path over its reached runs,
     its longest stall and its runs with one."""
-    from ..analysis.tables import distinct_runs
+    from ..analysis.tables import distinct_runs, errored
 
     ok = g[g["outcome"] == "reached"]
-    bad = int((g["outcome"] == "error").sum())
+    bad = errored(g)
     n_distinct = len(distinct_runs(ok))
     reached = f"{len(ok)}/{len(g)}" + (f" ({n_distinct} distinct)" if n_distinct < len(ok) else "")
     reached += f", {bad} errored" if bad else ""
@@ -162,6 +166,8 @@ def pilot_rows(room: str, perception: str, pilot: str, g) -> list[Any]:
 def compare_rows(room: str, perception: str, runs) -> list[Any]:
     """The room's PF-against-GP row: the ratio of the mean times over reached runs and PF's stalls,
     each with its target."""
+    from ..analysis.tables import errored
+
     pf, gp = runs[runs["pilot"] == PF], runs[runs["pilot"] == GP]
     pf_ok, gp_ok = (g.loc[g["outcome"] == "reached", "time_s"] for g in (pf, gp))
     ratio = float(pf_ok.mean() / gp_ok.mean()) if len(pf_ok) and len(gp_ok) else math.nan
@@ -173,7 +179,7 @@ def compare_rows(room: str, perception: str, runs) -> list[Any]:
         "-" if not math.isfinite(ratio) else f"{ratio:.2f}",
         ratio_verdict(ratio, len(pf_ok), len(gp_ok), bad),
         f"{stalled}/{len(pf)}",
-        stall_verdict(stalled, int((pf["outcome"] == "error").sum())),
+        stall_verdict(stalled, errored(pf)),
     ]
 
 

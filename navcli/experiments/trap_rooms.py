@@ -46,13 +46,13 @@ def table(report: Report, rooms: tuple[str, ...], runs, pilots: tuple[str, ...])
 
 def _row(room: str, pilot: str, g) -> list[Any]:
     """One trap room's row for one pilot (its runs ``g``, errors among them)."""
-    from ..analysis.tables import errored
+    from ..analysis.tables import errored, errored_verdict
 
     n, bad = len(g), errored(g)
     k = int((g["outcome"] == "reached").sum())
     blocked, timeout = int((g["outcome"] == "blocked").sum()), int((g["outcome"] == "timeout").sum())
     lo, hi = wilson_interval(k, n)
-    no = f"no verdict: {bad} run{'s' if bad != 1 else ''} ended in error" if bad else ""
+    no = errored_verdict(bad) if bad else ""
     m, c_lo, c_hi = bootstrap_mean(g["collisions"].to_numpy(dtype=float))
     return [
         room,

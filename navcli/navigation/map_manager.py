@@ -38,7 +38,7 @@ from typing import Iterator
 
 from ..beliefs import Beliefs
 from ..fuzzy import FuzzyPoint
-from ..geometry import Point, Pose, wrap_angle
+from ..geometry import Point, Pose, midpoint, wrap_angle
 from ..params import CONTROL_DT, NAVIGATION, NavigationParams
 from .beta_map import BetaNetwork, collinearity
 from .regions import (
@@ -325,7 +325,7 @@ class MapManager:
         for _, _, e in regions.edges():
             if e in self.blocked or e in skip:
                 continue
-            at = _dead_end([odo_where[k] for k in sorted(e)], [k.startswith("~") for k in sorted(e)], radius)
+            at = _dead_end(e, odo_where, radius)
             if at is not None and any(math.dist(at, d) <= radius for d in self.dead_ends):
                 out.append(e)
         return out
@@ -336,10 +336,7 @@ class MapManager:
         (``dead_end_radius``)."""
         self.blocked[edge] = self.blocked.get(edge, 0.0) + 1.0
         if all(k in self._where for k in edge):
-            keys = sorted(edge)
-            at = _dead_end(
-                [self._where[k] for k in keys], [k.startswith("~") for k in keys], self.params.dead_end_radius
-            )
+            at = _dead_end(edge, self._where, self.params.dead_end_radius)
             if at is not None and all(math.dist(at, d) > SAME_PLACE_M for d in self.dead_ends):
                 self.dead_ends.append(at)
         place = self._place(edge)
@@ -387,16 +384,16 @@ class MapManager:
         return MapSnapshot(marks, units, tris, blocked, vertices)
 
 
-def _dead_end(where: list[Point], virtual: list[bool], radius: float) -> Point | None:
-    """The place of an edge (its ends ``where``, odometry frame, and which are virtual) as a dead
-    end: its middle; with one virtual end, the point ``radius`` from its real end toward the
-    virtual one (a virtual landmark lies metres out, beyond the room's walls); None for two
-    virtual ends."""
-    (a, b), (va, vb) = where, virtual
+def _dead_end(edge: Edge, where: dict[str, Point], radius: float) -> Point | None:
+    """The place of ``edge`` (its ends ``where`` they are, odometry frame) as a dead end: its
+    middle; with one virtual end, the point ``radius`` from its real end toward the virtual one
+    (a virtual landmark lies metres out, beyond the room's walls); None for two virtual ends."""
+    keys = sorted(edge)
+    (a, b), (va, vb) = (where[k] for k in keys), (k.startswith("~") for k in keys)
     if va and vb:
         return None
     if not (va or vb):
-        return ((a[0] + b[0]) / 2, (a[1] + b[1]) / 2)
+        return midpoint(a, b)
     real, out = (b, a) if va else (a, b)
     d = math.dist(real, out)
     f = min(1.0, radius / d) if d > 0 else 0.0

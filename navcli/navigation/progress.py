@@ -7,10 +7,13 @@ from __future__ import annotations
 
 import math
 from collections import deque
+from typing import TypeVar
 
 from ..geometry import Point
 from ..params import NavigationParams, RobotParams
 from .situation import Situation
+
+T = TypeVar("T", tuple[float, float], tuple[float, float, float])
 
 MIN_WINDOW_S = 20.0
 """s: the shortest blocked window and diverting timeout, whatever the speed (our design: a few of
@@ -25,6 +28,7 @@ class Progress:
         self.params = params
         self.window_s = max(robot.time_to_drive(params.blocked_window_m), MIN_WINDOW_S)  # the blocked window, s
         self.stall_s = max(params.stall_window_s, robot.time_to_drive(params.stall_window_m))  # the stall window, s
+        self.approach_s = params.stall_approach * self.stall_s  # the second clause's window, s
         self.best = math.inf  # the least distance to the target in the blocked window, m
         self.since = 0.0  # when it was set
         self.bumps: deque[float] = deque()  # their times, within the blocked window
@@ -69,11 +73,7 @@ class Progress:
         if closer is not None:
             return closer
         o = s.beliefs.odometry
-        trail = self.trail
-        trail.append((s.time, o.x, o.y))
-        while len(trail) > 1 and trail[1][0] <= s.time - self.stall_s:
-            trail.popleft()  # keep the last place at or before the window's start
-        t0, x0, y0 = trail[0]
+        t0, x0, y0 = _window_start(self.trail, (s.time, o.x, o.y), self.stall_s)
         net = math.hypot(o.x - x0, o.y - y0)
         if s.time - t0 < self.stall_s or net >= self.params.stall_progress:
             return None
@@ -82,13 +82,18 @@ class Progress:
     def _closer(self, s: Situation, aim: Point) -> str | None:
         """The stall rule's second clause (our design: a field that leads the robot away along a
         wall moves it on, but never closer)."""
-        span = self.params.stall_approach * self.stall_s
         d = math.hypot(*aim)
-        trail = self.approach
-        trail.append((s.time, d))
-        while len(trail) > 1 and trail[1][0] <= s.time - span:
-            trail.popleft()
-        t0, d0 = trail[0]
-        if s.time - t0 < span or d0 - d >= self.params.stall_progress:
+        t0, d0 = _window_start(self.approach, (s.time, d), self.approach_s)
+        if s.time - t0 < self.approach_s or d0 - d >= self.params.stall_progress:
             return None
         return f"no progress: {d0 - d:.2f} m closer in {s.time - t0:.0f} s"
+
+
+def _window_start(trail: deque[T], now: T, span: float) -> T:
+    """Append ``now`` (its first item the time) to ``trail`` and drop what lies before the window
+    of ``span`` seconds ending there, keeping the last entry at or before the window's start;
+    return the trail's first entry."""
+    trail.append(now)
+    while len(trail) > 1 and trail[1][0] <= now[0] - span:
+        trail.popleft()
+    return trail[0]

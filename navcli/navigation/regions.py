@@ -39,7 +39,7 @@ from typing import Mapping, Sequence
 
 import numpy as np
 
-from ..geometry import distance_to_segment
+from ..geometry import distance_to_segment, midpoint
 
 Point = tuple[float, float]
 Edge = frozenset[str]  # of two landmark ids
@@ -375,11 +375,10 @@ def _farthest_in_sight(
         if any(k.startswith("~") for k in e):
             continue
         a, b = (pos[k] for k in sorted(e))
-        mid = ((a[0] + b[0]) / 2, (a[1] + b[1]) / 2)
         if (
             _seen_whole(robot, a, b, lines)
             if whole
-            else not any(crossing_along(robot, mid, p, q, 0.0) for _, p, q in lines)
+            else not any(crossing_along(robot, midpoint(a, b), p, q, 0.0) for _, p, q in lines)
         ):
             return e
     return edges[0]
@@ -398,7 +397,7 @@ def _seen_whole(robot: Point, a: Point, b: Point, lines: list[tuple[str, Point, 
     """
     q1 = (a[0] + (b[0] - a[0]) / 4, a[1] + (b[1] - a[1]) / 4)
     q3 = (a[0] + 3 * (b[0] - a[0]) / 4, a[1] + 3 * (b[1] - a[1]) / 4)
-    mid = ((a[0] + b[0]) / 2, (a[1] + b[1]) / 2)
+    mid = midpoint(a, b)
     for _, p, q in lines:
         if any(crossing_along(robot, end, p, q, 0.0) for end in (mid, q1, q3)):
             return False

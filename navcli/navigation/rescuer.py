@@ -131,7 +131,6 @@ class Rescuer(Scanning):
     ):
         self.params = params
         self.progress = Progress(params, robot)
-        self.window_s, self.stall_s = self.progress.window_s, self.progress.stall_s  # the blocked and stall windows, s
         self.timeout_s = max(robot.time_to_drive(params.diverting_timeout_m), MIN_WINDOW_S)  # the diverting timeout, s
         self.speed = robot.max_speed
         self.drive_s = 2.0 * robot.time_to_drive(params.explore_m)  # the longest an exploring drive lasts, s
@@ -185,13 +184,7 @@ class Rescuer(Scanning):
 
     def _sweep_phase(self, s: Situation, events: list[tuple[str, str]], ask: Ask) -> Rescue | None:
         """The initial sweep: look at each pan, then normal."""
-        if self.state != "sweep":
-            return None
-        if not self._scanned(s.beliefs.looked):
-            return Rescue(self._scan_bids(), events=tuple(events))
-        self._enter("normal", s)
-        events.append(("info", "initial sweep done"))
-        return None
+        return self._scan_then_normal(s, events, "initial sweep done") if self.state == "sweep" else None
 
     def _turn_phase(self, s: Situation, events: list[tuple[str, str]], ask: Ask) -> Rescue | None:
         """Turning to ``_turn_to``; then a drive out (exploring), a look around, a new request to
@@ -209,7 +202,6 @@ class Rescuer(Scanning):
             # blocked situation asks anew (exploring first: a robot pinned against the wall
             # opposite its target drove into that wall again and again)
             self._ask_after_turn = False
-            self._trapped = False
             self._enter("normal", s)
             again = ask(None)
             if isinstance(again, Crossing):
@@ -262,10 +254,14 @@ class Rescuer(Scanning):
         """Exploring: look around for landmarks, then normal."""
         if self.state != "explore":
             return None
+        return self._scan_then_normal(s, events, f"looked around: {len(s.landmarks)} landmarks in view or remembered")
+
+    def _scan_then_normal(self, s: Situation, events: list[tuple[str, str]], done: str) -> Rescue | None:
+        """A scan: look at each pan, then normal, saying ``done``."""
         if not self._scanned(s.beliefs.looked):
             return Rescue(self._scan_bids(), events=tuple(events))
         self._enter("normal", s)
-        events.append(("info", f"looked around: {len(s.landmarks)} landmarks in view or remembered"))
+        events.append(("info", done))
         return None
 
     def _lost_phase(self, s: Situation, events: list[tuple[str, str]], ask: Ask) -> Rescue | None:
@@ -423,8 +419,7 @@ class Rescuer(Scanning):
             if crossing is not None and crossing.here and self.params.turn_when_here and not lost:
                 # the thesis' Rescuer with no diverting target: a random turn; the map knows the way
                 # is straight, so driving away from the target to explore would only lengthen it
-                self._start_turn(s.beliefs.odometry, events, f"no diverting target ({why})")
-                self._reset_progress(s)
+                self._turn(s, events, f"no diverting target ({why})")
                 return Rescue(events=tuple(events))
             self._explorations += 1
             if (
@@ -439,9 +434,8 @@ class Rescuer(Scanning):
 
     def _explore(self, s: Situation, events: list[tuple[str, str]], why: str) -> None:
         """Turn away from the target, then drive and look around (see the module docstring)."""
-        self._start_turn(s.beliefs.odometry, events, f"{why}; exploring", away=s.aim)
+        self._turn(s, events, f"{why}; exploring", away=s.aim)
         self._scan_after_turn = True
-        self._reset_progress(s)
 
     def _divert(self, crossing: Crossing, s: Situation, events: list[tuple[str, str]]) -> Rescue:
         """Set ``crossing`` as the diverting target, with one stop (the thesis' Rescuer wins one
@@ -462,9 +456,8 @@ class Rescuer(Scanning):
         if self.params.gives_up:
             return self._end(why, events)
         self._trapped, self._explorations = False, 0
-        self._start_turn(s.beliefs.odometry, events, f"{why}; not giving up")
+        self._turn(s, events, f"{why}; not giving up")
         self._ask_after_turn = True
-        self._reset_progress(s)
         return Rescue(events=tuple(events))
 
     def _end(self, why: str, events: list[tuple[str, str]]) -> Rescue:
@@ -517,8 +510,23 @@ class Rescuer(Scanning):
         return crossed
 
     # -- blocked
+    @property
+    def window_s(self) -> float:
+        """The blocked window, s."""
+        return self.progress.window_s
+
+    @property
+    def stall_s(self) -> float:
+        """The stall window, s."""
+        return self.progress.stall_s
+
     def _reset_progress(self, s: Situation) -> None:
         self.progress.reset(s.time)
+
+    def _turn(self, s: Situation, events: list[tuple[str, str]], why: str, away: Point | None = None) -> None:
+        """Start a random turn (:meth:`_start_turn`) with the progress windows restarted."""
+        self._start_turn(s.beliefs.odometry, events, why, away)
+        self._reset_progress(s)
 
     def _blocked(self, s: Situation, line: tuple[Point, Point] | None) -> str | None:
         """Why the robot is blocked on its way to the current target (``line``: the diverting line,

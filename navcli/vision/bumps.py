@@ -9,6 +9,7 @@ import math
 from typing import TYPE_CHECKING, Iterable
 
 from ..fuzzy import CUT
+from ..geometry import distance_to_segment
 
 if TYPE_CHECKING:
     from .visual_memory import Memory, Spot
@@ -74,12 +75,6 @@ def along(px: float, py: float, ax: float, ay: float, bx: float, by: float) -> f
     return 0.0 if l2 == 0.0 else max(0.0, min(1.0, ((px - ax) * ux + (py - ay) * uy) / l2))
 
 
-def to_segment(px: float, py: float, ax: float, ay: float, bx: float, by: float) -> float:
-    """The distance from ``(px, py)`` to the segment from ``(ax, ay)`` to ``(bx, by)`` (m)."""
-    t = along(px, py, ax, ay, bx, by)
-    return math.hypot(ax + t * (bx - ax) - px, ay + t * (by - ay) - py)
-
-
 def onto(m: Memory, spot: Spot, body: float) -> None:
     """Move the remembered line ``m`` across, rigidly, so that it touches the robot, on the side
     where the bump ``spot`` was felt: in contact, the line's middle lies ``body`` plus its
@@ -102,4 +97,4 @@ def onto(m: Memory, spot: Spot, body: float) -> None:
 def clears(at: tuple[float, float], a: Spot, b: Spot, body: float) -> bool:
     """Does the segment between the centres of ``a`` and ``b`` stay at least ``body`` (m) from
     ``at``, so that a robot standing there is not on it?"""
-    return to_segment(at[0], at[1], a.x, a.y, b.x, b.y) >= body
+    return distance_to_segment(at, (a.x, a.y), (b.x, b.y)) >= body

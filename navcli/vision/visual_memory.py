@@ -169,6 +169,11 @@ def fuse(m: Spot, o: Spot) -> Spot:
     return Spot(x, y, r0, min(m.r1, o.r1, r0))
 
 
+def _nearest(memories: list[Memory], spot: Spot) -> Memory:
+    """The memory of ``memories`` whose first spot is nearest ``spot``."""
+    return min(memories, key=lambda m: bumps.gap(m.spots[0], spot))
+
+
 @dataclass
 class VisualMemory:
     """The remembered objects, moved by odometry, sharpened by sightings, pruned by imprecision.
@@ -209,7 +214,7 @@ class VisualMemory:
 
         A bumper knows where on the body it was pressed and odometry where the robot was, not what
         it touched; so "one object" is judged from those alone (``vision.bump_lines``, default
-        ``one-object``; :meth:`_add_bump_near` is ``near``):
+        ``one-object``; :meth:`_join` with ``one_object`` off is ``near``):
 
         1. a bump on a remembered line (a fence, a wall, a line felt before; :func:`.bumps.line_under`)
            confirms it and draws nothing new; the line, one rigid object, is moved across onto the
@@ -224,7 +229,7 @@ class VisualMemory:
            from the landmark to it;
         5. else it is remembered as a lone bump, with where the robot stood."""
         if self.params.bump_lines == "near":
-            return self._add_bump_near(spot, radius, time)
+            return self._join(spot, radius, time, False)
         line = bumps.line_under(self.items.values(), spot)
         if line is not None:
             bumps.onto(line, spot, self.robot_radius)
@@ -232,59 +237,48 @@ class VisualMemory:
             return line
         points = [m for m in self.items.values() if bumps.lone(m) and _same_point(m.spots[0], spot)]
         if points:
-            m = min(points, key=lambda m: bumps.gap(m.spots[0], spot))
+            m = _nearest(points, spot)
             m.spots[0] = fuse(m.spots[0], spot)
             m.seen = time
             if m.kind == "bump":
                 m.felt_from = (0.0, 0.0)
             return m
-        near = self.params.bump_merge
+        return self._join(spot, radius, time, True)
+
+    def _join(self, spot: Spot, radius: float, time: float, one_object: bool) -> Memory:
+        """The bump ``spot`` joined into a line with the nearest remembered bump within
+        ``bump_merge``, else with the nearest landmark within it, else remembered alone. With
+        ``one_object`` (``vision.bump_lines`` ``one-object``) only a bump that may lie on one
+        object with it (:func:`.bumps.one_object`) and a landmark joined by a line clear of the
+        robot's body, and a lone bump keeps where the robot stood; else (``near``) any within
+        ``bump_merge``, whatever lies between them."""
+        near, body = self.params.bump_merge, self.robot_radius
         felt = [
             m
             for m in self.items.values()
             if m.kind == "bump"
             and len(m.spots) == 1
             and bumps.gap(m.spots[0], spot) <= near
-            and bumps.one_object(m, spot, self.robot_radius)
+            and (not one_object or bumps.one_object(m, spot, body))
         ]
         if felt:
-            other = min(felt, key=lambda m: bumps.gap(m.spots[0], spot))
+            other = _nearest(felt, spot)
             del self.items[other.key]
             return self.add_found("obstacle", [other.spots[0], spot], radius, time)
-        body = self.robot_radius
         marks = [
             m
             for m in self.items.values()
             if m.kind == "landmark"
             and bumps.gap(m.spots[0], spot) <= near
-            and bumps.clears((0.0, 0.0), m.spots[0], spot, body)
+            and (not one_object or bumps.clears((0.0, 0.0), m.spots[0], spot, body))
         ]
         if marks:
-            a = min(marks, key=lambda m: bumps.gap(m.spots[0], spot)).spots[0]
+            a = _nearest(marks, spot).spots[0]
             return self.add_found("obstacle", [Spot(a.x, a.y, a.r0, a.r1), spot], radius, time)
         m = self.add_found("bump", [spot], radius, time)
-        m.felt_from = (0.0, 0.0)
+        if one_object:
+            m.felt_from = (0.0, 0.0)
         return m
-
-    def _add_bump_near(self, spot: Spot, radius: float, time: float) -> Memory:
-        """``vision.bump_lines`` ``near``: a bump within ``bump_merge`` of a remembered bump
-        becomes, with it, one linear obstacle spanning both; one near a landmark, a linear
-        obstacle from the landmark to it; whatever lies between them."""
-        near = self.params.bump_merge
-        felt = [
-            m
-            for m in self.items.values()
-            if m.kind == "bump" and len(m.spots) == 1 and bumps.gap(m.spots[0], spot) <= near
-        ]
-        if felt:
-            other = min(felt, key=lambda m: bumps.gap(m.spots[0], spot))
-            del self.items[other.key]
-            return self.add_found("obstacle", [other.spots[0], spot], radius, time)
-        marks = [m for m in self.items.values() if m.kind == "landmark" and bumps.gap(m.spots[0], spot) <= near]
-        if marks:
-            a = min(marks, key=lambda m: bumps.gap(m.spots[0], spot)).spots[0]
-            return self.add_found("obstacle", [Spot(a.x, a.y, a.r0, a.r1), spot], radius, time)
-        return self.add_found("bump", [spot], radius, time)
 
     def move(self, ds: float, dtheta: float) -> None:
         """The robot moved ``ds`` ahead along the mid-tick heading and turned ``dtheta`` (odometry).
