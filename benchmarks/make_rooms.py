@@ -1,5 +1,5 @@
 """How the held-out rooms ``scattered-8x8``, ``crossed-8x8``, ``drawn-8x8-a``, ``drawn-8x8-b``,
-``drawn-door`` and ``landmarks-drawn`` were made:
+``drawn-door``, ``landmarks-drawn`` and ``landmarks-drawn-b`` were made:
 drawn at random, once, from fixed seeds, before any run in them, and never reshaped ("check every
 result on a room you did not design the feature on").
 
@@ -19,8 +19,11 @@ side of the wall (2 m apart along the wall, as in ``door-wall``), six more landm
 point obstacles at random, each keeping 0.6 m from the others, the start, the target, the wall
 and the door (the door stays open).
 
-The seeds of ``drawn-8x8-a``, ``drawn-8x8-b`` and ``drawn-door`` came from ``secrets.randbelow``
-before any run in those rooms.
+``landmarks-drawn-b`` is a second room of that kind, for the learning paper's Table 1 on a room
+neither training nor any rule of the learning task was designed on.
+
+The seeds of ``drawn-8x8-a``, ``drawn-8x8-b``, ``drawn-door`` and ``landmarks-drawn-b`` came from
+``secrets.randbelow`` before any run in those rooms.
 
     python benchmarks/make_rooms.py   # rewrites the rooms' files in scenarios/ and navcli/data/scenarios/
 """
@@ -231,6 +234,7 @@ if __name__ == "__main__":
         "obstacles, two fences at random angles near the diagonal, six landmarks, the paper's pace.",
     )
     landmarks("landmarks-drawn", 36)
+    landmarks("landmarks-drawn-b", 72174)
     for name, seed in (("drawn-8x8-a", 37582), ("drawn-8x8-b", 68517)):
         write(
             name,
