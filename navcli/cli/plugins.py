@@ -51,7 +51,8 @@ def check_plugin(
     env_checker): its kind and declarations, its output in a handful of situations against
     navcli's contract and its /pilot messages against their schema, its determinism, and short
     missions with each perception. Exit 0 when it passes, 1 with the list of problems."""
-    from ..plugins import UnknownPlugin, check
+    from ..plugins import UnknownPlugin
+    from ..plugins.checker import check
 
     problems = check(_kind(kind), name)  # type: ignore[arg-type]
     if problems and problems[0].startswith("unknown "):  # not found: bad input

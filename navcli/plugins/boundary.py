@@ -36,6 +36,7 @@ from typing import Any, Callable
 import msgspec
 
 from ..bidding import PURPOSES, RESOURCES, SYSTEMS, Bid, Look, Move
+from ..log.format import plugin_pilot_message
 from ..pilot import Avoidance, Pilot, PilotOutput
 from .registry import BLAME, Component, PluginError, failed
 
@@ -195,7 +196,7 @@ def info_type(c: Component) -> Any:
     ``/pilot`` field of its log's (its ``Info``'s and navcli's) but the command, each optional,
     an enumerated one as a ``Literal`` of its values (the log's schema holds them as ``enum``).
     msgspec takes what its encoder writes: a numpy scalar is refused here as the log would refuse
-    it. Fields that none declares are left to the run (``registry.undeclared`` names them)."""
+    it. Fields that none declares are left to the run (:func:`undeclared` names them)."""
     import typing
 
     import msgspec
@@ -214,11 +215,28 @@ def info_type(c: Component) -> Any:
             return typing.Union[tuple(literal(a) for a in typing.get_args(t))]
         return t
 
-    hints = typing.get_type_hints(c.pilot_message(), include_extras=True)
+    hints = typing.get_type_hints(plugin_pilot_message(c), include_extras=True)
     fields = [
         (k, typing.Union[literal(t), msgspec.UnsetType], msgspec.UNSET) for k, t in hints.items() if k != "command"
     ]
     return msgspec.defstruct(f"PilotInfo+{c.group}", fields)
+
+
+def pilot_fields(c: Component) -> frozenset[str] | None:
+    """The fields a plugin pilot's ``/pilot`` message may hold: navcli's and its ``Info``'s (None
+    for navcli's own pilots, whose fields the log format declares)."""
+    return None if c.builtin else frozenset(plugin_pilot_message(c).__struct_fields__)
+
+
+def undeclared(c: Component, info: dict[str, Any]) -> PluginError:
+    """The fault of a plugin pilot whose ``info`` holds fields that neither navcli's log format nor
+    its ``Info`` declares (so cannot go into ``/pilot``)."""
+    extra = sorted(set(info) - (pilot_fields(c) or frozenset()))
+    return PluginError(
+        f"{c.label} wrote {', '.join(extra)} into /pilot, which its Info does not declare: declare every "
+        f"field its avoid() returns in its class's Info (a msgspec.Struct); `navcli plugins check pilot "
+        f"{c.name}` shows what else it gets wrong"
+    )
 
 
 def info_problem(info: dict[str, Any], kind: Any) -> str | None:

@@ -47,6 +47,7 @@ from types import TracebackType
 from typing import Any, Iterable, Literal
 
 from .. import NavcliError, __version__
+from .contract import contract_problems
 
 Kind = Literal["pilot", "policy"]
 GROUPS: dict[Kind, str] = {"pilot": "navcli.pilots", "policy": "navcli.policies"}
@@ -115,14 +116,6 @@ class Component:
     def info_class(self) -> Any:
         """A pilot's ``Info``: the ``msgspec.Struct`` of the fields it adds to ``/pilot``, or None."""
         return getattr(self.cls, "Info", None) if not self.builtin else None
-
-    def pilot_message(self) -> Any:
-        """The ``msgspec.Struct`` of this pilot's ``/pilot`` messages: navcli's :class:`Pilot
-        <navcli.log.format.Pilot>` with its ``Info``'s fields (see
-        :func:`~navcli.log.format.pilot_message_type`)."""
-        from ..log.format import pilot_message_type
-
-        return pilot_message_type(self.info_class, self.group, f"{self.origin}, version {self.version}")
 
     def identity(self) -> dict[str, str]:
         """What names it in a run's configuration (and so in its run id)."""
@@ -301,8 +294,6 @@ def find(kind: Kind, name: str) -> Component:
 @functools.lru_cache(maxsize=None)
 def _found(kind: Kind, name: str, digest: str) -> Component:
     c = _located(kind, name, digest)
-    from .checker import contract_problems
-
     problems = contract_problems(c)
     if problems:  # an installed package that is broken is its fault; a module:Class that is no pilot, the name's
         error = PluginError if c.origin.startswith("entry point") else UnknownPlugin
@@ -503,23 +494,6 @@ def blame(e: BaseException, components: Iterable[Component]) -> Component | None
             if c.owns(module):
                 return c
     return None
-
-
-def pilot_fields(c: Component) -> frozenset[str] | None:
-    """The fields a plugin pilot's ``/pilot`` message may hold: navcli's and its ``Info``'s (None
-    for navcli's own pilots, whose fields the log format declares)."""
-    return None if c.builtin else frozenset(c.pilot_message().__struct_fields__)
-
-
-def undeclared(c: Component, info: dict[str, Any]) -> str:
-    """Why a plugin pilot's ``info`` cannot go into ``/pilot``: the fields neither navcli's log
-    format nor its ``Info`` declares."""
-    extra = sorted(set(info) - (pilot_fields(c) or frozenset()))
-    return (
-        f"{c.label} wrote {', '.join(extra)} into /pilot, which its Info does not declare: declare every "
-        f"field its avoid() returns in its class's Info (a msgspec.Struct); `navcli plugins check pilot "
-        f"{c.name}` shows what else it gets wrong"
-    )
 
 
 def with_params(params: Any, components: Iterable[Component]) -> Any:
