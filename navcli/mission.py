@@ -165,7 +165,7 @@ class Mission:
             "landmark": f"landmark {t.landmark}",
             "line": f"crossing the line {t.line}",
         }[t.kind]
-        return f"mission {self.scenario.name} started at [{s[0]:g}, {s[1]:g}] with the {self.spec.pilot} pilot; target: {goal}"
+        return f"mission {self.scenario.name} started at [{s[0]:g}, {s[1]:g}] with the {self.spec.pilot_name} pilot; target: {goal}"
 
     @property
     def time(self) -> float:
@@ -351,7 +351,7 @@ class Mission:
         return {
             "scenario": self.scenario.name,
             "seed": self.spec.seed,
-            "pilot": self.spec.pilot,
+            "pilot": self.spec.pilot_name,
             "navigation": self.spec.navigation,
             "outcome": self.outcome or "interrupted",
             "reason": self.reason,

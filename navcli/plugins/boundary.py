@@ -38,6 +38,7 @@ import msgspec
 from ..bidding import PURPOSES, RESOURCES, SYSTEMS, Bid, Look, Move
 from ..log.format import plugin_pilot_message
 from ..pilot import Avoidance, Pilot, PilotOutput
+from .names import NAME_RE, NAME_RULE
 from .registry import BLAME, Component, PluginError, failed
 
 
@@ -235,7 +236,7 @@ def undeclared(c: Component, info: dict[str, Any]) -> PluginError:
     return PluginError(
         f"{c.label} wrote {', '.join(extra)} into /pilot, which its Info does not declare: declare every "
         f"field its avoid() returns in its class's Info (a msgspec.Struct); `navcli plugins check pilot "
-        f"{c.name}` shows what else it gets wrong"
+        f"{c.asked}` shows what else it gets wrong"
     )
 
 
@@ -296,7 +297,7 @@ def _where(method: Callable[..., Any]) -> str:
 
 
 def _blame(c: Component) -> str:
-    return f"{BLAME}: `navcli plugins check {c.kind} {c.name}` tests it against navcli's contract"
+    return f"{BLAME}: `navcli plugins check {c.kind} {c.asked}` tests it against navcli's contract"
 
 
 # --- the guarded pilot and agent -------------------------------------------------------------
@@ -378,12 +379,11 @@ NAVCLI_AGENTS = ("target-tracker", "risk-manager", "distance-estimator", "rescue
 
 def agent_name(c: Component, agent: Any, taken: set[str]) -> str:
     """The name ``agent`` (``c``'s, just made) bids under, checked: a name the log can carry
-    (1 to 64 of A-Z, a-z, 0-9, ``_``, ``-``), not one of navcli's agents' and not ``taken``."""
-    from .registry import NAME_RE
+    (:data:`~.names.NAME_RULE`), not one of navcli's agents' and not ``taken``."""
 
     name = getattr(agent, "name", None)
     if not isinstance(name, str) or not NAME_RE.fullmatch(name):
-        problem = f"its agent's name is {_short(name)}, not 1 to 64 of A-Z, a-z, 0-9, '_' and '-'"
+        problem = f"its agent's name is {_short(name)}, not {NAME_RULE}"
     elif name in NAVCLI_AGENTS or name in taken:
         problem = f"its agent's name {name!r} is taken (by one of navcli's agents or another plugin's)"
     else:

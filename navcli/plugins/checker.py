@@ -182,8 +182,8 @@ def _mission_problems(c: Component) -> list[str]:
             sc,
             perception=perception,
             time_limit=CHECK_SECONDS,
-            pilot=c.name if c.kind == "pilot" else None,
-            navigation=c.name if c.kind == "policy" else None,
+            pilot=c.asked if c.kind == "pilot" else None,
+            navigation=c.asked if c.kind == "policy" else None,
         )
         with tempfile.TemporaryDirectory(prefix="navcli-check-") as folder:
             log = Path(folder) / "check.mcap"
