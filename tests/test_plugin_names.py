@@ -236,3 +236,35 @@ def test_every_help_that_names_a_plugin_says_every_form_in_the_same_words(comman
     assert _flat(PLUGIN_FORMS) in text, command
     for form in ("module:Class", "path/to/file.py:Class", "NAME=module:Class", "NAME=path/to/file.py:Class"):
         assert form in text, (command, form)
+
+
+AGENT = """
+from navcli.bidding import Bid, Move
+
+
+class Straight:
+    def __init__(self, setup):
+        self.name = "straight"
+        self.speed = setup.params.robot.max_speed
+
+    def bid(self, s):
+        return [] if s.bearing is None else [Bid(self.name, "motion", Move(s.bearing, self.speed), 0.5)]
+"""
+
+
+def test_a_named_policy_goes_by_its_name_in_compare_policies(tmp_path, monkeypatch):
+    from navcli.training import comparison
+
+    for _ in module_in_folder(tmp_path, monkeypatch, "straight", AGENT):
+        p = comparison.parse_policy("agents+mine=straight.py:Straight")
+        assert (p.label, p.navigation) == ("agents+mine", "agents+mine=straight.py:Straight")
+        sc = load_scenario(SCENARIOS / "landmarks-12.yaml")
+        spec = RunSpec.build(sc, overrides={"learning.max_actions": 3})
+        job = comparison.plan(spec, [p], 1, 1, tmp_path)[0]
+        assert job.path.rpartition("/")[2].startswith("agents_mine-run0-")
+        assert comparison.run_trials(job)[0]["actions"] is None  # run as missions, by the value that finds it
+        r = _cli(
+            "compare", "policies", SCENARIOS / "landmarks-12.yaml", "--policy", "a=straight.py:Straight",
+            "--policy", "a=straight:Straight", "--out", tmp_path / "o",
+        )  # fmt: skip
+        assert r.exit_code == 2 and "a policy is named twice: a, a" in r.output, r.output

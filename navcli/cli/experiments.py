@@ -160,9 +160,10 @@ def compare_policies(
     with about("--param"):
         check_bounds(spec.params.learning)
     with about("--policy"):
-        if len(set(names)) < len(names):
-            raise PolicyError(f"a policy is named twice: {', '.join(names)}")
         chosen = [parse_policy(n) for n in names]
+        labels = [c.label for c in chosen]
+        if len(set(labels)) < len(labels):
+            raise PolicyError(f"a policy is named twice: {', '.join(labels)}")
     from ..training.comparison import TABLE_FILES
 
     out_folder(out, TABLE_FILES, force=True)  # resumed: the table is remade from every run

@@ -21,6 +21,8 @@ pilot column, ``home_me_mypilot.py_MyPilot-seed1-….mcap`` as a log's name.
 ('path/to/file.py:MyPilot', 'path/to/file.py:MyPilot')
 >>> label("mine=mypackage.pilots:MyPilot"), label("geometric")
 ('mine', 'geometric')
+>>> navigation_label("agents+mine=path/to/file.py:MyAgent")
+'agents+mine'
 """
 
 from __future__ import annotations
@@ -97,3 +99,11 @@ def label(value: str, kind: Kind = "pilot") -> str:
     """The name a value naming a ``kind`` goes by in tables, file names and messages (see
     :func:`named`)."""
     return named(value, kind)[0]
+
+
+def navigation_label(value: str) -> str:
+    """The name a ``--navigation`` value goes by: each policy's :func:`label`, joined by ``+`` as the
+    value joins them (``learned:FILE`` whole)."""
+    if value.startswith("learned:"):
+        return value
+    return "+".join(label(p.strip(), "policy") for p in value.split("+"))
