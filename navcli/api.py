@@ -36,6 +36,7 @@ from typing import TYPE_CHECKING, Any, Iterable, Mapping, Sequence
 from .checks.arguments import COMMON, checked, either, instance, listing, names_to_values, path
 from .config import RunSpec
 from .log import format as fmt
+from .plugins.names import BUILTIN_PILOTS
 from .scenario import Scenario, load_scenario
 
 if TYPE_CHECKING:
@@ -205,7 +206,7 @@ def summary_row(spec: RunSpec) -> dict[str, Any]:
 @api
 def compare(
     scenarios: Sequence[str | Path | Scenario],
-    pilots: Sequence[str] = ("potential-field", "geometric"),
+    pilots: Sequence[str] = BUILTIN_PILOTS,
     *,
     reruns: int = 5,
     perception: str | None = None,

@@ -11,6 +11,7 @@ from typing import Annotated, Optional
 import typer
 
 from ..analysis.files import without_mark
+from ..plugins.names import BUILTIN_PILOTS
 from .common import (
     MAX_SEED,
     PILOT_HELP,
@@ -45,7 +46,7 @@ def compare_pilots(
     reruns: Annotated[int, typer.Option(min=1, max=10_000, help="Reruns per scenario and pilot (the paper: 45).")] = 45,
     pilots: Annotated[
         str, typer.Option(help=f"Comma-separated pilots, the last the baseline; each {PILOT_HELP}.")
-    ] = "potential-field,geometric",
+    ] = ",".join(BUILTIN_PILOTS),
     jobs: JobsOption = None,
     out: Annotated[Path, typer.Option(help="Folder for the logs, the table and the plots.")] = Path("logs/compare"),
     time_limit: Annotated[

@@ -43,7 +43,8 @@ installed plugin's entry point, a name given as ``NAME=``, a policy agent's bidd
 NAME_RULE = "1 to 64 of A-Z, a-z, 0-9, '_' and '-', the first a letter or a digit"
 """:data:`NAME_RE` in words, for messages."""
 BUILTIN_PILOTS = ("potential-field", "geometric")
-"""navcli's own pilots; the first is the default."""
+"""navcli's own pilots; the first is the default, and a comparison's default pilots are both, the
+pilot paper's baseline (the geometric pilot) last."""
 BUILTIN_POLICIES = ("agents", "hand-coded", "learned")
 """navcli's own Navigation policies (``learned:FILE`` names a model; plain ``learned`` the bundled
 one); the first is the default."""
