@@ -195,6 +195,7 @@ def test_the_plugin_registry_sits_below_the_configuration():
         above = {d for d in RUN_TIME[mod] if d.startswith(("navcli.config", "navcli.scenario", "navcli.runner"))}
         assert above == set(), mod
     assert not any(d.startswith("navcli.log") for d in RUN_TIME["navcli.plugins.registry"])
+    assert RUN_TIME["navcli.plugins.names"] == set()  # the names' rules: the lightest of all (the CLI's help)
     assert "navcli.plugins.checker" not in set().union(*(RUN_TIME[m] for m in RUN_TIME if m != "navcli.cli.plugins"))
 
 
