@@ -13,6 +13,9 @@ A name is looked up in this order (as Gymnasium finds environments, and IR-SIM i
 3. **``module:Class``** (or ``path/to/file.py:Class``): the module is imported from the installed
    packages, then from the current folder.
 
+``NAME=`` before an installed plugin's name, ``module:Class`` or ``path/to/file.py:Class`` finds the
+same plugin under the name ``NAME`` (:mod:`.names` declares the names' rules).
+
 A pilot is a subclass of :class:`navcli.pilot.Pilot`; a policy is a Navigation agent (the
 :class:`navcli.navigation.Agent` protocol: a ``name`` and ``bid(situation) -> list[Bid]``), made
 with an :class:`~navcli.navigation.situation.AgentSetup`. Either may declare ``Params`` (a
@@ -40,8 +43,7 @@ import importlib.util
 import inspect
 import sys
 import traceback
-import dataclasses
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from types import TracebackType
 from typing import Any, Iterable, Sequence
@@ -366,7 +368,7 @@ def _located(kind: Kind, name: str, digest: str) -> Component:
     """:func:`locate`'s lookup, kept by name and file digest."""
     called, reference = named(name, kind)
     if called != reference:
-        return dataclasses.replace(_located(kind, reference, digest), name=called, reference=name)
+        return replace(_located(kind, reference, digest), name=called, reference=name)
     own = _navcli(kind, name)
     if own is not None:
         return own
