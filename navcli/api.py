@@ -28,15 +28,15 @@ Batches run on the machine's cores (``jobs``) and return one row per run, the co
 
 from __future__ import annotations
 
-import os
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Iterable, Mapping, Sequence
 
-from .checks.arguments import COMMON, MAX_JOBS, checked, either, instance, listing, names_to_values, path
+from .checks.arguments import COMMON, checked, either, instance, listing, names_to_values, path
 from .config import RunSpec
 from .log import format as fmt
+from .plugins.names import BUILTIN_PILOTS
 from .scenario import Scenario, load_scenario
 
 if TYPE_CHECKING:
@@ -73,7 +73,9 @@ def spec(
     """A run's whole configuration (:class:`~navcli.config.RunSpec`): a scenario (its file, or one
     loaded) with any of its choices replaced and ``params`` (``{"pilot.K": 30}``, a plugin's
     ``{"vfh.tau_high": 25}``) on top; a :class:`RunSpec` given is returned with those changes.
-    ``pilot`` and ``navigation`` name navcli's, an installed plugin's, or ``module:Class``."""
+    ``pilot`` and ``navigation`` name navcli's, an installed plugin's, ``module:Class`` or
+    ``path/to/file.py:Class``; ``NAME=module:Class`` (or ``NAME=path/to/file.py:Class``) calls a
+    plugin ``NAME`` in the summary, tables and file names (:mod:`navcli.plugins.names`)."""
     if isinstance(scenario, RunSpec):
         base = scenario
         sc = base.scenario
@@ -192,10 +194,6 @@ def run(
     return Run(s, res.summary, frames.frames(), res.log, time.perf_counter() - t0)
 
 
-def _jobs(jobs: int | None) -> int:
-    return jobs or min(os.cpu_count() or 1, MAX_JOBS)
-
-
 def summary_row(spec: RunSpec) -> dict[str, Any]:
     """A run without a log (in a worker): its row, as :func:`navcli.analysis.tables.load_runs`
     makes one from a log (its configuration and summary; no poses)."""
@@ -208,7 +206,7 @@ def summary_row(spec: RunSpec) -> dict[str, Any]:
 @api
 def compare(
     scenarios: Sequence[str | Path | Scenario],
-    pilots: Sequence[str] = ("potential-field", "geometric"),
+    pilots: Sequence[str] = BUILTIN_PILOTS,
     *,
     reruns: int = 5,
     perception: str | None = None,
@@ -226,13 +224,16 @@ def compare(
     import pandas as pd
 
     from .experiments.compare import plan, reruns as seeded, run_on
-    from .experiments.executor import executor, map_ordered
+    from .experiments.executor import executor, map_ordered, workers
 
+    from .plugins.registry import pilots as find_pilots
+
+    find_pilots(pilots, "pilots")  # each found, no two going by one name
     bases = [
         spec(sc, perception=perception, navigation=navigation, time_limit=time_limit, params=params, also=pilots)
         for sc in scenarios
     ]
-    with executor(_jobs(jobs)) as ex:
+    with executor(workers(jobs)) as ex:
         if out is None:
             specs = [s.replace(pilot=p) for base in bases for s in seeded(base, {}, reruns) for p in pilots]
             return pd.DataFrame(map_ordered(summary_row, specs, ex))
@@ -253,12 +254,12 @@ def sweep(
     without, nothing is written."""
     import pandas as pd
 
-    from .experiments.executor import executor, run_each
+    from .experiments.executor import executor, run_each, workers
     from .experiments.sweep import load_plan, plan_runs, read_table, run_row, run_sweep
 
     p = load_plan(plan) if isinstance(plan, (str, Path)) else load_plan(plan, source="<dict>")
     runs = plan_runs(p, None if out is None else Path(out))
-    with executor(_jobs(jobs)) as ex:
+    with executor(workers(jobs)) as ex:
         if out is None:
             rows: list[dict] = [{}] * len(runs)
 

@@ -24,7 +24,8 @@ from . import __version__
 from .analysis.files import file_name
 from .params import CONTROL_DT, PERCEPTIONS, PHYSICS_DT, Params
 from .plugins import registry
-from .plugins.registry import BUILTIN_POLICIES, Component
+from .plugins.names import BUILTIN_POLICIES, label
+from .plugins.registry import Component
 from .scenario import RANGES, Scenario, parse_scenario
 
 LOG_ROOT = Path("logs")
@@ -38,8 +39,9 @@ class ConfigError(NavcliError):
 class RunSpec:
     """Everything that decides one run (see the module docstring). Build it with :meth:`build`.
 
-    ``pilot`` and ``navigation`` are names the registry resolves (:mod:`navcli.plugins`): navcli's
-    own, an installed plugin's, or ``module:Class``; ``params`` holds the parameter sets of the
+    ``pilot`` and ``navigation`` are values the registry resolves (:mod:`navcli.plugins`): navcli's
+    own, an installed plugin's, ``module:Class`` or ``NAME=module:Class`` (:mod:`navcli.plugins.names`;
+    the run goes by :attr:`pilot_name`); ``params`` holds the parameter sets of the
     plugins the run uses (their defaults when not given)."""
 
     scenario: Scenario
@@ -76,6 +78,12 @@ class RunSpec:
         """The run's pilot, then its Navigation policies, as the registry finds them (raises
         :class:`~navcli.plugins.UnknownPlugin` for an unknown name)."""
         return (registry.pilot(self.pilot),) + registry.navigation(self.navigation)
+
+    @property
+    def pilot_name(self) -> str:
+        """The name the pilot goes by in the run's summary, tables and log file name: the ``NAME``
+        of ``NAME=REFERENCE``, else :attr:`pilot` itself."""
+        return label(self.pilot)
 
     @property
     def plugins(self) -> tuple[tuple[str, Component], ...]:
@@ -153,8 +161,9 @@ class RunSpec:
         if sc.sha256 != d["scenario"]["sha256"]:
             raise ConfigError("the scenario text does not match the configuration's sha256")
         params = Params.from_json(d["params"])
-        for p in d.get("plugins", []):
-            c = registry.pilot(p["name"]) if p["role"] == "pilot" else registry.find("policy", p["name"])
+        navigation = d.get("navigation", BUILTIN_POLICIES[0])
+        found = [c for c in (registry.pilot(d["pilot"]),) + registry.navigation(navigation) if not c.builtin]
+        for p, c in zip(d.get("plugins", []), found):  # in the order of :attr:`plugins`
             if c.version != p["version"]:
                 raise ConfigError(f"the run used {p['name']} version {p['version']}; {c.label} is another")
             if c.params_class is not None:
@@ -166,7 +175,7 @@ class RunSpec:
             d["perception"],
             float(d["time_limit_s"]),
             params,
-            d.get("navigation", BUILTIN_POLICIES[0]),
+            navigation,
         )
 
     @functools.cached_property
@@ -185,9 +194,9 @@ class RunSpec:
         return hashlib.sha256(blob.encode()).hexdigest()
 
     def log_name(self) -> str:
-        """``<pilot>-seed<N>-<first 8 hex digits of run_id>.mcap`` (a ``module:Class`` pilot's name
-        made a file name's: ``mod_Class``)."""
-        return f"{file_name(self.pilot)}-seed{self.seed}-{self.run_id[:8]}.mcap"
+        """``<pilot>-seed<N>-<first 8 hex digits of run_id>.mcap``, by :attr:`pilot_name` (a
+        ``module:Class`` pilot's made a file name's: ``mod_Class``)."""
+        return f"{file_name(self.pilot_name)}-seed{self.seed}-{self.run_id[:8]}.mcap"
 
     def default_log_path(self, root: Path = LOG_ROOT) -> Path:
         """``<root>/<scenario>/<pilot>-seed<N>-<id>.mcap``."""
@@ -204,7 +213,7 @@ class RunSpec:
             "scenario_file": sc.source,
             "scenario_sha256": sc.sha256,
             "seed": str(self.seed),
-            "pilot": self.pilot,
+            "pilot": self.pilot_name,
             "perception": self.perception,
             "time_limit_s": repr(self.time_limit),
             "navigation": self.navigation,

@@ -118,7 +118,7 @@ class Mission:
                 pilot, limit, p.pilot, p.robot, own_params=p.plugin(pilot.group), rng=rngs["plugins"]
             )
         )
-        self._pilot_fields = registry.pilot_fields(pilot)  # what a plugin pilot's /pilot may hold
+        self._pilot_fields = boundary.pilot_fields(pilot)  # what a plugin pilot's /pilot may hold
         t = spec.scenario.target
         pan_limit = spec.scenario.camera.pan_limit
         self.policy_agent = policy_agent
@@ -165,7 +165,7 @@ class Mission:
             "landmark": f"landmark {t.landmark}",
             "line": f"crossing the line {t.line}",
         }[t.kind]
-        return f"mission {self.scenario.name} started at [{s[0]:g}, {s[1]:g}] with the {self.spec.pilot} pilot; target: {goal}"
+        return f"mission {self.scenario.name} started at [{s[0]:g}, {s[1]:g}] with the {self.spec.pilot_name} pilot; target: {goal}"
 
     @property
     def time(self) -> float:
@@ -187,7 +187,7 @@ class Mission:
         for_pilot = beliefs if same else replace(beliefs, target=nav.target, target_line=nav.target_line)
         out = self.pilot.decide(for_pilot, request)
         if self._pilot_fields is not None and not out.info.keys() <= self._pilot_fields:
-            raise registry.PluginError(registry.undeclared(registry.pilot(self.spec.pilot), out.info))
+            raise boundary.undeclared(registry.pilot(self.spec.pilot), out.info)
         self._pilot_blocked = out.blocked_by
         return nav, out
 
@@ -351,7 +351,7 @@ class Mission:
         return {
             "scenario": self.scenario.name,
             "seed": self.spec.seed,
-            "pilot": self.spec.pilot,
+            "pilot": self.spec.pilot_name,
             "navigation": self.spec.navigation,
             "outcome": self.outcome or "interrupted",
             "reason": self.reason,

@@ -39,8 +39,8 @@ def open_log(
     """The log of ``mission`` at ``path``, begun: the configuration, the first pose and the events of
     the start. The scenario's own file is protected from being overwritten by it. (foxglove is
     imported here, only when a log is written.)"""
+    from .log.format import plugin_pilot_message
     from .log.writer import Recorder
-
     from .plugins import pilot
 
     recorder = Recorder(
@@ -48,7 +48,7 @@ def open_log(
         live=live,
         port=port,
         protect=(spec.scenario.source,),
-        pilot_message=pilot(spec.pilot).pilot_message(),
+        pilot_message=plugin_pilot_message(pilot(spec.pilot)),
         overwrite=overwrite,
     )
     try:

@@ -84,6 +84,121 @@ def test_only_the_log_package_writes_logs():
     assert _who_imports("mcap.writer") == {"navcli.log.recover"}  # rewrites a killed run's chunks
 
 
+def _is_type_checking(node: ast.stmt) -> bool:
+    return isinstance(node, ast.If) and (
+        isinstance(node.test, ast.Name)
+        and node.test.id == "TYPE_CHECKING"
+        or isinstance(node.test, ast.Attribute)
+        and node.test.attr == "TYPE_CHECKING"
+    )
+
+
+def _run_time_imports(path: Path) -> set[str]:
+    """The navcli modules that importing ``path``'s module, or calling any of its functions, can
+    import: every import statement at any depth (inside functions too) but those under ``if
+    TYPE_CHECKING:``, which never run. ``import a.b.c`` runs the packages ``a`` and ``a.b`` first,
+    so they count, except the importer's own packages (already being imported when it runs)."""
+    name = _module_name(path)
+    package = name if path.name == "__init__.py" else name.rpartition(".")[0]
+    tree = ast.parse(path.read_text(), str(path))
+    unrun = {id(n) for top in ast.walk(tree) if _is_type_checking(top) for b in top.body for n in ast.walk(b)}
+    found = set()
+    for node in ast.walk(tree):
+        if id(node) in unrun:
+            continue
+        if isinstance(node, ast.Import):
+            targets = [a.name for a in node.names]
+        elif isinstance(node, ast.ImportFrom):
+            parts = package.split(".")
+            base = ".".join(parts[: len(parts) - node.level + 1] + [node.module or ""]) if node.level else node.module
+            base = base.rstrip(".") if base else ""
+            targets = [base] + [f"{base}.{a.name}" for a in node.names]
+        else:
+            continue
+        for target in targets:
+            bits = target.split(".")
+            found |= {".".join(bits[:i]) for i in range(1, len(bits) + 1)}
+    return {m for m in found & KNOWN if m != name and not name.startswith(m + ".")}
+
+
+def strongly_connected(graph: dict[str, set[str]]) -> list[list[str]]:
+    """The cycles of ``graph`` (node -> the nodes it points to): its strongly connected components
+    of more than one node, or of one that points to itself (Tarjan's algorithm, iterative), each
+    sorted.
+
+    >>> strongly_connected({"a": {"b"}, "b": {"c"}, "c": {"a"}, "d": {"a"}})
+    [['a', 'b', 'c']]
+    >>> strongly_connected({"a": {"b"}, "b": set(), "c": {"c"}})
+    [['c']]
+    """
+    index: dict[str, int] = {}
+    low: dict[str, int] = {}
+    stack: list[str] = []
+    on_stack: set[str] = set()
+    found = []
+    for root in sorted(graph):
+        if root in index:
+            continue
+        work = [(root, iter(sorted(graph[root])))]
+        index[root] = low[root] = len(index)
+        stack.append(root)
+        on_stack.add(root)
+        while work:
+            node, edges = work[-1]
+            nxt = next(edges, None)
+            if nxt is not None:
+                if nxt not in index:
+                    index[nxt] = low[nxt] = len(index)
+                    stack.append(nxt)
+                    on_stack.add(nxt)
+                    work.append((nxt, iter(sorted(graph.get(nxt, ())))))
+                elif nxt in on_stack:
+                    low[node] = min(low[node], index[nxt])
+                continue
+            work.pop()
+            if work:
+                low[work[-1][0]] = min(low[work[-1][0]], low[node])
+            if low[node] == index[node]:
+                component = []
+                while True:
+                    m = stack.pop()
+                    on_stack.discard(m)
+                    component.append(m)
+                    if m == node:
+                        break
+                if len(component) > 1 or node in graph.get(node, ()):
+                    found.append(sorted(component))
+    return sorted(found)
+
+
+RUN_TIME = {_module_name(p): _run_time_imports(p) for p in sorted((ROOT / "navcli").rglob("*.py"))}
+
+
+def test_the_import_graph_counts_imports_inside_functions_and_their_packages():
+    assert "navcli.log.writer" in RUN_TIME["navcli.runner"]  # open_log imports the recorder inside it
+    assert "navcli.log" in RUN_TIME["navcli.runner"]  # ... and so runs navcli/log/__init__.py first
+    assert "navcli.plugins.registry" not in RUN_TIME["navcli.plugins.contract"]  # only under TYPE_CHECKING
+    assert "navcli.plugins" not in RUN_TIME["navcli.plugins.registry"]  # its own package is already running
+
+
+def test_no_import_cycle_among_navcli_modules():
+    """Imports run one way: no module imports, at any depth, one that imports it back. The plugin
+    registry (names to classes) sits below the configuration, and the checker (it runs missions)
+    above the runner, with the commands; a plugin pilot's ``/pilot`` schema is made by the log's
+    format, which the registry does not import."""
+    assert strongly_connected(RUN_TIME) == []
+
+
+def test_the_plugin_registry_sits_below_the_configuration():
+    low = {"navcli.plugins", "navcli.plugins.registry", "navcli.plugins.contract", "navcli.plugins.boundary"}
+    for mod in low:
+        above = {d for d in RUN_TIME[mod] if d.startswith(("navcli.config", "navcli.scenario", "navcli.runner"))}
+        assert above == set(), mod
+    assert not any(d.startswith("navcli.log") for d in RUN_TIME["navcli.plugins.registry"])
+    assert RUN_TIME["navcli.plugins.names"] == set()  # the names' rules: the lightest of all (the CLI's help)
+    assert "navcli.plugins.checker" not in set().union(*(RUN_TIME[m] for m in RUN_TIME if m != "navcli.cli.plugins"))
+
+
 FORMAT = "navcli.log.format"
 """The log's format: what the analysis package may import of navcli (besides the package root,
 for the root error class, and the API's argument checks)."""

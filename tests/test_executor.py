@@ -141,3 +141,27 @@ def test_sigterm_in_a_serial_run_is_logged_as_sigterm(tmp_path):
     from navcli.analysis import read_log
 
     assert read_log(tmp_path / "t.mcap", topics=[]).summary["reason"] == "stopped by SIGTERM"
+
+
+def test_the_default_count_of_workers_is_made_in_one_place(monkeypatch):
+    """``--jobs`` and ``jobs=`` left out: one worker per core, at most MAX_JOBS; every command and
+    the API take it from :func:`workers`, the one module that asks for the cores."""
+    import ast
+    import os
+
+    from conftest import ROOT
+    from navcli.checks.arguments import MAX_JOBS
+    from navcli.experiments.executor import workers
+
+    assert workers(3) == 3
+    monkeypatch.setattr(os, "cpu_count", lambda: MAX_JOBS + 10)
+    assert workers(None) == MAX_JOBS
+    monkeypatch.setattr(os, "cpu_count", lambda: None)
+    assert workers(None) == 1
+    asking = {
+        str(p.relative_to(ROOT))
+        for p in (ROOT / "navcli").rglob("*.py")
+        for node in ast.walk(ast.parse(p.read_text()))
+        if isinstance(node, ast.Attribute) and node.attr == "cpu_count"
+    }
+    assert asking == {"navcli/experiments/executor.py"}

@@ -25,7 +25,8 @@ from navcli.analysis.logs import read_log
 from navcli.analysis.schemas import log_problems, schema_problems
 from navcli.cli import app
 from navcli.config import RunSpec
-from navcli.plugins import PluginError, boundary, check, registry
+from navcli.plugins import PluginError, boundary, registry
+from navcli.plugins.checker import check
 from navcli.runner import run_mission
 from navcli.scenario import load_scenario
 from conftest import SCENARIOS

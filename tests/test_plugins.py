@@ -18,7 +18,8 @@ from navcli import NavcliError
 from navcli.analysis import read_log
 from navcli.cli import app
 from navcli.config import RunSpec
-from navcli.plugins import PluginError, UnknownPlugin, check, registry
+from navcli.plugins import PluginError, UnknownPlugin, registry
+from navcli.plugins.checker import check
 from navcli.scenario import load_scenario
 
 SWERVE = '''

@@ -24,11 +24,11 @@ def _have(name: str) -> bool:
     return True
 
 
-requires_optimisers = pytest.mark.skipif(
-    not (_have("optuna") and _have("deap")), reason="needs optuna and deap (pip install 'navcli[cluster]')"
-)
-"""For the tests that run a tuning: the checks of its settings and files, and the message for a
-missing library, need neither."""
+def requires(library: str) -> pytest.MarkDecorator:
+    """For a test that runs a tuning by ``library`` (optuna: TPE and CMA-ES; deap: the GA): the checks
+    of its settings and files, and the message for a missing library, need neither."""
+    return pytest.mark.skipif(not _have(library), reason=f"needs {library} (pip install 'navcli[cluster]')")
+
 
 SPEED = ("robot.max_speed", 0.05, 1.0)
 
@@ -70,7 +70,7 @@ def _startup_trials() -> int:
     return inspect.signature(optuna.samplers.TPESampler).parameters["n_startup_trials"].default
 
 
-@requires_optimisers
+@requires("optuna")
 def test_tpe_follows_the_objective_and_resumes_from_its_storage(tiny, tmp_path):
     """On ``tiny`` the objective (minus the time to the target) never falls as the top speed rises,
     and levels off where acceleration limits the robot. What TPE does there whatever its seed: its
@@ -129,7 +129,7 @@ def test_tpe_follows_the_objective_and_resumes_from_its_storage(tiny, tmp_path):
     assert [t["objective"] for t in again[:n]] == h["objective"].tolist()
 
 
-@requires_optimisers
+@requires("deap")
 def test_the_ga_settings_reach_deap_and_its_checkpoint_resumes(tiny, tmp_path, monkeypatch):
     from deap import algorithms
 
@@ -199,22 +199,24 @@ def test_a_missing_library_is_named_with_what_to_install(tiny, monkeypatch):
     assert res.exit_code == 2 and "needs optuna, which is not installed: pip install 'navcli[cluster]'" in res.output
 
 
-@requires_optimisers
 @pytest.mark.parametrize(
     "algorithm, name, content, words",
     [
-        ("ga", "ga.json", '{"key": [1], "generation": -1}', "not a .json file navcli writes"),  # no population
-        (
-            "ga",
-            "ga.json",
-            '{"key": [], "generation": 1, "population": [[1, NaN]], "fitness": [1], '
-            '"random": [3, [], null], "history": []}',
-            "not a usable GA checkpoint",
-        ),
-        ("ga", "ga.json", "[" * 100_000, "not a .json file navcli writes"),
-        ("ga", "ga.json", "{", "not a .json file navcli writes"),
-        ("tpe", "s.journal", '{"op_code": 99}\n', "not a usable Optuna journal"),
-        ("tpe", "s.journal", '{"op_code": 0, "worker_id": "x"}\n', "not a usable Optuna journal"),
+        pytest.param(*case, marks=requires("deap" if case[0] == "ga" else "optuna"))
+        for case in [
+            ("ga", "ga.json", '{"key": [1], "generation": -1}', "not a .json file navcli writes"),  # no population
+            (
+                "ga",
+                "ga.json",
+                '{"key": [], "generation": 1, "population": [[1, NaN]], "fitness": [1], '
+                '"random": [3, [], null], "history": []}',
+                "not a usable GA checkpoint",
+            ),
+            ("ga", "ga.json", "[" * 100_000, "not a .json file navcli writes"),
+            ("ga", "ga.json", "{", "not a .json file navcli writes"),
+            ("tpe", "s.journal", '{"op_code": 99}\n', "not a usable Optuna journal"),
+            ("tpe", "s.journal", '{"op_code": 0, "worker_id": "x"}\n', "not a usable Optuna journal"),
+        ]
     ],
 )
 def test_a_damaged_study_file_is_refused_and_kept(tiny, tmp_path, algorithm, name, content, words):

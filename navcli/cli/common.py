@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import contextlib
 import math
-import os
 import sys
 from enum import Enum
 from pathlib import Path
@@ -21,6 +20,7 @@ import typer
 from .. import NavcliError
 from ..checks.arguments import MAX_JOBS
 from ..params import PERCEPTIONS
+from ..plugins.names import PLUGIN_FORMS, forms
 from .errors import about
 
 if TYPE_CHECKING:
@@ -78,18 +78,16 @@ def finite(value: Optional[float]) -> Optional[float]:
     return value
 
 
-PILOT_HELP = (
-    "potential-field, geometric, an installed plugin's name (entry point navcli.pilots) or module:Class "
-    "(a module importable here, or path/to/file.py:Class)"
-)
+PILOT_HELP = forms("pilot")
+"""The forms a pilot's name takes (:func:`navcli.plugins.names.forms`), for every option naming one."""
 PilotOption = Annotated[
     Optional[str], typer.Option(metavar="NAME", help=f"Pilot: {PILOT_HELP} (default: the scenario's mission.pilot).")
 ]
 NAVIGATION_HELP = (
     "who chooses the Navigation system's moves and looks: agents (its bidding agents), hand-coded "
     "(the learning paper's hand-coded policy), learned[:FILE] (the Learning Agent; without FILE the "
-    "model bundled with navcli), a policy plugin's name (entry point navcli.policies) or module:Class, "
-    "or agents+NAME: a plugin's agent bidding beside the bidding agents"
+    "model bundled with navcli), a policy plugin (an installed plugin's name, entry point navcli.policies; "
+    f"{PLUGIN_FORMS}), or agents+NAME: a plugin's agent bidding beside the bidding agents"
 )
 ParamOption = Annotated[
     Optional[list[str]],
@@ -124,7 +122,10 @@ SchedulerOption = Annotated[
     ),
 ]
 JobsOption = Annotated[
-    Optional[int], typer.Option(min=1, max=MAX_JOBS, help="Local worker processes (default: the machine's cores).")
+    Optional[int],
+    typer.Option(
+        min=1, max=MAX_JOBS, help=f"Local worker processes (default: the machine's cores, at most {MAX_JOBS})."
+    ),
 ]
 
 
@@ -235,10 +236,10 @@ class SchedulerUnreachable(NavcliError):
 @contextlib.contextmanager
 def executor_for(jobs: Optional[int], scheduler: Optional[str]) -> Iterator[Any]:
     """The execution layer's executor: ``jobs`` local workers, or the Dask cluster at ``scheduler``."""
-    from ..experiments.executor import executor
+    from ..experiments.executor import executor, workers
 
     try:
-        with executor(jobs or os.cpu_count() or 1, scheduler) as ex:
+        with executor(workers(jobs), scheduler) as ex:
             yield ex
     except ConnectionError as e:
         raise SchedulerUnreachable(str(e)) from None

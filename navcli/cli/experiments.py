@@ -4,7 +4,6 @@
 from __future__ import annotations
 
 import dataclasses
-import os
 import time
 from pathlib import Path
 from typing import Annotated, Optional
@@ -12,9 +11,11 @@ from typing import Annotated, Optional
 import typer
 
 from ..analysis.files import without_mark
+from ..plugins.names import BUILTIN_PILOTS
 from .common import (
-    MAX_JOBS,
     MAX_SEED,
+    PILOT_HELP,
+    PLUGIN_FORMS,
     SCENARIO_HELP,
     SCENARIOS_HELP,
     JobsOption,
@@ -44,15 +45,9 @@ def compare_pilots(
     scenarios: Annotated[list[Path], typer.Argument(metavar="SCENARIOS", help=SCENARIOS_HELP + ".")],
     reruns: Annotated[int, typer.Option(min=1, max=10_000, help="Reruns per scenario and pilot (the paper: 45).")] = 45,
     pilots: Annotated[
-        str,
-        typer.Option(
-            help="Comma-separated pilots, the last the baseline: navcli's (potential-field, "
-            "geometric), installed plugins' names, or module:Class."
-        ),
-    ] = "potential-field,geometric",
-    jobs: Annotated[
-        Optional[int], typer.Option(min=1, max=MAX_JOBS, help="Worker processes (default: the machine's cores).")
-    ] = None,
+        str, typer.Option(help=f"Comma-separated pilots, the last the baseline; each {PILOT_HELP}.")
+    ] = ",".join(BUILTIN_PILOTS),
+    jobs: JobsOption = None,
     out: Annotated[Path, typer.Option(help="Folder for the logs, the table and the plots.")] = Path("logs/compare"),
     time_limit: Annotated[
         Optional[float], typer.Option(min=0.1, callback=finite, help="Override the scenarios' time limit (s).")
@@ -69,13 +64,10 @@ def compare_pilots(
     names = [p.strip() for p in pilots.split(",") if p.strip()]
     if not names:
         raise refuse("--pilots: no pilot given")
-    if len(set(names)) < len(names):
-        raise refuse(f"--pilots: a pilot is named twice ({pilots}): each would be the same runs")
-    from ..plugins import pilot as find_pilot
+    from ..plugins import registry
 
     with about("--pilots"):
-        for name in names:
-            find_pilot(name)
+        baseline = registry.pilots(names, pilots)[-1].name
     specs = [build_spec(p, param, time_limit=time_limit, perception=choice(perception), also=names) for p in scenarios]
     first: dict[str, Path] = {}
     for path, spec in zip(scenarios, specs):
@@ -118,7 +110,7 @@ def compare_pilots(
         j = r.job.spec
         why = r.message if r.message.startswith(r.outcome) else f"{r.outcome}: {r.message}".rstrip(": ")
         typer.echo(f"  failed: {j.scenario.name} {j.pilot} seed {j.seed}: {why} ({r.job.log})")
-    write_tables(out, names[-1], out, [j.log for j in work])  # the runs planned, not every log under --out
+    write_tables(out, baseline, out, [j.log for j in work])  # the runs planned, not every log under --out
     errors = sum(r.outcome == "error" for r in failed)
     if errors:
         say(f"{errors} of {len(work)} runs ended in error: the table counts them as not reached, and its notes say why")
@@ -137,8 +129,8 @@ def compare_policies(
             metavar="POLICY",
             help="learned (the bundled model), learned:FILE (a model of `navcli train`, Prioritized Sweeping "
             "or Q-learning), hand-coded, agents, random (a uniform random action at every choice, seeded), a baseline "
-            "of one action in every state (all-MB, all-MLL, all-MOT, all-MVL, all-MVT), or a Navigation policy plugin (its name, module:Class, or agents+NAME: run as "
-            "agents is); repeatable (default: learned, hand-coded, random, agents). Every policy runs the "
+            "of one action in every state (all-MB, all-MLL, all-MOT, all-MVL, all-MVT), or a Navigation policy plugin (an "
+            f"installed plugin's name, {PLUGIN_FORMS}, or agents+NAME: run as agents is); repeatable (default: learned, hand-coded, random, agents). Every policy runs the "
             "learning paper's task (learning.paper_task=0: navcli's first one).",
         ),
     ] = None,
@@ -169,9 +161,10 @@ def compare_policies(
     with about("--param"):
         check_bounds(spec.params.learning)
     with about("--policy"):
-        if len(set(names)) < len(names):
-            raise PolicyError(f"a policy is named twice: {', '.join(names)}")
         chosen = [parse_policy(n) for n in names]
+        labels = [c.label for c in chosen]
+        if len(set(labels)) < len(labels):
+            raise PolicyError(f"a policy is named twice: {', '.join(labels)}")
     from ..training.comparison import TABLE_FILES
 
     out_folder(out, TABLE_FILES, force=True)  # resumed: the table is remade from every run
@@ -356,6 +349,7 @@ def tune(
             say(f"  {count} trials evaluated; last {objective} {r['objective']:.4g}")
 
     from ..experiments import tune as t
+    from ..experiments.executor import workers
 
     with (
         executor_for(jobs, scheduler) as ex,
@@ -378,7 +372,7 @@ def tune(
                 on_trial=trial,
             )
         else:
-            batch = getattr(ex, "workers", None) or jobs or os.cpu_count() or 1
+            batch = getattr(ex, "workers", None) or workers(jobs)
             history = t.tune_optuna(
                 problem, ex, algorithm=algorithm, trials=trials, storage=storage, batch=batch, seed=seed, on_trial=trial
             )
@@ -422,7 +416,7 @@ def reproduce(
         typer.Option(
             "--pilot",
             metavar="NAME",
-            help="Also run this pilot (an installed plugin's name, or module:Class) beside the "
+            help=f"Also run this pilot (an installed plugin's name, {PLUGIN_FORMS}) beside the "
             "paper's two in Table 1, the rooms of the paper's size and the trap rooms; repeatable.",
         ),
     ] = None,
@@ -431,18 +425,19 @@ def reproduce(
     intervals beside the papers', saying what agrees (the pilot paper's Table 1 with both
     perceptions, the two pilots on every bundled room of its size, its sensitivity, the trap rooms'
     diverting targets, the learning paper's Table 1 and Figure 3). What earlier runs left in --out is kept: the same command resumes."""
+    from ..experiments.executor import workers
     from ..experiments.reproduce import FULL, QUICK, REPORT_FILES, SECTIONS, reproduce as run_all_sections
 
     if which not in (*SECTIONS, "all"):
         raise refuse(f"{which!r}: expected pilots, learning or all")
     from ..config import ConfigError
-    from ..plugins import pilot as find_pilot
+    from ..plugins import registry
 
     extra = list(dict.fromkeys(pilot or []))
     with about("--pilot"):
-        for name in extra:
-            if find_pilot(name).builtin:
-                raise ConfigError(f"{name} is one of the paper's two pilots, which reproduce runs anyway")
+        for c in registry.pilots(extra, "--pilot"):
+            if c.builtin:
+                raise ConfigError(f"{c.name} is one of the paper's two pilots, which reproduce runs anyway")
     out_folder(out, REPORT_FILES, force=True)  # resumed: remade from all it holds
     t0 = time.perf_counter()
     settings = QUICK if quick else FULL
@@ -453,7 +448,7 @@ def reproduce(
             which,
             out,
             settings=settings,
-            jobs=jobs or os.cpu_count() or 1,
+            jobs=workers(jobs),
             scheduler=scheduler,
             echo=say,
             pilots=tuple(extra),

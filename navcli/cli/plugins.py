@@ -6,6 +6,7 @@ from typing import Annotated
 
 import typer
 
+from ..plugins.names import PLUGIN_FORMS
 from .common import app
 from .errors import EXIT_INTERNAL, say
 
@@ -28,8 +29,9 @@ def _kind(kind: str) -> str:
 @plugins_app.command("list")
 def list_plugins() -> None:
     """Every pilot and Navigation policy a name can give: navcli's own and the installed packages'
-    (entry points navcli.pilots, navcli.policies), with version, origin and parameters. Any other
-    module:Class can be named too."""
+    (entry points navcli.pilots, navcli.policies), with version, origin and parameters. A plugin
+    not installed is named as module:Class or path/to/file.py:Class, NAME=module:Class or
+    NAME=path/to/file.py:Class to call it NAME."""
     from ..plugins import GROUPS, installed
 
     for kind in GROUPS:
@@ -45,13 +47,14 @@ def list_plugins() -> None:
 @plugins_app.command("check")
 def check_plugin(
     kind: KindArgument,
-    name: Annotated[str, typer.Argument(metavar="NAME", help="An installed plugin's name, or module:Class.")],
+    name: Annotated[str, typer.Argument(metavar="NAME", help=f"An installed plugin's name, {PLUGIN_FORMS}.")],
 ) -> None:
     """Tell a plugin's author what their class gets wrong (in the spirit of Gymnasium's
     env_checker): its kind and declarations, its output in a handful of situations against
     navcli's contract and its /pilot messages against their schema, its determinism, and short
     missions with each perception. Exit 0 when it passes, 1 with the list of problems."""
-    from ..plugins import UnknownPlugin, check
+    from ..plugins import UnknownPlugin
+    from ..plugins.checker import check
 
     problems = check(_kind(kind), name)  # type: ignore[arg-type]
     if problems and problems[0].startswith("unknown "):  # not found: bad input

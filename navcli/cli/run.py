@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import os
 from pathlib import Path
 from typing import Annotated, Any, Optional
 
@@ -289,6 +288,7 @@ def bench(
         return
     if training:
         from ..experiments.bench import training_benchmark
+        from ..experiments.executor import workers
 
         spec = build_spec(scenario or Path("landmarks-12"), param, task=True)
         training_benchmark(
@@ -296,7 +296,7 @@ def bench(
             actions=actions,
             trials=trials,
             eval_starts=eval_starts,
-            workers=jobs or os.cpu_count() or 1,
+            workers=workers(jobs),
             seed=1 if seed is None else seed,
             echo=typer.echo,
         )

@@ -37,6 +37,7 @@ from concurrent.futures import Executor, Future, ProcessPoolExecutor, as_complet
 from concurrent.futures.process import BrokenProcessPool
 from typing import Any, Callable, Iterable, Iterator, NoReturn, Sequence
 
+from ..checks.arguments import MAX_JOBS
 from ..checks.extras import MissingExtra, require  # noqa: F401 (where the execution layer's callers take them)
 from ..signals import Terminated, in_physics_callback, raising
 
@@ -145,6 +146,13 @@ class LocalPool(ProcessPoolExecutor):
         # With every worker gone the thread ends at once: wait for it, so the exit finds it closed.
         if manager is not None:
             manager.join(GRACE_S)  # type: ignore[attr-defined]  # typeshed types this private attribute wrongly
+
+
+def workers(jobs: int | None) -> int:
+    """The local workers asked for by ``jobs`` (``--jobs``, ``jobs=``): as many, or without a number
+    one per core, at most :data:`~navcli.checks.arguments.MAX_JOBS` (each forks the whole of navcli).
+    The one place the default is made, for every command and the API."""
+    return jobs or min(os.cpu_count() or 1, MAX_JOBS)
 
 
 @contextlib.contextmanager

@@ -42,6 +42,7 @@ from typing import Any, Callable
 from .. import __version__
 from ..analysis.stats import MIN_SAMPLE, bootstrap_mean, small_sample, wilson_interval
 from ..params import Params
+from ..plugins.names import label as pilot_label
 from ..scenario import bundled
 from . import learning_paper, rooms, trap_rooms
 from .document import Report, interval_text
@@ -215,6 +216,7 @@ def table1(report: Report, s: Settings, out: Path, ex, pilots: tuple[str, ...] =
     rows: list[list[Any]] = []
     bases: list = []
     remarks: list[str | None] = []
+    named = tuple(map(pilot_label, pilots))  # as the runs' pilot column holds them
     for perception in ("vision", "oracle"):
         runs, specs = _compare(("paper-8x8",), s.reruns, out / perception, ex, perception, pilots=pilots)
         _write_runs(runs, out / perception / "runs.csv")
@@ -223,11 +225,11 @@ def table1(report: Report, s: Settings, out: Path, ex, pilots: tuple[str, ...] =
         table = pilot_table(runs).set_index("pilot")
         imps = improvements(runs, "geometric")
         once = improvements(runs, "geometric", once=True).set_index("metric")
-        for pilot in ("geometric", "potential-field") + pilots:
+        for pilot in ("geometric", "potential-field") + named:
             rows += _table1_rows(perception, pilot, runs, table)
             mine = runs[runs["pilot"] == pilot]
             remarks.append(small_sample(f"{perception}, {pilot}", _distinct_reached(mine)[0], "distinct reached runs"))
-        for pilot in ("potential-field",) + pilots:
+        for pilot in ("potential-field",) + named:
             bad = int((runs["pilot"].isin((pilot, "geometric")) & (runs["outcome"] == "error")).sum())
             all_pairs = imps[imps["pilot"] == pilot].set_index("metric")
             for metric in ("time_s", "path_cm"):
@@ -494,12 +496,13 @@ def traps(report: Report, s: Settings, out: Path, ex, pilots: tuple[str, ...] = 
     report.errored([f"Trap rooms: {e}" for e in errors], errored(runs))
     rows = []
     remarks: list[str | None] = []
-    for pilot in PAPER_PILOTS + pilots:
+    named = PAPER_PILOTS + tuple(map(pilot_label, pilots))  # as the runs' pilot column holds them
+    for pilot in named:
         rows += _trap_rows(pilot, runs[(runs["pilot"] == pilot) & (runs["outcome"] != "interrupted")])
         remarks.append(small_sample(pilot, _distinct(runs[runs["pilot"] == pilot]), "distinct runs"))
     report.table(["pilot", "quantity", "the thesis", "navcli", "agreement"], rows)
     report.notes([*remarks, *errors])
-    trap_rooms.table(report, s.trap_rooms, runs, PAPER_PILOTS + pilots)
+    trap_rooms.table(report, s.trap_rooms, runs, named)
     _conditions(report, out, specs)
 
 

@@ -21,6 +21,7 @@ import numpy as np
 
 from ..analysis.stall import STALL_M, STALL_S
 from ..analysis.stats import bootstrap_mean
+from ..plugins.names import label
 from ..scenario import bundled
 from .document import Report
 
@@ -223,7 +224,7 @@ def section(
     rows, targets = [], []
     for (room, perception), js in planned.items():
         g = runs[runs["log"].isin({j.log for j in js})]
-        rows += [pilot_rows(room, perception, p, g[g["pilot"] == p]) for p in every]
+        rows += [pilot_rows(room, perception, p, g[g["pilot"] == p]) for p in map(label, every)]
         targets.append(compare_rows(room, perception, g))
     header = ["room", "perception", "pilot", "reached", "time s: mean ± SD [95 % CI]", "path cm: mean ± SD [95 % CI]"]
     report.table(header + ["longest stall s", f"runs with a {STALL_S:g} s stall"], rows)

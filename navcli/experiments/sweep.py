@@ -220,8 +220,8 @@ class PlanReader(Reader):
         return names
 
     def pilots(self, v: Any, path: tuple) -> list[str] | None:
-        """The plan's pilots (a non-empty list of distinct names): navcli's, installed plugins' or
-        ``module:Class``, each found; their own parameters may then be set by the plan."""
+        """The plan's pilots (a non-empty list of distinct names): navcli's, installed plugins',
+        ``module:Class`` or ``NAME=module:Class``, each found; their own parameters may then be set by the plan."""
         if v is None:
             return None
         names = self.choices(v, path, tuple(v) if isinstance(v, list) else ())
@@ -231,6 +231,10 @@ class PlanReader(Reader):
             except NavcliError as e:
                 raise self.fail(path + (i,), str(e)) from None
             self.known = registry.with_params(self.known, [c])
+        try:
+            registry.pilots(names or [], "the plan's pilots")  # by the names they go by, NAME= ones too
+        except NavcliError as e:
+            raise self.fail(path, str(e)) from None
         return names
 
     def param(self, name: Any, value: Any, path: tuple) -> float | list[float]:
@@ -363,7 +367,7 @@ def run_row(run: SweepRun) -> dict[str, Any]:
     row: dict[str, Any] = {
         "scenario": spec.scenario.name,
         "scenario_sha256": spec.scenario.sha256,
-        "pilot": spec.pilot,
+        "pilot": spec.pilot_name,
         "perception": spec.perception,
         "time_limit_s": spec.time_limit,
         "seed": spec.seed,

@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import functools
 import typing
-from typing import Annotated, Any, Mapping, Sequence
+from typing import Annotated, Any, Mapping, Protocol, Sequence
 
 import msgspec
 from msgspec import UNSET, Meta, Struct, UnsetType
@@ -219,6 +219,30 @@ def pilot_message_type(info: type[Struct] | None = None, name: str = "", about: 
         f"{Pilot.__doc__} The fields {', '.join(hints)} are the {name} pilot's own, declared by the plugin ({about})."
     )
     return merged
+
+
+class PilotPlugin(Protocol):
+    """What the log needs of a pilot to declare its ``/pilot`` messages (a
+    :class:`navcli.plugins.Component` is one): its ``Info`` (None for navcli's own pilots), the name
+    its message is titled by, and where it came from and its version, which the schema cites."""
+
+    @property
+    def info_class(self) -> Any: ...
+
+    @property
+    def group(self) -> str: ...
+
+    @property
+    def origin(self) -> str: ...
+
+    @property
+    def version(self) -> str: ...
+
+
+def plugin_pilot_message(pilot: PilotPlugin) -> type[Struct]:
+    """The ``/pilot`` message of the runs of ``pilot``: :func:`pilot_message_type` of its ``Info``,
+    titled by its name, its origin and version in the description."""
+    return pilot_message_type(pilot.info_class, pilot.group, f"{pilot.origin}, version {pilot.version}")
 
 
 def viewer_problems(schema: dict, path: str = "") -> list[str]:

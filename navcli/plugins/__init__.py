@@ -1,7 +1,8 @@
 """Plugins: pilots and Navigation policies of one's own, found by name and run like navcli's own
 (:mod:`.registry`), every call into them guarded and what they return checked (:mod:`.boundary`:
 their faults are named as theirs), and the checker that tells a plugin's author what it gets
-wrong (:mod:`.checker`).
+wrong (:mod:`.checker`, which runs missions: the package does not import it, so that the
+configuration can import the registry).
 
 A pilot plugin, in full (``examples/vfh-pilot`` is a real one)::
 
@@ -39,7 +40,6 @@ installed with ``[project.entry-points."navcli.pilots"] swerve = "mypackage:Swer
 
 from __future__ import annotations
 
-from .checker import check
 from .registry import (
     BUILTIN_PILOTS,
     BUILTIN_POLICIES,
@@ -60,7 +60,6 @@ __all__ = [
     "Component",
     "PluginError",
     "UnknownPlugin",
-    "check",
     "find",
     "installed",
     "navigation",

@@ -36,7 +36,9 @@ from typing import Any, Callable
 import msgspec
 
 from ..bidding import PURPOSES, RESOURCES, SYSTEMS, Bid, Look, Move
+from ..log.format import plugin_pilot_message
 from ..pilot import Avoidance, Pilot, PilotOutput
+from .names import NAME_RE, NAME_RULE
 from .registry import BLAME, Component, PluginError, failed
 
 
@@ -195,7 +197,7 @@ def info_type(c: Component) -> Any:
     ``/pilot`` field of its log's (its ``Info``'s and navcli's) but the command, each optional,
     an enumerated one as a ``Literal`` of its values (the log's schema holds them as ``enum``).
     msgspec takes what its encoder writes: a numpy scalar is refused here as the log would refuse
-    it. Fields that none declares are left to the run (``registry.undeclared`` names them)."""
+    it. Fields that none declares are left to the run (:func:`undeclared` names them)."""
     import typing
 
     import msgspec
@@ -214,11 +216,28 @@ def info_type(c: Component) -> Any:
             return typing.Union[tuple(literal(a) for a in typing.get_args(t))]
         return t
 
-    hints = typing.get_type_hints(c.pilot_message(), include_extras=True)
+    hints = typing.get_type_hints(plugin_pilot_message(c), include_extras=True)
     fields = [
         (k, typing.Union[literal(t), msgspec.UnsetType], msgspec.UNSET) for k, t in hints.items() if k != "command"
     ]
     return msgspec.defstruct(f"PilotInfo+{c.group}", fields)
+
+
+def pilot_fields(c: Component) -> frozenset[str] | None:
+    """The fields a plugin pilot's ``/pilot`` message may hold: navcli's and its ``Info``'s (None
+    for navcli's own pilots, whose fields the log format declares)."""
+    return None if c.builtin else frozenset(plugin_pilot_message(c).__struct_fields__)
+
+
+def undeclared(c: Component, info: dict[str, Any]) -> PluginError:
+    """The fault of a plugin pilot whose ``info`` holds fields that neither navcli's log format nor
+    its ``Info`` declares (so cannot go into ``/pilot``)."""
+    extra = sorted(set(info) - (pilot_fields(c) or frozenset()))
+    return PluginError(
+        f"{c.label} wrote {', '.join(extra)} into /pilot, which its Info does not declare: declare every "
+        f"field its avoid() returns in its class's Info (a msgspec.Struct); `navcli plugins check pilot "
+        f"{c.asked}` shows what else it gets wrong"
+    )
 
 
 def info_problem(info: dict[str, Any], kind: Any) -> str | None:
@@ -278,7 +297,7 @@ def _where(method: Callable[..., Any]) -> str:
 
 
 def _blame(c: Component) -> str:
-    return f"{BLAME}: `navcli plugins check {c.kind} {c.name}` tests it against navcli's contract"
+    return f"{BLAME}: `navcli plugins check {c.kind} {c.asked}` tests it against navcli's contract"
 
 
 # --- the guarded pilot and agent -------------------------------------------------------------
@@ -360,12 +379,11 @@ NAVCLI_AGENTS = ("target-tracker", "risk-manager", "distance-estimator", "rescue
 
 def agent_name(c: Component, agent: Any, taken: set[str]) -> str:
     """The name ``agent`` (``c``'s, just made) bids under, checked: a name the log can carry
-    (1 to 64 of A-Z, a-z, 0-9, ``_``, ``-``), not one of navcli's agents' and not ``taken``."""
-    from .registry import NAME_RE
+    (:data:`~.names.NAME_RULE`), not one of navcli's agents' and not ``taken``."""
 
     name = getattr(agent, "name", None)
     if not isinstance(name, str) or not NAME_RE.fullmatch(name):
-        problem = f"its agent's name is {_short(name)}, not 1 to 64 of A-Z, a-z, 0-9, '_' and '-'"
+        problem = f"its agent's name is {_short(name)}, not {NAME_RULE}"
     elif name in NAVCLI_AGENTS or name in taken:
         problem = f"its agent's name {name!r} is taken (by one of navcli's agents or another plugin's)"
     else:

@@ -1,100 +1,33 @@
 """What a plugin gets wrong, told to its author (in the spirit of Gymnasium's ``env_checker``).
 
-:func:`contract_problems` is the quick look every lookup makes (the class's kind, its ``Params``,
-its ``Info``); :func:`check` exercises it: made with navcli's defaults, fed a handful of
+Every lookup takes a quick look at the class (:func:`~.contract.contract_problems`: its kind, its
+``Params``, its ``Info``); :func:`check` exercises it: made with navcli's defaults, fed a handful of
 situations (open floor, an obstacle ahead, a wall across, inside a prohibited area, the target
 behind, a bump), its output checked against navcli's contract and its ``/pilot`` messages against
 their schema, fed the same situations again by a second instance (the same output: no hidden
 randomness), and run for a short mission with each perception, every message of its log checked
 against the log's schemas (:mod:`navcli.analysis.schemas`). ``navcli plugins check KIND NAME``
 prints the result.
+
+The checker runs missions, so it sits above the runner and the configuration, with the commands:
+the package :mod:`navcli.plugins` (the registry, which the configuration imports) does not import
+it; ``from navcli.plugins.checker import check``.
+prints the result.
 """
 
 from __future__ import annotations
 
-import dataclasses
 import math
 from typing import Any
 
-from .registry import BLAME, Component, Kind, NavcliError, locate
+from ..log.format import encode, pilot_message, plugin_pilot_message
+from .contract import contract_problems
+from .registry import BLAME, Component, Kind, NavcliError, PluginError, locate
 
 CHECK_SCENARIO = "open-arena"
 """The bundled room the checker's missions run in (an empty room: any pilot should cross it)."""
 CHECK_SECONDS = 20.0
 """Simulated seconds of each of the checker's missions."""
-
-
-def _params_problems(c: Component) -> list[str]:
-    from ..params import ParamSet
-
-    P = c.params_class
-    if P is None:
-        return []
-    if not (isinstance(P, type) and issubclass(P, ParamSet) and dataclasses.is_dataclass(P)):
-        return ["its Params is not a frozen dataclass deriving from navcli.params.ParamSet"]
-    try:
-        P()
-    except (TypeError, NavcliError) as e:
-        return [f"its Params cannot be made with its defaults: {e}"]
-    return []
-
-
-def _info_problems(c: Component) -> list[str]:
-    import msgspec
-
-    from ..log.format import json_schema, viewer_problems
-
-    info = c.info_class
-    if info is None:
-        return []
-    if not (isinstance(info, type) and issubclass(info, msgspec.Struct)):
-        return ["its Info is not a msgspec.Struct (the fields it adds to /pilot, each typed)"]
-    try:
-        schema = json_schema(c.pilot_message())
-    except (ValueError, TypeError) as e:
-        return [f"its Info cannot extend /pilot: {e}"]
-    return [f"its Info's schema would be refused by the viewers: {p}" for p in viewer_problems(schema)]
-
-
-def contract_problems(c: Component) -> list[str]:
-    """What is wrong with ``c``'s class itself (not yet run): of the wrong kind, or its ``Params``
-    or ``Info`` malformed. Empty when nothing is."""
-    if c.builtin:
-        return []
-    cls = c.cls
-    if c.kind == "pilot":
-        from ..pilot import Pilot
-
-        if not (isinstance(cls, type) and issubclass(cls, Pilot)):
-            return [f"{cls!r} is not a subclass of navcli.pilot.Pilot (a pilot implements Pilot.avoid)"]
-        compiled = _compiled_bases(cls, Pilot)
-        if compiled:
-            return [
-                f"it subclasses {compiled[0]}, which this build of navcli compiles (navcli.BUILD), and a Python "
-                f"class cannot subclass a compiled one but navcli.pilot.Pilot: subclass Pilot, and call one of "
-                f"{compiled[0].rpartition('.')[2]} from its avoid"
-            ]
-    elif not callable(cls) or not callable(getattr(cls, "bid", None)):
-        return [f"{cls!r} is no Navigation agent: it needs bid(situation) -> list[Bid] (navcli.navigation.Agent)"]
-    if getattr(cls, "version", None) is not None and not isinstance(cls.version, str):
-        return [f"its version is {cls.version!r}, not text"]
-    return _params_problems(c) + (_info_problems(c) if c.kind == "pilot" else [])
-
-
-def _compiled_bases(cls: type, allowed: type) -> list[str]:
-    """The classes of navcli's that ``cls`` derives from and this build compiles (mypyc: no Python
-    class derives from one, but ``allowed``, which is marked to let them)."""
-    import sys
-    from importlib.machinery import EXTENSION_SUFFIXES
-
-    out = []
-    for base in cls.__mro__[1:]:
-        if base is allowed or not base.__module__.startswith("navcli."):
-            continue
-        file = getattr(sys.modules.get(base.__module__), "__file__", None) or ""
-        if file.endswith(tuple(EXTENSION_SUFFIXES)):
-            out.append(f"{base.__module__}.{base.__qualname__}")
-    return out
 
 
 def _situations() -> list[tuple[str, Any, Any]]:
@@ -141,16 +74,14 @@ def _pilot_problems(c: Component) -> list[str]:
     import numpy as np
 
     from ..bidding import SYSTEMS, Move
-    from ..log.format import encode, pilot_message
     from ..params import PILOT, ROBOT
     from .boundary import Overran, make_pilot
-    from .registry import PluginError
 
     P = c.params_class
     own = P() if P is not None else None
     outputs: list[list[Any]] = [[], []]
     problems: list[str] = []
-    message = c.pilot_message()
+    message = plugin_pilot_message(c)
     for run in (0, 1):
         try:  # as a run makes it: its calls guarded and what they return checked (navcli.plugins.boundary)
             pilot = make_pilot(c, ROBOT.decision_limit_s, PILOT, ROBOT, own_params=own, rng=np.random.default_rng(0))
@@ -201,7 +132,6 @@ def _policy_problems(c: Component) -> list[str]:
     from ..navigation.situation import AgentSetup, Situation
     from ..params import ROBOT, Params
     from .boundary import Overran, make_agents
-    from .registry import PluginError
 
     P = c.params_class
     own = P() if P is not None else None
@@ -252,8 +182,8 @@ def _mission_problems(c: Component) -> list[str]:
             sc,
             perception=perception,
             time_limit=CHECK_SECONDS,
-            pilot=c.name if c.kind == "pilot" else None,
-            navigation=c.name if c.kind == "policy" else None,
+            pilot=c.asked if c.kind == "pilot" else None,
+            navigation=c.asked if c.kind == "policy" else None,
         )
         with tempfile.TemporaryDirectory(prefix="navcli-check-") as folder:
             log = Path(folder) / "check.mcap"
@@ -274,7 +204,6 @@ def check(kind: Kind, name: str) -> list[str]:
     """Everything the plugin ``name`` of ``kind`` gets wrong against navcli's contract (see the
     module docstring); empty when it passes. Raises :class:`~navcli.plugins.UnknownPlugin` for a
     name that is not found."""
-    from .registry import PluginError
 
     try:
         c = locate(kind, name)

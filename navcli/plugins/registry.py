@@ -13,6 +13,9 @@ A name is looked up in this order (as Gymnasium finds environments, and IR-SIM i
 3. **``module:Class``** (or ``path/to/file.py:Class``): the module is imported from the installed
    packages, then from the current folder.
 
+``NAME=`` before an installed plugin's name, ``module:Class`` or ``path/to/file.py:Class`` finds the
+same plugin under the name ``NAME`` (:mod:`.names` declares the names' rules).
+
 A pilot is a subclass of :class:`navcli.pilot.Pilot`; a policy is a Navigation agent (the
 :class:`navcli.navigation.Agent` protocol: a ``name`` and ``bid(situation) -> list[Bid]``), made
 with an :class:`~navcli.navigation.situation.AgentSetup`. Either may declare ``Params`` (a
@@ -38,34 +41,27 @@ import importlib
 import importlib.metadata
 import importlib.util
 import inspect
-import re
 import sys
 import traceback
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from types import TracebackType
-from typing import Any, Iterable, Literal
+from typing import Any, Iterable, Sequence
 
 from .. import NavcliError, __version__
+from .names import (
+    BUILTIN_PILOTS,
+    BUILTIN_POLICIES,
+    GROUPS,
+    NAME_RE,
+    NAME_RULE,
+    WORDS,
+    Kind,
+    UnknownPlugin,
+    named,
+)
 
-Kind = Literal["pilot", "policy"]
-GROUPS: dict[Kind, str] = {"pilot": "navcli.pilots", "policy": "navcli.policies"}
-"""The entry point group of each kind of plugin."""
-WORDS: dict[Kind, str] = {"pilot": "pilot", "policy": "navigation policy"}
-"""How messages name each kind."""
-NAME_RE = re.compile(r"[A-Za-z0-9][A-Za-z0-9_-]{0,63}")
-"""What an installed plugin may be called (it names runs, log files and its parameters)."""
-BUILTIN_PILOTS = ("potential-field", "geometric")
-"""navcli's own pilots; the first is the default."""
-BUILTIN_POLICIES = ("agents", "hand-coded", "learned")
-"""navcli's own Navigation policies (``learned:FILE`` names a model; plain ``learned`` the bundled
-one); the first is the default."""
 HINT = "NAVCLI_DEBUG=1 shows the traceback"
-
-
-class UnknownPlugin(NavcliError):
-    """A pilot or policy name that is none of navcli's, no installed package's, and no importable
-    ``module:Class`` (exit 2: bad input)."""
 
 
 class PluginError(NavcliError):
@@ -77,10 +73,11 @@ class PluginError(NavcliError):
 
 @dataclass(frozen=True)
 class Component:
-    """A pilot or a policy, found: its ``kind``, the ``name`` it was asked by, its class (``cls``;
-    None for navcli's ``agents``), where it came from (``origin``: ``navcli``, ``entry point
-    vfh = vfh_pilot:VFHPilot of vfh-pilot 0.1.0``, ``module mypilot``) and its ``version``.
-    ``argument`` is what follows ``learned:``."""
+    """A pilot or a policy, found: its ``kind``, the ``name`` it goes by (the value it was asked
+    by, or the ``NAME`` of ``NAME=REFERENCE``: :mod:`.names`), its class (``cls``; None for
+    navcli's ``agents``), where it came from (``origin``: ``navcli``, ``entry point vfh =
+    vfh_pilot:VFHPilot of vfh-pilot 0.1.0``, ``module mypilot``) and its ``version``.
+    ``argument`` is what follows ``learned:``; ``asked`` the whole value it was asked by."""
 
     kind: Kind
     name: str
@@ -89,6 +86,12 @@ class Component:
     version: str
     argument: str = ""
     source: tuple[str, str] | None = None  # (file, sha256) of the module defining cls, when it was loaded
+    reference: str = ""  # the value it was asked by, where a NAME= gave it another name
+
+    @property
+    def asked(self) -> str:
+        """The value that finds it again (``mine=path/to/file.py:Class``): for hints and reruns."""
+        return self.reference or self.name
 
     @property
     def builtin(self) -> bool:
@@ -103,7 +106,7 @@ class Component:
     @property
     def group(self) -> str:
         """The name its parameters go by (``vfh`` in ``vfh.threshold``): an installed plugin's name,
-        or, for ``module:Class``, the class's name."""
+        the ``NAME`` of ``NAME=REFERENCE``, or, for ``module:Class``, the class's name."""
         return self.name.rpartition(":")[2].rpartition(".")[2] if ":" in self.name else self.name
 
     @property
@@ -115,14 +118,6 @@ class Component:
     def info_class(self) -> Any:
         """A pilot's ``Info``: the ``msgspec.Struct`` of the fields it adds to ``/pilot``, or None."""
         return getattr(self.cls, "Info", None) if not self.builtin else None
-
-    def pilot_message(self) -> Any:
-        """The ``msgspec.Struct`` of this pilot's ``/pilot`` messages: navcli's :class:`Pilot
-        <navcli.log.format.Pilot>` with its ``Info``'s fields (see
-        :func:`~navcli.log.format.pilot_message_type`)."""
-        from ..log.format import pilot_message_type
-
-        return pilot_message_type(self.info_class, self.group, f"{self.origin}, version {self.version}")
 
     def identity(self) -> dict[str, str]:
         """What names it in a run's configuration (and so in its run id)."""
@@ -179,7 +174,7 @@ def _from_entry_point(kind: Kind, name: str, eps: tuple[importlib.metadata.Entry
     if kind == "pilot" and name in BUILTIN_PILOTS or kind == "policy" and name in BUILTIN_POLICIES:
         raise UnknownPlugin(f"{origin} takes the name of navcli's own {kind} {name!r}: rename it")
     if not NAME_RE.fullmatch(name):
-        raise UnknownPlugin(f"{origin}: a plugin's name is 1 to 64 of A-Z, a-z, 0-9, '_' and '-'")
+        raise UnknownPlugin(f"{origin}: a plugin's name is {NAME_RULE}")
     try:
         cls = ep.load()
     except Exception as e:
@@ -293,16 +288,16 @@ def find(kind: Kind, name: str) -> Component:
     raises :class:`UnknownPlugin` (exit 2), or :class:`PluginError` (exit 1) for one that is found
     but cannot be loaded or is no pilot (no policy), or whose source changed since this process
     loaded it and cannot be loaded again (:func:`locate`)."""
-    c = _found(kind, _named(kind, name), _file_digest(name))
+    c = _found(kind, _named(kind, name), _file_digest(kind, name))
     _unchanged(c)
     return c
 
 
 @functools.lru_cache(maxsize=None)
 def _found(kind: Kind, name: str, digest: str) -> Component:
-    c = _located(kind, name, digest)
-    from .checker import contract_problems
+    from .contract import contract_problems  # msgspec, numpy: not imported by the command line's start
 
+    c = _located(kind, name, digest)
     problems = contract_problems(c)
     if problems:  # an installed package that is broken is its fault; a module:Class that is no pilot, the name's
         error = PluginError if c.origin.startswith("entry point") else UnknownPlugin
@@ -321,7 +316,7 @@ def locate(kind: Kind, name: str) -> Component:
     other plugin whose module's source has changed since it was loaded raises
     :class:`PluginError`: Python cannot load a module again in place (``importlib.reload`` leaves
     its package's other modules and every reference to the old classes as they were)."""
-    c = _located(kind, _named(kind, name), _file_digest(name))
+    c = _located(kind, _named(kind, name), _file_digest(kind, name))
     _unchanged(c)
     return c
 
@@ -339,10 +334,10 @@ def _named(kind: Kind, name: object) -> str:
     return name
 
 
-def _file_digest(name: object) -> str:
+def _file_digest(kind: Kind, name: str) -> str:
     """The sha256 of the file of a ``path/to/file.py:Class`` name ('' for any other name, or a file
     that cannot be read: the lookup says why)."""
-    module_name, sep, _ = name.rpartition(":") if isinstance(name, str) else ("", "", "")
+    module_name, sep, _ = named(name, kind)[1].rpartition(":")
     if not sep or not (module_name.endswith(".py") or "/" in module_name):
         return ""
     try:
@@ -371,6 +366,9 @@ def _unchanged(c: Component) -> None:
 @functools.lru_cache(maxsize=None)
 def _located(kind: Kind, name: str, digest: str) -> Component:
     """:func:`locate`'s lookup, kept by name and file digest."""
+    called, reference = named(name, kind)
+    if called != reference:
+        return replace(_located(kind, reference, digest), name=called, reference=name)
     own = _navcli(kind, name)
     if own is not None:
         return own
@@ -407,12 +405,25 @@ def navigation(value: str) -> tuple[Component, ...]:
     parts = [p.strip() for p in value.split("+")] if not value.startswith("learned:") else [value]
     if any(not p for p in parts):
         raise UnknownPlugin(f"{value!r}: an empty name between '+'")
-    if len(set(parts)) < len(parts):
-        raise UnknownPlugin(f"{value!r} names a policy twice")
     comps = tuple(find("policy", p) for p in parts)
+    _distinct([c.name for c in comps], value)
     if len(comps) > 1 and any(c.builtin and c.name != "agents" for c in comps):
         raise UnknownPlugin(f"{value!r}: hand-coded and learned replace the bidding agents; they stand alone")
     return comps
+
+
+def pilots(values: Sequence[str], what: str = "the pilots") -> tuple[Component, ...]:
+    """The pilots of a comparison (``--pilots``, ``navcli.compare``'s ``pilots``, a plan's), each
+    found, no two going by one name: a table's rows and the log files are by name."""
+    comps = tuple(pilot(v) for v in values)
+    _distinct([c.name for c in comps], what)
+    return comps
+
+
+def _distinct(names: list[str], what: str) -> None:
+    twice = sorted({n for n in names if names.count(n) > 1})
+    if twice:
+        raise UnknownPlugin(f"{what}: {', '.join(map(repr, twice))} named twice (each would be the same runs)")
 
 
 def installed(kind: Kind) -> list[Component | tuple[str, str]]:
@@ -441,7 +452,7 @@ def failed(c: Component, e: BaseException, doing: str = "raised", at: Any = None
     what = f"{type(e).__name__}: {e}".strip().splitlines()[0][:300] if str(e) else type(e).__name__
     return PluginError(
         f"{c.label} {doing}: {what}{_location(c, e, at)}. {BLAME}: "
-        f"`navcli plugins check {c.kind} {c.name}` tests it against navcli's contract; {HINT}"
+        f"`navcli plugins check {c.kind} {c.asked}` tests it against navcli's contract; {HINT}"
     )
 
 
@@ -503,23 +514,6 @@ def blame(e: BaseException, components: Iterable[Component]) -> Component | None
             if c.owns(module):
                 return c
     return None
-
-
-def pilot_fields(c: Component) -> frozenset[str] | None:
-    """The fields a plugin pilot's ``/pilot`` message may hold: navcli's and its ``Info``'s (None
-    for navcli's own pilots, whose fields the log format declares)."""
-    return None if c.builtin else frozenset(c.pilot_message().__struct_fields__)
-
-
-def undeclared(c: Component, info: dict[str, Any]) -> str:
-    """Why a plugin pilot's ``info`` cannot go into ``/pilot``: the fields neither navcli's log
-    format nor its ``Info`` declares."""
-    extra = sorted(set(info) - (pilot_fields(c) or frozenset()))
-    return (
-        f"{c.label} wrote {', '.join(extra)} into /pilot, which its Info does not declare: declare every "
-        f"field its avoid() returns in its class's Info (a msgspec.Struct); `navcli plugins check pilot "
-        f"{c.name}` shows what else it gets wrong"
-    )
 
 
 def with_params(params: Any, components: Iterable[Component]) -> Any:

@@ -279,7 +279,7 @@ class ScenarioReader(Reader):
         m = self.block(v, "mission", P)
         pilot = self.field(m, "mission", "pilot", P)
         try:
-            registry.pilot(pilot)  # navcli's, an installed plugin's, or module:Class
+            registry.pilot(pilot)  # any form of plugins.names
         except NavcliError as e:
             raise self.fail(P + ("pilot",), str(e)) from None
         return MissionSpec(pilot, *(self.field(m, "mission", k, P) for k in ("time_limit", "seed", "perception")))

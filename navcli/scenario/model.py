@@ -15,7 +15,7 @@ from typing import Any, Literal
 
 from ..geometry import Point, distance_to_segment
 from ..params import PERCEPTIONS, Params
-from ..plugins.registry import BUILTIN_PILOTS
+from ..plugins.names import BUILTIN_PILOTS, forms
 
 SUPPORTED_VERSIONS = (1,)
 NAME_RE = re.compile(r"[a-z0-9-]{1,64}")
@@ -143,7 +143,7 @@ FIELDS: dict[str, dict[str, Field]] = {
     },
     "mission": {
         "pilot": Field(
-            "potential-field, geometric, an installed plugin's name, or module:Class",
+            forms("pilot"),
             default=BUILTIN_PILOTS[0],
             kind="text",
         ),

@@ -6,13 +6,11 @@ from __future__ import annotations
 from typing import Any
 
 from ..params import CLUSTERS, NavigationParams
-from ..plugins.registry import BUILTIN_PILOTS, NAME_RE
+from ..plugins.names import BUILTIN_PILOTS, PILOT_PATTERN
 from .model import FIELDS, MAX_ID, MAX_ITEMS, POINT, Field
 from .model import NAME_RE as SCENARIO_NAME_RE
 from .yaml_reader import MAX_SCALAR
 
-PILOT_NAME = rf"^{NAME_RE.pattern}$|^[^\s:]+:[A-Za-z_][A-Za-z0-9_.]*$"
-"""What a pilot's name can be: an installed plugin's (the registry's rule) or ``module:Class``."""
 POINT_SCHEMA = {
     "type": "array",
     "description": "[x, y] in metres, inside the arena",
@@ -110,7 +108,7 @@ def json_schema() -> dict[str, Any]:
                 "mission",
                 pilot={
                     "type": "string",
-                    "pattern": PILOT_NAME,
+                    "pattern": PILOT_PATTERN,
                     "examples": list(BUILTIN_PILOTS),
                     "description": FIELDS["mission"]["pilot"].description,
                     "default": BUILTIN_PILOTS[0],

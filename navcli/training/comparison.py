@@ -66,13 +66,20 @@ class PolicyError(NavcliError):
 
 @dataclass(frozen=True)
 class Policy:
-    """One row of the table: ``label`` as given (``learned:models/q.npz``), its ``kind``, its
-    action per belief state (int8 bytes; None for ``agents``) and what it is (``about``)."""
+    """One row of the table: ``label`` as given (``learned:models/q.npz``; a plugin's ``NAME`` of
+    ``NAME=module:Class``), its ``kind``, its action per belief state (int8 bytes; None for
+    ``agents``) and what it is (``about``)."""
 
     label: str
     kind: str
     table: bytes | None
     about: str
+    value: str = ""  # the --policy value, where it goes by another name (a plugin's NAME=module:Class)
+
+    @property
+    def navigation(self) -> str:
+        """The ``--navigation`` value that runs it (a plugin's)."""
+        return self.value or self.label
 
     def actions(self) -> np.ndarray:
         """The action per belief state (not for ``agents``, which has none)."""
@@ -86,6 +93,7 @@ def parse_policy(text: str) -> Policy:
     :class:`~.model_file.ModelError` for a model file that cannot be used. A Navigation policy
     plugin (or ``agents+NAME``) runs as ``agents`` does: missions, no actions."""
     from ..plugins import UnknownPlugin, navigation
+    from ..plugins.names import navigation_label
 
     if text == "random":
         return Policy(text, "random", None, "a uniform random action at every choice (seeded by each trial's start)")
@@ -103,11 +111,12 @@ def parse_policy(text: str) -> Policy:
         ) from None
     if any(not c.builtin for c in found):
         return Policy(
-            text,
+            navigation_label(text),
             "plugin",
             None,
             " and ".join(c.label for c in found if not c.builtin)
             + (" beside the bidding agents" if len(found) > 1 else ""),
+            text,
         )
     kind, file = found[0].name.partition(":")[0], found[0].argument
     if kind == "agents":
@@ -155,7 +164,7 @@ def job_key(spec: RunSpec, policy: Policy, run: int, starts: tuple[Start, ...]) 
 
         nav, table = "learned", f"random {RANDOM_STREAM}"
     else:
-        nav = "learned" if policy.kind in CONSTANT else policy.label if policy.kind == "plugin" else policy.kind
+        nav = "learned" if policy.kind in CONSTANT else policy.navigation if policy.kind == "plugin" else policy.kind
     # (a constant table is a table like a learned one's, in the key too; a plugin's identity is in the run id)
     blob = json.dumps(
         [spec.replace(navigation=nav).run_id, table, run, [dataclasses.asdict(s) for s in starts]], sort_keys=True
@@ -224,7 +233,7 @@ def run_trials(job: Job) -> list[dict]:
         from ..mission import Mission
         from ..runner import advance
 
-        nav = job.policy.label if job.policy.kind == "plugin" else "agents"
+        nav = job.policy.navigation if job.policy.kind == "plugin" else "agents"
         base = spec.replace(navigation=nav)  # the same task as the policies' (task.py)
         for i, st in enumerate(job.starts):
             m = Mission(spec_at(base, st), snapshots=False)

@@ -139,7 +139,7 @@ def test_in_missions_it_reaches_the_target_round_the_obstacles_without_a_contact
 
 
 def test_navcli_finds_it_by_its_entry_point_and_its_checks_pass():
-    from navcli.plugins import check
+    from navcli.plugins.checker import check
 
     project = tomllib.loads((HERE / "pyproject.toml").read_text())
     target = project["project"]["entry-points"]["navcli.pilots"]["vfh"]
