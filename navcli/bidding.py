@@ -26,11 +26,19 @@ class _MoveFields(NamedTuple):
 
 
 class Move(_MoveFields):
-    """A motion action: head for ``heading`` (rad, egocentric: 0 = straight ahead, + = left) at
-    ``speed`` (m/s, negative = backwards). ``Move(0, 0)`` is a stop.
+    """A motion action: head for ``heading`` at ``speed``. ``Move(0, 0)`` is a stop.
 
     A dozen actions and bids are made every tick (a NamedTuple: docs/design.md, "Values made every tick"), like :class:`Look` and :class:`Bid`.
-    Build them with the constructor, which checks them: ``_replace`` and ``_make`` would not."""
+    Build them with the constructor, which checks them: ``_replace`` and ``_make`` would not.
+
+    Attributes:
+        heading (float): where to head, egocentric (rad: 0 = straight ahead, + = left).
+        speed (float): how fast (m/s; negative = backwards). A pilot's own move is at most its
+            ``max_speed``.
+
+    Raises:
+        ValueError: the heading or the speed is not a finite number.
+    """
 
     __slots__ = ()
 
@@ -69,8 +77,12 @@ class _LookFields(NamedTuple):
 
 
 class Look(_LookFields):
-    """A camera action: pan to ``pan`` (rad, relative to the robot's heading) and take a look for
-    ``purpose`` (one of :data:`PURPOSES`). (A NamedTuple: see :class:`Move`.)
+    """A camera action: pan to ``pan`` and take a look for ``purpose``. (A NamedTuple: see
+    :class:`Move`.)
+
+    Attributes:
+        pan (float): where to point the camera, relative to the robot's heading (rad, + = left).
+        purpose (str): what the look is for, one of :data:`PURPOSES`.
 
     >>> Look(0.5, "search")
     Look(pan=0.5, purpose='search')
@@ -126,6 +138,13 @@ class _BidFields(NamedTuple):
 class Bid(_BidFields):
     """One bidder's offer for one resource: the action it wants and its urgency in [0, 1].
     (A NamedTuple: see :class:`Move`.)
+
+    Attributes:
+        bidder (str): who bids: ``pilot`` or ``navigation`` at the robot's arbiter, an agent's
+            name inside the Navigation system.
+        resource (str): ``motion`` (the wheels) or ``camera``.
+        action (Move | Look): a :class:`Move` for the wheels, a :class:`Look` for the camera.
+        value (float): the bid, in [0, 1]; each resource carries out its highest.
 
     >>> Bid("pilot", "motion", Move(0.0, 0.3), 0.9).value
     0.9
