@@ -268,6 +268,11 @@ class FuzzyPoint(NamedTuple):
 
     One is made per remembered landmark every tick (a NamedTuple: docs/design.md, "Values made every tick").
 
+    Attributes:
+        x: the crisp centre's x (m, egocentric: ahead).
+        y: the crisp centre's y (m, egocentric: to the left).
+        radii: each cut's radius (m), at the levels of ``ALPHAS``: the support first, the core last.
+
     >>> p = FuzzyPoint(3.0, 4.0, (1.0, 0.7, 0.3, 0.0))
     >>> p.distance().support, p.distance().core  # 5 m away, +- 1 m
     ((4.0, 6.0), (5.0, 5.0))

@@ -15,7 +15,13 @@ ORIGIN: Point = (0.0, 0.0)  # the robot, in egocentric coordinates
 
 @dataclass(frozen=True)
 class Pose:
-    """A planar pose: position in metres, heading in radians counter-clockwise from +x."""
+    """A planar pose: position in metres, heading in radians counter-clockwise from +x.
+
+    Attributes:
+        x: position along the frame's x axis (m).
+        y: position along the frame's y axis (m).
+        theta: heading, counter-clockwise from the frame's +x (rad).
+    """
 
     x: float
     y: float

@@ -34,6 +34,7 @@ import numpy as np
 import pandas as pd
 
 from ..log.format import POSE_TOPIC
+from .columns import IMPROVEMENTS, PILOT_TABLE
 from .files import write_csv, write_markdown
 from .logs import LogError, config_columns, path_length, read_log, require
 from .stats import MIN_SAMPLE, RESAMPLES, small_sample, wilson_interval
@@ -291,7 +292,7 @@ def pilot_table(runs: pd.DataFrame) -> pd.DataFrame:
             row[f"diverting_{k}"] = int((g["diverting_targets"] == k).sum())
         row["diverting_3_or_more"] = int((g["diverting_targets"] >= 3).sum())
         out.append(row)
-    return pd.DataFrame(out)
+    return pd.DataFrame(out, columns=list(PILOT_TABLE))
 
 
 def improvements(runs: pd.DataFrame, baseline: str, once: bool = False) -> pd.DataFrame:
@@ -326,20 +327,7 @@ def improvements(runs: pd.DataFrame, baseline: str, once: bool = False) -> pd.Da
                         "p_value": pval,
                     }
                 )
-    return pd.DataFrame(
-        out,
-        columns=[
-            "condition",
-            "pilot",
-            "baseline",
-            "metric",
-            "pairs",
-            "improvement_pct",
-            "ci95_low",
-            "ci95_high",
-            "p_value",
-        ],
-    )
+    return pd.DataFrame(out, columns=list(IMPROVEMENTS))
 
 
 def notes(
