@@ -173,7 +173,13 @@ def arbitrate(bids: Iterable[Bid]) -> dict[Resource, Bid | None]:
 
     Tie rule: between equal bids the one offered first wins, so the caller's fixed order of
     consultation (the Pilot before the Navigation system: safety first) decides, and the outcome
-    never depends on hashing or timing. A resource nobody bid for maps to ``None``.
+    never depends on hashing or timing.
+
+    Args:
+        bids: the bids, in the order of consultation.
+
+    Returns:
+        The winning bid of each resource, None for a resource nobody bid for.
     """
     best: dict[Resource, Bid | None] = dict.fromkeys(RESOURCES)
     for b in bids:
