@@ -12,7 +12,9 @@ underscore (``__init__.py`` aside), and that is not a dunder method; the command
 ``Args:`` section if it takes an argument (beyond ``self``/``cls``), and a ``Returns:`` (or
 ``Yields:``) section if it is annotated to return something other than ``None``; a property needs
 neither. *The API reference*: the functions and methods of the objects docs/reference/api.md
-documents (``navcli.api``, the plugin-facing classes, ``navcli.envs``).
+documents (``navcli.api``, the plugin-facing classes, ``navcli.envs``). *The exported API*: the
+functions, and the methods of the classes, that ``navcli.__all__``, ``navcli.analysis.__all__``
+and ``navcli.envs.__all__`` name.
 """
 
 from __future__ import annotations
@@ -104,12 +106,24 @@ def reference_objects() -> list[str]:
     return out
 
 
+def exported_objects() -> list[str]:
+    """The dotted names the package exports: ``navcli.__all__`` (its API for notebooks and plugins),
+    ``navcli.analysis.__all__`` and ``navcli.envs.__all__``."""
+    out = []
+    for module in ("navcli", "navcli.analysis", "navcli.envs"):
+        m = importlib.import_module(module)
+        out += [f"{module}.{name}" for name in m.__all__ if not name.startswith("__")]
+    return out
+
+
 def in_reference(f: Function, objects: list[str]) -> bool:
     """Is ``f`` one of ``objects`` or a method of one (each found where it is defined, not where it
     is imported: ``navcli.pilot.Pilot`` is ``navcli.pilot.base.Pilot``)?"""
     for name in objects:
         module, _, attr = name.rpartition(".")
         obj = getattr(importlib.import_module(module), attr)
+        if not callable(obj):
+            continue
         where = (getattr(obj, "__module__", module), getattr(obj, "__qualname__", attr))
         if (f.module, f.qualname) == where or (f.module == where[0] and f.qualname.startswith(where[1] + ".")):
             return True
@@ -128,7 +142,7 @@ def _share(fs: list[Function], what: str) -> str:
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--list", action="store_true", help="list the public functions with no section")
+    ap.add_argument("--list", action="store_true", help="list the public functions missing a section they need")
     a = ap.parse_args()
     every = [f for path in sorted(PACKAGE.rglob("*.py")) for f in functions(path)]
     cli = [f for f in every if f.module.startswith("navcli.cli")]
@@ -138,9 +152,11 @@ def main() -> None:
     print(_share(package, "navcli (but navcli.cli)"))
     print(_share(cli, "navcli.cli"))
     print(_share(reference, "the API reference (docs/reference/api.md)"))
+    exported = [f for f in package if in_reference(f, exported_objects())]
+    print(_share(exported, "the exported API (navcli.__all__, navcli.analysis.__all__, navcli.envs.__all__)"))
     if a.list:
-        for f in reference + [f for f in package if f not in reference]:
-            if not f.any_section:
+        for f in exported + [f for f in reference + package if f not in exported]:
+            if not f.complete:
                 print(f"  {f.module}.{f.qualname}")
 
 

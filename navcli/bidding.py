@@ -48,6 +48,11 @@ class Move(_MoveFields):
         return tuple.__new__(cls, (heading, speed))
 
     def as_json(self) -> dict:
+        """The move as ``/bids`` logs it.
+
+        Returns:
+            ``{"type": "move", "heading_deg": ..., "speed": ...}`` (deg, m/s).
+        """
         return {"type": "move", "heading_deg": math.degrees(self.heading), "speed": self.speed}
 
 
@@ -102,6 +107,11 @@ class Look(_LookFields):
         return tuple.__new__(cls, (pan, purpose))
 
     def as_json(self) -> dict:
+        """The look as ``/bids`` logs it.
+
+        Returns:
+            ``{"type": "look", "pan_deg": ..., "purpose": ...}`` (deg).
+        """
         return {"type": "look", "pan_deg": math.degrees(self.pan), "purpose": self.purpose}
 
 

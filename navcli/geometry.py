@@ -30,6 +30,12 @@ class Pose:
     def to_local(self, p: Point) -> Point:
         """Express the world point ``p`` in this pose's frame (egocentric: x ahead, y left).
 
+        Args:
+            p: a point ``(x, y)`` in the pose's parent frame (m).
+
+        Returns:
+            The point in the pose's frame (m).
+
         >>> x, y = Pose(1.0, 1.0, math.pi / 2).to_local((1.0, 3.0))  # 2 m north of a robot facing north
         >>> round(x, 9), round(y, 9)
         (2.0, 0.0)
@@ -39,7 +45,14 @@ class Pose:
         return (c * dx + s * dy, -s * dx + c * dy)
 
     def to_world(self, q: Point) -> Point:
-        """The inverse of :meth:`to_local`: an egocentric point back in this pose's parent frame."""
+        """The inverse of :meth:`to_local`: an egocentric point back in this pose's parent frame.
+
+        Args:
+            q: a point ``(x, y)`` in the pose's frame (m).
+
+        Returns:
+            The point in the pose's parent frame (m).
+        """
         c, s = math.cos(self.theta), math.sin(self.theta)
         return (self.x + c * q[0] - s * q[1], self.y + s * q[0] + c * q[1])
 

@@ -316,7 +316,14 @@ def scene_messages(path: str | Path, topic: str, decode: bool = True):
 
 @checked(ARGUMENTS, "navcli.analysis")
 def path_length(poses: pd.DataFrame) -> float:
-    """Length in metres of the polyline through ``x``, ``y`` of a pose DataFrame."""
+    """The length of a path.
+
+    Args:
+        poses: a pose DataFrame (``/robot/pose``'s): its ``x``, ``y`` columns (m), in order.
+
+    Returns:
+        The length of the polyline through them (m).
+    """
     dx, dy = poses["x"].diff().fillna(0.0), poses["y"].diff().fillna(0.0)
     return float((dx * dx + dy * dy).pow(0.5).sum())
 
