@@ -84,6 +84,12 @@ def midpoint(a: Point, b: Point) -> Point:
 def wrap_angle(a: float) -> float:
     """Wrap an angle to (-pi, pi].
 
+    Args:
+        a: the angle (rad).
+
+    Returns:
+        The same direction in (-pi, pi] (rad).
+
     >>> wrap_angle(3 * math.pi) == math.pi, wrap_angle(-math.pi) == math.pi, round(wrap_angle(7.0), 6)
     (True, True, 0.716815)
     """
@@ -94,7 +100,16 @@ def wrap_angle(a: float) -> float:
 
 
 def closest_on_segment(p: Point, a: Point, b: Point) -> Point:
-    """The point of segment ``ab`` nearest to ``p``."""
+    """The point of a segment nearest to a point (a point obstacle's segment is one point).
+
+    Args:
+        p: the point (m).
+        a: the segment's one end (m).
+        b: its other end (m; ``a`` again for a point).
+
+    Returns:
+        The segment's point nearest to ``p`` (m).
+    """
     ax, ay = a
     dx, dy = b[0] - ax, b[1] - ay
     L2 = dx * dx + dy * dy
@@ -106,7 +121,16 @@ def closest_on_segment(p: Point, a: Point, b: Point) -> Point:
 
 
 def distance_to_segment(p: Point, a: Point, b: Point) -> float:
-    """Euclidean distance from ``p`` to segment ``ab``."""
+    """The distance from a point to a segment.
+
+    Args:
+        p: the point (m).
+        a: the segment's one end (m).
+        b: its other end (m; ``a`` again for a point).
+
+    Returns:
+        The Euclidean distance (m).
+    """
     q = closest_on_segment(p, a, b)
     return math.hypot(p[0] - q[0], p[1] - q[1])
 
