@@ -22,12 +22,11 @@ MAX_NOT_RUN = 12  # ```sh blocks: few, each with its reason
 CAPTION = re.compile(r"\A:caption: ([\w.-]+)\n\n?")  # a {code-block} of a file, captioned with its name
 PILOT_TUTORIAL = "docs/tutorials/your-own-pilot.md"  # run by its own test, which checks what it made
 
+NAMED_FORM = "--pilots mine="  # the one command of the pages that names a plugin NAME=...
+
 
 class NeedsNamedForm(AssertionError):
-    """A page's command that names a plugin ``NAME=...`` failed (see the pilot tutorial's test)."""
-
-
-NAMED_FORM = "--pilots mine="
+    """That command failed: told apart from any other failure, for the mark on the pilot tutorial's test."""
 
 
 def _pages() -> list[Path]:
