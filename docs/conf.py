@@ -19,7 +19,8 @@ author = "The navcli developers"
 copyright = "the navcli developers, MIT licence"
 version = release = navcli.__version__
 
-extensions = ["myst_parser", "sphinx.ext.autodoc", "navcli_reference"]
+# napoleon: the docstrings' Google-style sections (Args, Returns, Raises, Attributes) as Sphinx fields
+extensions = ["myst_parser", "sphinx.ext.autodoc", "sphinx.ext.napoleon", "navcli_reference"]
 source_suffix = {".md": "markdown"}
 myst_enable_extensions = ["dollarmath", "deflist"]
 myst_heading_anchors = 3
@@ -32,6 +33,9 @@ autodoc_inherit_docstrings = (
     False  # a Gymnasium method without its own docstring is not documented in Gymnasium's words
 )
 autodoc_default_options = {"undoc-members": False}
+napoleon_google_docstring = True
+napoleon_numpy_docstring = False
+napoleon_attr_annotations = True  # an Attributes entry's type is its field's annotation (declared once)
 
 html_theme = "alabaster"
 html_title = f"navcli {release}"

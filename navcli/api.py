@@ -70,12 +70,32 @@ def spec(
     params: Mapping[str, Any] | None = None,
     also: Iterable[str] = (),
 ) -> RunSpec:
-    """A run's whole configuration (:class:`~navcli.config.RunSpec`): a scenario (its file, or one
-    loaded) with any of its choices replaced and ``params`` (``{"pilot.K": 30}``, a plugin's
-    ``{"vfh.tau_high": 25}``) on top; a :class:`RunSpec` given is returned with those changes.
-    ``pilot`` and ``navigation`` name navcli's, an installed plugin's, ``module:Class`` or
-    ``path/to/file.py:Class``; ``NAME=module:Class`` (or ``NAME=path/to/file.py:Class``) calls a
-    plugin ``NAME`` in the summary, tables and file names (:mod:`navcli.plugins.names`)."""
+    """A run's whole configuration: a scenario with any of its choices replaced and parameters on
+    top; a :class:`RunSpec` given is returned with those changes. Every argument is checked
+    (:mod:`navcli.checks.arguments`): a wrong one raises :class:`~navcli.checks.arguments.ArgumentError`.
+
+    Args:
+        scenario: a scenario file's path, a bundled scenario's name (``navcli scenarios``), a
+            loaded :class:`~navcli.scenario.Scenario`, or a :class:`RunSpec` to change.
+        seed: the run's seed (default: the scenario's ``mission.seed``).
+        pilot: the pilot: navcli's (``potential-field``, ``geometric``), an installed plugin's
+            name, ``module:Class`` or ``path/to/file.py:Class`` (default: the scenario's);
+            ``NAME=module:Class`` (or ``NAME=path/to/file.py:Class``) calls a plugin ``NAME`` in
+            the summary, tables and file names (:mod:`navcli.plugins.names`).
+        perception: ``vision`` or ``oracle`` (default: the scenario's).
+        navigation: the Navigation system: ``agents``, a policy's name, ``agents+NAME`` (default:
+            the scenario's).
+        time_limit: simulated seconds before the run is declared a timeout (default: the scenario's).
+        params: parameters by their dotted names (``{"pilot.K": 30}``, a plugin's
+            ``{"vfh.tau_high": 25}``; ``navcli params`` lists them).
+        also: other pilots' names whose parameters ``params`` may set (``compare``'s pilots).
+
+    Returns:
+        The run's configuration (:class:`~navcli.config.RunSpec`), its run id among it.
+
+    Raises:
+        navcli.NavcliError: an unknown scenario, pilot or parameter, or a value out of its range.
+    """
     if isinstance(scenario, RunSpec):
         base = scenario
         sc = base.scenario
@@ -169,11 +189,29 @@ def run(
     log: str | Path | None = None,
     overwrite: bool = False,
 ) -> Run:
-    """Run one mission (see :func:`spec` for the choices) and return its :class:`Run`, its tables
-    kept in memory. ``observers`` see every tick; one that returns ``False`` stops the run
-    (``interrupted``). ``log``: also write the MCAP log there (none by default); an existing log
-    there is refused unless ``overwrite``, before the run. Ctrl-C stops the run and is raised again,
-    as an exception in a plugin is (its :class:`~navcli.plugins.PluginError`)."""
+    """Run one mission, its tables kept in memory. Ctrl-C stops the run and is raised again, as an
+    exception in a plugin is (its :class:`~navcli.plugins.PluginError`).
+
+    Args:
+        scenario: the scenario, or a run's configuration: as :func:`spec` takes it.
+        seed: as :func:`spec` takes it.
+        pilot: as :func:`spec` takes it.
+        perception: as :func:`spec` takes it.
+        navigation: as :func:`spec` takes it.
+        time_limit: as :func:`spec` takes it (s).
+        params: as :func:`spec` takes it.
+        observers: functions of the mission and its tick (:class:`~navcli.mission.Tick`), told of
+            every tick; one that returns ``False`` stops the run (it ends ``interrupted``).
+        log: also write the run's MCAP log there (none by default).
+        overwrite: replace an existing log at ``log`` (else it is refused, before the run).
+
+    Returns:
+        The run's :class:`Run`: its configuration, its summary and a DataFrame per topic.
+
+    Raises:
+        navcli.NavcliError: a wrong argument, or a log at ``log`` without ``overwrite``.
+        navcli.PluginError: a plugin's fault, named as its own.
+    """
     from .log.files import check_log_path
     from .log.frames import FrameRecorder
     from .runner import run_mission
@@ -196,7 +234,14 @@ def run(
 
 def summary_row(spec: RunSpec) -> dict[str, Any]:
     """A run without a log (in a worker): its row, as :func:`navcli.analysis.tables.load_runs`
-    makes one from a log (its configuration and summary; no poses)."""
+    makes one from a log (its configuration and summary; no poses).
+
+    Args:
+        spec: the run's configuration.
+
+    Returns:
+        The run's row (:data:`navcli.analysis.columns.RUN` and its parameters).
+    """
     from .analysis.tables import summary_row as row
     from .runner import run_mission
 
@@ -216,11 +261,26 @@ def compare(
     jobs: int | None = None,
     out: str | Path | None = None,
 ) -> pd.DataFrame:
-    """``navcli compare pilots`` from Python: every pilot on every scenario with the same ``reruns``
-    seeds, in ``jobs`` worker processes (default: every core), one row per run. With ``out``, each
-    run's log is written there (and a rerun keeps the complete ones, as the command does); without,
-    nothing is written. ``pilot_table(df)`` and ``improvements(df, baseline)`` of
-    :mod:`navcli.analysis.tables` make the paper's Table 1 from it."""
+    """``navcli compare pilots`` from Python: every pilot on every scenario with the same seeds.
+    ``pilot_table(df)`` and ``improvements(df, baseline)`` of :mod:`navcli.analysis.tables` make
+    the paper's Table 1 from what it returns.
+
+    Args:
+        scenarios: the scenarios (files, bundled names or Scenarios); a list, even of one.
+        pilots: the pilots, as :func:`spec` takes one; a list, even of one.
+        reruns: the seeds each pilot runs each scenario with (the same for every pilot).
+        perception: as :func:`spec` takes it, for every run.
+        navigation: as :func:`spec` takes it, for every run.
+        time_limit: as :func:`spec` takes it, for every run (s).
+        params: as :func:`spec` takes it, for every run (a plugin's own among them).
+        jobs: worker processes (default: the machine's cores).
+        out: a folder for the runs' logs (a rerun keeps the complete ones, as the command does);
+            without it, nothing is written.
+
+    Returns:
+        One row per run, the columns of :data:`navcli.analysis.columns.RUN` (with ``out``, also
+        :data:`~navcli.analysis.columns.RUN_FROM_LOGS`) and a ``params.*`` column per parameter.
+    """
     import pandas as pd
 
     from .experiments.compare import plan, reruns as seeded, run_on
@@ -248,10 +308,19 @@ def compare(
 def sweep(
     plan: str | Path | Mapping[str, Any], *, jobs: int | None = None, out: str | Path | None = None
 ) -> pd.DataFrame:
-    """``navcli sweep`` from Python: every scenario x parameter point x seed of a plan (a plan file,
-    or the same as a dict, its paths relative to the current folder), one row per run. With
-    ``out``, the logs and ``results.parquet`` go there (and a rerun resumes, as the command does);
-    without, nothing is written."""
+    """``navcli sweep`` from Python: every scenario x parameter point x seed of a plan.
+
+    Args:
+        plan: a plan file's path, or the same as a dict (its paths relative to the current folder).
+        jobs: worker processes (default: the machine's cores).
+        out: a folder for the logs and ``results.parquet`` (a rerun resumes, as the command does);
+            without it, nothing is written.
+
+    Returns:
+        One row per run: its swept parameters by their names (``pilot.K``), the grid's ``point``,
+        the run's configuration and summary, and ``error`` (the exception of a run that raised,
+        else empty).
+    """
     import pandas as pd
 
     from .experiments.executor import executor, run_each, workers

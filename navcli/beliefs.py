@@ -19,8 +19,11 @@ from .geometry import Point, Pose, midpoint
 class Bump:
     """A bumper contact that began during a tick.
 
-    ``what`` names the thing hit (``wall``, ``obstacle 3``, ``landmark A``); ``point`` is the
-    contact point in the world; ``bearing`` is its direction in the robot frame (rad, 0 = ahead).
+    Attributes:
+        time: when it began (simulated s).
+        what: the thing hit (``wall``, ``obstacle 3``, ``landmark A``).
+        point: the contact point in the world (arena frame, m).
+        bearing: its direction in the robot's frame (rad, 0 = ahead, + = left).
     """
 
     time: float
@@ -30,13 +33,23 @@ class Bump:
 
 
 class KnownObstacle(NamedTuple):
-    """An obstacle as the robot knows it, egocentric (x ahead, y left, metres).
+    """An obstacle as the robot knows it, egocentric: in metres, x ahead and y to the left of the
+    robot, as it believes the obstacle lies (its memory's estimate, not the truth).
 
-    A point obstacle has ``a == b`` (its centre); a linear one runs from ``a`` to ``b``.
-    ``radius`` is its physical half-width, ``key`` names it stably across ticks for logs;
-    ``wall`` marks (a known stretch of) one of the room's walls.
+    A point obstacle has ``a == b`` (its centre); a linear one (a fence, a wall's stretch) runs
+    from ``a`` to ``b``. The body's edge is ``radius`` from that point or segment: the clearance to
+    an obstacle is ``distance_to_segment((0, 0), o.a, o.b) - o.radius``
+    (:func:`navcli.geometry.distance_to_segment`), the robot's own radius not taken off.
 
     One is made per remembered object every tick (a NamedTuple: docs/design.md, "Values made every tick").
+
+    Attributes:
+        key: names it, the same every tick (``obstacle-3``; ``LA``: landmark A, which is an
+            obstacle too), for logs and for keeping track of one obstacle across ticks.
+        a: a point obstacle's centre, or one end of a linear one, ``(x, y)`` in m, egocentric.
+        b: the other end of a linear one (``a`` again for a point obstacle), ``(x, y)`` in m.
+        radius: its physical half-width (m): a post's radius, half a fence's or a wall's thickness.
+        wall: it is (a known stretch of) one of the room's walls.
     """
 
     key: str
@@ -56,9 +69,15 @@ class KnownObstacle(NamedTuple):
 
 
 class KnownLandmark(NamedTuple):
-    """A landmark as the visual memory holds it: its id, its fuzzy egocentric position, and the
-    simulated time it was last seen (s). A NamedTuple, as :class:`KnownObstacle` (one per
-    remembered landmark every tick)."""
+    """A landmark as the visual memory holds it. A NamedTuple, as :class:`KnownObstacle` (one per
+    remembered landmark every tick).
+
+    Attributes:
+        key: the landmark's id (``A``, ``B`` ...).
+        where: its fuzzy egocentric position (:class:`~navcli.fuzzy.FuzzyPoint`: centre and
+            radii in m).
+        seen: when it was last seen (simulated s).
+    """
 
     key: str
     where: FuzzyPoint
@@ -67,19 +86,34 @@ class KnownLandmark(NamedTuple):
 
 @dataclass(frozen=True)
 class Beliefs:
-    """Everything an agent may use at one tick. Positions are egocentric, in metres.
+    """Everything an agent may use at one tick: what the robot believes, never the world's truth.
+    Positions are egocentric (m; x ahead, y to the left of the robot), angles in rad (0 = ahead,
+    + = left), times in simulated seconds.
 
-    ``target_spread`` is the width (rad) of the 70 % cut of the target's fuzzy heading: 0 when
-    it is known exactly, 2 pi when it is lost. ``looked`` is the look (pan, rad from the
-    heading, and purpose) of the image the camera took during the previous tick, ``None`` if it
-    took none;
-    ``bumps`` are the bumper contacts that began during the previous tick; ``touching`` says the
-    bumper was pressed during the previous tick (a contact that lasts is no new bump).
-    ``landmarks`` are the remembered landmarks with their fuzzy positions; ``target_at`` is the
-    target's fuzzy position as remembered (a point or landmark target), ``target_seen`` when it
-    was last seen (s; 0 when only told). ``pilot_blocked`` names the long obstacle the Pilot
-    reported during the previous tick as ahead and not easily avoided (the thesis' blocked
-    situation, which the Rescuer answers with a diverting target), None when it reported none.
+    Attributes:
+        time: the tick's simulated time (s).
+        odometry: where the robot believes it is, in the arena frame (:class:`~navcli.geometry.Pose`:
+            x, y in m, theta in rad): its odometry, which drifts with the motion noise.
+        target: the current target point ``(x, y)`` (m, egocentric; a line target's centre), or
+            None when there is none. The Pilot is given the Navigation system's current target
+            here: a diverting target while the Rescuer holds one.
+        target_line: the line to cross, a diverting target's or a line target's (two egocentric
+            points, m), or None.
+        obstacles: the obstacles the robot knows (its visual memory, bumped ones included),
+            each a :class:`KnownObstacle`.
+        target_spread: the width (rad) of the 70 % cut of the target's fuzzy heading: 0 when it is
+            known exactly, 2 pi when it is lost.
+        looked: the look (:class:`~navcli.bidding.Look`: pan in rad from the heading, and purpose)
+            of the image the camera took during the previous tick, None if it took none.
+        bumps: the bumper contacts (:class:`Bump`) that began during the previous tick.
+        touching: the bumper was pressed during the previous tick (a contact that lasts is no new
+            bump).
+        landmarks: the remembered landmarks (:class:`KnownLandmark`), with their fuzzy positions.
+        target_at: the target's fuzzy position as remembered (a point or landmark target), or None.
+        target_seen: when the target was last seen (simulated s; 0 when only told where it is).
+        pilot_blocked: the key of the long obstacle the Pilot reported during the previous tick as
+            ahead and not easily avoided (the thesis' blocked situation, which the Rescuer answers
+            with a diverting target), None when it reported none.
     """
 
     time: float

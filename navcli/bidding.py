@@ -26,11 +26,19 @@ class _MoveFields(NamedTuple):
 
 
 class Move(_MoveFields):
-    """A motion action: head for ``heading`` (rad, egocentric: 0 = straight ahead, + = left) at
-    ``speed`` (m/s, negative = backwards). ``Move(0, 0)`` is a stop.
+    """A motion action: head for ``heading`` at ``speed``. ``Move(0, 0)`` is a stop.
 
     A dozen actions and bids are made every tick (a NamedTuple: docs/design.md, "Values made every tick"), like :class:`Look` and :class:`Bid`.
-    Build them with the constructor, which checks them: ``_replace`` and ``_make`` would not."""
+    Build them with the constructor, which checks them: ``_replace`` and ``_make`` would not.
+
+    Attributes:
+        heading (float): where to head, egocentric (rad: 0 = straight ahead, + = left).
+        speed (float): how fast (m/s; negative = backwards). A pilot's own move is at most its
+            ``max_speed``.
+
+    Raises:
+        ValueError: the heading or the speed is not a finite number.
+    """
 
     __slots__ = ()
 
@@ -40,6 +48,11 @@ class Move(_MoveFields):
         return tuple.__new__(cls, (heading, speed))
 
     def as_json(self) -> dict:
+        """The move as ``/bids`` logs it.
+
+        Returns:
+            ``{"type": "move", "heading_deg": ..., "speed": ...}`` (deg, m/s).
+        """
         return {"type": "move", "heading_deg": math.degrees(self.heading), "speed": self.speed}
 
 
@@ -69,8 +82,12 @@ class _LookFields(NamedTuple):
 
 
 class Look(_LookFields):
-    """A camera action: pan to ``pan`` (rad, relative to the robot's heading) and take a look for
-    ``purpose`` (one of :data:`PURPOSES`). (A NamedTuple: see :class:`Move`.)
+    """A camera action: pan to ``pan`` and take a look for ``purpose``. (A NamedTuple: see
+    :class:`Move`.)
+
+    Attributes:
+        pan (float): where to point the camera, relative to the robot's heading (rad, + = left).
+        purpose (str): what the look is for, one of :data:`PURPOSES`.
 
     >>> Look(0.5, "search")
     Look(pan=0.5, purpose='search')
@@ -90,6 +107,11 @@ class Look(_LookFields):
         return tuple.__new__(cls, (pan, purpose))
 
     def as_json(self) -> dict:
+        """The look as ``/bids`` logs it.
+
+        Returns:
+            ``{"type": "look", "pan_deg": ..., "purpose": ...}`` (deg).
+        """
         return {"type": "look", "pan_deg": math.degrees(self.pan), "purpose": self.purpose}
 
 
@@ -127,6 +149,13 @@ class Bid(_BidFields):
     """One bidder's offer for one resource: the action it wants and its urgency in [0, 1].
     (A NamedTuple: see :class:`Move`.)
 
+    Attributes:
+        bidder (str): who bids: ``pilot`` or ``navigation`` at the robot's arbiter, an agent's
+            name inside the Navigation system.
+        resource (str): ``motion`` (the wheels) or ``camera``.
+        action (Move | Look): a :class:`Move` for the wheels, a :class:`Look` for the camera.
+        value (float): the bid, in [0, 1]; each resource carries out its highest.
+
     >>> Bid("pilot", "motion", Move(0.0, 0.3), 0.9).value
     0.9
     >>> Bid("pilot", "motion", Move(0.0, 0.3), float("nan"))
@@ -154,7 +183,13 @@ def arbitrate(bids: Iterable[Bid]) -> dict[Resource, Bid | None]:
 
     Tie rule: between equal bids the one offered first wins, so the caller's fixed order of
     consultation (the Pilot before the Navigation system: safety first) decides, and the outcome
-    never depends on hashing or timing. A resource nobody bid for maps to ``None``.
+    never depends on hashing or timing.
+
+    Args:
+        bids: the bids, in the order of consultation.
+
+    Returns:
+        The winning bid of each resource, None for a resource nobody bid for.
     """
     best: dict[Resource, Bid | None] = dict.fromkeys(RESOURCES)
     for b in bids:

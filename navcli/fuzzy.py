@@ -268,6 +268,11 @@ class FuzzyPoint(NamedTuple):
 
     One is made per remembered landmark every tick (a NamedTuple: docs/design.md, "Values made every tick").
 
+    Attributes:
+        x: the crisp centre's x (m, egocentric: ahead).
+        y: the crisp centre's y (m, egocentric: to the left).
+        radii: each cut's radius (m), at the levels of ``ALPHAS``: the support first, the core last.
+
     >>> p = FuzzyPoint(3.0, 4.0, (1.0, 0.7, 0.3, 0.0))
     >>> p.distance().support, p.distance().core  # 5 m away, +- 1 m
     ((4.0, 6.0), (5.0, 5.0))
@@ -280,23 +285,47 @@ class FuzzyPoint(NamedTuple):
     radii: tuple[float, ...]
 
     def radius(self, alpha: float) -> float:
-        """The cut's radius at ``alpha``, interpolated between the stored levels."""
+        """The cut's radius at ``alpha``, interpolated between the stored levels.
+
+        Args:
+            alpha: the membership level, in [0, 1] (0: the support, 1: the core).
+
+        Returns:
+            The radius (m).
+        """
         k, t = _LEVEL.get(alpha) or _level(alpha)
         r = self.radii
         return r[k] + t * (r[k + 1] - r[k]) if t is not None else r[-1]
 
     def distance(self) -> Fuzzy:
+        """The fuzzy distance to the point from the robot.
+
+        Returns:
+            A fuzzy number (m): each cut's interval, the support first.
+        """
         d = math.hypot(self.x, self.y)
         return Fuzzy(tuple((max(0.0, d - r), d + r) for r in self.radii))
 
     def heading(self) -> FuzzyAngle:
+        """The fuzzy heading of the point from the robot.
+
+        Returns:
+            A fuzzy angle (rad, egocentric: 0 ahead, + left): each cut's interval, the support first.
+        """
         d = math.hypot(self.x, self.y)
         h = math.atan2(self.y, self.x)
         return FuzzyAngle(Fuzzy(tuple((h - _half_angle(r, d), h + _half_angle(r, d)) for r in self.radii)))
 
     def heading_width(self, alpha: float = CUT) -> float:
-        """The width (rad) of the heading's alpha-cut, read off the disc: ``heading().width(alpha)``
-        without building the fuzzy number (a per-tick quantity)."""
+        """The width of the heading's alpha-cut, read off the disc: ``heading().width(alpha)``
+        without building the fuzzy number (a per-tick quantity).
+
+        Args:
+            alpha: the membership level (default: the 70 % cut).
+
+        Returns:
+            The width (rad).
+        """
         return 2.0 * _half_angle(self.radius(alpha), math.hypot(self.x, self.y))
 
     def imprecision(self) -> float:
@@ -304,7 +333,11 @@ class FuzzyPoint(NamedTuple):
         disc directly (what :meth:`heading` and :meth:`distance` give, without building them).
 
         :meth:`radius` and :func:`_half_angle` are written out, the same operations (our design:
-        read for every remembered point twice a second, and for every landmark weighed)."""
+        read for every remembered point twice a second, and for every landmark weighed).
+
+        Returns:
+            I(l), in [0, 1].
+        """
         x, y, radii = self
         r = radii[_CUT_K] + _CUT_T * (radii[_CUT_K + 1] - radii[_CUT_K])  # self.radius(CUT)
         d = math.hypot(x, y)
@@ -313,7 +346,15 @@ class FuzzyPoint(NamedTuple):
     @classmethod
     def enclosing(cls, x: Fuzzy, y: Fuzzy) -> FuzzyPoint:
         """The nested discs that hold the boxes ``x`` x ``y`` cut by cut, centred on the core's
-        centre (so a true point inside a box stays inside its disc)."""
+        centre (so a true point inside a box stays inside its disc).
+
+        Args:
+            x: the fuzzy x (m).
+            y: the fuzzy y (m), with as many cuts.
+
+        Returns:
+            The fuzzy point.
+        """
         cx, cy = x.centre, y.centre
         radii = []
         for (xlo, xhi), (ylo, yhi) in zip(x.cuts, y.cuts):
@@ -323,6 +364,15 @@ class FuzzyPoint(NamedTuple):
         return cls(cx, cy, tuple(radii))
 
     def contains(self, p: tuple[float, float], alpha: float = 0.0) -> bool:
+        """Whether a point lies in a cut of this fuzzy point.
+
+        Args:
+            p: the point ``(x, y)`` (m, egocentric).
+            alpha: the cut's level (default: the support).
+
+        Returns:
+            True if ``p`` is in the cut's disc.
+        """
         return math.hypot(p[0] - self.x, p[1] - self.y) <= self.radius(alpha) + 1e-9
 
 

@@ -15,7 +15,13 @@ ORIGIN: Point = (0.0, 0.0)  # the robot, in egocentric coordinates
 
 @dataclass(frozen=True)
 class Pose:
-    """A planar pose: position in metres, heading in radians counter-clockwise from +x."""
+    """A planar pose: position in metres, heading in radians counter-clockwise from +x.
+
+    Attributes:
+        x: position along the frame's x axis (m).
+        y: position along the frame's y axis (m).
+        theta: heading, counter-clockwise from the frame's +x (rad).
+    """
 
     x: float
     y: float
@@ -23,6 +29,12 @@ class Pose:
 
     def to_local(self, p: Point) -> Point:
         """Express the world point ``p`` in this pose's frame (egocentric: x ahead, y left).
+
+        Args:
+            p: a point ``(x, y)`` in the pose's parent frame (m).
+
+        Returns:
+            The point in the pose's frame (m).
 
         >>> x, y = Pose(1.0, 1.0, math.pi / 2).to_local((1.0, 3.0))  # 2 m north of a robot facing north
         >>> round(x, 9), round(y, 9)
@@ -33,7 +45,14 @@ class Pose:
         return (c * dx + s * dy, -s * dx + c * dy)
 
     def to_world(self, q: Point) -> Point:
-        """The inverse of :meth:`to_local`: an egocentric point back in this pose's parent frame."""
+        """The inverse of :meth:`to_local`: an egocentric point back in this pose's parent frame.
+
+        Args:
+            q: a point ``(x, y)`` in the pose's frame (m).
+
+        Returns:
+            The point in the pose's parent frame (m).
+        """
         c, s = math.cos(self.theta), math.sin(self.theta)
         return (self.x + c * q[0] - s * q[1], self.y + s * q[0] + c * q[1])
 
@@ -65,6 +84,12 @@ def midpoint(a: Point, b: Point) -> Point:
 def wrap_angle(a: float) -> float:
     """Wrap an angle to (-pi, pi].
 
+    Args:
+        a: the angle (rad).
+
+    Returns:
+        The same direction in (-pi, pi] (rad).
+
     >>> wrap_angle(3 * math.pi) == math.pi, wrap_angle(-math.pi) == math.pi, round(wrap_angle(7.0), 6)
     (True, True, 0.716815)
     """
@@ -75,7 +100,16 @@ def wrap_angle(a: float) -> float:
 
 
 def closest_on_segment(p: Point, a: Point, b: Point) -> Point:
-    """The point of segment ``ab`` nearest to ``p``."""
+    """The point of a segment nearest to a point (a point obstacle's segment is one point).
+
+    Args:
+        p: the point (m).
+        a: the segment's one end (m).
+        b: its other end (m; ``a`` again for a point).
+
+    Returns:
+        The segment's point nearest to ``p`` (m).
+    """
     ax, ay = a
     dx, dy = b[0] - ax, b[1] - ay
     L2 = dx * dx + dy * dy
@@ -87,7 +121,16 @@ def closest_on_segment(p: Point, a: Point, b: Point) -> Point:
 
 
 def distance_to_segment(p: Point, a: Point, b: Point) -> float:
-    """Euclidean distance from ``p`` to segment ``ab``."""
+    """The distance from a point to a segment.
+
+    Args:
+        p: the point (m).
+        a: the segment's one end (m).
+        b: its other end (m; ``a`` again for a point).
+
+    Returns:
+        The Euclidean distance (m).
+    """
     q = closest_on_segment(p, a, b)
     return math.hypot(p[0] - q[0], p[1] - q[1])
 

@@ -169,19 +169,32 @@ def run_mission(
 ) -> RunResult:
     """Run the configuration ``spec`` to its end and return its summary.
 
-    The log goes to ``out``, by default :meth:`RunSpec.default_log_path`.
-    ``record=False`` runs without a log (the benchmark's baseline). ``observers`` are told of
-    every tick, after ``on_tick``, those with a ``begin(mission)`` before the first step and those
-    with an ``end(mission)`` after the last, whatever ended it; any may stop the run (:data:`Observer`). ``live`` serves the run to
-    Foxglove on ``ws://127.0.0.1:<port>`` and paces it to real time. ``on_tick`` observes every
-    tick (progress display; tests use it to interrupt a run); ``on_open`` is called once the log
-    is open (what the CLI says of it: a killed run's ``.partial`` kept aside, the port ``--live``
-    took). ``keep_serving`` (with ``live``): a mission that ends by itself leaves the server up
-    for its viewers, until the caller's ``recorder.stop_serving()``. A ``KeyboardInterrupt`` ends the run as ``interrupted`` (:class:`Terminated`: by
-    SIGTERM) and is re-raised after the log is closed; any other exception ends it as ``error``
-    and is re-raised likewise. A log path that cannot be written raises
-    :class:`~navcli.log.writer.LogPathError` before the mission starts, and so does an existing
-    log there unless ``overwrite``.
+    A ``KeyboardInterrupt`` ends the run as ``interrupted`` (:class:`Terminated`: by SIGTERM) and
+    is re-raised after the log is closed; any other exception ends it as ``error`` and is
+    re-raised likewise.
+
+    Args:
+        spec: the run's whole configuration (``navcli.spec`` makes one).
+        out: the log's path (default: :meth:`RunSpec.default_log_path`).
+        record: False runs without a log (the benchmark's baseline).
+        live: serve the run to Foxglove on ``ws://127.0.0.1:<port>``, paced to real time.
+        port: the port ``live`` serves on (0: any free port).
+        on_tick: observes every tick (a progress display; tests use it to interrupt a run).
+        on_open: called once the log is open (what the CLI says of it: a killed run's
+            ``.partial`` kept aside, the port ``--live`` took).
+        keep_serving: with ``live``, a mission that ends by itself leaves the server up for its
+            viewers, until the caller's ``recorder.stop_serving()``.
+        observers: told of every tick, after ``on_tick``; those with a ``begin(mission)`` before
+            the first step and those with an ``end(mission)`` after the last, whatever ended it;
+            any may stop the run (:data:`Observer`).
+        overwrite: replace an existing log at ``out`` (else it is refused before the mission).
+
+    Returns:
+        The run's summary (``/mission/summary``'s fields), its log's path and its wall time.
+
+    Raises:
+        navcli.log.writer.LogPathError: a log path that cannot be written, or an existing log
+            there without ``overwrite``, before the mission starts.
     """
     path = (out or spec.default_log_path()) if record or live else None
     mission = Mission(spec, snapshots=path is not None)

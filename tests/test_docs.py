@@ -10,6 +10,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pandas as pd
 import pytest
 
 from conftest import ROOT
@@ -18,7 +19,8 @@ DOCS = ROOT / "docs"
 FENCE = re.compile(r"^```([\w{}-]*)[^\n]*\n(.*?)^```", re.S | re.M)
 LINKED = ("scenarios", "plans", "examples", "docs")  # what a page's commands see of the repository
 MAX_NOT_RUN = 12  # ```sh blocks: few, each with its reason
-
+CAPTION = re.compile(r"\A:caption: ([\w.-]+)\n\n?")  # a {code-block} of a file, captioned with its name
+PILOT_TUTORIAL = "docs/tutorials/your-own-pilot.md"  # run by its own test, which checks what it made
 
 def _pages() -> list[Path]:
     pages = sorted(p for p in DOCS.rglob("*.md") if "_build" not in p.parts and "results" not in p.parts)
@@ -89,6 +91,15 @@ def test_the_references_are_made_from_the_code(built):
     )
     api = (built / "reference" / "api.html").read_text(encoding="utf-8")
     assert all(f'id="navcli.api.{f}"' in api for f in ("run", "compare", "sweep"))
+    for plugin_facing in ("beliefs.Beliefs", "beliefs.KnownObstacle", "bidding.Move", "pilot.Pilot", "pilot.Avoidance"):
+        assert f'id="navcli.{plugin_facing}"' in api, plugin_facing
+    assert all(f'id="navcli.beliefs.KnownObstacle.{f}"' in api for f in ("a", "b", "radius"))
+    assert all(f'id="navcli.pilot.Pilot.{f}"' in api for f in ("max_speed", "own_params", "params", "robot"))
+    from navcli.analysis.columns import TABLES
+
+    tour = (built / "python-api.html").read_text(encoding="utf-8")
+    for columns in TABLES.values():
+        assert all(f'<span class="pre">{c}</span>' in tour for c in columns)
 
 
 def test_every_block_is_run_or_says_why_not():
@@ -109,6 +120,7 @@ def test_every_block_is_run_or_says_why_not():
                     "text",
                     "yaml",
                     "{eval-rst}",
+                    "{code-block}",
                     "{toctree}",
                     "{literalinclude}",
                     "{include}",
@@ -119,16 +131,16 @@ def test_every_block_is_run_or_says_why_not():
                 ), (page, lang)
                 if lang == "console":
                     assert _commands(body), f"{page}: a console block with no $ command"
+                if lang == "{code-block}":  # the runner writes it to the file its caption names
+                    assert CAPTION.match(body), f"{page}: a code-block with no file's name as :caption:"
     assert 0 < not_run <= MAX_NOT_RUN
 
 
-@pytest.mark.parametrize(
-    "page",
-    [str(p.relative_to(ROOT)) for p in _pages() if any(lang in ("console", "python") for lang, _, _ in _blocks(p))],
-)
-def test_every_command_and_snippet_of_a_page_runs(page, tmp_path, monkeypatch):
-    """In an empty folder that sees the repository's scenarios, plans, examples and docs; the
-    page's blocks in order, its Python blocks sharing one namespace."""
+def _run_page(page: str, tmp_path: Path, monkeypatch) -> None:
+    """A page's blocks in order, in the empty folder ``tmp_path`` that sees the repository's
+    scenarios, plans, examples and docs: its commands run, its Python blocks share one namespace,
+    and a code-block captioned with a file's name is added to that file there (a file written in
+    several blocks is the blocks in order)."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -149,13 +161,41 @@ def test_every_command_and_snippet_of_a_page_runs(page, tmp_path, monkeypatch):
                     stdin=subprocess.DEVNULL,
                     timeout=300,
                 )
-                assert r.returncode == expected, (
-                    f"{page}: `{command}` exited {r.returncode}:\n{r.stdout[-1500:]}{r.stderr[-1500:]}"
-                )
+                if r.returncode != expected:
+                    raise AssertionError(f"{page}: `{command}` exited {r.returncode}:\n{r.stdout[-1500:]}{r.stderr[-1500:]}")
         elif lang == "python":
             exec(compile(body, f"{page} block {i + 1}", "exec"), namespace)
+        elif lang == "{code-block}" and (m := CAPTION.match(body)):
+            with open(tmp_path / m.group(1), "a", encoding="utf-8") as f:
+                f.write(body[m.end() :] + "\n\n")
     for name in LINKED:  # nothing written into the repository through the links
         assert (tmp_path / name).is_symlink()
+
+
+@pytest.mark.parametrize(
+    "page",
+    [
+        str(p.relative_to(ROOT))
+        for p in _pages()
+        if any(lang in ("console", "python") for lang, _, _ in _blocks(p))
+        and str(p.relative_to(ROOT)) != PILOT_TUTORIAL
+    ],
+)
+def test_every_command_and_snippet_of_a_page_runs(page, tmp_path, monkeypatch):
+    _run_page(page, tmp_path, monkeypatch)
+
+
+def test_the_pilot_tutorial_writes_checks_and_compares_a_short_pilot_under_its_own_name(tmp_path, monkeypatch):
+    """The tutorial's pilot is its page's code, short; the page's commands check it, run it and
+    compare it under the name the page gives it, which the table and the files then use."""
+    _run_page(PILOT_TUTORIAL, tmp_path, monkeypatch)
+    code = (tmp_path / "swerve.py").read_text(encoding="utf-8").splitlines()
+    assert 25 <= sum(bool(line.strip()) for line in code) <= 35  # about thirty lines, blank ones aside
+    runs = pd.read_csv(tmp_path / "cmp" / "runs.csv")
+    assert sorted(set(runs["pilot"])) == ["geometric", "mine"] and len(runs) == 4  # 2 pilots x 2 seeds
+    assert set(pd.read_csv(tmp_path / "cmp" / "table.csv")["pilot"]) == {"geometric", "mine"}
+    written = [p.name for p in (tmp_path / "cmp").rglob("*") if p.is_file()]
+    assert any(n.startswith("mine") for n in written) and not any("swerve" in n for n in written), written
 
 
 def test_the_readme_is_a_five_minute_read():

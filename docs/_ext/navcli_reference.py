@@ -7,7 +7,9 @@ Two directives for MyST pages:
   of click, so sphinx-click cannot read the app; this walks the same objects ``--help`` prints);
 - ``{navcli-params}``: every parameter, as ``navcli params --markdown`` prints it (the same
   function), from the declarations in ``navcli/params/``;
-- ``{navcli-references}``: the papers' references, from ``CITATION.cff``.
+- ``{navcli-references}``: the papers' references, from ``CITATION.cff``;
+- ``{navcli-columns} TABLE``: the columns of one of the tables of runs the Python API returns,
+  each with what it holds, from their declarations (``navcli/analysis/columns.py``).
 
 Each renders Markdown and parses it in place, so headings join the page's table of contents.
 """
@@ -103,6 +105,13 @@ def references_markdown() -> str:
     return "\n".join(lines) + "\n"
 
 
+def columns_markdown(table: str) -> str:
+    """The columns of ``table`` (a name of :data:`navcli.analysis.columns.TABLES`), one item each."""
+    from navcli.analysis.columns import TABLES
+
+    return "\n".join(f"- `{name}`: {_escape(what)}" for name, what in TABLES[table].items()) + "\n"
+
+
 class _Generated(SphinxDirective):
     has_content = False
     make: Any = None
@@ -128,8 +137,20 @@ class ReferencesDirective(_Generated):
     make = staticmethod(references_markdown)
 
 
+class ColumnsDirective(SphinxDirective):
+    has_content = False
+    required_arguments = 1
+
+    def run(self) -> list[nodes.Node]:
+        container = nodes.container()
+        text = columns_markdown(self.arguments[0])
+        self.state.nested_parse(StringList(text.splitlines(), source="<generated>"), self.content_offset, container)
+        return list(container.children)
+
+
 def setup(app: Sphinx) -> dict[str, Any]:
     app.add_directive("navcli-cli", CliDirective)
     app.add_directive("navcli-params", ParamsDirective)
     app.add_directive("navcli-references", ReferencesDirective)
+    app.add_directive("navcli-columns", ColumnsDirective)
     return {"parallel_read_safe": True, "parallel_write_safe": True}

@@ -205,9 +205,20 @@ ARGUMENTS = {
 
 @checked(ARGUMENTS, "navcli.analysis")
 def read_log(path: str | Path, topics: Iterable[str] | None = None) -> RunLog:
-    """Read ``path`` into a :class:`RunLog` (only ``topics`` if given). A file that is no whole
-    MCAP file (:func:`whole_mcap`), has a navcli topic of another schema (:func:`check_channel`)
-    or a summary without one of its fields is refused with :class:`LogError` saying so."""
+    """Read a run's log.
+
+    Args:
+        path: the log's path (an MCAP file navcli wrote).
+        topics: read only these topics (``/robot/pose`` ...; the summary always); None: all.
+
+    Returns:
+        The log: a DataFrame per topic (columns as docs/log-format.md gives each topic's fields),
+        its summary, its configuration and metadata.
+
+    Raises:
+        LogError: a file that is no whole MCAP file (:func:`whole_mcap`), has a navcli topic of
+            another schema (:func:`check_channel`) or a summary without one of its fields.
+    """
     path = whole_mcap(regular(Path(path)))
     rows: dict[str, list[dict]] = {}
     metadata: dict[str, dict[str, str]] = {}
@@ -305,7 +316,14 @@ def scene_messages(path: str | Path, topic: str, decode: bool = True):
 
 @checked(ARGUMENTS, "navcli.analysis")
 def path_length(poses: pd.DataFrame) -> float:
-    """Length in metres of the polyline through ``x``, ``y`` of a pose DataFrame."""
+    """The length of a path.
+
+    Args:
+        poses: a pose DataFrame (``/robot/pose``'s): its ``x``, ``y`` columns (m), in order.
+
+    Returns:
+        The length of the polyline through them (m).
+    """
     dx, dy = poses["x"].diff().fillna(0.0), poses["y"].diff().fillna(0.0)
     return float((dx * dx + dy * dy).pow(0.5).sum())
 

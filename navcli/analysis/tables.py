@@ -34,6 +34,7 @@ import numpy as np
 import pandas as pd
 
 from ..log.format import POSE_TOPIC
+from .columns import IMPROVEMENTS, PILOT_TABLE
 from .files import write_csv, write_markdown
 from .logs import LogError, config_columns, path_length, read_log, require
 from .stats import MIN_SAMPLE, RESAMPLES, small_sample, wilson_interval
@@ -54,14 +55,24 @@ def load_runs(
     paths: list[str | Path] | None = None,
     skipped: list[tuple[str, str]] | None = None,
 ) -> pd.DataFrame:
-    """One row per ``.mcap`` under ``logdir`` (recursively), or per file of ``paths``: the
-    summary, the run's configuration (scenario sha256, perception, time limit and every
-    parameter as ``params.<group>.<name>`` columns, so runs can be grouped by them), plus the path
-    length and time recomputed from ``/robot/pose``, whose x, y are kept in ``xy`` for plots.
+    """The runs of a folder of logs, or of the logs given, each checked against its poses.
 
-    A log that cannot be read, has no summary, or whose summary disagrees with its poses raises
-    :class:`LogError` naming it, or, if ``skipped`` is a list, is appended to it as (path, why)
-    and left out. The same run (run id) found twice raises :class:`LogError` naming both files."""
+    Args:
+        logdir: a folder: every ``.mcap`` under it, recursively.
+        paths: the logs to read, in place of ``logdir``.
+        skipped: if a list, a log that cannot be counted is appended to it as (path, why) and
+            left out, rather than refused.
+
+    Returns:
+        One row per log: the columns of :data:`navcli.analysis.columns.RUN` and
+        :data:`~navcli.analysis.columns.RUN_FROM_LOGS`, every parameter as a ``params.<group>.<name>``
+        column (so runs can be grouped by them), and the poses' x, y in ``xy``, for plots.
+
+    Raises:
+        LogError: a log that cannot be read, has no summary, or whose summary disagrees with its
+            poses (unless ``skipped`` is given); the same run (run id) found twice, naming both
+            files.
+    """
     rows = []
     seen: dict[str, str] = {}
     files = [Path(p) for p in paths] if paths is not None else sorted(Path(logdir or ".").rglob("*.mcap"))
@@ -255,7 +266,14 @@ def pilot_table(runs: pd.DataFrame) -> pd.DataFrame:
     95 % interval; the mean and standard deviation over the *reached* runs of time, path length
     (cm, as the paper prints it), collisions and camera looks; and, so that failures are not
     hidden by leaving them out, the mean time with every failed run counted at its time limit
-    (``time_fail_at_limit_mean``)."""
+    (``time_fail_at_limit_mean``).
+
+    Args:
+        runs: one row per run (:func:`load_runs`, ``navcli.compare``).
+
+    Returns:
+        One row per condition and pilot, the columns of :data:`navcli.analysis.columns.PILOT_TABLE`.
+    """
     out = []
     runs = _conditions(runs)
     for (condition, pilot), g_all in runs.groupby(["condition", "pilot"], sort=True):
@@ -291,14 +309,24 @@ def pilot_table(runs: pd.DataFrame) -> pd.DataFrame:
             row[f"diverting_{k}"] = int((g["diverting_targets"] == k).sum())
         row["diverting_3_or_more"] = int((g["diverting_targets"] >= 3).sum())
         out.append(row)
-    return pd.DataFrame(out)
+    return pd.DataFrame(out, columns=list(PILOT_TABLE))
 
 
 def improvements(runs: pd.DataFrame, baseline: str, once: bool = False) -> pd.DataFrame:
     """Per condition, pilot (other than ``baseline``) and metric: the paired improvement over the
     baseline in %, its bootstrap 95 % CI, the permutation p-value, and the number of pairs.
-    ``once``: identical pairs (both runs alike in :data:`IDENTITY` at two seeds) count as one pair,
-    as a verdict counts them."""
+    Statistics as the module docstring says.
+
+    Args:
+        runs: one row per run (:func:`load_runs`, ``navcli.compare``).
+        baseline: the pilot the others are compared with.
+        once: identical pairs (both runs alike in :data:`IDENTITY` at two seeds) count as one
+            pair, as a verdict counts them.
+
+    Returns:
+        One row per condition, pilot and metric (``time_s``, ``path_cm``), the columns of
+        :data:`navcli.analysis.columns.IMPROVEMENTS`.
+    """
     out = []
     for condition, g in _conditions(runs).groupby("condition", sort=True):
         base = g[(g["pilot"] == baseline) & g["reached"]].set_index("seed")
@@ -326,20 +354,7 @@ def improvements(runs: pd.DataFrame, baseline: str, once: bool = False) -> pd.Da
                         "p_value": pval,
                     }
                 )
-    return pd.DataFrame(
-        out,
-        columns=[
-            "condition",
-            "pilot",
-            "baseline",
-            "metric",
-            "pairs",
-            "improvement_pct",
-            "ci95_low",
-            "ci95_high",
-            "p_value",
-        ],
-    )
+    return pd.DataFrame(out, columns=list(IMPROVEMENTS))
 
 
 def notes(

@@ -168,8 +168,15 @@ COMMON: dict[str, Check] = {
 def checked(table: Mapping[str, Check], where: str = "navcli") -> Callable[[F], F]:
     """A decorator: every argument a call gives the function is checked by the check ``table``
     holds under its name, before the function runs. A function with an argument the table lacks
-    is refused when it is decorated, so no public argument goes unchecked. ``where``: the module
-    the function is public in, for messages."""
+    is refused when it is decorated, so no public argument goes unchecked.
+
+    Args:
+        table: the check of each argument, by its name.
+        where: the module the function is public in, for messages.
+
+    Returns:
+        The decorator; the function it returns raises :class:`ArgumentError` on a wrong argument.
+    """
 
     def decorate(fn: F) -> F:
         signature = inspect.signature(fn)

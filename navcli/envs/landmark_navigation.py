@@ -35,10 +35,18 @@ RENDER_FPS = 4
 
 
 class LandmarkNavigationEnv(gym.Env):
-    """See the module docstring. ``scenario``: a scenario file or a bundled scenario's name
-    (default: the paper's room, landmarks-12) or a :class:`RunSpec`; ``overrides``: dotted
-    parameters (``learning.max_actions``); ``render_mode``: None or ``"rgb_array"``; ``dpi``: the
-    frames' pixels per inch (5 x 6.4 inches)."""
+    """The learning-agent paper's task (see the module docstring).
+
+    Args:
+        scenario: a scenario file, a bundled scenario's name (default: the paper's room,
+            landmarks-12) or a :class:`RunSpec`.
+        overrides: parameters by their dotted names (``{"learning.max_actions": 100}``).
+        render_mode: None or ``"rgb_array"``.
+        dpi: the frames' pixels per inch (a frame is 5 x 6.4 inches).
+
+    Raises:
+        ValueError: a render mode other than those.
+    """
 
     metadata = {"render_modes": ["rgb_array"], "render_fps": RENDER_FPS}
 
@@ -69,6 +77,16 @@ class LandmarkNavigationEnv(gym.Env):
             self.task.observers.append(lambda mission, tick: self._trace.tick(tick) if self._trace else None)
 
     def reset(self, *, seed: int | None = None, options: dict | None = None):
+        """Start a trial from a start drawn by the environment's generator.
+
+        Args:
+            seed: seeds the environment's generator (None: keep drawing from it).
+            options: unused (Gymnasium's signature).
+
+        Returns:
+            The first observation (the belief state, an ``int`` below 980) and an info dict whose
+            ``start`` is the start drawn, ``(x, y, heading)`` (m, m, rad).
+        """
         super().reset(seed=seed)
         start = random_starts(self.run_spec, 1, int(self.np_random.integers(2**31)))[0]
         if self.render_mode is not None:
@@ -78,6 +96,20 @@ class LandmarkNavigationEnv(gym.Env):
         return int(state), {"start": (start.x, start.y, start.heading)}
 
     def step(self, action):
+        """Carry out one action of the Learning Agent (its motion and its look, for one action's time).
+
+        Args:
+            action: its index in ``MB, MLL, MOT, MVL, MVT`` (:data:`navcli.learning.actions.ACTIONS`).
+
+        Returns:
+            The observation (the belief state), the reward (section 5.3's), ``terminated`` (the
+            trial reached an end state: the target, or blocked), ``truncated`` (cut after
+            ``max_actions`` actions or at the time limit) and an info dict whose ``outcome`` is
+            the task's outcome (None while the trial goes on).
+
+        Raises:
+            ValueError: an action outside the action space.
+        """
         if not self.action_space.contains(int(action)):
             raise ValueError(f"action {action!r} is not one of {len(ACTIONS)}")
         state, reward, reached, ended = self.task.step(int(action))
@@ -88,7 +120,11 @@ class LandmarkNavigationEnv(gym.Env):
         return (int(state), float(reward), terminated, bool(ended and not terminated), {"outcome": self.task.outcome})
 
     def render(self) -> np.ndarray | None:
-        """The trial now, as ``navcli render`` draws it (module docstring); None without a render mode."""
+        """The trial now, as ``navcli render`` draws it (module docstring).
+
+        Returns:
+            The frame, height x width x 3 bytes; None without a render mode.
+        """
         if self.render_mode is None:
             gym.logger.warn("render() without a render_mode: make the environment with render_mode='rgb_array'")
             return None
@@ -107,6 +143,7 @@ class LandmarkNavigationEnv(gym.Env):
         return trace.draw(self._figure, mission)
 
     def close(self) -> None:
+        """Close the trial's mission and its figure."""
         self._close_figure()
         self.task.close()
         super().close()

@@ -19,14 +19,20 @@ if TYPE_CHECKING:
 class Situation(NamedTuple):
     """The Navigation agents' input (they see nothing else).
 
-    ``target`` is the current target's best estimate (egocentric fuzzy point: the original
-    target, or the middle of a diverting line) and ``target_source`` where it came from
-    (``memory``, ``map:ABC/D``); ``target_line`` the line to cross (a diverting target, or a
-    line target); ``I_a`` the target's heading imprecision (Target Tracker, eq. 6 of the thesis);
-    ``landmarks`` the known landmarks (egocentric fuzzy points); ``quality_ahead`` and
-    ``quality_around`` the Map Manager's ``q_S`` of those ahead and of all.
-
     Built every tick, twice while diverting (a NamedTuple: docs/design.md, "Values made every tick").
+
+    Attributes:
+        beliefs: what the robot believes this tick (:class:`~navcli.beliefs.Beliefs`).
+        target: the current target's best estimate (an egocentric fuzzy point, m: the original
+            target, or the middle of a diverting line), or None when it is not known.
+        target_line: the line to cross (a diverting target, or a line target: two egocentric
+            points, m), or None.
+        target_source: where ``target`` came from (``memory``, ``map:ABC/D``).
+        I_a: the target's heading imprecision, in [0, 1] (Target Tracker, eq. 6 of the thesis).
+        landmarks: the known landmarks by id (egocentric fuzzy points, m).
+        ahead: the ids of the landmarks ahead.
+        quality_ahead: the Map Manager's ``q_S`` of the landmarks ahead, in [0, 1].
+        quality_around: the Map Manager's ``q_S`` of all the known landmarks, in [0, 1].
     """
 
     beliefs: Beliefs
@@ -64,19 +70,32 @@ class Agent(Protocol):
     def name(self) -> str:  # read-only: a frozen dataclass's field, or a class attribute
         ...
 
-    def bid(self, s: Situation) -> list[Bid]: ...
+    def bid(self, s: Situation) -> list[Bid]:
+        """The agent's bids this tick.
+
+        Args:
+            s: what the agent knows this tick.
+
+        Returns:
+            Its bids, each a :class:`~navcli.bidding.Bid` under the agent's ``name``, for the
+            wheels (a :class:`~navcli.bidding.Move`) or the camera (a
+            :class:`~navcli.bidding.Look`); an empty list bids for nothing.
+        """
+        ...
 
 
 class AgentSetup(NamedTuple):
     """What a Navigation agent given by a plugin (``--navigation NAME``, or ``agents+NAME`` beside
     navcli's bidding agents) is made with: ``cls(setup)``.
 
-    ``params`` holds every parameter of the run (``params.robot.max_speed`` ...); ``own_params``
-    the agent's own set (its class's ``Params``, with the run's overrides), or None; ``pan_limit``
-    how far the camera pans either side of ahead (rad); ``target_key`` how the visual memory names
-    the target (``target``, or a landmark's id); ``rng`` the run's generator for plugins (seeded
-    from the run's seed: draw from it, never from a global generator, so the same seed gives the
-    same run)."""
+    Attributes:
+        params: every parameter of the run (``params.robot.max_speed`` ...).
+        own_params: the agent's own set (its class's ``Params``, with the run's overrides), or None.
+        pan_limit: how far the camera pans either side of ahead (rad).
+        target_key: how the visual memory names the target (``target``, or a landmark's id).
+        rng: the run's generator for plugins (seeded from the run's seed: draw from it, never
+            from a global generator, so the same seed gives the same run).
+    """
 
     params: Params
     own_params: ParamSet | None

@@ -668,31 +668,68 @@ class Params:
     GROUPS = ("robot", "pilot", "navigation", "vision", "learning")
 
     def sets(self) -> dict[str, ParamSet]:
-        """Every parameter set by its name: navcli's five, then the plugins'."""
+        """Every parameter set by its name.
+
+        Returns:
+            navcli's five sets, then the plugins', by their names (``pilot``, ``vfh``).
+        """
         return {g: getattr(self, g) for g in self.GROUPS} | dict(self.plugins)
 
     def to_json(self) -> dict[str, dict[str, Any]]:
-        """navcli's five sets, ``{"pilot": {"K": 18.0, ...}, ...}``: plain JSON values (tuples as
-        lists). A plugin's set is written with its plugin (:meth:`navcli.config.RunSpec.to_json`)."""
+        """navcli's five sets as plain JSON values. A plugin's set is written with its plugin
+        (:meth:`navcli.config.RunSpec.to_json`).
+
+        Returns:
+            ``{"pilot": {"K": 18.0, ...}, ...}``, tuples as lists.
+        """
         return {g: getattr(self, g).to_json() for g in self.GROUPS}
 
     @classmethod
     def from_json(cls, d: Mapping[str, Mapping[str, Any]]) -> Params:
-        """The inverse of :meth:`to_json` (unknown names refused, as for overrides)."""
+        """The inverse of :meth:`to_json`.
+
+        Args:
+            d: navcli's sets as :meth:`to_json` writes them.
+
+        Returns:
+            The parameters.
+
+        Raises:
+            ParamError: an unknown name, or a value its declaration refuses, as for overrides.
+        """
         return cls().override({f"{g}.{k}": v for g, block in d.items() for k, v in block.items()})
 
     def flat(self) -> dict[str, Any]:
-        """Every parameter by its dotted name (plugins' too)."""
+        """Every parameter by its dotted name.
+
+        Returns:
+            ``{"pilot.K": 18.0, ...}``, plugins' parameters too.
+        """
         return {f"{g}.{k}": v for g, s in self.sets().items() for k, v in s.to_json().items()}
 
     def declarations(self) -> Iterator[tuple[str, Declared, Any]]:
-        """(dotted name, declaration, value) of every parameter, navcli's then the plugins'."""
+        """Every parameter with its declaration.
+
+        Yields:
+            (dotted name, declaration, value) of each parameter, navcli's then the plugins'.
+        """
         for g, s in self.sets().items():
             for k, d, _ in s.declarations():
                 yield f"{g}.{k}", d, getattr(s, k)
 
     def with_plugin(self, name: str, values: ParamSet) -> Params:
-        """A copy holding ``values`` as the parameter set of the plugin ``name`` (replacing any)."""
+        """A copy holding a plugin's parameter set (replacing any it held).
+
+        Args:
+            name: the plugin's name, which its parameters go by (``vfh`` in ``vfh.tau_high``).
+            values: its parameter set.
+
+        Returns:
+            The copy.
+
+        Raises:
+            ParamError: a name that is one of navcli's sets', holds a dot, or is empty.
+        """
         if name in self.GROUPS or "." in name or not name:
             raise ParamError(
                 f"{name!r} cannot name a plugin's parameters (navcli's own sets: {', '.join(self.GROUPS)})"
@@ -701,11 +738,29 @@ class Params:
         return dataclasses.replace(self, plugins=tuple(sorted(rest + ((name, values),), key=lambda p: p[0])))
 
     def plugin(self, name: str) -> ParamSet | None:
-        """The parameter set of the plugin ``name``, if this run holds one."""
+        """A plugin's parameter set.
+
+        Args:
+            name: the plugin's name, which its parameters go by.
+
+        Returns:
+            Its set, or None if these parameters hold none.
+        """
         return dict(self.plugins).get(name)
 
     def override(self, changes: Mapping[str, Any]) -> Params:
-        """A copy with ``changes`` (dotted name -> value) applied; raises :class:`ParamError`."""
+        """A copy with some parameters changed, each checked against its declaration.
+
+        Args:
+            changes: the new values by their dotted names (``{"pilot.K": 30}``).
+
+        Returns:
+            The copy.
+
+        Raises:
+            ParamError: an unknown name (with the nearest known one), or a value its declaration
+                refuses.
+        """
         sets = self.sets()
         groups: dict[str, dict[str, Any]] = {}
         for name, value in changes.items():

@@ -187,12 +187,26 @@ def param(
     choices: tuple[str, ...] = (),
     course: bool = True,
 ) -> Any:
-    """A parameter field of a :class:`ParamSet`: its default, unit (``""`` for a pure number) and
-    description, and for a number its range (at least 0 unless said otherwise; ``above`` replaces
-    that lower bound, ``at_least=None`` removes it); a word's ``choices``. A default outside its
-    own range is a mistake of the declaration, refused when the class is made. ``course=False``
-    marks a guard that never changes what a run does (a limit on wall-clock time): the run's id
-    leaves it out, so two runs that differ in it alone are one run."""
+    """A parameter field of a :class:`ParamSet`. A default outside its own range is a mistake of
+    the declaration, refused when the class is made.
+
+    Args:
+        default: its default value: a number (``float`` or ``int``), a switch (``bool``), a word
+            (``str``, with ``choices``) or a tuple of numbers.
+        unit: its unit (``"m"``, ``"deg"``, ``"s"``; ``""`` for a pure number).
+        description: what it does, in a phrase (``navcli params`` prints it).
+        at_least: a number's lowest value (0 unless said otherwise; None: no lower bound).
+        above: a lower bound the value must exceed, in place of ``at_least``.
+        at_most: its highest value.
+        below: an upper bound the value must stay under.
+        intervals: a tuple of numbers is a fixed count of increasing bounds (a set of intervals).
+        choices: a word's allowed values.
+        course: False marks a guard that never changes what a run does (a limit on wall-clock
+            time): the run's id leaves it out, so two runs that differ in it alone are one run.
+
+    Returns:
+        The dataclass field that declares it.
+    """
     if isinstance(default, str) and choices:
         kind: Kind = "choice"
     elif isinstance(default, bool):
@@ -255,19 +269,37 @@ class ParamSet:
 
     @classmethod
     def declarations(cls) -> Iterator[tuple[str, Declared, Any]]:
-        """(name, declaration, default) of every parameter of the set, in declaration order."""
+        """Every parameter of the set.
+
+        Yields:
+            (name, declaration, default) of each parameter, in declaration order.
+        """
         for f in dataclasses.fields(cls):
             yield f.name, f.metadata[DECLARED], f.default
 
     def to_json(self) -> dict[str, Any]:
-        """``{"K": 18.0, ...}``: plain JSON values (tuples as lists)."""
+        """The set as plain JSON values.
+
+        Returns:
+            Each parameter's value by its name (``{"K": 18.0, ...}``), tuples as lists.
+        """
         return {
             f.name: list(v) if isinstance(v := getattr(self, f.name), tuple) else v for f in dataclasses.fields(self)
         }
 
     def changed(self, name: str, values: Mapping[str, Any]) -> ParamSet:
-        """A copy with ``values`` (parameter -> value) checked and set; ``name`` is the set's
-        name in messages (``pilot``)."""
+        """A copy with some values changed, each checked against its declaration.
+
+        Args:
+            name: the set's name in messages (``pilot``).
+            values: the new values by their parameters' names (``{"K": 30.0}``).
+
+        Returns:
+            The copy.
+
+        Raises:
+            ParamError: an unknown parameter, or a value its declaration refuses.
+        """
         fields = {f.name: f.metadata[DECLARED] for f in dataclasses.fields(self)}
         out = {}
         for key, value in values.items():

@@ -55,7 +55,18 @@ from ..params import CONTROL_DT, PILOT, ROBOT, ParamSet, PilotParams, RobotParam
 
 @dataclass(frozen=True)
 class Avoidance:
-    """An avoidance strategy's proposal: the move, its bid, and the quantities that explain it."""
+    """An avoidance strategy's proposal: the move, its bid, and the quantities that explain it
+    (what :meth:`Pilot.avoid` returns).
+
+    Attributes:
+        move: the move it proposes (heading in rad, speed in m/s, at most the pilot's
+            ``max_speed``), or None for none: the Navigation system's request is carried out.
+        bid: its bid for the wheels, in [0, ``params.bid_cap``]; 0 offers nothing, as None does.
+        info: the quantities behind it, logged on ``/pilot`` each tick: keys among ``/pilot``'s
+            fields (navcli's and the class's ``Info``'s), each value of its field's type, a number
+            a finite ``float`` or ``int`` (a numpy scalar is not one: ``float(x)`` makes one).
+        arrows: force vectors drawn in ``/robot/scene``, egocentric: ``(name, fx, fy)``.
+    """
 
     move: Move | None
     bid: float
@@ -96,10 +107,28 @@ MAX_STALL_WINDOW_S = 30.0  # s: the stall watch's longest window (0.6 m takes 60
 class Pilot:
     """Shared pilot machinery (see the module docstring); ``avoid`` proposes nothing here.
 
-    A pilot of one's own subclasses this and implements :meth:`avoid` (see ``navcli.plugins``):
-    it is made with navcli's pilot and robot parameters, ``own_params`` (an instance of its class's
-    ``Params``, a :class:`~navcli.params.ParamSet`, with the run's overrides; None without one) and
-    ``rng`` (the run's generator for plugins: draw from it, never from a global one)."""
+    A pilot of one's own subclasses this and implements :meth:`avoid` (the tutorial "Your own
+    pilot" builds one); navcli makes it with the run's parameters, and it keeps them as
+    attributes it may read in :meth:`avoid`.
+
+    Args:
+        params: navcli's pilot parameters (``pilot.*``).
+        robot: the robot's parameters (``robot.*``).
+        own_params: an instance of the class's ``Params`` with the run's overrides; None without one.
+        rng: the run's generator for plugins, seeded from the run's seed.
+
+    Attributes:
+        params: navcli's pilot parameters (``pilot.*`` in the parameters' reference), such as
+            ``params.bid_cap``, the highest bid a pilot's move may have (0.9, eq. 9).
+        robot: the robot's parameters (``robot.*``): ``robot.radius`` (m), ``robot.max_speed``
+            (m/s) ...
+        max_speed: the fastest a move may drive (m/s): ``robot.max_speed``.
+        own_params: the plugin's own parameters (an instance of its class's ``Params``, a
+            :class:`~navcli.params.ParamSet`, with the run's overrides: ``--param NAME.x=...``),
+            or None without a ``Params``.
+        rng: the run's generator for plugins: draw from it, never from a global one, so that the
+            same seed gives the same run (None outside a run).
+    """
 
     name = "pilot"  # the system's name; its bids go by BIDDER, whatever a subclass sets here
     Params: ClassVar[type[ParamSet] | None] = None
@@ -149,15 +178,22 @@ class Pilot:
 
     # -- to be provided by the strategies
     def avoid(self, beliefs: Beliefs, obstacles: tuple[KnownObstacle, ...], request: Move | None) -> Avoidance:
-        """The strategy's own move this tick (outside reflexes): ``beliefs`` (egocentric: x ahead,
-        y to the left; ``beliefs.target`` the current target, a diverting one while the Rescuer
-        holds one), the ``obstacles`` the robot knows (its visual memory, bumped ones included) and
-        the Navigation system's motion ``request`` (or None). Returns an :class:`Avoidance`: a
-        :class:`~navcli.bidding.Move` (heading in rad, speed at most ``self.max_speed``) with a bid
-        in [0, ``params.bid_cap``] (0 or no move: the request is carried out, when safe), and
-        ``info``, the quantities behind it for ``/pilot`` (its fields, or the class's ``Info``'s),
-        every number a finite ``float`` or ``int``. A plugin's is called through
-        :mod:`navcli.plugins.boundary`, which checks all this. Here: nothing."""
+        """The strategy's own move this tick (outside reflexes); here, none. A plugin's is called
+        through :mod:`navcli.plugins.boundary`, which checks what it returns.
+
+        Args:
+            beliefs: what the robot believes (egocentric: x ahead, y to the left); ``beliefs.target``
+                is the current target, a diverting one while the Rescuer holds one.
+            obstacles: the obstacles the robot knows (its visual memory, bumped ones included):
+                ``beliefs.obstacles``.
+            request: the Navigation system's motion request, or None.
+
+        Returns:
+            The proposal: a :class:`~navcli.bidding.Move` (heading in rad, speed at most
+            :attr:`max_speed`) with a bid in [0, ``params.bid_cap``] (0 or no move: the request is
+            carried out, when it is safe), and ``info``, the quantities behind it for ``/pilot``
+            (its fields, or the class's ``Info``'s), every number a finite ``float`` or ``int``.
+        """
         return Avoidance(None, 0.0, {})
 
     # -- per tick
@@ -213,7 +249,11 @@ class Pilot:
         return None
 
     def look_bid(self) -> float:
-        """Eq. 1: ``(d_l / d_m) ** s``, never above ``look_cap``; 0 without ``looks``."""
+        """Eq. 1: ``(d_l / d_m) ** s``, never above ``look_cap``; 0 without ``looks``.
+
+        Returns:
+            The Pilot's bid for a look ahead, in [0, ``look_cap``].
+        """
         p = self.params
         if not p.looks:
             return 0.0
@@ -340,7 +380,14 @@ class Pilot:
         Section 3.5: a turn larger than ``backward_turn`` is driven backwards, turning the
         complement, while the total distance commanded backwards this way stays under
         ``max_backward`` (the paper's "total distance covered backwards"; counted as commanded, so
-        pushing blind against something spends it too)."""
+        pushing blind against something spends it too).
+
+        Args:
+            winner: the bid that won the wheels, the Pilot's or the Navigation system's (None: no bid).
+
+        Returns:
+            The wheel command: forward speed (m/s) and turn rate (rad/s).
+        """
         v, omega = 0.0, 0.0
         if winner is not None and isinstance(winner.action, Move):
             move = winner.action
@@ -422,7 +469,16 @@ class Pilot:
         distance) is replaced by the Pilot's own move, if ``instead`` and it has one and that one
         drives, else by the nearest heading whose path is clear (:meth:`_nearest_safe`), else
         turned on the spot; any move of its own turning more than ``turn_in_place`` whose arc is
-        not clear is turned on the spot."""
+        not clear is turned on the spot.
+
+        Args:
+            move: the move to carry out.
+            requested: the move is the Navigation system's (checked with the stopping distance).
+            instead: an unsafe requested move may be replaced by the Pilot's own move.
+
+        Returns:
+            The wheel command: forward speed (m/s) and turn rate (rad/s).
+        """
         err = move.heading
         v, omega = self._servo(err, move.speed)
         check = self.params.safe_execution and (abs(err) > self.params.turn_in_place or requested)

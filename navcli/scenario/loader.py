@@ -52,8 +52,18 @@ ARGUMENTS = {"path": path, "text": _words, "source": text}
 
 @checked(ARGUMENTS)
 def load_scenario(path: str | Path) -> Scenario:
-    """Read and validate a scenario file, or the bundled scenario of that name (a file wins over a
-    name: :mod:`~navcli.scenario.bundled`); raise :class:`ScenarioError` on any refusal."""
+    """Read and validate a scenario.
+
+    Args:
+        path: a scenario file, or the name of a bundled scenario (a file wins over a name:
+            :mod:`~navcli.scenario.bundled`).
+
+    Returns:
+        The scenario.
+
+    Raises:
+        ScenarioError: every problem found, each with its place in the file.
+    """
     file = bundled.resolve(path)
     if not (file.exists() or file.is_symlink()):
         raise ScenarioError([Problem(str(path), None, "", bundled.not_found(path))])
@@ -62,7 +72,18 @@ def load_scenario(path: str | Path) -> Scenario:
 
 @checked(ARGUMENTS)
 def parse_scenario(text: str, source: str = "<string>") -> Scenario:
-    """Validate YAML text as a scenario (``source`` names it in messages)."""
+    """Validate YAML text as a scenario.
+
+    Args:
+        text: the scenario's YAML.
+        source: what names it in messages (a file's path).
+
+    Returns:
+        The scenario.
+
+    Raises:
+        ScenarioError: every problem found, each with its place in the text.
+    """
     data, lines = parse_yaml(text, source)
     return ScenarioReader(source, lines).scenario(data, text)
 
