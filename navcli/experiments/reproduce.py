@@ -584,27 +584,7 @@ def reproduce(
 
     source = provenance.record(command_line(which, out, settings, jobs, scheduler, pilots))
     source["dir"] = str(Path(out).resolve())
-    report = Report()
-    report.heading("navcli reproduce: both papers' experiments beside their numbers", 1)
-    report.text(provenance.describe(source))
-    if settings.quick:
-        report.text(
-            "QUICK RUN (--quick): few reruns, to check the machinery; the intervals are wide and the "
-            "verdicts are not the reproduction's. Run without --quick for the papers' sizes."
-        )
-    if not settings.quick and settings.train_seeds != FULL.train_seeds:
-        report.text(
-            f"Figure 3 from {settings.train_seeds} training(s) (--train-seeds), where the full reproduction "
-            f"runs {FULL.train_seeds}."
-        )
-    report.text(
-        f"navcli {__version__}; settings: {json.dumps(asdict(settings))}. A paper's number agrees when "
-        "navcli's 95 % interval of the same quantity meets the paper's own range of it: the mean ± 1 SD of "
-        "its runs where it gives an SD, the 95 % interval its Table 1 gives a gain, the Wilson interval of a "
-        "count, else the number itself. No verdict where the paper has no number; none either from fewer "
-        f"than {MIN_SAMPLE} runs (pairs, starts): too few to judge (identical reruns count as one), nor on a "
-        "set that holds a run that ended in error."
-    )
+    report = _introduced(source, settings)
     durations = []
     t_all, cpu_here, cpu_workers = time.perf_counter(), time.process_time(), _children_cpu()
     with executor(jobs, scheduler) as ex:
@@ -645,20 +625,7 @@ def reproduce(
             durations.append([name, f"{time.perf_counter() - t0:.0f} s"])
     wall = time.perf_counter() - t_all
     here, workers = time.process_time() - cpu_here, _children_cpu() - cpu_workers
-    report.heading("How long it took")
-    report.text(
-        f"{jobs} worker(s){' on ' + scheduler if scheduler else ''}. Each section from its start to its end "
-        "in this process; Figure 3's trainings, the longest runs, start before every other section and run "
-        "beside them, so its row is only what was left of them."
-    )
-    report.table(["section", "wall time"], durations + [["all", f"{wall:.0f} s"]])
-    if workers > 0:  # local workers (a cluster's CPU is not seen from here)
-        serial = here / (here + workers)
-        report.text(
-            f"CPU: {here:.0f} s in this process (planning, reading logs, tables, figures: the serial "
-            f"part), {workers:.0f} s in the workers; serial share {serial:.1%}, so by Amdahl's law no "
-            f"number of workers makes this reproduction more than {1 / serial:.0f}x faster than one."
-        )
+    _say_durations(report, durations + [["all", f"{wall:.0f} s"]], jobs, scheduler, here, workers)
     _say_errors(report)
     source["errored_runs"] = report.error_count
     files = dict(zip(("markdown", "html", "source"), (out / f for f in REPORT_FILES)))
@@ -666,6 +633,56 @@ def reproduce(
     write_text(files["html"], report.html())
     write_text(files["source"], json.dumps(source, indent=1) + "\n")
     return files
+
+
+def _introduced(source: dict[str, Any], settings: Settings) -> Report:
+    """A new report that opens with its provenance, what a quick or a smaller run leaves out, and how
+    a paper's number is judged."""
+    from . import provenance
+
+    report = Report()
+    report.heading("navcli reproduce: both papers' experiments beside their numbers", 1)
+    report.text(provenance.describe(source))
+    if settings.quick:
+        report.text(
+            "QUICK RUN (--quick): few reruns, to check the machinery; the intervals are wide and the "
+            "verdicts are not the reproduction's. Run without --quick for the papers' sizes."
+        )
+    if not settings.quick and settings.train_seeds != FULL.train_seeds:
+        report.text(
+            f"Figure 3 from {settings.train_seeds} training(s) (--train-seeds), where the full reproduction "
+            f"runs {FULL.train_seeds}."
+        )
+    report.text(
+        f"navcli {__version__}; settings: {json.dumps(asdict(settings))}. A paper's number agrees when "
+        "navcli's 95 % interval of the same quantity meets the paper's own range of it: the mean ± 1 SD of "
+        "its runs where it gives an SD, the 95 % interval its Table 1 gives a gain, the Wilson interval of a "
+        "count, else the number itself. No verdict where the paper has no number; none either from fewer "
+        f"than {MIN_SAMPLE} runs (pairs, starts): too few to judge (identical reruns count as one), nor on a "
+        "set that holds a run that ended in error."
+    )
+    return report
+
+
+def _say_durations(
+    report: Report, durations: list[list[str]], jobs: int, scheduler: str | None, here: float, workers: float
+) -> None:
+    """The report's "How long it took": each section's wall time, and the serial share of the CPU time
+    (``here`` in this process, ``workers`` in local workers) with the speed-up it bounds."""
+    report.heading("How long it took")
+    report.text(
+        f"{jobs} worker(s){' on ' + scheduler if scheduler else ''}. Each section from its start to its end "
+        "in this process; Figure 3's trainings, the longest runs, start before every other section and run "
+        "beside them, so its row is only what was left of them."
+    )
+    report.table(["section", "wall time"], durations)
+    if workers > 0:  # local workers (a cluster's CPU is not seen from here)
+        serial = here / (here + workers)
+        report.text(
+            f"CPU: {here:.0f} s in this process (planning, reading logs, tables, figures: the serial "
+            f"part), {workers:.0f} s in the workers; serial share {serial:.1%}, so by Amdahl's law no "
+            f"number of workers makes this reproduction more than {1 / serial:.0f}x faster than one."
+        )
 
 
 def _say_errors(report: Report) -> None:
