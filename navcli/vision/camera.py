@@ -140,24 +140,8 @@ class Camera:
         :func:`navcli.geometry.crosses_sight`, inlined, to the last bit."""
         ex, ey, theta, pan = pose.x, pose.y, pose.theta, self.pan
         rng, half = self.spec.range, self.spec.fov / 2
-        axis = theta + pan
-        discs = []  # key, offset of the centre from the eye, centre, r^2
-        for key, (cx, cy), r in self._points:
-            d = math.hypot(cx - ex, cy - ey)
-            if d - r > rng:
-                continue
-            if d > r and abs(wrap_angle(math.atan2(cy - ey, cx - ex) - axis)) > half + math.asin(r / d):
-                continue
-            discs.append((key, cx - ex, cy - ey, cx, cy, r * r))
-        lines = []  # key, a, b - a, the eye's side of ab, a and b relative to the eye
-        for key, (ax, ay), (bx, by) in self._lines:
-            if distance_to_segment((ex, ey), (ax, ay), (bx, by)) > rng:
-                continue
-            ux, uy = bx - ax, by - ay
-            d1 = ux * (ey - ay) - uy * (ex - ax)
-            if d1 == 0:
-                continue  # the eye on the segment's line: no sight line crosses it properly
-            lines.append((key, ax, ay, ux, uy, d1 > 0, ay - ey, ax - ex, by - ey, bx - ex))
+        discs = self._discs_in_view(ex, ey, theta + pan, rng, half)
+        lines = self._segments_in_range(ex, ey, rng)
         remainder, atan2, hypot = math.remainder, math.atan2, math.hypot
 
         def sees(px: float, py: float, own: str) -> bool:
@@ -185,6 +169,37 @@ class Camera:
             return True
 
         return sees
+
+    def _discs_in_view(
+        self, ex: float, ey: float, axis: float, rng: float, half: float
+    ) -> list[tuple[str, float, float, float, float, float]]:
+        """The discs (landmarks, circles) that reach into the field of view (``axis`` ± ``half``)
+        within ``rng`` of the eye: key, offset of the centre from the eye, centre, r^2."""
+        discs = []
+        for key, (cx, cy), r in self._points:
+            d = math.hypot(cx - ex, cy - ey)
+            if d - r > rng:
+                continue
+            if d > r and abs(wrap_angle(math.atan2(cy - ey, cx - ex) - axis)) > half + math.asin(r / d):
+                continue
+            discs.append((key, cx - ex, cy - ey, cx, cy, r * r))
+        return discs
+
+    def _segments_in_range(
+        self, ex: float, ey: float, rng: float
+    ) -> list[tuple[str, float, float, float, float, bool, float, float, float, float]]:
+        """The segments (obstacles, walls) within ``rng`` of the eye that a sight line can cross:
+        key, a, b - a, the eye's side of ab, a and b relative to the eye."""
+        lines = []
+        for key, (ax, ay), (bx, by) in self._lines:
+            if distance_to_segment((ex, ey), (ax, ay), (bx, by)) > rng:
+                continue
+            ux, uy = bx - ax, by - ay
+            d1 = ux * (ey - ay) - uy * (ex - ax)
+            if d1 == 0:
+                continue  # the eye on the segment's line: no sight line crosses it properly
+            lines.append((key, ax, ay, ux, uy, d1 > 0, ay - ey, ax - ex, by - ey, bx - ex))
+        return lines
 
     # -- the pan unit
     def step(
