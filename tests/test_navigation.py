@@ -29,7 +29,7 @@ CRISP = (0.0, 0.0, 0.0, 0.0)
 CLUSTER = pytest.mark.parametrize("P", list(CLUSTERS.values()), ids=list(CLUSTERS))
 
 
-def situation(
+def situation(  # noqa: PLR0913 (each field of a test's Situation a keyword with its default)
     target=(3.0, 4.0),
     I_a=0.0,
     line=None,
