@@ -37,7 +37,7 @@ radius; ``tests/test_pilots.py`` checks in simulation that the pilot passes just
 stops just below.
 
 The loops are plain Python on purpose: with the dozen obstacles of the paper's rooms a per-obstacle
-loop costs less than numpy's call overhead (see the issue note for the measurement).
+loop costs less than numpy's call overhead.
 """
 
 from __future__ import annotations

@@ -19,7 +19,7 @@ the room's walls, as that object (key ``segment:<key>``, ``wall:<key>``) and mea
 extremities in the image, toward its ends ``a`` and ``b``: each is either that end itself, in
 view (:attr:`Detection.ends` says so), or where the view cuts the obstacle (the field of view's
 edge, the range, something in front), a point of it beyond which it goes on. The memory fuses
-them end by end (:mod:`.visual_memory`). With ``vision.line_objects`` 0 (navcli before) a linear
+them end by end (:mod:`.visual_memory`). With ``vision.line_objects`` 0 a linear
 obstacle is reported, unidentified, by the end points of each stretch of it in view (a point if
 only a sliver shows), and the memory re-joins the pieces by geometry. A wall is reported as a
 ``wall`` (a wall is told apart from the obstacles in the room by its size, and the Pilot treats
@@ -211,7 +211,7 @@ class Camera:
         the true pose; ``known`` the keys the visual memory holds (the routines ask: :mod:`.routines`).
         While panning, the camera follows the winning look, and cancels the pan without an image
         when there is none (module docstring); with ``vision.routines`` 0 a pan, once begun,
-        ends in an image whatever wins meanwhile, as navcli's camera did.
+        ends in an image whatever wins meanwhile.
         """
         self.looked = None
         if self.state == "processing" and time >= self._free_at - 1e-9:
