@@ -303,8 +303,8 @@ class FuzzyPoint(NamedTuple):
         """I(l) (section 5.1) from the 70 % cut: the widths of heading and distance, read off the
         disc directly (what :meth:`heading` and :meth:`distance` give, without building them).
 
-        :meth:`radius` and :func:`_half_angle` are written out, the same operations (our design:
-        read for every remembered point twice a second, and for every landmark weighed)."""
+        :meth:`radius` and :func:`_half_angle` are written out, the same operations, as they
+        are read for every remembered point twice a second, and for every landmark weighed."""
         x, y, radii = self
         r = radii[_CUT_K] + _CUT_T * (radii[_CUT_K + 1] - radii[_CUT_K])  # self.radius(CUT)
         d = math.hypot(x, y)

@@ -10,7 +10,7 @@ Sections (each resumes from what an earlier run of the same command left in its 
   (:func:`traps`, :mod:`~navcli.experiments.trap_rooms`);
 - ``learning``: the learning paper's Table 1 (:func:`policies`) and Figure 3 (:func:`figure3`).
 
-Agreement is decided one way throughout (our design, :func:`verdict`): a paper's number *agrees*
+Agreement is decided one way throughout (:func:`verdict`): a paper's number *agrees*
 when navcli's 95 % interval of the same quantity meets the paper's own range of it, else it *does
 not agree*, and the report says on which side the paper's lies. The paper's range is its spread
 where it gives one, not the zero-width point a deterministic run would be held to: the mean +- 1

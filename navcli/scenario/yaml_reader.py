@@ -49,7 +49,7 @@ class ScenarioError(NavcliError):
 
 
 # --- Loading -------------------------------------------------------------------------------
-# What the loader reads at most, checked before the YAML is built into values (our design: a
+# What the loader reads at most, checked before the YAML is built into values (a
 # scenario is a few kilobytes; these bounds are hundreds of times that, and each keeps a hostile
 # file from costing more than a fraction of a second or a few megabytes).
 MAX_BYTES = 256_000

@@ -132,7 +132,7 @@ class Camera:
         physical object other than ``own`` blocks the line of sight: a disc by its body, strictly
         between eye and point, a segment by crossing it properly)?
 
-        Everything that does not depend on the point is prepared once per image (our design: an
+        Everything that does not depend on the point is prepared once per image (an
         image tests ~180 points): only the objects that can block a line of sight inside the
         field of view and range are kept, so the occlusion tests cost (objects in view) per
         point, not n; their offsets from the eye, and a segment's side of the eye, are computed
@@ -331,7 +331,7 @@ class Camera:
     def in_view(self, pose: Pose, a: Point, b: Point, n: int) -> range:
         """The indices ``k`` of the samples ``a + (b - a) k / n`` that may lie in the field of view:
         those in the wedge of the view widened by ``VIEW_MARGIN`` either side, and one more each
-        end (our design: a wall is sampled ~40 times and the 60-degree view holds a few of them;
+        end (a wall is sampled ~40 times and the 60-degree view holds a few of them;
         the samples left out lie well outside the view, so :meth:`sight` would refuse them
         anyway, and the stretches found are the same). A view of 180 degrees or more is no wedge:
         every sample is kept."""
