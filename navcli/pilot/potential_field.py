@@ -393,7 +393,7 @@ class PotentialFieldPilot(Pilot):
         arrows = [("net", *f.net), ("target", *f.target)]
         for key, fx, fy, mag, facing_it, _ in f.forces:
             # explained to 1e-4 force units (the drawn arrows start at 2): written with all 17 digits, these
-            # per-obstacle forces were 38 % of a log's bytes, 2.2 kB a tick on paper-8x8 (benchmarks/log_size.py)
+            # per-obstacle forces would be 38 % of a log's bytes, 2.2 kB a tick on paper-8x8 (benchmarks/log_size.py)
             per_obstacle[key] = {"x": round(fx, 4), "y": round(fy, 4), "mag": round(mag, 4), "facing": facing_it}
             if facing_it:
                 arrows.append((key, fx, fy))
