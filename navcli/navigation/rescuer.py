@@ -303,7 +303,7 @@ class Rescuer(Scanning):
         why = self._blocked(s, line)
         if why is None:
             return Rescue((), line, tuple(events))
-        if self.params.blocked_ends:  # the learning paper's trials end when the robot is blocked
+        if self.params.blocked_ends:
             return self._end(why, events)
         return self._on_blocked(s, why, events, ask)
 

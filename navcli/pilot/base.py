@@ -121,7 +121,7 @@ class Pilot:
         self.max_speed = robot.max_speed
         self.robot = robot
         self.backup_speed = min(params.backup_speed, robot.max_speed)  # m/s: the reflex backs up at most at full speed
-        # s: a backup phase is given at least twice the time it takes (our design: a slow robot backs up slowly)
+        # s: a slow robot backs up slowly, so its backup phase is given twice the time backing up takes
         self._backup_limit_s = max(params.reflex_phase_limit_s, 2.0 * params.backup_distance / self.backup_speed)
         self.backward = 0.0  # m commanded backwards by section 3.5's backward turns, in total
         self.since_look = 0.0  # d_l of eq. 1, metres
