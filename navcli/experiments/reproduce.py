@@ -584,7 +584,8 @@ def reproduce(
 
     source = provenance.record(command_line(which, out, settings, jobs, scheduler, pilots))
     source["dir"] = str(Path(out).resolve())
-    report = _introduced(source, settings)
+    report = Report()
+    _introduce(report, provenance.describe(source), settings)
     durations = []
     t_all, cpu_here, cpu_workers = time.perf_counter(), time.process_time(), _children_cpu()
     with executor(jobs, scheduler) as ex:
@@ -623,9 +624,8 @@ def reproduce(
             echo(f"reproduce: {name} ...")
             step()
             durations.append([name, f"{time.perf_counter() - t0:.0f} s"])
-    wall = time.perf_counter() - t_all
-    here, workers = time.process_time() - cpu_here, _children_cpu() - cpu_workers
-    _say_durations(report, durations + [["all", f"{wall:.0f} s"]], jobs, scheduler, here, workers)
+    durations.append(["all", f"{time.perf_counter() - t_all:.0f} s"])
+    _say_durations(report, durations, jobs, scheduler, time.process_time() - cpu_here, _children_cpu() - cpu_workers)
     _say_errors(report)
     source["errored_runs"] = report.error_count
     files = dict(zip(("markdown", "html", "source"), (out / f for f in REPORT_FILES)))
@@ -635,14 +635,11 @@ def reproduce(
     return files
 
 
-def _introduced(source: dict[str, Any], settings: Settings) -> Report:
-    """A new report that opens with its provenance, what a quick or a smaller run leaves out, and how
-    a paper's number is judged."""
-    from . import provenance
-
-    report = Report()
+def _introduce(report: Report, provenance: str, settings: Settings) -> None:
+    """Open ``report`` with its ``provenance`` (:func:`provenance.describe`), what a quick or a smaller
+    run leaves out, and how a paper's number is judged."""
     report.heading("navcli reproduce: both papers' experiments beside their numbers", 1)
-    report.text(provenance.describe(source))
+    report.text(provenance)
     if settings.quick:
         report.text(
             "QUICK RUN (--quick): few reruns, to check the machinery; the intervals are wide and the "
@@ -661,7 +658,6 @@ def _introduced(source: dict[str, Any], settings: Settings) -> Report:
         f"than {MIN_SAMPLE} runs (pairs, starts): too few to judge (identical reruns count as one), nor on a "
         "set that holds a run that ended in error."
     )
-    return report
 
 
 def _say_durations(
