@@ -70,7 +70,7 @@ each registers):
 - ``target``: re-acquire the target (the Target Tracker, the Distance Estimator, MVT, MOT);
 - ``obstacles``: look for obstacles (the Pilot's look ahead, eq. 1, and its looks round a bump);
 - ``scan``: scan for the lost target (the Rescuer's scans): the target and the known landmarks;
-- ``everything``: what navcli's camera did before (``vision.routines`` 0): every image registers
+- ``everything``: the camera without routines (``vision.routines`` 0): every image registers
   everything in view, so it serves every purpose. No agent asks for it; the camera reports its
   images so, and :func:`looked_at` counts such an image for whoever asked for that pan.
 """
@@ -125,7 +125,7 @@ def looked_at(looked: Look | None, want: Look) -> bool:
 
     >>> looked_at(Look(0.01, "scan"), Look(0.0, "scan")), looked_at(Look(0.0, "search"), Look(0.0, "scan"))
     (True, False)
-    >>> looked_at(Look(0.0, "everything"), Look(0.0, "scan"))  # the old camera's image served everyone
+    >>> looked_at(Look(0.0, "everything"), Look(0.0, "scan"))  # an image that registers all in view serves every purpose
     True
     """
     if looked is None or looked.purpose not in (want.purpose, "everything"):

@@ -332,8 +332,8 @@ class FuzzyPoint(NamedTuple):
         """I(l) (section 5.1) from the 70 % cut: the widths of heading and distance, read off the
         disc directly (what :meth:`heading` and :meth:`distance` give, without building them).
 
-        :meth:`radius` and :func:`_half_angle` are written out, the same operations (our design:
-        read for every remembered point twice a second, and for every landmark weighed).
+        :meth:`radius` and :func:`_half_angle` are written out, the same operations, as they
+        are read for every remembered point twice a second, and for every landmark weighed.
 
         Returns:
             I(l), in [0, 1].

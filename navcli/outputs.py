@@ -29,6 +29,7 @@ from __future__ import annotations
 
 import os
 import stat
+from collections.abc import Callable
 from pathlib import Path
 
 from . import NavcliError
@@ -77,44 +78,54 @@ def navcli_wrote(path: Path) -> bool:
     their writer: for them the format's own signature is all that is checked."""
     suffix = path.suffix.lower()
     with path.open("rb") as f:
-        head = f.read(HEAD_BYTES)
+        head, tail = f.read(HEAD_BYTES), b""
         if suffix in (".npz", ".parquet"):  # their directory is at the end
             f.seek(max(0, os.fstat(f.fileno()).st_size - 65536))
             tail = f.read(65536)
-    first = head.split(b"\n", 1)[0].strip()
-    if suffix == ".png":
-        return head.startswith(b"\x89PNG\r\n\x1a\n") and b"Matplotlib" in head
-    if suffix == ".gif":
-        return head[:6] in (b"GIF87a", b"GIF89a")
-    if suffix == ".mp4":
-        return head[4:8] == b"ftyp"
-    if suffix == ".npz":
-        return head.startswith(b"PK\x03\x04") and b"meta.npy" in tail
-    if suffix == ".mcap":
-        return head.startswith(b"\x89MCAP") and (b"foxglove-sdk" in head[:256] or b"navcli" in head[:256])
-    if suffix == ".parquet":
-        return head.startswith(b"PAR1") and b"run_id" in tail
-    if suffix == ".csv":
-        columns = set(first.decode("utf-8", "replace").split(","))
-        return any(c <= columns for c in CSV_COLUMNS)
-    if suffix == ".md":
-        return first.decode("utf-8", "replace") == MARK
-    if suffix == ".html":
-        return MARK.encode() in head[:256]
-    if suffix == ".yaml":
-        return first.startswith(b"# navcli ")
-    if suffix in (".journal", ".log"):
-        return first.startswith(b'{"op_code"')
     if suffix == ".json":
-        import json
+        return _json_navcli_wrote(path)
+    recognise = _SIGNATURES.get(suffix)
+    return recognise is not None and recognise(head, tail)
 
-        try:
-            with path.open("rb") as f:
-                d = json.loads(f.read(1 << 22))  # 4 MiB: more than any JSON navcli writes
-        except (ValueError, UnicodeDecodeError, RecursionError):  # (deep nesting: json's own recursion limit)
-            return False
-        return isinstance(d, dict) and any(keys <= d.keys() for keys in JSON_KEYS)
-    return False
+
+def _first_line(head: bytes) -> bytes:
+    return head.split(b"\n", 1)[0].strip()
+
+
+def _csv_navcli_wrote(head: bytes) -> bool:
+    columns = set(_first_line(head).decode("utf-8", "replace").split(","))
+    return any(c <= columns for c in CSV_COLUMNS)
+
+
+def _json_navcli_wrote(path: Path) -> bool:
+    import json
+
+    try:
+        with path.open("rb") as f:
+            d = json.loads(f.read(1 << 22))  # 4 MiB: more than any JSON navcli writes
+    except (ValueError, UnicodeDecodeError, RecursionError):  # (deep nesting: json's own recursion limit)
+        return False
+    return isinstance(d, dict) and any(keys <= d.keys() for keys in JSON_KEYS)
+
+
+_SIGNATURES: dict[str, Callable[[bytes, bytes], bool]] = {
+    ".png": lambda head, _: head.startswith(b"\x89PNG\r\n\x1a\n") and b"Matplotlib" in head,
+    ".gif": lambda head, _: head[:6] in (b"GIF87a", b"GIF89a"),
+    ".mp4": lambda head, _: head[4:8] == b"ftyp",
+    ".npz": lambda head, tail: head.startswith(b"PK\x03\x04") and b"meta.npy" in tail,
+    ".mcap": lambda head, _: (
+        head.startswith(b"\x89MCAP") and (b"foxglove-sdk" in head[:256] or b"navcli" in head[:256])
+    ),
+    ".parquet": lambda head, tail: head.startswith(b"PAR1") and b"run_id" in tail,
+    ".csv": lambda head, _: _csv_navcli_wrote(head),
+    ".md": lambda head, _: _first_line(head).decode("utf-8", "replace") == MARK,
+    ".html": lambda head, _: MARK.encode() in head[:256],
+    ".yaml": lambda head, _: _first_line(head).startswith(b"# navcli "),
+    ".journal": lambda head, _: _first_line(head).startswith(b'{"op_code"'),
+    ".log": lambda head, _: _first_line(head).startswith(b'{"op_code"'),
+}
+"""What marks a file navcli writes, by suffix, from its first :data:`HEAD_BYTES` bytes (``head``) and,
+for formats whose directory is at the end, its last 64 KiB (``tail``)."""
 
 
 class OutputError(NavcliError):

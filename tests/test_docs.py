@@ -22,6 +22,7 @@ MAX_NOT_RUN = 12  # ```sh blocks: few, each with its reason
 CAPTION = re.compile(r"\A:caption: ([\w.-]+)\n\n?")  # a {code-block} of a file, captioned with its name
 PILOT_TUTORIAL = "docs/tutorials/your-own-pilot.md"  # run by its own test, which checks what it made
 
+
 def _pages() -> list[Path]:
     pages = sorted(p for p in DOCS.rglob("*.md") if "_build" not in p.parts and "results" not in p.parts)
     return [ROOT / "README.md"] + [p for p in pages if p.name != "python-api.md"]  # tests/test_api.py runs that one
@@ -162,7 +163,9 @@ def _run_page(page: str, tmp_path: Path, monkeypatch) -> None:
                     timeout=300,
                 )
                 if r.returncode != expected:
-                    raise AssertionError(f"{page}: `{command}` exited {r.returncode}:\n{r.stdout[-1500:]}{r.stderr[-1500:]}")
+                    raise AssertionError(
+                        f"{page}: `{command}` exited {r.returncode}:\n{r.stdout[-1500:]}{r.stderr[-1500:]}"
+                    )
         elif lang == "python":
             exec(compile(body, f"{page} block {i + 1}", "exec"), namespace)
         elif lang == "{code-block}" and (m := CAPTION.match(body)):

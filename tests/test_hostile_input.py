@@ -34,7 +34,7 @@ def refused(text: str, budget_s: float = 1.0) -> ScenarioError:
     return e.value
 
 
-# (text, line, field, words): the reproducers, each BASE plus one line unless stated
+# (text, line, field, words): each hostile input, BASE plus one line unless stated
 HOSTILE = {
     "alias bomb": (BOMB, None, "", "values (aliases expanded)"),
     "self-referencing alias": ("a: &a [*a]\n", 1, "", "refers to the value that holds it"),

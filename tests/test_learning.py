@@ -436,7 +436,7 @@ def test_the_environment_follows_gymnasiums_terminated_truncated_contract(outcom
     env = LandmarkNavigationEnv(overrides={"learning.paper_task": paper_task})
 
     class Ending:  # the task's answer to one step, as NavigationTask gives it
-        terminal = reached  # the learner's view (the first task does not count blocked as terminal)
+        terminal = reached  # the learner's view (the simpler task does not count blocked as terminal)
 
         def step(self, action):
             self.outcome = outcome

@@ -54,7 +54,7 @@ def test_the_paper_task_is_a_preset_under_the_users_word(write_scenario):
     strict = task_spec(sc, {"navigation.reach_imprecision": 0.04})
     assert strict.params.navigation.reach_imprecision == 0.04 and strict.params.navigation.reach_confident
     first = task_spec(sc, {"learning.paper_task": False})
-    assert first.params == RunSpec.build(sc).params.override({"learning.paper_task": False})  # navcli's first task
+    assert first.params == RunSpec.build(sc).params.override({"learning.paper_task": False})  # the simpler task
     # a scenario file's own value is the user's word too
     import yaml
 
@@ -155,10 +155,10 @@ def test_in_the_paper_task_bumps_end_a_trial_even_while_the_target_is_lost():
 
 
 # -- where trials start, and what the robot is given ---------------------------------------------
-def test_the_paper_tasks_starts_see_the_target_and_navclis_first_task_starts_anywhere():
+def test_the_paper_tasks_starts_see_the_target_and_the_simpler_tasks_start_anywhere():
     """ "The target is visible from the robot's initial location": in range, nothing in the way.
-    In landmarks-hall (a hall whose landmarks hide the target from much of the floor) navcli's
-    first task starts where the target is hidden too."""
+    In landmarks-hall (a hall whose landmarks hide the target from much of the floor) the
+    simpler task starts where the target is hidden too."""
     from navcli.training.task import target_in_view
 
     sc = load_scenario(SCENARIOS / "landmarks-hall.yaml")
@@ -231,7 +231,7 @@ def test_a_blocked_ending_ends_the_trial_and_is_a_cut_for_the_learner_unless_sai
     """The paper's trial "terminates ... if the robot is blocked"; what that ending is worth to the
     learner the paper does not say: reaching the target is the only end state of value 0, and a
     blocked ending is a cut (the learner hears no terminal step), as at the 500-action limit;
-    ``learning.blocked_terminal`` makes it an end state of value 0 (navcli before). (The mission is
+    ``learning.blocked_terminal`` makes it an end state of value 0. (The mission is
     ended blocked by hand here; the Rescuer's own ending is tested above.)"""
     sc = landmark_room(make_scenario)
     for terminal in (False, True):

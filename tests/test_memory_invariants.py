@@ -174,7 +174,7 @@ def test_a_copied_spot_keeps_the_drift_it_has_gathered():
 
 
 def test_bumps_within_the_merge_distance_join_the_nearest_into_one_obstacle():
-    """``vision.bump_lines`` ``near`` (navcli before), ``bump_merge`` 1 m: a bump joins the nearer
+    """``vision.bump_lines`` ``near``, ``bump_merge`` 1 m: a bump joins the nearer
     of two remembered bumps within 1 m of it, one exactly 1 m away (within), none 1.6 m away; a
     bump within 1 m of a landmark is a line from the nearest landmark; the obstacle made takes
     the new bump's radius and time."""

@@ -15,7 +15,7 @@ from navcli.params import VISION
 from navcli.vision.perception import anchors
 from navcli.vision.visual_memory import Spot, VisualMemory
 
-NEAR = replace(VISION, bump_lines="near")  # navcli before
+NEAR = replace(VISION, bump_lines="near")  # any two bumps near each other join
 RIM = 0.35  # a bump's centre: robot radius 0.25 + bump_radius 0.10
 
 
@@ -120,7 +120,7 @@ def test_a_landmark_behind_the_robot_is_not_joined_to_a_bump_in_front():
     assert mem.add_bump(bump(RIM, 0.0), 0.05).kind == "bump"
     old = VisualMemory(0.0, NEAR)
     old.add("L", "landmark", [(-0.5, 0.0)], 0.1, 0.05)
-    assert old.add_bump(bump(RIM, 0.0), 0.05).kind == "obstacle"  # navcli before: through the body
+    assert old.add_bump(bump(RIM, 0.0), 0.05).kind == "obstacle"  # near: a line through the body
     ahead = VisualMemory(0.0)
     ahead.add("L", "landmark", [(RIM, 0.9)], 0.1, 0.05)
     line = ahead.add_bump(bump(RIM, 0.0), 0.05)

@@ -197,7 +197,7 @@ def test_every_command_that_reads_a_model_refuses_it_with_exit_2(tmp_path, case,
 @pytest.mark.parametrize(
     "out, words",
     [
-        ("scenario.yaml", "give a name ending in .npz"),  # the data loss: the scenario itself
+        ("scenario.yaml", "give a name ending in .npz"),  # a name that would overwrite the scenario itself
         ("folder", "is a folder"),
         ("folder/", "is a folder"),
         ("dev.npz", "not a regular file"),  # a link to the device /dev/full: a device is never replaced

@@ -29,7 +29,7 @@ CRISP = (0.0, 0.0, 0.0, 0.0)
 CLUSTER = pytest.mark.parametrize("P", list(CLUSTERS.values()), ids=list(CLUSTERS))
 
 
-def situation(
+def situation(  # noqa: PLR0913 (each field of a test's Situation a keyword with its default)
     target=(3.0, 4.0),
     I_a=0.0,
     line=None,
@@ -618,7 +618,7 @@ def test_after_a_diverting_target_is_crossed_a_target_in_sight_is_headed_for_dir
     assert asked == [None] and r._crossing is not None and r._crossing.left == "C"  # the way goes on
     from dataclasses import replace as dc_replace
 
-    r, asked = crossed_with([], dc_replace(NAVIGATION, sight_ends_way=0))  # navcli before: the way goes on
+    r, asked = crossed_with([], dc_replace(NAVIGATION, sight_ends_way=0))  # off: the way goes on
     assert asked == [None] and r._crossing.left == "C"
 
 

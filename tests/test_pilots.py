@@ -116,10 +116,10 @@ def test_a_request_that_would_drive_into_a_known_fence_is_replaced_by_the_neares
     assert p.execute(nav(Move(0.0, 0.3)))[0] == 0.3  # straight along it: 0.45 - 0.025 - 0.25 = 0.175 m clear
     p.decide(beliefs([fence(1.5)]))  # far enough that arc and run stay clear by more than the margin
     assert p.execute(nav(Move(math.radians(90), 0.3))) == (0.3, pytest.approx(ROBOT.max_turn_rate))
-    as_asked = Pilot(replace(PILOT, safe_execution=0), ROBOT)  # navcli before: the request as it comes
+    as_asked = Pilot(replace(PILOT, safe_execution=0), ROBOT)  # off: the request as it comes
     as_asked.decide(beliefs([fence(0.45)]))
     assert as_asked.execute(nav(Move(math.radians(90), 0.3))) == (0.3, pytest.approx(ROBOT.max_turn_rate))
-    on_the_spot = Pilot(replace(PILOT, nearest_safe=0), ROBOT)  # navcli before: turned on the spot
+    on_the_spot = Pilot(replace(PILOT, nearest_safe=0), ROBOT)  # off: turned on the spot
     on_the_spot.decide(beliefs([fence(0.45)]))
     assert on_the_spot.execute(nav(Move(math.radians(90), 0.3))) == (0.0, pytest.approx(ROBOT.max_turn_rate))
 
@@ -179,7 +179,7 @@ def test_eq1_look_bid_grows_with_distance_since_the_last_look_ahead():
     assert p.look_bid() == 1.0  # past d_m, "the maximum distance allowed to travel without looking ahead"
     capped = PotentialFieldPilot(replace(PILOT, look_cap=0.9), ROBOT)
     capped.since_look = 5.0
-    assert capped.look_bid() == pytest.approx(0.9)  # navcli before: capped like the motion bid (eq. 9)
+    assert capped.look_bid() == pytest.approx(0.9)  # look_cap 0.9: capped like the motion bid (eq. 9)
     out = p.decide(beliefs())
     assert any(b.resource == "camera" and b.value == 1.0 for b in out.bids)
     p.decide(beliefs(looked=Look(math.radians(60), "obstacles")))  # Vision reports the image it took

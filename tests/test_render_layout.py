@@ -72,6 +72,36 @@ def _declares(topic: str, field: str) -> bool:
     return True
 
 
+def _named_topics(node, named=None) -> set[str]:
+    """Every topic (and topic.field path) a layout names, anywhere in its JSON."""
+    named = set() if named is None else named
+    if isinstance(node, dict):
+        for k, v in node.items():
+            if k == "topics" and isinstance(v, dict):
+                named.update(v)
+            elif k in ("topicToRender", "topicPath", "value") and isinstance(v, str) and v.startswith("/"):
+                named.add(v)
+            _named_topics(v, named)
+    elif isinstance(node, list):
+        for v in node:
+            _named_topics(v, named)
+    return named
+
+
+def _panel_titles(node, titles=None) -> list[str]:
+    """The titles of an SDK layout's panels, in document order."""
+    titles = [] if titles is None else titles
+    if isinstance(node, dict):
+        if node.get("type") == "panel" and node.get("title"):
+            titles.append(node["title"])
+        for v in node.values():
+            _panel_titles(v, titles)
+    elif isinstance(node, list):
+        for v in node:
+            _panel_titles(v, titles)
+    return titles
+
+
 @pytest.mark.parametrize("fmt", ["app", "sdk"])
 def test_layout_is_json_naming_only_topics_and_fields_the_logs_have(short_log, tmp_path, fmt):
     from navcli.analysis import read_log
@@ -83,21 +113,7 @@ def test_layout_is_json_naming_only_topics_and_fields_the_logs_have(short_log, t
     data = json.loads(text)
     assert ("configById" in data) if fmt == "app" else (data["version"] == 1 and "content" in data)
     logged = set(read_log(short_log).topics)
-    named = set()
-
-    def walk(node):
-        if isinstance(node, dict):
-            for k, v in node.items():
-                if k == "topics" and isinstance(v, dict):
-                    named.update(v)
-                elif k in ("topicToRender", "topicPath", "value") and isinstance(v, str) and v.startswith("/"):
-                    named.add(v)
-                walk(v)
-        elif isinstance(node, list):
-            for v in node:
-                walk(v)
-
-    walk(data)
+    named = _named_topics(data)
     paths = {n for n in named if "." in n}
     topics = {n.split(".", 1)[0] for n in named}
     assert {"/world/scene", "/robot/body", "/bids", "/pilot", "/events", "/mission/summary"} <= topics
@@ -111,19 +127,7 @@ def test_layout_is_json_naming_only_topics_and_fields_the_logs_have(short_log, t
         assert three_d["scene"]["transforms"]["enablePreloading"] is True  # no alert, beliefs in place after a seek
         # every panel titled for both apps: Foxglove reads one key, Lichtblick the other
         sdk = json.loads(CliRunner().invoke(app, ["layout", "--format", "sdk"]).output)
-        titles: list[str] = []
-
-        def titled(node):
-            if isinstance(node, dict):
-                if node.get("type") == "panel" and node.get("title"):
-                    titles.append(node["title"])
-                for v in node.values():
-                    titled(v)
-            elif isinstance(node, list):
-                for v in node:
-                    titled(v)
-
-        titled(sdk)
+        titles = _panel_titles(sdk)
         configs = list(data["configById"].values())
         assert len(configs) == len(titles) == 5
         assert sorted(c["foxglovePanelTitle"] for c in configs) == sorted(titles)

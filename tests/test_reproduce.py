@@ -408,7 +408,7 @@ def test_the_trap_rooms_table_counts_each_rooms_endings(done):
 
 
 def test_every_declared_sensitivity_row_is_in_the_report(done):
-    from navcli.experiments.reproduce import SENSITIVITY_ROWS
+    from navcli.experiments.switches import SENSITIVITY_ROWS
 
     _, md = done
     rows = _rows(md, "Pilot paper, Table 1's sensitivity", 1)
@@ -422,15 +422,15 @@ def test_every_declared_sensitivity_row_is_in_the_report(done):
 
 
 def test_a_sensitivity_row_sets_scenario_fields_as_a_file_would():
-    from navcli.experiments.reproduce import _scenario_with
+    from navcli.experiments.switches import scenario_with
     from navcli.scenario import ScenarioError
 
-    base = _scenario_with("paper-8x8", {})
-    changed = _scenario_with("paper-8x8", {"noise.odometry": 0.0, "mission.time_limit": 100})
+    base = scenario_with("paper-8x8", {})
+    changed = scenario_with("paper-8x8", {"noise.odometry": 0.0, "mission.time_limit": 100})
     assert base.noise.odometry > 0 and changed.noise.odometry == 0.0 and changed.mission.time_limit == 100
     assert changed.sha256 != base.sha256 and changed.obstacles == base.obstacles
     with pytest.raises(ScenarioError, match="noise.no_such_field"):
-        _scenario_with("paper-8x8", {"noise.no_such_field": 1})
+        scenario_with("paper-8x8", {"noise.no_such_field": 1})
 
 
 def test_the_results_pages_summary_counts_the_targets_beside_the_verdicts():

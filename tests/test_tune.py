@@ -78,7 +78,7 @@ def test_tpe_follows_the_objective_and_resumes_from_its_storage(tiny, tmp_path):
     now and then samples its prior, and one timeout there sinks the mean of the guided trials, while
     a start-up that found the plateau leaves nothing above it. 20 guided trials: the median held for
     every one of 200 optimiser seeds (on the objective tabulated over the range), and for none with
-    the direction reversed; "mean of 4 guided > mean of the first 4", the old check, for 111."""
+    the direction reversed; "mean of 4 guided > mean of the first 4", a check by means, for 111."""
     out = tmp_path / "tune"
     n = 30
     res = CliRunner().invoke(

@@ -27,7 +27,7 @@ def camera(make_scenario, noise=0.0, params=VISION, **over):
 
 
 LEGACY = dataclasses.replace(VISION, routines=0, line_objects=0)
-"""navcli's earlier camera and memory, kept as an option: every image sees all, pieces joined by geometry."""
+"""The camera without routines and the memory of fences as pieces: every image sees all, pieces joined by geometry."""
 
 
 ROBOT = Pose(1.0, 2.0, 0.0)
@@ -412,7 +412,7 @@ def test_a_stretch_across_a_line_is_not_part_of_it():
 def test_a_line_too_blurred_for_a_direction_takes_in_only_what_lies_near_its_crisp_line():
     """A 4 m wall whose far end is blurred by metres (its 70 % cuts together wider than tan 30 deg
     of its length: no direction). A short sharp stretch of the next wall round the corner, 1.4 m
-    off the wall's crisp line (within the blurred end's 70 % cut, so 'plausibly on it' before),
+    off the wall's crisp line (within the blurred end's 70 % cut, so plausibly on it by the cuts alone),
     starts a wall of its own; one within line_join_gap of the crisp line is taken in."""
     from navcli.fuzzy import CUT
     from navcli.vision.line_pieces import JOIN_ANGLE
@@ -421,7 +421,7 @@ def test_a_line_too_blurred_for_a_direction_takes_in_only_what_lies_near_its_cri
     wall[1] = Spot(4.0, 3.0, 8.0, 0.0)
     assert wall[0].radius(CUT) + wall[1].radius(CUT) > 4.0 * math.tan(JOIN_ANGLE)  # no direction
     corner = _stretch((4.2, 1.6), (4.2, 1.5), r=0.2)  # shorter than its cuts: no direction of its own
-    assert abs(corner[0].y - 3.0) < corner[0].radius(CUT) + wall[1].radius(CUT)  # within the old tolerance
+    assert abs(corner[0].y - 3.0) < corner[0].radius(CUT) + wall[1].radius(CUT)  # within the two ends' 70 % cuts
     mem = VisualMemory(0.0, LEGACY)
     mem._observe_obstacle(wall, 0.05, 0.0, "wall")
     mem._observe_obstacle(corner, 0.05, 0.1, "wall")

@@ -50,7 +50,7 @@ def test_a_look_for_the_target_registers_no_other_landmark(make_scenario, params
     if params.routines:
         assert keys(dets) == ["T"]
     else:
-        assert {"A", "B", "T"} <= set(keys(dets))  # the old camera registered everything in view
+        assert {"A", "B", "T"} <= set(keys(dets))  # without routines an image registers everything in view
 
 
 @pytest.mark.parametrize("params", [VISION, OLD], ids=["routines", "control: every look sees all"])
@@ -242,7 +242,7 @@ def test_a_door_between_two_pieces_of_one_wall_is_never_closed(make_scenario, pa
         assert closed == 0
         assert sorted(k for k, m in mem.items.items() if m.kind != "wall") == ["segment:o0", "segment:o1"]
     else:
-        assert closed > 0  # the old memory joined the pieces across the door from some places
+        assert closed > 0  # pieces joined by geometry close the door from some places
 
 
 # -- the walls, a stated condition ---------------------------------------------------------------

@@ -7,7 +7,7 @@ warning every comparison gives when a sample is too small to trust them.
   of counts never gets a negative bound, as a t-interval over a few runs does). Observations that
   come in groups (a start's trials over the runs of ``compare policies``, which share the start)
   are resampled group by group, so correlated trials are not counted as independent.
-- Identical reruns are one observation (our design): a verdict (``navcli reproduce``) counts runs
+- Identical reruns are one observation: a verdict (``navcli reproduce``) counts runs
   whose summaries are alike in every number (:data:`navcli.analysis.tables.IDENTITY`: ground-truth
   perception has no noise, so its reruns repeat one run) once, in its interval and its sample size,
   and says how many runs were distinct. The tables of ``compare`` and ``report`` count every run.
@@ -28,7 +28,7 @@ import numpy as np
 RESAMPLES = 10_000
 """Bootstrap resamples."""
 MIN_SAMPLE = 10
-"""Fewer observations than this and a 95 % interval is too uncertain to trust (our design): a
+"""Fewer observations than this and a 95 % interval is too uncertain to trust: a
 percentile bootstrap of fewer than 10 covers the true mean markedly less often than 95 % of the
 time, and the Wilson interval of a rate spans some 30 points or more."""
 

@@ -16,7 +16,7 @@ Statistics, chosen to need nothing beyond numpy:
   normality a t-test assumes.
 The random draws are seeded, so the same logs always give the same table.
 
-Runs are never mixed up (our design): a row of the table is one *condition*, every run of one
+Runs are never mixed up: a row of the table is one *condition*, every run of one
 configuration but the pilot and the seed (scenario text by sha256, perception, time limit, every
 parameter); the same run (run id) twice is refused; interrupted runs are kept out of the success
 rates and counted apart; an unreadable log is skipped by name when the caller asks for it.

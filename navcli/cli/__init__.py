@@ -25,7 +25,7 @@ __all__ = ["app", "main"]
 
 def main() -> None:
     """The ``navcli`` executable."""
-    # One BLAS thread (our design): navcli's arrays hold a few dozen numbers, and the threads OpenBLAS
+    # One BLAS thread: navcli's arrays hold a few dozen numbers, and the threads OpenBLAS
     # starts with scipy only spin (some 60 ms of a one-shot run, and more beside compare's workers)
     os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
     import signal

@@ -131,7 +131,7 @@ def compare_policies(
             "or Q-learning), hand-coded, agents, random (a uniform random action at every choice, seeded), a baseline "
             "of one action in every state (all-MB, all-MLL, all-MOT, all-MVL, all-MVT), or a Navigation policy plugin (an "
             f"installed plugin's name, {PLUGIN_FORMS}, or agents+NAME: run as agents is); repeatable (default: learned, hand-coded, random, agents). Every policy runs the "
-            "learning paper's task (learning.paper_task=0: navcli's first one).",
+            "learning paper's task (learning.paper_task=0: a simpler one).",
         ),
     ] = None,
     runs: Annotated[int, typer.Option(min=1, max=1000, help="Runs (seeds of the missions' noise) per policy.")] = 5,

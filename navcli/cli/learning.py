@@ -61,7 +61,7 @@ def train(
 
     Trials run the paper's task: the robot is not told where the target is, the camera is the
     Learning Agent's alone, a trial succeeds only when the robot is also confident it is at the
-    target, and ends when it is blocked (--param learning.paper_task=0: navcli's first task)."""
+    target, and ends when it is blocked (--param learning.paper_task=0: a simpler task)."""
     from ..training.trainer import ALGORITHMS, LOGS
 
     if algorithm not in ALGORITHMS:

@@ -1,7 +1,7 @@
 """The Learning Agent's task as a Gymnasium environment: observation ``Discrete(980)`` (the belief
 state of :mod:`navcli.learning.features`), action ``Discrete(5)`` (MB, MLL, MOT, MVL, MVT),
 rewards of section 5.3, under the paper's task (:mod:`navcli.training.task`; ``learning.paper_task``
-0 for navcli's first task); ``terminated`` when the trial ends in an end state (the target reached,
+0 for a simpler task); ``terminated`` when the trial ends in an end state (the target reached,
 or the robot blocked), ``truncated`` when it is cut after ``max_actions`` actions or at the
 scenario's time limit. ``reset(seed=...)`` draws the start from the environment's seeded generator
 (:func:`navcli.training.task.random_starts`'s rules).

@@ -45,7 +45,7 @@ def benchmark(spec: RunSpec, *, repeat: int = 5, echo: Callable[[str], None] = p
     per tick and ratios to the floor. (Whether a tick costs more late in a long run than early:
     :func:`long_run_benchmark`, ``navcli bench --long``.)
 
-    The three are run in turn, ``repeat`` rounds of floor, off, on (our design): on a shared
+    The three are run in turn, ``repeat`` rounds of floor, off, on: on a shared
     machine the load drifts over seconds, and interleaving puts every configuration under the same
     drift, so their ratios hold even when the absolute figures wander."""
     results: dict[str, float] = {}

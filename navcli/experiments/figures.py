@@ -26,13 +26,13 @@ from ..vision.perception import OraclePerception
 
 
 MAX_GRID_POINTS = 1_000_000
-"""Most grid points of a figure (our design: 1,000 x 1,000 is finer than any screen; a 100 m room
+"""Most grid points of a figure (1,000 x 1,000 is finer than any screen; a 100 m room
 at 2 cm would be 25 million, hours of work for a picture no one can see)."""
 
 
 MAX_GRID_WORK = 2_000_000
-"""Most point x body force evaluations of a figure (our design: 20,000 points of a room of 1,000
-obstacles took over 5 minutes here, so this bound keeps a figure to about half a minute)."""
+"""Most point x body force evaluations of a figure (20,000 points of a room of 1,000
+obstacles take over 5 minutes, so this bound keeps a figure to about half a minute)."""
 
 
 class GridError(NavcliError):

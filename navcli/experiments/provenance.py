@@ -3,7 +3,7 @@ working tree differed from it, the build and every library's version (``navcli r
 ``source.json`` and the top of its report), and whether a report is older than the code it
 reports (:func:`stale`, the check of the results page: ``python docs/make_results.py --check``).
 
-What a report *depends on* (our design, :data:`SOURCES`): every file under ``navcli/`` (the code,
+What a report *depends on* (:data:`SOURCES`): every file under ``navcli/`` (the code,
 the bundled scenarios and the bundled model) but its documentation files (:data:`DOCS_ONLY`), which
 change no number. The report records a digest of each of them as they were (:func:`digests`), and
 any difference makes it stale, whatever the change (a docstring edit too: a change is not read for

@@ -10,7 +10,7 @@ Sections (each resumes from what an earlier run of the same command left in its 
   (:func:`traps`, :mod:`~navcli.experiments.trap_rooms`);
 - ``learning``: the learning paper's Table 1 (:func:`policies`) and Figure 3 (:func:`figure3`).
 
-Agreement is decided one way throughout (our design, :func:`verdict`): a paper's number *agrees*
+Agreement is decided one way throughout (:func:`verdict`): a paper's number *agrees*
 when navcli's 95 % interval of the same quantity meets the paper's own range of it, else it *does
 not agree*, and the report says on which side the paper's lies. The paper's range is its spread
 where it gives one, not the zero-width point a deterministic run would be held to: the mean +- 1
@@ -46,6 +46,7 @@ from ..plugins.names import label as pilot_label
 from ..scenario import bundled
 from . import learning_paper, rooms, trap_rooms
 from .document import Report, interval_text
+from .switches import SENSITIVITY_ROWS, overrides_text, scenario_with
 
 SCENARIOS = bundled.FOLDER
 SECTIONS = ("pilots", "learning")
@@ -314,45 +315,6 @@ def _write_runs(runs, path: Path) -> None:
     write_csv(path, runs.drop(columns=["xy"], errors="ignore"))
 
 
-@dataclass(frozen=True)
-class Row:
-    """A row of the sensitivity's table of switches: ``label`` and what it changes from the
-    defaults, ``overrides``: a parameter by its ``--param`` name (its group one of
-    :attr:`~navcli.params.Params.GROUPS`: ``pilot.look_cap``) or a field of the scenario by its
-    dotted place in the file (``noise.odometry``); run with each of ``perceptions``."""
-
-    label: str
-    overrides: dict[str, Any]
-    perceptions: tuple[str, ...] = ("vision", "oracle")
-
-
-VISION = ("vision",)
-SENSITIVITY_ROWS: tuple[Row, ...] = (
-    Row("navcli's defaults", {}),
-    Row("no wheel slip (the command driven exactly)", {"robot.slip_noise": 0.0}),
-    Row("no stall rule (only the long blocked window)", {"navigation.stall_rule": False}),
-    Row("gives up when the map shows no way out", {"navigation.gives_up": True}, VISION),
-    Row("ways seen closed block for good", {"navigation.seen_closed_cost": 0.0}, VISION),
-    Row("dead ends matched by their ends only", {"navigation.dead_end_radius": 0.0}, VISION),
-    Row("diverting edges handed over only when seen whole", {"navigation.diverting_seen_whole": True}, VISION),
-    Row("every look sees all", {"vision.routines": 0}, VISION),
-    Row("lines joined by geometry", {"vision.line_objects": 0}, VISION),
-    Row("walls known", {"vision.walls": "known"}, VISION),
-    Row("walls felt", {"vision.walls": "felt"}, VISION),
-    Row("eq. 1's look capped at 0.9", {"pilot.look_cap": 0.9}, VISION),
-    Row("bumps joined by nearness alone", {"vision.bump_lines": "near"}, VISION),
-    Row("a fence corrected at one end moves whole", {"vision.fence_rigid": True}, VISION),
-    Row(
-        "the three alternatives together",
-        {"vision.routines": 0, "vision.line_objects": 0, "pilot.look_cap": 0.9},
-        VISION,
-    ),
-)
-"""The sensitivity's switches, one row each: navcli's choices where the papers are silent, one at a
-time from the defaults (and the three alternative sensing choices together). A switch gets its
-row here, and nowhere else: ``Row("label", {"group.name": value})``."""
-
-
 def sensitivity(report: Report, s: Settings, out: Path, ex) -> None:
     """Table 1's dependence on the unstated: speed and how a turn is executed (both perceptions),
     and navcli's switches (:data:`SENSITIVITY_ROWS`)."""
@@ -427,7 +389,7 @@ def _switch_rows(report: Report, s: Settings, out: Path, ex) -> None:
         params = {k: v for k, v in row.overrides.items() if k.split(".", 1)[0] in Params.GROUPS}
         fields = {k: v for k, v in row.overrides.items() if k not in params}
         for room in s.sensitivity_rooms:
-            sc = _scenario_with(room, fields)
+            sc = scenario_with(room, fields)
             for perception in row.perceptions:
                 spec = RunSpec.build(sc, perception=perception, overrides=params)
                 runs = [
@@ -443,38 +405,13 @@ def _switch_rows(report: Report, s: Settings, out: Path, ex) -> None:
     run_sweep(work, table, ex)
     every = load_sweep(table)
     report.text(
-        "Each switch alone from the defaults (its row of navcli.experiments.reproduce.SENSITIVITY_ROWS, with the "
+        "Each switch alone from the defaults (its row of navcli.experiments.switches.SENSITIVITY_ROWS, with the "
         f"parameters or scenario fields it changes), {s.sensitivity_seeds} seed(s) a room, pilot and perception: "
-        + "; ".join(f"{r.label}: {_overrides_text(r.overrides)}" for r in SENSITIVITY_ROWS)
+        + "; ".join(f"{r.label}: {overrides_text(r.overrides)}" for r in SENSITIVITY_ROWS)
         + f". Every run: {table}."
     )
     _gain_table(report, [(name, every[every["run_id"].isin(ids)]) for name, ids in label.items()])
     _conditions(report, out, specs)
-
-
-def _overrides_text(overrides: dict[str, Any]) -> str:
-    """``a=1, b=x`` (``the defaults`` for none)."""
-    return ", ".join(f"{k}={v}" for k, v in overrides.items()) or "the defaults"
-
-
-def _scenario_with(room: str, fields: dict[str, Any]):
-    """The bundled ``room`` with the scenario ``fields`` (dotted places in its file) set: its YAML
-    edited and read again, so every field is checked as a scenario file's is."""
-    if not fields:
-        return _scenario(room)
-    import yaml
-
-    from ..scenario import parse_scenario
-
-    doc = yaml.safe_load((SCENARIOS / f"{room}.yaml").read_text())
-    for name, value in fields.items():
-        *parents, leaf = name.split(".")
-        node = doc
-        for part in parents:
-            node = node.setdefault(part, {})
-        node[leaf] = value
-    where = f"{room} with {_overrides_text(fields)}"
-    return parse_scenario(yaml.safe_dump(doc, sort_keys=False), where)
 
 
 def traps(report: Report, s: Settings, out: Path, ex, pilots: tuple[str, ...] = ()) -> None:
@@ -588,26 +525,7 @@ def reproduce(
     source = provenance.record(command_line(which, out, settings, jobs, scheduler, pilots))
     source["dir"] = str(Path(out).resolve())
     report = Report()
-    report.heading("navcli reproduce: both papers' experiments beside their numbers", 1)
-    report.text(provenance.describe(source))
-    if settings.quick:
-        report.text(
-            "QUICK RUN (--quick): few reruns, to check the machinery; the intervals are wide and the "
-            "verdicts are not the reproduction's. Run without --quick for the papers' sizes."
-        )
-    if not settings.quick and settings.train_seeds != FULL.train_seeds:
-        report.text(
-            f"Figure 3 from {settings.train_seeds} training(s) (--train-seeds), where the full reproduction "
-            f"runs {FULL.train_seeds}."
-        )
-    report.text(
-        f"navcli {__version__}; settings: {json.dumps(asdict(settings))}. A paper's number agrees when "
-        "navcli's 95 % interval of the same quantity meets the paper's own range of it: the mean ± 1 SD of "
-        "its runs where it gives an SD, the 95 % interval its Table 1 gives a gain, the Wilson interval of a "
-        "count, else the number itself. No verdict where the paper has no number; none either from fewer "
-        f"than {MIN_SAMPLE} runs (pairs, starts): too few to judge (identical reruns count as one), nor on a "
-        "set that holds a run that ended in error."
-    )
+    _introduce(report, provenance.describe(source), settings)
     durations = []
     t_all, cpu_here, cpu_workers = time.perf_counter(), time.process_time(), _children_cpu()
     with executor(jobs, scheduler) as ex:
@@ -646,22 +564,8 @@ def reproduce(
             echo(f"reproduce: {name} ...")
             step()
             durations.append([name, f"{time.perf_counter() - t0:.0f} s"])
-    wall = time.perf_counter() - t_all
-    here, workers = time.process_time() - cpu_here, _children_cpu() - cpu_workers
-    report.heading("How long it took")
-    report.text(
-        f"{jobs} worker(s){' on ' + scheduler if scheduler else ''}. Each section from its start to its end "
-        "in this process; Figure 3's trainings, the longest runs, start before every other section and run "
-        "beside them, so its row is only what was left of them."
-    )
-    report.table(["section", "wall time"], durations + [["all", f"{wall:.0f} s"]])
-    if workers > 0:  # local workers (a cluster's CPU is not seen from here)
-        serial = here / (here + workers)
-        report.text(
-            f"CPU: {here:.0f} s in this process (planning, reading logs, tables, figures: the serial "
-            f"part), {workers:.0f} s in the workers; serial share {serial:.1%}, so by Amdahl's law no "
-            f"number of workers makes this reproduction more than {1 / serial:.0f}x faster than one."
-        )
+    durations.append(["all", f"{time.perf_counter() - t_all:.0f} s"])
+    _say_durations(report, durations, jobs, scheduler, time.process_time() - cpu_here, _children_cpu() - cpu_workers)
     _say_errors(report)
     source["errored_runs"] = report.error_count
     files = dict(zip(("markdown", "html", "source"), (out / f for f in REPORT_FILES)))
@@ -669,6 +573,52 @@ def reproduce(
     write_text(files["html"], report.html())
     write_text(files["source"], json.dumps(source, indent=1) + "\n")
     return files
+
+
+def _introduce(report: Report, provenance: str, settings: Settings) -> None:
+    """Open ``report`` with its ``provenance`` (:func:`provenance.describe`), what a quick or a smaller
+    run leaves out, and how a paper's number is judged."""
+    report.heading("navcli reproduce: both papers' experiments beside their numbers", 1)
+    report.text(provenance)
+    if settings.quick:
+        report.text(
+            "QUICK RUN (--quick): few reruns, to check the machinery; the intervals are wide and the "
+            "verdicts are not the reproduction's. Run without --quick for the papers' sizes."
+        )
+    if not settings.quick and settings.train_seeds != FULL.train_seeds:
+        report.text(
+            f"Figure 3 from {settings.train_seeds} training(s) (--train-seeds), where the full reproduction "
+            f"runs {FULL.train_seeds}."
+        )
+    report.text(
+        f"navcli {__version__}; settings: {json.dumps(asdict(settings))}. A paper's number agrees when "
+        "navcli's 95 % interval of the same quantity meets the paper's own range of it: the mean ± 1 SD of "
+        "its runs where it gives an SD, the 95 % interval its Table 1 gives a gain, the Wilson interval of a "
+        "count, else the number itself. No verdict where the paper has no number; none either from fewer "
+        f"than {MIN_SAMPLE} runs (pairs, starts): too few to judge (identical reruns count as one), nor on a "
+        "set that holds a run that ended in error."
+    )
+
+
+def _say_durations(
+    report: Report, durations: list[list[str]], jobs: int, scheduler: str | None, here: float, workers: float
+) -> None:
+    """The report's "How long it took": each section's wall time, and the serial share of the CPU time
+    (``here`` in this process, ``workers`` in local workers) with the speed-up it bounds."""
+    report.heading("How long it took")
+    report.text(
+        f"{jobs} worker(s){' on ' + scheduler if scheduler else ''}. Each section from its start to its end "
+        "in this process; Figure 3's trainings, the longest runs, start before every other section and run "
+        "beside them, so its row is only what was left of them."
+    )
+    report.table(["section", "wall time"], durations)
+    if workers > 0:  # local workers (a cluster's CPU is not seen from here)
+        serial = here / (here + workers)
+        report.text(
+            f"CPU: {here:.0f} s in this process (planning, reading logs, tables, figures: the serial "
+            f"part), {workers:.0f} s in the workers; serial share {serial:.1%}, so by Amdahl's law no "
+            f"number of workers makes this reproduction more than {1 / serial:.0f}x faster than one."
+        )
 
 
 def _say_errors(report: Report) -> None:

@@ -139,6 +139,32 @@ class PlanReader(Reader):
         return f
 
     def plan(self, d: Any, root: Path) -> Plan:
+        top = self._top(d)
+        g = self.guard
+        if g(self.integer, top["version"], ("version",)) not in (None, 1):
+            self.fail(("version",), f"unsupported plan version {top['version']} (expected 1)")
+        seeds = g(self.integer, top["seeds"], ("seeds",), default=1)
+        if seeds == 0:
+            self.fail(("seeds",), "must be at least 1")
+        pilots = g(self.pilots, top.get("pilots"), ("pilots",))
+        perceptions = g(self.choices, top.get("perception"), ("perception",), PERCEPTIONS, True)
+        time_limit = g(lambda: self.opt(top, "time_limit", (), self.number, None, positive=True))
+        fixed = g(self.overrides, top.get("params", {}), ("params",), default={})
+        points = self._points(top)
+        scenarios = g(self.scenarios, top["scenarios"], root, default=[])
+        if self.problems:
+            raise PlanError(self.problems)
+        points = self._with_fixed(top, fixed, points)
+        bases = self._bases(scenarios, pilots, perceptions, time_limit)
+        plan = Plan(self.source, tuple(bases), tuple(points), seeds or 1)
+        if not self.problems and plan.size > MAX_RUNS:
+            self.fail((), f"{plan.size} runs: more than {MAX_RUNS}; split the plan")
+        if self.problems:
+            raise PlanError(self.problems)
+        return plan
+
+    def _top(self, d: Any) -> dict[str, Any]:
+        """The plan's top-level mapping, with at most one way of giving its points."""
         try:
             top = self.mapping(
                 d,
@@ -151,16 +177,11 @@ class PlanReader(Reader):
                 raise self.fail((ways[1],), "a plan has a grid, a random sample or a list of points, not more than one")
         except Invalid:
             raise PlanError(self.problems) from None
+        return top
+
+    def _points(self, top: dict[str, Any]) -> list[dict[str, Any]]:
+        """The parameter points: a grid, a random sample or a list (one empty point without them)."""
         g = self.guard
-        if g(self.integer, top["version"], ("version",)) not in (None, 1):
-            self.fail(("version",), f"unsupported plan version {top['version']} (expected 1)")
-        seeds = g(self.integer, top["seeds"], ("seeds",), default=1)
-        if seeds == 0:
-            self.fail(("seeds",), "must be at least 1")
-        pilots = g(self.pilots, top.get("pilots"), ("pilots",))
-        perceptions = g(self.choices, top.get("perception"), ("perception",), PERCEPTIONS, True)
-        time_limit = g(lambda: self.opt(top, "time_limit", (), self.number, None, positive=True))
-        fixed = g(self.overrides, top.get("params", {}), ("params",), default={})
         if "grid" in top:
             points = g(self.grid, top["grid"], default=[{}])
         elif "random" in top:
@@ -169,9 +190,12 @@ class PlanReader(Reader):
             points = g(self.points, top["points"], default=[{}])
         else:
             points = [{}]
-        scenarios = g(self.scenarios, top["scenarios"], root, default=[])
-        if self.problems:
-            raise PlanError(self.problems)
+        return points
+
+    def _with_fixed(
+        self, top: dict[str, Any], fixed: dict[str, Any], points: list[dict[str, Any]]
+    ) -> list[dict[str, Any]]:
+        """Each point with the plan's fixed ``params`` added; a parameter given both ways is a problem."""
         both = sorted(set(fixed) & set(points[0]))
         if both:  # a grid's or sample's value would silently replace the plan's
             self.fail(
@@ -180,11 +204,16 @@ class PlanReader(Reader):
                 "give each parameter in one place",
             )
             raise PlanError(self.problems)
-        points = [fixed | pt for pt in points]
+        return [fixed | pt for pt in points]
+
+    def _bases(
+        self, scenarios: list[Any], pilots: list[str] | None, perceptions: list[str] | None, time_limit: Any
+    ) -> list[RunSpec]:
+        """One run specification per scenario, pilot and perception (every pilot beside the others)."""
         bases = []
         for i, sc in enumerate(scenarios):
-            for pilot in pilots or [None]:
-                for perception in perceptions or [None]:
+            for pilot in pilots or (None,):
+                for perception in perceptions or (None,):
                     try:
                         bases.append(
                             RunSpec.build(
@@ -193,12 +222,7 @@ class PlanReader(Reader):
                         )
                     except NavcliError as e:
                         self.fail(("scenarios", i), str(e))
-        plan = Plan(self.source, tuple(bases), tuple(points), seeds or 1)
-        if not self.problems and plan.size > MAX_RUNS:
-            self.fail((), f"{plan.size} runs: more than {MAX_RUNS}; split the plan")
-        if self.problems:
-            raise PlanError(self.problems)
-        return plan
+        return bases
 
     def choice(self, v: Any, path: tuple, choices: tuple[str, ...]) -> str:
         if v not in choices:

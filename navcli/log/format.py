@@ -3,7 +3,7 @@ its JSON Schema is derived.
 
 Each message is defined as a ``msgspec.Struct``, and :func:`json_schema` derives the schema
 written into the log from that class. The recorder writes each tick's messages as plain values
-(dicts keyed by the Struct's field names), which ``encode`` writes directly (our design, by
+(dicts keyed by the Struct's field names), which ``encode`` writes directly (by
 measurement on paper-8x8: the four per-tick messages cost about 60 µs a tick converted to Structs
 with ``msgspec.convert`` first, about 38 as plain values). So nothing checks a message against its
 Struct while a run writes it; ``tests/test_messages.py`` checks every JSON message of real runs
@@ -11,7 +11,7 @@ against its schema instead.
 
 msgspec's schemas use ``$ref``/``$defs``, enums without a ``type`` and maps without ``properties``;
 Foxglove's JSON-schema parser accepts none of these, so :func:`json_schema` inlines the references,
-types the enums and gives every map an empty ``properties`` (our design: the rules of that parser
+types the enums and gives every map an empty ``properties`` (the rules of that parser
 are checked by ``tests/test_messages.py``).
 
 Fixed shapes are closed (``additionalProperties: false``); maps keyed by an obstacle's or a

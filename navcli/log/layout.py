@@ -9,7 +9,7 @@ summary. Two forms are written:
   read that schema;
 - ``app`` (default): the layout file format that Foxglove's *Import from file…* reads (the format
   the app exports: ``configById`` and a tree of splits), which Lichtblick and Foxglove Studio 1.x
-  import too. It is converted from the same SDK objects (our design: the SDK has no such export).
+  import too. It is converted from the same SDK objects (the SDK has no such export).
   Each panel carries its title under both apps' keys (``foxglovePanelTitle``,
   ``lichtblickPanelTitle``), and the 3D panel preloads the transforms, which Lichtblick otherwise
   recommends in an alert and without which, after a seek, it draws the beliefs (frame

@@ -9,7 +9,7 @@ What the thesis says, and how we do it:
   ``LOST_SCANS`` such scans the Rescuer asks the Map Manager for a way toward where the target is
   believed to be (its belief's centre), as when blocked: what hides a target is most often a long
   obstacle, and scanning on where the robot stands shows it nothing new (inside a U of fences,
-  the robot scanned until it gave up). No failure is counted.
+  a robot that only scans does so until it gives up). No failure is counted.
 - **Blocked**: the robot makes no progress toward its target (``blocked_progress`` metres closer
   within the blocked window), or it hits something ``blocked_bumps`` times within that window
   (the Pilot's report of an obstacle it cannot easily avoid), or it **stalls** (``stall_rule``,
@@ -39,11 +39,11 @@ What the thesis says, and how we do it:
   obstacle across the straight way to it, ``sight_ends_way``) ends the way. If one is not crossed within
   the diverting timeout (or the robot is blocked again on the way), its edge is reported blocked
   to the Map Manager and another is asked for. So is the edge of one that was crossed when the
-  robot is next blocked before anything else happened (our design: crossing it led nowhere, and
+  robot is next blocked before anything else happened (our design: crossing it leads nowhere, and
   asking again would only send the robot back and forth across it).
   One abandoned for bumps is followed by a drive out (exploring, above) before the map, told of the
   failure with that request, is asked again from where the robot then is (ours: a robot caught
-  between a landmark and a wall was led back into the pocket by each next way, 10-31 contacts).
+  between a landmark and a wall is led back into the pocket by each next way, 10-31 contacts).
 - **Windows in distance** (ours): the blocked window and the diverting timeout are given as
   distances (``blocked_window_m``, ``diverting_timeout_m``) and last as long as the robot takes
   to drive them at full speed (:meth:`~navcli.params.RobotParams.time_to_drive`), and at least
@@ -278,9 +278,8 @@ class Rescuer(Scanning):
             return Rescue(self._scan_bids(), events=tuple(events))
         self._lost_scans += 1
         if self._lost_scans >= LOST_SCANS:
-            # our design: what hides the target is most often a long obstacle, and scanning on where
-            # the robot stands shows it nothing new; the map's way toward where the target is
-            # believed to be (its belief's centre) leads past it, and no failure is counted
+            # scanning here again shows nothing new past the long obstacle that most often hides the
+            # target (module docstring, "Lost"); no failure is counted
             self._lost_scans = 0
             self._enter("normal", s)
             events.append(
@@ -304,7 +303,7 @@ class Rescuer(Scanning):
         why = self._blocked(s, line)
         if why is None:
             return Rescue((), line, tuple(events))
-        if self.params.blocked_ends:  # the learning paper's trials end when the robot is blocked
+        if self.params.blocked_ends:
             return self._end(why, events)
         return self._on_blocked(s, why, events, ask)
 
@@ -315,8 +314,8 @@ class Rescuer(Scanning):
         assert crossed is not None  # a diverting line is that of a crossing
         self._clear_crossing(s, "crossed")
         self._trapped = False  # a way out was found: the map's "no way out" before it is old news
-        # the next step of the way, from the region the robot is in now; none once the target is in
-        # sight (our design: the regions' way may still go round, through virtual landmarks' regions)
+        # the next step of the way, from the region the robot is in; with the target in sight the
+        # regions' way may still go round, through virtual landmarks' regions: sight_ends_way ends it
         after = None if self.params.sight_ends_way and _in_sight(s) else ask(None)
         if isinstance(after, Crossing) and after.edge != crossed.edge:
             since = self._crossing_since
@@ -346,8 +345,8 @@ class Rescuer(Scanning):
         tried = self._crossing.edge if self._crossing is not None else self._last_crossed
         if tried is not None and s.beliefs.pilot_blocked is not None:
             # the Pilot sees a long obstacle across the way: the map, which knows it now, may lead
-            # another way, and that is no failure of the old one (our design: only a way tried and
-            # failed counts, by bumps, no progress or time; a way seen to be closed was not tried)
+            # another way, and that is no failure of the way tried (only a way driven and failed
+            # counts, by bumps, no progress or time; a way seen to be closed was not driven)
             again = ask(None)
             if isinstance(again, Crossing) and again.edge != tried:
                 end_u, end_v = ends(tried)
@@ -361,9 +360,8 @@ class Rescuer(Scanning):
         if self.params.gives_up and 0 < self.params.max_diverting_failures <= self.failures:
             return self._give_up(f"{self.failures} diverting targets failed", events, s)
         if abandoned is not None and caught:
-            # our design: bumped out of a diverting target, the robot is caught where it stands (between
-            # a landmark and a wall, say) and the next way, asked from here, led it back in; it drives
-            # out first, and the map hears of the failure with the next request, when blocked again
+            # caught where it stands, a way asked from here leads back in (module docstring): drive out
+            # first; the map hears of the failure with the next request, when blocked again
             self._untold = abandoned
             self._explore(s, events, "caught by bumps")
             return Rescue(events=tuple(events))

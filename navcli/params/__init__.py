@@ -147,13 +147,13 @@ class PilotParams(ParamSet):
     safe_execution: bool = param(
         True,
         "",
-        "moves are executed only if safe (section 2, see Pilot._path_clear); off: as they come (navcli before)",
+        "moves are executed only if safe (section 2, see Pilot._path_clear); off: as they come",
     )
     nearest_safe: bool = param(
         True,
         "",
         """a request not safe, with no own move that drives, is replaced by the
-        nearest safe heading (15 deg steps); off: turned on the spot (navcli before: it could stand still for good,
+        nearest safe heading (15 deg steps); off: turned on the spot (where the robot can stand still for good,
         facing its target past a landmark)""",
     )
     turn_in_place: float = param(
@@ -169,7 +169,7 @@ class PilotParams(ParamSet):
         "",
         """a linear obstacle IN_DISTRESS pushes from its nearest point
         (our design: from its centre, section 3.2, a corner of two fences is a sink); off: from its centre there
-        too (navcli before)""",
+        too""",
     )
     blocked_report_m: float = param(
         0.0,
@@ -232,7 +232,7 @@ class PilotParams(ParamSet):
         "",
         """eq. 1's bid never above this: 1, eq. 1 as written (d_m is "the maximum distance
         allowed to travel without looking ahead", so the bid reaches 1 there); 0.9 (PILOT_CEILING, the architecture's
-        ceiling of the Pilot's bids; navcli before) lets the Risk Manager's searches, bid above 0.9 while the risk is
+        ceiling of the Pilot's bids) lets the Risk Manager's searches, bid above 0.9 while the risk is
         high (always, in a room without landmarks), keep the Pilot from ever looking ahead""",
         at_most=1.0,
     )
@@ -355,7 +355,7 @@ class NavigationParams(ParamSet):
         """exploring (no diverting target): turn away from the target (within half
         random_turn_deg), drive up to this far looking around until a new landmark is seen, then scan (our design:
         what hides the landmarks from where the robot is blocked is a long obstacle, about 3 m in the papers'
-        rooms); 0: turn and scan in place (navcli before)""",
+        rooms); 0: turn and scan in place""",
     )
     turn_when_here: bool = param(
         True,
@@ -369,7 +369,7 @@ class NavigationParams(ParamSet):
         "",
         """once a diverting target is crossed, a target in sight (no known long
         obstacle across the straight way) is headed for directly; off: the map is asked for the way's next step all
-        the same (navcli before)""",
+        the same""",
     )
     scan_pans_deg: tuple[float, ...] = param(
         (-90.0, -45.0, 0.0, 45.0, 90.0),
@@ -436,7 +436,7 @@ class NavigationParams(ParamSet):
     diverting_in_sight: bool = param(
         True,
         "",
-        "the diverting target is the farthest edge of the way the robot sees straight; off: the first (navcli before)",
+        "the diverting target is the farthest edge of the way the robot sees straight; off: the first",
     )
     diverting_seen_whole: bool = param(
         False,
@@ -461,15 +461,13 @@ class VisionParams(ParamSet):
         True,
         "",
         "a look registers only what the routine of its purpose finds "
-        "(vision/routines.py), no look no image; off: every image registers all in view "
-        "(navcli before)",
+        "(vision/routines.py), no look no image; off: every image registers all in view",
     )
     line_objects: bool = param(
         True,
         "",
         "a fence or wall is one object, its ends fused end by end "
-        "(vision/visual_memory.py); off: view-cut pieces re-joined by geometry "
-        "(navcli before)",
+        "(vision/visual_memory.py); off: view-cut pieces re-joined by geometry",
     )
     walls: str = param(
         "seen",
@@ -492,8 +490,8 @@ class VisionParams(ParamSet):
         """which bumps join into a long obstacle (vision/visual_memory.py): one-object, only
         two felt on one object as far as the robot can tell (the line between them clear of the robot's body
         where it stood at each bump, the robot on one side of it at both; a bump on a remembered line or point
-        confirms it instead of drawing another); near, any two within bump_merge (navcli before: lines through
-        the robot's own body, one line drawn four times)""",
+        confirms it instead of drawing another); near, any two within bump_merge (which draws lines through the
+        robot's own body, and one line four times)""",
         choices=("one-object", "near"),
     )
     fence_rigid: bool = param(
@@ -514,8 +512,8 @@ class VisionParams(ParamSet):
         False,
         "",
         """on: a linear obstacle (or wall) is forgotten when one end is
-        above forget_above (navcli before: the near end of a fence the robot drives along blurs first, and the
-        fence went with it); off: when both are""",
+        above forget_above (the near end of a fence the robot drives along blurs first, and the whole fence goes
+        with it); off: when both are""",
     )
     forget_every: int = param(
         5, "ticks", "between two sweeps of the memory for what has become too imprecise", at_least=1
@@ -564,8 +562,8 @@ class LearningParams(ParamSet):
       Pilot still overrules when it must; the Rescuer's 1.0 overrules both.
     - **Prioritized Sweeping**: ``gamma`` 1 (the paper's objective, the total reward: every
       trial ends, at the target, blocked, or cut at 500 actions; where the model has never
-      seen an end, values only fall, which the greedy policy avoids; navcli's first task used
-      0.99); ``backups`` k = 20 per real step and
+      seen an end, values only fall, which the greedy policy avoids; the simpler task, ``paper_task`` 0,
+      is meant with 0.99); ``backups`` k = 20 per real step and
       ``threshold`` 1e-3 (the notes' starting points for 980 states, rewards of size 1-10);
       ``explore`` 2: an action tried fewer times than this in a state is preferred there
       (Moore & Atkeson's exploration of rarely tried actions, locally).
@@ -605,7 +603,7 @@ class LearningParams(ParamSet):
     paper_task: bool = param(
         True,
         "",
-        "train, compare policies and the env run the paper's task (training/task.py); off: navcli's first task",
+        "train, compare policies and the env run the paper's task (training/task.py); off: a simpler task (training/task.py)",
     )
     first_sighting: bool = param(
         False,

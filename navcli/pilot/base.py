@@ -23,10 +23,10 @@ Navigation system's. This module holds what every pilot shares:
   written). ``d_m`` is "the maximum distance allowed to travel without looking ahead", so the bid
   reaches 1 there and the Pilot's look wins the camera (ties go to the Pilot). The 0.9 of eq. 9
   caps the Pilot's motion bid, so that another system may overrule its driving; capping the look
-  with it too (``look_cap`` 0.9, navcli before) let the Risk Manager's looks, bid above 0.9
-  whenever the risk passes ``R_bar``, keep the Pilot from ever looking ahead, which mattered once
+  with it too (``look_cap`` 0.9) lets the Risk Manager's looks, bid above 0.9
+  whenever the risk passes ``R_bar``, keep the Pilot from ever looking ahead, which matters where
   only a look for obstacles finds obstacles (:mod:`navcli.vision.routines`): on paper-8x8 the
-  geometric pilot then took 480 s where it takes 270 s (10 seeds). So the look is the one bid of
+  geometric pilot takes 480 s with the cap, 270 s without (10 seeds). So the look is the one bid of
   the Pilot that may pass :data:`navcli.params.PILOT_CEILING`; ``look_cap`` 0.9 honours the
   ceiling.
 
@@ -150,7 +150,7 @@ class Pilot:
         self.max_speed = robot.max_speed
         self.robot = robot
         self.backup_speed = min(params.backup_speed, robot.max_speed)  # m/s: the reflex backs up at most at full speed
-        # s: a backup phase is given at least twice the time it takes (our design: a slow robot backs up slowly)
+        # s: a slow robot backs up slowly, so its backup phase is given twice the time backing up takes
         self._backup_limit_s = max(params.reflex_phase_limit_s, 2.0 * params.backup_distance / self.backup_speed)
         self.backward = 0.0  # m commanded backwards by section 3.5's backward turns, in total
         self.since_look = 0.0  # d_l of eq. 1, metres

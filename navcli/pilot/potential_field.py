@@ -37,7 +37,7 @@ radius; ``tests/test_pilots.py`` checks in simulation that the pilot passes just
 stops just below.
 
 The loops are plain Python on purpose: with the dozen obstacles of the paper's rooms a per-obstacle
-loop costs less than numpy's call overhead (see the issue note for the measurement).
+loop costs less than numpy's call overhead.
 """
 
 from __future__ import annotations
@@ -393,7 +393,7 @@ class PotentialFieldPilot(Pilot):
         arrows = [("net", *f.net), ("target", *f.target)]
         for key, fx, fy, mag, facing_it, _ in f.forces:
             # explained to 1e-4 force units (the drawn arrows start at 2): written with all 17 digits, these
-            # per-obstacle forces were 38 % of a log's bytes, 2.2 kB a tick on paper-8x8 (benchmarks/log_size.py)
+            # per-obstacle forces would be 38 % of a log's bytes, 2.2 kB a tick on paper-8x8 (benchmarks/log_size.py)
             per_obstacle[key] = {"x": round(fx, 4), "y": round(fy, 4), "mag": round(mag, 4), "facing": facing_it}
             if facing_it:
                 arrows.append((key, fx, fy))

@@ -398,6 +398,15 @@ class ScenarioReader(Reader):
 
     def placement(self, sc: Scenario) -> None:
         """Every point inside the arena; the robot's start clear of walls, obstacles, landmarks."""
+        self.points_inside(sc)
+        if self.problems:
+            return
+        self.shapes_within_walls(sc)
+        self.reachable(sc)
+        self.start_clear(sc)
+
+    def points_inside(self, sc: Scenario) -> None:
+        """Every point the scenario gives (start, target, obstacles, landmarks) inside the arena."""
         W, H = sc.arena.width, sc.arena.height
 
         def inside(p: Point, path: tuple) -> None:
@@ -422,8 +431,10 @@ class ScenarioReader(Reader):
                 inside(o.end, ("obstacles", i, "segment", "to"))
         for i, lm in enumerate(sc.landmarks):
             inside(lm.at, ("landmarks", i, "at"))
-        if self.problems:
-            return
+
+    def shapes_within_walls(self, sc: Scenario) -> None:
+        """Every circle and landmark whole inside the walls, not only its centre."""
+        W, H = sc.arena.width, sc.arena.height
 
         def within_walls(p: Point, radius: float, path: tuple, what: str) -> None:
             out = -min(p[0], p[1], W - p[0], H - p[1]) + radius
@@ -439,8 +450,10 @@ class ScenarioReader(Reader):
                 within_walls(o.center, o.radius, ("obstacles", i, "circle", "center"), "the circle")
         for i, lm in enumerate(sc.landmarks):
             within_walls(lm.at, lm.radius, ("landmarks", i, "at"), "the landmark")
-        self.reachable(sc)
 
+    def start_clear(self, sc: Scenario) -> None:
+        """The robot's start at least its radius from every wall, obstacle and landmark."""
+        W, H = sc.arena.width, sc.arena.height
         s, r = sc.robot.start, sc.params.robot.radius
         P = ("robot", "start")
         if min(s[0], s[1], W - s[0], H - s[1]) < r and not self.problems:

@@ -49,7 +49,7 @@ class ScenarioError(NavcliError):
 
 
 # --- Loading -------------------------------------------------------------------------------
-# What the loader reads at most, checked before the YAML is built into values (our design: a
+# What the loader reads at most, checked before the YAML is built into values (a
 # scenario is a few kilobytes; these bounds are hundreds of times that, and each keeps a hostile
 # file from costing more than a fraction of a second or a few megabytes).
 MAX_BYTES = 256_000
@@ -200,19 +200,7 @@ def parse_yaml(text: str, source: str) -> tuple[Any, dict[tuple, int]]:
     """Safe-load ``text`` once it is known to be bounded, keeping the line of every key and item
     (1-based)."""
     _bounded(text, source)
-    loader = _Loader(text)
-    try:
-        root = loader.get_single_node()
-        own = _own_keys(root)  # before construction, which merges `<<` keys into the mappings in place
-        data = loader.construct_document(root) if root is not None else None
-    except yaml.MarkedYAMLError as e:
-        raise _yaml_problem(e, source) from None
-    except yaml.YAMLError as e:
-        raise _refuse(source, None, f"not valid YAML: {e}") from None
-    except ValueError as e:  # a value the constructor cannot build (a date out of range ...)
-        raise _refuse(source, None, f"not valid YAML: {e}") from None
-    finally:
-        loader.dispose()
+    root, own, data = _compose(text, source)
     if root is None:
         raise ScenarioError([Problem(source, None, "", "the file is empty (expected a scenario mapping)")])
     if not isinstance(root, yaml.MappingNode):
@@ -227,55 +215,84 @@ def parse_yaml(text: str, source: str) -> tuple[Any, dict[tuple, int]]:
                 )
             ]
         )
-    lines: dict[tuple, int] = {(): root.start_mark.line + 1}
-    problems: list[Problem] = []
+    walk = _LineWalk(source, own, data, root)
+    walk.node(root, ())
+    if walk.problems:
+        raise ScenarioError(walk.problems)
+    return data, walk.lines
 
-    def walk(node: yaml.Node, path: tuple) -> None:
+
+def _compose(text: str, source: str) -> tuple[yaml.Node | None, set[tuple[int, int]], Any]:
+    """The document's root node, its own keys (:func:`_own_keys`) and the data loaded from it;
+    YAML the loader refuses is a :class:`ScenarioError`."""
+    loader = _Loader(text)
+    try:
+        root = loader.get_single_node()
+        own = _own_keys(root)  # before construction, which merges `<<` keys into the mappings in place
+        data = loader.construct_document(root) if root is not None else None
+    except yaml.MarkedYAMLError as e:
+        raise _yaml_problem(e, source) from None
+    except yaml.YAMLError as e:
+        raise _refuse(source, None, f"not valid YAML: {e}") from None
+    except ValueError as e:  # a value the constructor cannot build (a date out of range ...)
+        raise _refuse(source, None, f"not valid YAML: {e}") from None
+    finally:
+        loader.dispose()
+    return root, own, data
+
+
+class _LineWalk:
+    """One walk over the node tree: the line of every key and item (``lines``, by path), and the
+    problems the data cannot show: keys that are not names, keys written twice, YAML 1.1 numbers."""
+
+    def __init__(self, source: str, own: set[tuple[int, int]], data: Any, root: yaml.Node) -> None:
+        self.source, self.own, self.data = source, own, data
+        self.lines: dict[tuple, int] = {(): root.start_mark.line + 1}
+        self.problems: list[Problem] = []
+
+    def node(self, node: yaml.Node, path: tuple) -> None:
         if isinstance(node, yaml.MappingNode):
-            seen: set = set()
-            for k, v in node.value:
-                key = k.value
-                if not isinstance(key, str) or k.tag != "tag:yaml.org,2002:str":  # a list, a number, ~, true ...
-                    shown = f" ({key!r} is read as {k.tag.rsplit(':', 1)[-1]})" if isinstance(key, str) else ""
-                    problems.append(
-                        Problem(source, k.start_mark.line + 1, _dotted(path), f"a key must be a name{shown}")
-                    )
-                    continue
-                if key in seen and (id(node), id(k)) in own:  # written twice; a key a merge (<<) gave may be overridden
-                    problems.append(
-                        Problem(
-                            source, k.start_mark.line + 1, _dotted(path + (key,)), "appears twice in the same mapping"
-                        )
-                    )
-                if (id(node), id(k)) in own:
-                    seen.add(key)
-                lines[path + (key,)] = k.start_mark.line + 1
-                walk(v, path + (key,))
+            self.mapping(node, path)
         elif isinstance(node, yaml.SequenceNode):
             for i, v in enumerate(node.value):
-                lines[path + (i,)] = v.start_mark.line + 1
-                walk(v, path + (i,))
+                self.lines[path + (i,)] = v.start_mark.line + 1
+                self.node(v, path + (i,))
         elif isinstance(node, yaml.ScalarNode) and not node.style and node.tag in _NUMBER_TAGS:
-            value = data_at(path)
+            value = self.data_at(path)
             hint = _yaml11_number(node.value, value) if isinstance(value, (int, float)) else ""
             if hint:
-                problems.append(Problem(source, node.start_mark.line + 1, _dotted(path), hint))
+                self.problems.append(Problem(self.source, node.start_mark.line + 1, _dotted(path), hint))
 
-    def data_at(path: tuple) -> Any:
+    def mapping(self, node: yaml.MappingNode, path: tuple) -> None:
+        source, own = self.source, self.own
+        seen: set = set()
+        for k, v in node.value:
+            key = k.value
+            if not isinstance(key, str) or k.tag != "tag:yaml.org,2002:str":  # a list, a number, ~, true ...
+                shown = f" ({key!r} is read as {k.tag.rsplit(':', 1)[-1]})" if isinstance(key, str) else ""
+                self.problems.append(
+                    Problem(source, k.start_mark.line + 1, _dotted(path), f"a key must be a name{shown}")
+                )
+                continue
+            if key in seen and (id(node), id(k)) in own:  # written twice; a key a merge (<<) gave may be overridden
+                self.problems.append(
+                    Problem(source, k.start_mark.line + 1, _dotted(path + (key,)), "appears twice in the same mapping")
+                )
+            if (id(node), id(k)) in own:
+                seen.add(key)
+            self.lines[path + (key,)] = k.start_mark.line + 1
+            self.node(v, path + (key,))
+
+    def data_at(self, path: tuple) -> Any:
         """The loaded value at ``path``, or None where the data is not shaped as the nodes (an
         ``!!omap``, a set ...: refused by the reader's types)."""
-        v: Any = data
+        v: Any = self.data
         for k in path:
             try:
                 v = v[k]
             except (KeyError, IndexError, TypeError):
                 return None
         return v
-
-    walk(root, ())
-    if problems:
-        raise ScenarioError(problems)
-    return data, lines
 
 
 def _own_keys(root: yaml.Node | None) -> set[tuple[int, int]]:

@@ -38,13 +38,13 @@ as the paper states them:
   only end state of value 0; a blocked trial has not reached it, and what reaching it would still
   have cost is unknown, so the learner takes the blocked ending as it takes the 500-action cut:
   the trial stops, and the value of the state it stopped in stands for the rest
-  (``learning.blocked_terminal`` off). On, blocked is an end state of value 0 (navcli before), and
+  (``learning.blocked_terminal`` off). On, blocked is an end state of value 0, and
   a learner is paid for getting blocked cheaply.
 
 **Presets lie under the user's word**: the task's conditions are a preset applied under the
 scenario's own values and the command line's (:func:`task_spec`, ``RunSpec.build(preset=...)``),
 so any ``--param`` given is heard, whatever its value (``--param vision.told_target=1`` gives a
-told target). ``learning.paper_task=0`` gives navcli's first task: the target told at the start
+told target). ``learning.paper_task=0`` gives a simpler task: the target told at the start
 (+-2 cm, never forgotten), the camera free to all, starts anywhere 1.5 m from the target,
 success by the body alone, blocked not terminal. The initial sweep, where the Rescuer makes one,
 comes before the first action and is not counted.
@@ -137,7 +137,7 @@ def task_spec(scenario: Scenario, overrides: Mapping[str, Any] | None = None, **
     """The run configuration of a learning-task run in ``scenario``: with ``learning.paper_task``
     on (the scenario's or ``overrides``'), the paper's conditions (:data:`PAPER_TASK`) as a preset
     under the scenario's and ``overrides``' values, so every value the user gives is heard; off,
-    navcli's first task. ``choices`` as :meth:`RunSpec.build`'s."""
+    the simpler task (module docstring). ``choices`` as :meth:`RunSpec.build`'s."""
     paper = scenario.params.override(overrides or {}).learning.paper_task
     return RunSpec.build(scenario, overrides=overrides, preset=PAPER_TASK if paper else None, **choices)
 

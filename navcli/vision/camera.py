@@ -19,7 +19,7 @@ the room's walls, as that object (key ``segment:<key>``, ``wall:<key>``) and mea
 extremities in the image, toward its ends ``a`` and ``b``: each is either that end itself, in
 view (:attr:`Detection.ends` says so), or where the view cuts the obstacle (the field of view's
 edge, the range, something in front), a point of it beyond which it goes on. The memory fuses
-them end by end (:mod:`.visual_memory`). With ``vision.line_objects`` 0 (navcli before) a linear
+them end by end (:mod:`.visual_memory`). With ``vision.line_objects`` 0 a linear
 obstacle is reported, unidentified, by the end points of each stretch of it in view (a point if
 only a sliver shows), and the memory re-joins the pieces by geometry. A wall is reported as a
 ``wall`` (a wall is told apart from the obstacles in the room by its size, and the Pilot treats
@@ -132,7 +132,7 @@ class Camera:
         physical object other than ``own`` blocks the line of sight: a disc by its body, strictly
         between eye and point, a segment by crossing it properly)?
 
-        Everything that does not depend on the point is prepared once per image (our design: an
+        Everything that does not depend on the point is prepared once per image (an
         image tests ~180 points): only the objects that can block a line of sight inside the
         field of view and range are kept, so the occlusion tests cost (objects in view) per
         point, not n; their offsets from the eye, and a segment's side of the eye, are computed
@@ -140,24 +140,8 @@ class Camera:
         :func:`navcli.geometry.crosses_sight`, inlined, to the last bit."""
         ex, ey, theta, pan = pose.x, pose.y, pose.theta, self.pan
         rng, half = self.spec.range, self.spec.fov / 2
-        axis = theta + pan
-        discs = []  # key, offset of the centre from the eye, centre, r^2
-        for key, (cx, cy), r in self._points:
-            d = math.hypot(cx - ex, cy - ey)
-            if d - r > rng:
-                continue
-            if d > r and abs(wrap_angle(math.atan2(cy - ey, cx - ex) - axis)) > half + math.asin(r / d):
-                continue
-            discs.append((key, cx - ex, cy - ey, cx, cy, r * r))
-        lines = []  # key, a, b - a, the eye's side of ab, a and b relative to the eye
-        for key, (ax, ay), (bx, by) in self._lines:
-            if distance_to_segment((ex, ey), (ax, ay), (bx, by)) > rng:
-                continue
-            ux, uy = bx - ax, by - ay
-            d1 = ux * (ey - ay) - uy * (ex - ax)
-            if d1 == 0:
-                continue  # the eye on the segment's line: no sight line crosses it properly
-            lines.append((key, ax, ay, ux, uy, d1 > 0, ay - ey, ax - ex, by - ey, bx - ex))
+        discs = self._discs_in_view(ex, ey, theta + pan, rng, half)
+        lines = self._segments_in_range(ex, ey, rng)
         remainder, atan2, hypot = math.remainder, math.atan2, math.hypot
 
         def sees(px: float, py: float, own: str) -> bool:
@@ -186,6 +170,37 @@ class Camera:
 
         return sees
 
+    def _discs_in_view(
+        self, ex: float, ey: float, axis: float, rng: float, half: float
+    ) -> list[tuple[str, float, float, float, float, float]]:
+        """The discs (landmarks, circles) that reach into the field of view (``axis`` ± ``half``)
+        within ``rng`` of the eye: key, offset of the centre from the eye, centre, r^2."""
+        discs = []
+        for key, (cx, cy), r in self._points:
+            d = math.hypot(cx - ex, cy - ey)
+            if d - r > rng:
+                continue
+            if d > r and abs(wrap_angle(math.atan2(cy - ey, cx - ex) - axis)) > half + math.asin(r / d):
+                continue
+            discs.append((key, cx - ex, cy - ey, cx, cy, r * r))
+        return discs
+
+    def _segments_in_range(
+        self, ex: float, ey: float, rng: float
+    ) -> list[tuple[str, float, float, float, float, bool, float, float, float, float]]:
+        """The segments (obstacles, walls) within ``rng`` of the eye that a sight line can cross:
+        key, a, b - a, the eye's side of ab, a and b relative to the eye."""
+        lines = []
+        for key, (ax, ay), (bx, by) in self._lines:
+            if distance_to_segment((ex, ey), (ax, ay), (bx, by)) > rng:
+                continue
+            ux, uy = bx - ax, by - ay
+            d1 = ux * (ey - ay) - uy * (ex - ax)
+            if d1 == 0:
+                continue  # the eye on the segment's line: no sight line crosses it properly
+            lines.append((key, ax, ay, ux, uy, d1 > 0, ay - ey, ax - ex, by - ey, bx - ex))
+        return lines
+
     # -- the pan unit
     def step(
         self, time: float, pose: Pose, request: Look | None, dt: float, known: Container[str] = ()
@@ -196,7 +211,7 @@ class Camera:
         the true pose; ``known`` the keys the visual memory holds (the routines ask: :mod:`.routines`).
         While panning, the camera follows the winning look, and cancels the pan without an image
         when there is none (module docstring); with ``vision.routines`` 0 a pan, once begun,
-        ends in an image whatever wins meanwhile, as navcli's camera did.
+        ends in an image whatever wins meanwhile.
         """
         self.looked = None
         if self.state == "processing" and time >= self._free_at - 1e-9:
@@ -316,7 +331,7 @@ class Camera:
     def in_view(self, pose: Pose, a: Point, b: Point, n: int) -> range:
         """The indices ``k`` of the samples ``a + (b - a) k / n`` that may lie in the field of view:
         those in the wedge of the view widened by ``VIEW_MARGIN`` either side, and one more each
-        end (our design: a wall is sampled ~40 times and the 60-degree view holds a few of them;
+        end (a wall is sampled ~40 times and the 60-degree view holds a few of them;
         the samples left out lie well outside the view, so :meth:`sight` would refuse them
         anyway, and the stretches found are the same). A view of 180 degrees or more is no wedge:
         every sample is kept."""

@@ -1,9 +1,9 @@
-"""navcli's old memory of linear obstacles, kept behind ``vision.line_objects`` 0 for the
-sensitivity table: the camera reported a fence or wall, unidentified, as the pieces its view cut
-(the ends of each stretch in view, a point for a sliver), and the memory re-joined them by
-geometry. A stretch joined the remembered line it lay along (:func:`same_line`), a sliver the
-line it lay on (:func:`near_line`), and :func:`extend` moved the line's ends to the farthest
-spots. Lines built so could cross open floor (a sample of one wall taken into the next wall's
+"""The memory of linear obstacles as pieces, behind ``vision.line_objects`` 0 for the
+sensitivity table: the camera reports a fence or wall, unidentified, as the pieces its view cuts
+(the ends of each stretch in view, a point for a sliver), and the memory re-joins them by
+geometry. A stretch joins the remembered line it lies along (:func:`same_line`), a sliver the
+line it lies on (:func:`near_line`), and :func:`extend` moves the line's ends to the farthest
+spots. Lines built so can cross open floor (a sample of one wall taken into the next wall's
 line round a corner, a U's base and arm joined into one diagonal): the reason the default is one
 identified object per fence (:meth:`navcli.vision.visual_memory.VisualMemory._observe_line`).
 """

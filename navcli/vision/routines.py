@@ -44,7 +44,7 @@ Where the papers are silent, our reading (each a choice, stated here and in the 
   routine never registers them.
 
 ``vision.walls`` decides whether walls are registered at all (``felt``: never; the bumpers find
-them), and ``vision.routines`` 0 restores navcli's old camera, whose every image registered
+them), and ``vision.routines`` 0 gives a camera whose every image registers
 everything in view (:data:`EVERYTHING`).
 """
 

@@ -356,7 +356,7 @@ class VisualMemory:
         A landmark, a point or the target goes when its I(l) passes ``forget_above`` (the thesis'
         rule for landmarks); a linear obstacle when both its ends have (ours: the end nearest a
         robot driving along a fence blurs first, and forgetting the fence with it lost a 7 m river
-        every ten seconds). ``forget_line_by_one_end`` 1 restores the old rule."""
+        every ten seconds). ``forget_line_by_one_end`` 1 forgets it by one end."""
         lim = self.params.forget_above
         whole = not self.params.forget_line_by_one_end
         gone = [
@@ -456,7 +456,7 @@ class VisualMemory:
         A point sighting is fused with the nearest remembered point that may be the same thing
         (:func:`_same_point`); a new point is remembered under a fresh key. A stretch of a linear obstacle
         (``vision.line_objects`` 0: the camera does not identify it) is joined with the pieces
-        remembered of it by geometry (:mod:`.line_pieces`, navcli before)."""
+        remembered of it by geometry (:mod:`.line_pieces`)."""
         if line_pieces.join(self, spots, radius, time, kind):
             return
         if len(spots) == 1:
