@@ -283,6 +283,8 @@ def against_random(mine: tuple[float, float], random: tuple[float, float], n: in
 
 AGAINST_RANDOM = ("beats random", "random does as well", "random does better")
 """The verdicts of :func:`against_random` that judge (the others say why there is none)."""
+NOT_JUDGED = ("(the baseline)", "n/a")
+"""A cell against random that is no verdict: the random row itself, a quantity the policy has not."""
 
 
 def _cell(m: tuple[float, float, float], digits: int = 1) -> str:
@@ -349,11 +351,11 @@ def endings_table(rows: list[PolicyRow], max_actions: int) -> tuple[list[str], l
         judged = []
         for m in ("successes", "reward"):
             if r.policy == BASELINE:
-                judged.append("(the baseline)")
+                judged.append(NOT_JUDGED[0])
             elif base is None:
                 judged.append("no verdict: no random row")
             elif not math.isfinite(r.means["reward"][0]) and m == "reward":
-                judged.append("n/a")  # the bidding agents: no reward
+                judged.append(NOT_JUDGED[1])  # the bidding agents: no reward
             else:
                 mine, theirs = (r.successes, base.successes) if m == "successes" else (r.means[m], base.means[m])
                 judged.append(against_random(mine[1:], theirs[1:], r.starts, r.errored + base.errored))
