@@ -23,6 +23,9 @@ import shutil
 import sys
 from pathlib import Path
 
+from navcli.experiments.learning_paper import AGAINST_RANDOM as RANDOM
+from navcli.experiments.learning_paper import NOT_JUDGED
+
 DOCS = Path(__file__).resolve().parent
 ROOT = DOCS.parent
 KEPT = DOCS / "results" / "report"
@@ -52,10 +55,17 @@ def _sections(report: str) -> list[tuple[str, list[dict[str, str]]]]:
 def summary_table(report: str) -> str:
     """What reproduces, by experiment: the report's verdicts counted (agrees / does not / no verdict);
     then, where the report holds targets (columns named ``target ...``), each section's targets
-    counted (met / not met / no verdict)."""
+    counted (met / not met / no verdict); then, where it judges policies against the uniform random
+    one (columns named ``... against random``), each section's verdicts counted (each of
+    navcli.experiments.learning_paper.AGAINST_RANDOM, or none)."""
     lines = ["| experiment | agrees | does not agree | no verdict |", "| --- | ---: | ---: | ---: |"]
     targets = ["", "| targets of | met | not met | no verdict |", "| --- | ---: | ---: | ---: |"]
+    random = ["", "| against uniform random | " + " | ".join(RANDOM) + " | no verdict |", "| --- |" + " ---: |" * 4]
     for title, rows in _sections(report):
+        judged = [v for r in rows for k, v in r.items() if k.endswith("against random") and v not in NOT_JUDGED]
+        if judged:
+            counts = [sum(v == w for v in judged) for w in RANDOM]
+            random.append(f"| {title} | " + " | ".join(map(str, counts)) + f" | {len(judged) - sum(counts)} |")
         verdicts = [r["agreement"] for r in rows if "agreement" in r]
         if verdicts:
             agree = sum(v == "agrees" for v in verdicts)
@@ -65,7 +75,7 @@ def summary_table(report: str) -> str:
         if aims:
             met, missed = sum(v == "met" for v in aims), sum(v.startswith("not met") for v in aims)
             targets.append(f"| {title} | {met} | {missed} | {len(aims) - met - missed} |")
-    return "\n".join(lines + (targets if len(targets) > 3 else [])) + "\n"
+    return "\n".join(lines + (targets if len(targets) > 3 else []) + (random if len(random) > 3 else [])) + "\n"
 
 
 def command(source: dict) -> str:

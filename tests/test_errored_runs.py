@@ -273,15 +273,21 @@ def _table(md: str) -> list[list[str]]:
     return [[c.strip() for c in ln.strip("|").split("|")] for ln in lines[1:]]
 
 
-def test_a_policys_successes_count_a_starts_identical_trials_once():
+def test_a_policys_successes_interval_takes_the_starts_as_its_sample_and_holds_its_mean():
+    """Runs repeat the same starts: two runs alike give the interval of one run, not of twice the trials."""
     from navcli.analysis.stats import wilson_interval
-    from navcli.experiments.learning_paper import TRIAL_IDENTITY, _distinct_rate
+    from navcli.experiments.learning_paper import policy_row
+    from navcli.learning.actions import ACTIONS
 
-    trial = {k: 0 for k in TRIAL_IDENTITY} | {"outcome": "reached", "success": True}
-    same = [trial | {"start": s, "run": r} for r in range(2) for s in range(3)]  # 2 runs alike: 3 trials
-    assert _distinct_rate(pd.DataFrame(same)) == wilson_interval(3, 3)
-    differ = [t | {"reward": t["run"]} for t in same]  # the runs differ: 6 trials
-    assert _distinct_rate(pd.DataFrame(differ)) == wilson_interval(6, 6)
+    trial = {"outcome": "reached", "success": True, "actions": 5, "reward": -5.0} | {a: 1 for a in ACTIONS}
+    same = [
+        trial | {"start": s, "run": r} | ({"outcome": "blocked", "success": False} if s == 0 else {})
+        for r in range(2)
+        for s in range(3)
+    ]  # 2 of 3 starts reached, in both runs
+    row = policy_row(pd.DataFrame(same), "p", runs=2, errored=0, starts=3, max_actions=500)
+    lo, hi = wilson_interval(2, 3)
+    assert row.successes == pytest.approx((2.0, 3 * lo, 3 * hi)) and 3 * lo < 2.0 < 3 * hi
 
 
 def test_compare_policies_exits_4_and_its_table_says_which_runs_errored_and_why(tmp_path, monkeypatch):

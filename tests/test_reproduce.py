@@ -18,6 +18,7 @@ from conftest import ROOT
 from navcli.analysis import read_log
 from navcli.analysis.files import MARK
 from navcli.cli import app
+from navcli.experiments import learning_paper
 from navcli.experiments.reproduce import FULL, QUICK, REPORT_FILES, reproduce
 from navcli.learning.actions import ACTIONS
 
@@ -38,15 +39,35 @@ VFH = "vfh_pilot:VFHPilot"
 PILOTS = ("geometric", "potential-field", VFH)
 
 
+OPTIONAL = "all-MB"
+"""An optional row of the learning paper's Table 1 in these tests (MB in every state: needs nothing
+more), made by its own ``compare policies`` command with one run of TINY's two: the other is missing."""
+
+
+def _optional_row(out: Path) -> str:
+    """The optional row's trials, by the command the report names, where the report reads them."""
+    folder = out / "policies" / "landmarks-12" / learning_paper.EXTRA / OPTIONAL
+    if not folder.exists():
+        args = ["compare", "policies", "landmarks-12", "--policy", OPTIONAL, "--runs", "1", "--starts", "3"]
+        r = CliRunner().invoke(app, [*args, "--jobs", "1", "--out", str(folder)])
+        assert r.exit_code == 0, r.output
+    return str(folder.resolve())
+
+
 def _reproduce(out: Path) -> str:
-    """``navcli reproduce all --pilot vfh_pilot:VFHPilot`` on TINY settings: the report's Markdown."""
+    """``navcli reproduce all --pilot vfh_pilot:VFHPilot`` on TINY settings, with :data:`OPTIONAL` an
+    optional row of Table 1 beside the declared ones: the report's Markdown."""
     import sys
 
+    _optional_row(out)
+    declared = learning_paper.OPTIONAL_POLICIES
+    learning_paper.OPTIONAL_POLICIES = (learning_paper.OptionalRow(OPTIONAL, "nothing more"), *declared)
     sys.path.insert(0, str(ROOT / "examples" / "vfh-pilot"))  # the plugin's folder, as if installed
     try:
         return reproduce("all", out, settings=TINY, jobs=2, echo=lambda s: None, pilots=(VFH,))["markdown"].read_text()
     finally:
         sys.path.remove(str(ROOT / "examples" / "vfh-pilot"))
+        learning_paper.OPTIONAL_POLICIES = declared
 
 
 @pytest.fixture(scope="module")
@@ -116,18 +137,68 @@ def test_the_trap_table_counts_the_logs_outcomes_and_diverting_targets(done):
 
 def test_the_policy_table_is_the_trials_it_names(done):
     out, md = done
-    rows = _rows(md, "Learning paper, Table 1 on landmarks-12")
+    rows = {r[0]: r for r in _rows(md, "Learning paper, Table 1 on landmarks-12")}
+    ends = {r[0]: r for r in _rows(md, "Learning paper, Table 1 on landmarks-12", 1)}
     with (out / "policies" / "landmarks-12" / "trials.csv").open() as f:
         trials = list(csv.DictReader(f))
-    for policy in ("learned", "hand-coded", "random"):
+    for policy, runs in (("learned", 2), ("hand-coded", 2), ("random", 2), (OPTIONAL, 1)):
         mine = [t for t in trials if t["policy"] == policy]
-        runs = sorted({t["run"] for t in mine})
-        per_run = [sum(t["success"] == "True" for t in mine if t["run"] == r) * 99 / TINY.policy_starts for r in runs]
-        row = next(r for r in rows if r[:2] == [policy, "successes"])
-        assert _mean(row[3]) == pytest.approx(statistics.mean(per_run), abs=0.05 + 1e-9)
-        reward = next(r for r in rows if r[:2] == [policy, "reward"])
-        per_run_reward = [statistics.mean(float(t["reward"]) for t in mine if t["run"] == r) for r in runs]
-        assert _mean(reward[3]) == pytest.approx(statistics.mean(per_run_reward), abs=0.05 + 1e-9)
+        assert sorted({t["run"] for t in mine}) == [str(r) for r in range(runs)]
+        per_run = [sum(t["success"] == "True" for t in mine if t["run"] == str(r)) for r in range(runs)]
+        row = rows[policy]
+        assert _mean(row[1]) == pytest.approx(statistics.mean(per_run), abs=0.05 + 1e-9)  # successes of 3
+        assert row[1].endswith(f"({min(per_run)}-{max(per_run)})" if runs > 1 else "(1 run)")
+        per_run_reward = [statistics.mean(float(t["reward"]) for t in mine if t["run"] == str(r)) for r in range(runs)]
+        assert _mean(row[2]) == pytest.approx(statistics.mean(per_run_reward), abs=0.05 + 1e-9)
+        assert [_mean(row[4 + k]) for k in range(5)] == [
+            pytest.approx(statistics.mean(float(t[a]) for t in mine), abs=0.005 + 1e-9)
+            for a in ("MB", "MOT", "MVT", "MVL", "MLL")
+        ]  # the paper's order of the actions
+        # every trial counted once, by how it ended; the missing run's trials as errored
+        end = ends[policy]
+        limit = [t for t in mine if t["outcome"] != "reached" and float(t["actions"]) >= 500]
+        blocked = [t for t in mine if t["outcome"] == "blocked" and t not in limit]
+        reached = [t for t in mine if t["outcome"] == "reached"]
+        errored = (TINY.policy_runs - runs) * TINY.policy_starts
+        assert end[1:8] == [
+            f"{TINY.policy_runs} ({TINY.policy_runs - runs})",
+            str(TINY.policy_runs * TINY.policy_starts),
+            str(len(reached)),
+            str(len(limit)),
+            str(len(blocked)),
+            str(len(mine) - len(reached) - len(limit) - len(blocked)),
+            str(errored),
+        ]
+        assert sum(int(c) for c in end[3:8]) == int(end[2])
+
+
+def test_an_optional_row_is_read_with_its_command_and_a_missing_one_is_said(done):
+    out, md = done
+    section = md.split("## Learning paper, Table 1 on landmarks-12", 1)[1].split("\n## ", 1)[0]
+    made = f"navcli compare policies landmarks-12 --policy {OPTIONAL} --runs 1 --starts 3 --out {_optional_row(out)}"
+    assert "its trials read from" in section and f"made by `{made}`" in section
+    assert "1 of its 2 runs not found (not run, or ended in error), counted as errored" in section
+    ends = {r[0]: r for r in _rows(md, "Learning paper, Table 1 on landmarks-12", 1)}
+    assert ends[OPTIONAL][-2:] == ["no verdict: 1 run ended in error"] * 2  # its missing run: not judged
+    rows = {r[0]: r for r in _rows(md, "Learning paper, Table 1 on landmarks-12")}
+    assert rows["sb3-ppo (optional)"][1] == "not run here (see the notes)"
+    assert (
+        "sb3-ppo (optional, needs" in section
+        and "not run here, so no row; to add it run `navcli compare policies landmarks-12 --policy sb3-ppo --runs 2 --starts 3 --out"
+        in section
+    )
+
+
+def test_the_papers_rows_stand_under_navclis_with_every_action_in_its_order(done):
+    _, md = done
+    rows = _rows(md, "Learning paper, Table 1 on landmarks-12")
+    names = [r[0] for r in rows]
+    assert names.index("learned: the paper") == names.index("learned") + 1
+    assert names.index("hand-coded: the paper") == names.index("hand-coded") + 1
+    paper = next(r for r in rows if r[0] == "hand-coded: the paper")
+    assert paper[1:] == ["24 of 99", "-858", "153.33", "4.94", "18.59", "0.52", "121.96", "7.32"]  # the paper's Table 1
+    head = md.split("## Learning paper, Table 1 on landmarks-12", 1)[1].split("| policy |", 1)[1].split("\n", 1)[0]
+    assert head.strip(" |").split(" | ")[-5:] == ["MB", "MOT", "MVT", "MVL", "MLL"]
 
 
 def test_the_figure_is_written_and_named_and_the_html_holds_the_same_tables(done):
@@ -136,8 +207,9 @@ def test_the_figure_is_written_and_named_and_the_html_holds_the_same_tables(done
     assert (out / img).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     html = (out / "report.html").read_text()
     assert (
-        html.count("<table>") == sum(ln.startswith("| ---") for ln in md.splitlines()) == 9
-    )  # every table, once (two each for the rooms, the sensitivity and the trap rooms)
+        html.count("<table>") == sum(ln.startswith("| ---") for ln in md.splitlines()) == 12
+    )  # every table, once (two each for the rooms, the sensitivity and the trap rooms, three for the
+    # policies' Table 1, one for Figure 3's trainings)
     took = {r[0]: int(r[1].removesuffix(" s")) for r in _rows(md, "How long it took")}
     assert len(took) == 7 and took["all"] >= max(v for k, v in took.items() if k != "all")  # six sections, then all
 
@@ -237,7 +309,7 @@ def test_no_interval_leaves_its_range_and_no_verdict_stands_without_a_paper_numb
         ("Trap rooms", 1, 2, 3, 4),
         ("Learning paper, Table 1", 1, 2, 3, 4),
     ):
-        for row in _rows(md, heading):
+        for row in _rows(md, heading, 2 if heading.startswith("Learning") else 0):
             q = row[quantity]
             if row[paper] == "-":  # the paper has no number: no verdict
                 assert row[agreement] == "", row
@@ -264,8 +336,8 @@ def test_too_few_runs_give_no_verdict_and_the_notes_say_so(done):
     from navcli.analysis.stats import MIN_SAMPLE
 
     _, md = done
-    for heading, agreement in (("Pilot paper, Table 1:", 7), ("Learning paper, Table 1", 4)):
-        verdicts = {r[agreement] for r in _rows(md, heading) if r[agreement]}
+    for heading, table, agreement in (("Pilot paper, Table 1:", 0, 7), ("Learning paper, Table 1", 2, 4)):
+        verdicts = {r[agreement] for r in _rows(md, heading, table) if r[agreement]}
         assert verdicts and all(v.startswith("too few ") and f"{MIN_SAMPLE} needed" in v for v in verdicts)
     assert (
         "the policies on landmarks-12: only 3 starts; with fewer than 10 its 95 % intervals are too uncertain to trust"

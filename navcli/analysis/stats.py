@@ -33,7 +33,7 @@ percentile bootstrap of fewer than 10 covers the true mean markedly less often t
 time, and the Wilson interval of a rate spans some 30 points or more."""
 
 
-def wilson_interval(successes: int, n: int, z: float = 1.96) -> tuple[float, float]:
+def wilson_interval(successes: float, n: int, z: float = 1.96) -> tuple[float, float]:
     """The Wilson score 95 % interval of a success rate (sound at 0/n and n/n, unlike the normal
     approximation); NaNs for no trial.
 

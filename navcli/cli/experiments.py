@@ -154,7 +154,15 @@ def compare_policies(
     bootstrap over the starts for the rest; too few starts are said).
     Runs already done are kept (an interrupted comparison resumes)."""
     spec = build_spec(scenario, param, task=True)
-    from ..training.comparison import DEFAULT_POLICIES, PolicyError, parse_policy, plan, run_all, write_table
+    from ..training.comparison import (
+        DEFAULT_POLICIES,
+        PolicyError,
+        parse_policy,
+        plan,
+        run_all,
+        write_source,
+        write_table,
+    )
     from ..learning.features import check_bounds
 
     names = list(policy or DEFAULT_POLICIES)
@@ -165,9 +173,9 @@ def compare_policies(
         labels = [c.label for c in chosen]
         if len(set(labels)) < len(labels):
             raise PolicyError(f"a policy is named twice: {', '.join(labels)}")
-    from ..training.comparison import TABLE_FILES
+    from ..training.comparison import SOURCE_FILE, TABLE_FILES
 
-    out_folder(out, TABLE_FILES, force=True)  # resumed: the table is remade from every run
+    out_folder(out, TABLE_FILES + (SOURCE_FILE,), force=True)  # resumed: the table is remade from every run
     out_folder(out / "runs")
     (out / "runs").mkdir(parents=True, exist_ok=True)
     work = plan(spec, chosen, runs, starts, out)
@@ -187,6 +195,9 @@ def compare_policies(
     for r in errors:
         say(f"  failed: {r.job.policy.label} run {r.job.run}: {r.error}")
     files = write_table(results, out, spec.scenario.name)
+    argv = ["navcli", "compare", "policies", str(scenario), *(a for n in names for a in ("--policy", n))]
+    argv += ["--runs", str(runs), "--starts", str(starts), "--out", str(out.resolve())]
+    files["source"] = write_source(out, argv + [a for v in param or [] for a in ("--param", v)])
     typer.echo("")
     typer.echo(without_mark(files["markdown"].read_text()))
     typer.echo(f"wrote {', '.join(str(p) for p in files.values())}")

@@ -165,7 +165,7 @@ def plot_bids(
 def learning_curves(metas: list[dict], out: str | Path) -> Path:
     """The learning paper's Figure 3 over several trainings, as a PNG: from each training's model
     metadata (``curve``: trials, successes, reward per trial at each evaluation; ``hand_coded``,
-    ``random`` and their rewards), each training's curve (thin), their mean (thick) and range
+    ``random`` and their rewards), each training's curve (thin, named by its seed), their mean (thick) and range
     (shaded), with the hand-coded and random policies' levels (dashed); successes on the left,
     reward per trial on the right."""
     import matplotlib
@@ -180,8 +180,9 @@ def learning_curves(metas: list[dict], out: str | Path) -> Path:
         (axes[1], "reward", ("hand_coded_reward", "random_reward"), "reward per test trial (higher is cheaper)"),
     ):
         values = np.array([[p[key] for p in m["curve"]] for m in metas], dtype=float)
-        for row in values:
-            ax.plot(trials, row, "-", color="tab:blue", lw=0.8, alpha=0.45)
+        shades = plt.get_cmap("viridis")(np.linspace(0.1, 0.85, len(metas)))
+        for row, m, shade in zip(values, metas, shades):  # each training, named by its seed
+            ax.plot(trials, row, "-", color=shade, lw=0.9, alpha=0.7, label=f"seed {m.get('seed', '?')}")
         ax.fill_between(
             trials,
             values.min(axis=0),
@@ -197,7 +198,7 @@ def learning_curves(metas: list[dict], out: str | Path) -> Path:
                 ax.axhline(level, color=colour, ls="--", lw=2, label=f"{name} ({level:.0f})")
         ax.set_xlabel("training trials")
         ax.set_ylabel(label)
-        ax.legend(loc="lower right", fontsize=8)
+        ax.legend(loc="best", fontsize=7)
     axes[0].set_title("Successes of the test starts (Figure 3)")
     axes[1].set_title("Reward per trial of the test starts")
     fig.tight_layout()

@@ -1,34 +1,59 @@
-"""The learning paper's experiments in ``navcli reproduce learning``: its Table 1 on three rooms
+"""The learning paper's experiments in ``navcli reproduce learning``: its Table 1 on four rooms
 (:func:`policies`) and its Figure 3 over several trainings (:func:`figure3`), beside its numbers.
 
-- **Table 1**: the learned policy (the model bundled with navcli, trained on ``landmarks-12``),
-  the hand-coded policy of section 6 and a uniform random policy (our baseline: the paper has
-  none; a policy that does not tell its actions apart must lose if the table means anything),
-  from the same fixed starts, ``policy_runs`` runs (the paper's five test runs: only the
-  simulator's seed differs); the bidding agents too on the training room. On ``landmarks-12``
-  (the paper's kind of room, the one training used), ``landmarks-hall`` (a hall whose landmarks
-  hide the target from much of the floor) and ``landmarks-drawn`` (drawn at random before any
-  run: a room training never saw). The paper's numbers stand beside the training room's rows.
+- **Table 1**: the policies of :data:`POLICIES` (the learned policy: the model bundled with
+  navcli, trained on ``landmarks-12``; the hand-coded policy of section 6; a uniform random policy,
+  our baseline: the paper has none, and in a task whose features alias many situations into one
+  belief state a stochastic policy can beat the best deterministic one, so a learned policy is
+  judged against it), from the same fixed starts, ``policy_runs`` runs (the paper's five test
+  runs: only the simulator's seed differs); the bidding agents too on the training room. Optional
+  rows (:data:`OPTIONAL_POLICIES`: a policy that needs more installed than navcli's tests do) are
+  read from the folder their own ``navcli compare policies`` command wrote, with that command; a
+  room without them says so. On the rooms of :data:`ROOMS`. Per policy: successes (the mean over
+  the runs), reward, actions and each action's count per trial with 95 % intervals, how every
+  trial ended (:data:`ENDINGS`: at the action limit, blocked, ...; the trials of a run that ended
+  in error counted too), and the verdict against the random policy (:func:`against_random`: it
+  beats random only where the 95 % intervals do not overlap). The paper's numbers stand beside the
+  training room's rows, judged by the report's rule.
 - **Figure 3**: ``train_seeds`` trainings of ``train_trials`` trials (seeds 1, 2, ...), run in
   parallel worker processes, each evaluated every ``eval_every`` trials on the same fixed starts;
   the figure shows each, their mean and their range, with the hand-coded and random policies'
-  levels. Seed 1's training is the bundled model's (``navcli train landmarks-12 --trials 2000
-  --seed 1``): the section says whether its model file is the bundled one, byte for byte.
+  levels, and a table says of each training when it passed the hand-coded policy and its lowest
+  evaluation after :data:`SETTLED` trials. Seed 1's training is the bundled model's (``navcli
+  train landmarks-12 --trials 2000 --seed 1``): the section says whether its model file is the
+  bundled one, byte for byte.
 """
 
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 from ..analysis.stats import wilson_interval
 from ..learning.actions import ACTIONS
 from .document import Report, interval_text
+from .optional_rows import EXTRA, OptionalRow, optional_text, optional_trials
 
 TRAINING_ROOM = "landmarks-12"
-POLICY_ROOMS = (TRAINING_ROOM, "landmarks-hall", "landmarks-drawn")
+ROOMS: dict[str, str] = {
+    TRAINING_ROOM: "the room it was trained on",
+    "landmarks-hall": "a hall whose landmarks hide the target from much of the floor; a room training never saw",
+    "landmarks-drawn": "drawn at random before any run; a room training never saw",
+    "landmarks-drawn-b": "drawn at random before any run and held out from all design; a room training never saw",
+}
+"""Table 1's rooms, with what each is."""
+POLICY_ROOMS = tuple(ROOMS)
 POLICIES = ("learned", "hand-coded", "random")
+"""The policies Table 1 runs on every room (``compare policies`` names); more rows: more names."""
+OPTIONAL_POLICIES: tuple[OptionalRow, ...] = (OptionalRow("sb3-ppo", "navcli[rl] (Stable-Baselines3 and torch)"),)
+"""Rows of Table 1 run by their own command where what they need is installed (:mod:`.optional_rows`)."""
+BASELINE = "random"
+"""The policy every other is judged against (:func:`against_random`)."""
+PAPER_ACTIONS = ("MB", "MOT", "MVT", "MVL", "MLL")
+"""The actions in the order of the paper's Table 1."""
+assert sorted(PAPER_ACTIONS) == sorted(ACTIONS)
 PAPER_STARTS = 99  # the learning paper's test starts
 PAPER_POLICIES: dict[str, dict[str, float]] = {
     "learned": {
@@ -36,20 +61,20 @@ PAPER_POLICIES: dict[str, dict[str, float]] = {
         "reward": -336,
         "actions": 49.95,
         "MB": 11.41,
-        "MLL": 21.43,
         "MOT": 6.52,
-        "MVL": 4.97,
         "MVT": 5.61,
+        "MVL": 4.97,
+        "MLL": 21.43,
     },
     "hand-coded": {
         "successes": 24,
         "reward": -858,
         "actions": 153.33,
         "MB": 4.94,
-        "MLL": 7.32,
         "MOT": 18.59,
-        "MVL": 121.96,
         "MVT": 0.52,
+        "MVL": 121.96,
+        "MLL": 7.32,
     },
 }
 """The learning paper's Table 1 (section 6: 84 and 24 successes of 99 after 2,000 trials)."""
@@ -58,9 +83,9 @@ PAPER_FIGURE3 = "the learned policy ahead of the hand-coded one from 99 trials o
 
 def policies(report: Report, s: Any, out: Path, ex, verdict, scenario, conditions) -> None:
     """Table 1 on each room of ``s.policy_rooms`` (the report's ``verdict``, ``scenario`` loader and
-    ``conditions`` writer are the caller's)."""
-    from ..analysis.files import write_csv
-    from ..training.comparison import failures, notes, parse_policy, plan, policy_table, run_all, trials_frame
+    ``conditions`` writer are the caller's): every policy of :data:`POLICIES` run here, and the
+    rows of :data:`OPTIONAL_POLICIES` read from the folders their own commands wrote."""
+    from ..training.comparison import parse_policy, plan, run_all
     from ..training.task import task_spec
 
     rooms = {
@@ -76,81 +101,331 @@ def policies(report: Report, s: Any, out: Path, ex, verdict, scenario, condition
     # every room's runs in one pool: no room's tail waits
     results = run_all([j for js in jobs.values() for j in js], ex)
     for room, (spec, names) in rooms.items():
-        where, keys = out / room, {j.key for j in jobs[room]}
-        mine = [r for r in results if r.job.key in keys]
-        failed = failures(mine, room)
-        report.errored(
-            [f"Learning paper, Table 1: {line}" for line in failed.values()], sum(r.trials is None for r in mine)
-        )
-        trials = trials_frame([r for r in mine if r.trials is not None])
-        write_csv(where / "trials.csv", trials)
-        table = policy_table(trials).set_index("policy")
-        trained = "the room it was trained on" if room == TRAINING_ROOM else "a room training never saw"
-        report.heading(f"Learning paper, Table 1 on {room} ({trained})")
+        keys = {j.key for j in jobs[room]}
+        _room_section(report, s, out / room, room, spec, names, [r for r in results if r.job.key in keys], verdict)
+        conditions(report, out / room, [spec])
+
+
+def _room_section(report: Report, s: Any, where: Path, room: str, spec, names, mine: list, verdict) -> None:
+    """Table 1 on ``room`` from its runs ``mine`` and the optional rows found under ``where``: the
+    table (the paper's rows beside on the training room), the endings with the verdicts against
+    random, and the paper's numbers judged."""
+    import pandas as pd
+
+    from ..analysis.files import write_csv
+    from ..analysis.stats import small_sample
+    from ..training.comparison import failures, trials_frame
+
+    failed = failures(mine, room)
+    report.errored(
+        [f"Learning paper, Table 1: {line}" for line in failed.values()], sum(r.trials is None for r in mine)
+    )
+    errored = {p: sum(r.trials is None for r in mine if r.job.policy.label == p) for p in names}
+    found = {
+        row.policy: optional_trials(where / EXTRA / row.policy, row.policy, spec, s.policy_runs, s.policy_starts)
+        for row in OPTIONAL_POLICIES
+    }
+    extra = {p: f for p, f in found.items() if f.trials is not None}
+    trials = pd.concat(
+        [trials_frame([r for r in mine if r.trials is not None]), *(f.trials for f in extra.values())],
+        ignore_index=True,
+    )
+    write_csv(where / "trials.csv", trials)
+    limit = spec.params.learning.max_actions
+    rows = [
+        policy_row(trials[trials["policy"] == p], p, s.policy_runs, n, s.policy_starts, limit)
+        for p, n in [*errored.items(), *((p, f.missing) for p, f in extra.items())]
+    ]
+    report.heading(f"Learning paper, Table 1 on {room} ({ROOMS[room]})")
+    report.text(_about(s, room, where, limit))
+    paper = PAPER_POLICIES if room == TRAINING_ROOM else {}
+    report.table(*table1(rows, paper, [p for p in found if p not in extra], s.policy_starts))
+    report.table(*endings_table(rows, limit))
+    learned = next((r for r in rows if r.policy == "learned"), None)
+    if learned is not None and learned.finished:
         report.text(
-            f"{s.policy_runs} run(s) of {s.policy_starts} fixed starts (the paper: 5 of 99); learned = the "
-            "model bundled with navcli (Prioritized Sweeping, trained on landmarks-12); random = a uniform "
-            "random action at every choice (our baseline). Successes scaled to 99 starts, with the Wilson 95 % "
-            "interval of the rate over every trial; reward, actions and each action's count: means per trial "
-            "with a bootstrap 95 % interval that resamples the starts. "
-            + (
-                "The paper's numbers beside (its own room); "
-                if room == TRAINING_ROOM
-                else "The paper has no numbers for this room; "
-            )
-            + f"every trial: {where / 'trials.csv'}. Successes' intervals count a start's trials that repeat "
-            "identically over the runs once; a policy with runs that ended in error gets no verdict."
+            'The paper: "the Learning Agent never terminates because of the 500-step limit"; navcli\'s learned '
+            f"policy: {learned.endings['limit']} of its {learned.finished} trials at the {limit}-action limit."
         )
-        rows = []
-        for policy in names:
-            if policy not in table.index:  # every run of it failed: said, not hidden
-                rows.append([policy, "-", "-", "no trial finished (see the runs' errors)", "no verdict"])
+    if paper:
+        report.table(*paper_verdicts(rows, paper, verdict))
+    remarks = [small_sample(f"the policies on {room}", s.policy_starts, "starts")]
+    remarks += [optional_text(row, found[row.policy], room, s, where) for row in OPTIONAL_POLICIES]
+    report.notes(remarks + other_endings(trials, limit) + list(failed.values()))
+    report.text(endings(trials))
+
+
+def _about(s: Any, room: str, where: Path, limit: int) -> str:
+    """What the room's tables are, in words."""
+    return (
+        f"{s.policy_runs} run(s) of {s.policy_starts} fixed starts (the paper: 5 of 99); learned = the model "
+        "bundled with navcli (Prioritized Sweeping, trained on landmarks-12); random = a uniform random action at "
+        "every choice (our baseline: the paper has none). Successes: the mean over the runs, in brackets the Wilson "
+        "95 % interval of that rate with the starts as the sample (the runs repeat the same starts, so they do not "
+        "multiply it), then the runs' lowest and highest; reward, actions and each action's count (in the paper's "
+        "order): means per trial, in brackets a bootstrap 95 % interval that resamples the starts. "
+        + (
+            "The paper's numbers in the rows under navcli's. "
+            if room == TRAINING_ROOM
+            else "The paper has no numbers for this room. "
+        )
+        + f"How every trial ended: reached, at the {limit}-action limit, blocked, any other ending (named in the "
+        "notes), and the trials of runs that ended in error, so that each row's counts sum to its runs x starts. "
+        "Against random (successes, reward): a policy beats random where its 95 % interval lies wholly above "
+        "random's, random does better where random's lies wholly above, else random does as well; a row with "
+        f"runs that ended in error gets no verdict. Every trial: {where / 'trials.csv'}."
+    )
+
+
+@dataclass(frozen=True)
+class PolicyRow:
+    """A policy's numbers on one room (:func:`policy_row`)."""
+
+    policy: str
+    runs: int
+    errored: int  # of the runs: ended in error, or (an optional row) not found
+    starts: int
+    successes: tuple[float, float, float]  # mean per run, the 95 % interval (in starts)
+    run_range: tuple[int, int]  # the runs' fewest and most successes
+    means: dict[str, tuple[float, float, float]]  # per trial, with its 95 % interval: reward, actions, each action
+    endings: dict[str, int]  # trials by ENDINGS
+
+    @property
+    def finished(self) -> int:
+        """The trials of the runs that did not end in error."""
+        return sum(n for k, n in self.endings.items() if k != "errored")
+
+
+ENDINGS = ("reached", "limit", "blocked", "other", "errored")
+"""How a trial of Table 1 ended (:func:`ending`); ``errored``: the trials of a run that ended in error."""
+
+
+def ending(outcome: str, actions: float, max_actions: int) -> str:
+    """The kind of ending of :data:`ENDINGS` of a trial with ``outcome`` after ``actions`` actions
+    (NaN: the bidding agents, which choose none, whose ``timeout`` is their cut at the action
+    limit's time).
+
+    >>> [ending(o, a, 500) for o, a in (("reached", 500), ("timeout", 500), ("blocked", 12), ("timeout", 40))]
+    ['reached', 'limit', 'blocked', 'other']
+    >>> ending("timeout", float("nan"), 500), ending("blocked", float("nan"), 500)
+    ('limit', 'blocked')
+    """
+    if outcome == "reached":
+        return "reached"
+    if (actions >= max_actions) if math.isfinite(actions) else outcome == "timeout":
+        return "limit"
+    return "blocked" if outcome == "blocked" else "other"
+
+
+def _endings_of(trials, max_actions: int) -> list[str]:
+    return [ending(str(o), float(a), max_actions) for o, a in zip(trials["outcome"], trials["actions"].astype(float))]
+
+
+def policy_row(trials, policy: str, runs: int, errored: int, starts: int, max_actions: int) -> PolicyRow:
+    """A policy's row from its finished ``trials`` (every run's; ``errored`` of its ``runs`` runs
+    have none): successes per run with the Wilson interval of their mean rate over the ``starts``
+    (the runs repeat the same starts, so the sample is the starts), the runs' range; the means per
+    trial with a bootstrap interval resampling the starts; each ending counted.
+
+    >>> import pandas as pd
+    >>> t = pd.DataFrame({"run": [0, 0, 1, 1], "start": [0, 1, 0, 1], "success": [True, False, True, True],
+    ...     "outcome": ["reached", "timeout", "reached", "reached"], "actions": [10, 500, 12, 14],
+    ...     "reward": [-10.0, -500.0, -12.0, -14.0], "MB": 1, "MLL": 2, "MOT": 3, "MVL": 4, "MVT": 0})
+    >>> r = policy_row(t, "p", 3, 1, 2, 500)
+    >>> r.successes[0], r.run_range, r.endings, r.finished
+    (1.5, (1, 2), {'reached': 3, 'limit': 1, 'blocked': 0, 'other': 0, 'errored': 2}, 4)
+    """
+    from ..analysis.stats import bootstrap_mean, wilson_interval
+
+    per_run = trials.groupby("run")["success"].sum().astype(int) if len(trials) else None
+    if per_run is not None and len(per_run):
+        mean = float(per_run.mean())
+        lo, hi = wilson_interval(mean, starts)
+        successes, run_range = (mean, starts * lo, starts * hi), (int(per_run.min()), int(per_run.max()))
+    else:
+        successes, run_range = (math.nan, math.nan, math.nan), (0, 0)
+    means = {
+        m: bootstrap_mean(trials[m].to_numpy(dtype=float), trials["start"].to_numpy())
+        if len(trials)
+        else (math.nan,) * 3
+        for m in ("reward", "actions", *ACTIONS)
+    }
+    kinds = _endings_of(trials, max_actions)
+    counts = {k: kinds.count(k) for k in ENDINGS}
+    counts["errored"] = errored * starts
+    return PolicyRow(policy, runs, errored, starts, successes, run_range, means, counts)
+
+
+def against_random(mine: tuple[float, float], random: tuple[float, float], n: int, errored: int = 0) -> str:
+    """A policy against the uniform random one in a quantity where more is better, from their 95 %
+    intervals ``mine`` and ``random`` (low, high) over ``n`` starts: it beats random only where the
+    intervals do not overlap with its own above; ``errored`` runs behind either: no verdict.
+
+    >>> against_random((60.0, 70.0), (40.0, 59.0), 99), against_random((60.0, 70.0), (65.0, 80.0), 99)
+    ('beats random', 'random does as well')
+    >>> against_random((-900.0, -700.0), (-200.0, -150.0), 99), against_random((60.0, 70.0), (40.0, 59.0), 3)
+    ('random does better', 'too few starts to judge (3; 10 needed)')
+    >>> against_random((60.0, 70.0), (40.0, 59.0), 99, errored=2)
+    'no verdict: 2 runs ended in error'
+    """
+    from ..analysis.stats import MIN_SAMPLE
+    from ..analysis.tables import errored_verdict
+
+    if errored:
+        return errored_verdict(errored)
+    if n < MIN_SAMPLE:
+        return f"too few starts to judge ({n}; {MIN_SAMPLE} needed)"
+    if not all(math.isfinite(x) for x in (*mine, *random)):
+        return "no interval"
+    if mine[0] > random[1]:
+        return "beats random"
+    if mine[1] < random[0]:
+        return "random does better"
+    return "random does as well"
+
+
+AGAINST_RANDOM = ("beats random", "random does as well", "random does better")
+"""The verdicts of :func:`against_random` that judge (the others say why there is none)."""
+NOT_JUDGED = ("(the baseline)", "n/a")
+"""A cell against random that is no verdict: the random row itself, a quantity the policy has not."""
+
+
+def _cell(m: tuple[float, float, float], digits: int = 1) -> str:
+    if not math.isfinite(m[0]):
+        return "n/a"
+    if not (math.isfinite(m[1]) and math.isfinite(m[2])):
+        return f"{m[0]:.{digits}f}"
+    return f"{m[0]:.{digits}f} [{m[1]:.{digits}f}, {m[2]:.{digits}f}]"
+
+
+def table1(
+    rows: list[PolicyRow], paper: dict[str, dict[str, float]], absent: list[str], starts: int
+) -> tuple[list[str], list[list[str]]]:
+    """Table 1 in the paper's layout (its action columns in its order, :data:`PAPER_ACTIONS`):
+    a row per policy, the paper's own under it where ``paper`` has it; an ``absent`` optional
+    row said as not run."""
+    head = [
+        "policy",
+        f"successes of {starts} [95 % CI] (runs' range)",
+        "reward / trial [95 % CI]",
+        "actions / trial [95 % CI]",
+        *PAPER_ACTIONS,
+    ]
+    out = []
+    for r in rows:
+        if r.finished == 0:
+            out.append([r.policy, "no trial finished (see the notes)"] + ["-"] * (len(head) - 2))
+            continue
+        low, high = r.run_range
+        spread = f" ({low}-{high})" if r.runs - r.errored > 1 else " (1 run)"
+        out.append(
+            [r.policy, _cell(r.successes) + spread]
+            + [_cell(r.means[m]) for m in ("reward", "actions")]
+            + [_cell(r.means[a], 2) for a in PAPER_ACTIONS]
+        )
+        if r.policy in paper:
+            p = paper[r.policy]
+            out.append(
+                [f"{r.policy}: the paper", f"{p['successes']:g} of {PAPER_STARTS}"]
+                + [f"{p[m]:g}" for m in ("reward", "actions", *PAPER_ACTIONS)]
+            )
+    out += [[f"{p} (optional)", "not run here (see the notes)"] + ["-"] * (len(head) - 2) for p in absent]
+    return head, out
+
+
+def endings_table(rows: list[PolicyRow], max_actions: int) -> tuple[list[str], list[list[str]]]:
+    """How each policy's trials ended (:data:`ENDINGS`, summing to its runs x starts) and its
+    verdicts against the uniform random policy (:func:`against_random`) in successes and reward."""
+    head = [
+        "policy",
+        "runs (ended in error)",
+        "trials",
+        "reached",
+        f"at the {max_actions}-action limit",
+        "blocked",
+        "other endings",
+        "errored",
+        "successes against random",
+        "reward against random",
+    ]
+    base = next((r for r in rows if r.policy == BASELINE and r.finished), None)
+    out = []
+    for r in rows:
+        judged = []
+        for m in ("successes", "reward"):
+            if r.policy == BASELINE:
+                judged.append(NOT_JUDGED[0])
+            elif base is None:
+                judged.append("no verdict: no random row")
+            elif not math.isfinite(r.means["reward"][0]) and m == "reward":
+                judged.append(NOT_JUDGED[1])  # the bidding agents: no reward
+            else:
+                mine, theirs = (r.successes, base.successes) if m == "successes" else (r.means[m], base.means[m])
+                judged.append(against_random(mine[1:], theirs[1:], r.starts, r.errored + base.errored))
+        out.append(
+            [r.policy, f"{r.runs} ({r.errored})", str(r.runs * r.starts)]
+            + [str(r.endings[k]) for k in ENDINGS]
+            + judged
+        )
+    return head, out
+
+
+def paper_verdicts(
+    rows: list[PolicyRow], paper: dict[str, dict[str, float]], verdict
+) -> tuple[list[str], list[list[str]]]:
+    """The paper's numbers judged (the report's ``verdict``): each of its quantities of each of its
+    policies against navcli's interval; successes scaled to the paper's 99 starts."""
+    head = ["policy", "quantity", "the paper", "navcli [95 % CI]", "agreement"]
+    out = []
+    for r in rows:
+        if r.policy not in paper or r.finished == 0:
+            continue
+        scale = PAPER_STARTS / r.starts
+        for metric in ("successes", "reward", "actions", *PAPER_ACTIONS):
+            have = paper[r.policy].get(metric)
+            if have is None:
                 continue
-            bad = sum(r.trials is None for r in mine if r.job.policy.label == policy)
-            paper_row = PAPER_POLICIES.get(policy, {}) if room == TRAINING_ROOM else {}
-            for metric in ("successes", "reward", "actions", *ACTIONS):
-                if policy == "agents" and metric not in ("successes",):
-                    continue  # the bidding agents choose no actions
-                scale = PAPER_STARTS / s.policy_starts if metric == "successes" else 1.0
-                m, lo, hi = (table.loc[policy, k] * scale for k in (metric, f"{metric}_lo", f"{metric}_hi"))
-                if metric == "successes":  # the rate's interval over the distinct trials
-                    lo, hi = (PAPER_STARTS * x for x in _distinct_rate(trials[trials["policy"] == policy]))
-                paper = paper_row.get(metric, math.nan)
-                if math.isnan(paper):  # no number in the paper: no verdict
-                    rows.append([policy, metric, "-", interval_text(m, lo, hi), ""])
-                    continue
-                p_lo, p_hi = (
-                    (PAPER_STARTS * x for x in wilson_interval(round(paper), PAPER_STARTS))
-                    if metric == "successes"
-                    else (paper, paper)
-                )
-                shown = (
-                    f"{paper:g} of {PAPER_STARTS} [{p_lo:.1f}, {p_hi:.1f}]" if metric == "successes" else f"{paper:g}"
-                )
-                rows.append(
-                    [
-                        policy,
-                        metric,
-                        shown,
-                        interval_text(m, lo, hi),
-                        verdict((lo, hi), (p_lo, p_hi), s.policy_starts, "starts", errored=bad),
-                    ]
-                )
-        report.table(["policy", "quantity", "the paper", "navcli [95 % CI]", "agreement"], rows)
-        report.notes(notes(table.reset_index(), room) + list(failed.values()))
-        report.text(endings(trials))
-        conditions(report, where, [spec])
+            m, lo, hi = (x * scale for x in r.successes) if metric == "successes" else r.means[metric]
+            if metric == "successes":
+                p_lo, p_hi = (PAPER_STARTS * x for x in wilson_interval(round(have), PAPER_STARTS))
+                shown = f"{have:g} of {PAPER_STARTS} [{p_lo:.1f}, {p_hi:.1f}]"
+            else:
+                p_lo, p_hi, shown = have, have, f"{have:g}"
+            out.append(
+                [
+                    r.policy,
+                    metric,
+                    shown,
+                    interval_text(m, lo, hi),
+                    verdict((lo, hi), (p_lo, p_hi), r.starts, "starts", errored=r.errored),
+                ]
+            )
+    return head, out
 
 
-TRIAL_IDENTITY = ("start", "outcome", "success", "actions", "reward", *ACTIONS, "time_s")
-"""What makes two trials of a policy the same result: a start's trial repeated alike in every
-number over the runs counts once in a verdict (the runs change only the missions' seeds)."""
+OTHER_ENDINGS = {"timeout": "the scenario's time limit, before the action limit"}
+"""What an ending Table 1 counts as ``other`` means, where its outcome's name does not say it."""
 
 
-def _distinct_rate(trials) -> tuple[float, float]:
-    """The Wilson 95 % interval of a policy's success rate over its distinct trials (:data:`TRIAL_IDENTITY`)."""
-    d = trials[~trials[list(TRIAL_IDENTITY)].astype(str).duplicated()]
-    return wilson_interval(int(d["success"].sum()), len(d))
+def other_endings(trials, max_actions: int) -> list[str]:
+    """A note per policy whose trials ended otherwise than :data:`ENDINGS` names: how, and how many.
+
+    >>> import pandas as pd
+    >>> t = pd.DataFrame({"policy": ["a", "a", "b"], "outcome": ["timeout", "reached", "interrupted"], "actions": [40, 12, 3]})
+    >>> print("\\n".join(other_endings(t, 500)))
+    a: 1 trial ended otherwise: timeout (1; the scenario's time limit, before the action limit)
+    b: 1 trial ended otherwise: interrupted (1)
+    """
+    out = []
+    for policy, t in trials.groupby("policy", sort=False):
+        other = t[[k == "other" for k in _endings_of(t, max_actions)]]
+        if len(other):
+            named = ", ".join(
+                f"{o} ({n}{'; ' + OTHER_ENDINGS[o] if o in OTHER_ENDINGS else ''})"
+                for o, n in other["outcome"].value_counts(sort=False).items()
+            )
+            out.append(f"{policy}: {len(other)} trial{'s' if len(other) != 1 else ''} ended otherwise: {named}")
+    return out
 
 
 def endings(trials) -> str:
@@ -272,6 +547,8 @@ def figure3(report: Report, s: Any, out: Path, ex, started: tuple[list[Path], di
         + (f" (seeds {', '.join(map(str, zero))})" if zero else "")
         + "."
     )
+    if hand is not None:
+        report.table(*seeds_table(metas, hand, s.train_trials))
     bundled = model_file.BUNDLED
     if (s.train_trials, s.eval_every, s.eval_starts) == (2000, 100, 99) and bundled.exists() and 1 not in errors:
         same = all(
@@ -288,3 +565,48 @@ def figure3(report: Report, s: Any, out: Path, ex, started: tuple[list[Path], di
         "each training, their mean and range, with the hand-coded and random levels",
     )
     report.text(f"The models, their curves and every training trial: {out}.")
+
+
+SETTLED = 300
+"""Training trials after which an evaluation of Figure 3's trainings should no longer fall below the hand-coded policy's."""
+
+
+def seeds_table(metas: list[dict], hand: float, trials: int) -> tuple[list[str], list[list[str]]]:
+    """Figure 3's trainings a row each (from their models' metadata): successes at the end, the
+    first evaluation above the hand-coded policy's ``hand``, the lowest after :data:`SETTLED`
+    trials, and whether each passed the hand-coded policy within its ``trials`` and stayed at or
+    above it after :data:`SETTLED`.
+
+    >>> m = {"seed": 1, "curve": [{"trials": t, "successes": k} for t, k in ((100, 20), (200, 50), (400, 40))]}
+    >>> seeds_table([m], 45.0, 400)[1]
+    [['1', '40', '200', '40 (at 400)', 'met', 'not met (40 at 400 below 45)']]
+    """
+    head = [
+        "seed",
+        f"successes after {trials} trials",
+        "first evaluation above hand-coded (trials)",
+        f"lowest after {SETTLED} trials",
+        f"target: passes hand-coded within {trials} trials",
+        f"target: none below hand-coded after {SETTLED} trials",
+    ]
+    rows = []
+    for m in metas:
+        curve = m["curve"]
+        above = next((p["trials"] for p in curve if p["successes"] > hand), None)
+        late = [p for p in curve if p["trials"] > SETTLED]
+        low = min(late, key=lambda p: p["successes"]) if late else None
+        rows.append(
+            [
+                str(m["seed"]),
+                f"{curve[-1]['successes']:g}",
+                f"{above}" if above is not None else "never",
+                f"{low['successes']:g} (at {low['trials']})" if low else "-",
+                "met" if above is not None else "not met",
+                "no evaluation after it"
+                if low is None
+                else "met"
+                if low["successes"] >= hand
+                else f"not met ({low['successes']:g} at {low['trials']} below {hand:g})",
+            ]
+        )
+    return head, rows

@@ -57,7 +57,11 @@ METRICS = ("successes", "reward", "actions") + ACTIONS + ("time_s",)
 """The table's columns: successes out of the starts, then means per trial."""
 
 TABLE_FILES = ("policies.csv", "policies.md", "trials.csv")
-"""What ``compare policies`` writes into its folder, besides ``runs/``."""
+"""What ``compare policies`` writes into its folder, besides ``runs/`` and :data:`SOURCE_FILE`."""
+SOURCE_FILE = "source.json"
+"""The comparison's provenance (:func:`navcli.experiments.provenance.record`: its command line, commit,
+build and libraries), so that a report that reads its trials (``navcli reproduce``'s optional rows)
+can say which command made them."""
 
 
 class PolicyError(NavcliError):
@@ -467,3 +471,13 @@ def write_table(results: list[Result], out: Path, scenario: str = "") -> dict[st
     write_csv(files["trials"], trials)
     write_markdown(files["markdown"], markdown(table, scenario, list(failures(results).values())))
     return files
+
+
+def write_source(out: Path, argv: list[str]) -> Path:
+    """:data:`SOURCE_FILE` into ``out``: the provenance of a comparison made by the command ``argv``."""
+    from ..experiments.provenance import record
+    from ..outputs import write_text
+
+    path = out / SOURCE_FILE
+    write_text(path, json.dumps(record(argv), indent=1) + "\n")
+    return path
