@@ -58,12 +58,13 @@ JSON_KEYS = (
     {"objective", "params", "value"},
     {"key", "generation", "population"},
     {"key", "policy", "trials"},
+    {"temperature", "grid"},
     {"navcli_version", "configurations"},
     {"navcli_version", "command", "commit"},
 )
 """The keys that mark a JSON file navcli writes: a layout (app, SDK), a model's metadata, tune's
 best values, the GA's checkpoint, a policy comparison's run, reproduce's conditions and its
-report's provenance (``source.json``)."""
+report's provenance (``source.json``), tune-softmax's choice."""
 
 
 def navcli_wrote(path: Path) -> bool:
@@ -78,7 +79,7 @@ def navcli_wrote(path: Path) -> bool:
     suffix = path.suffix.lower()
     with path.open("rb") as f:
         head = f.read(HEAD_BYTES)
-        if suffix in (".npz", ".parquet"):  # their directory is at the end
+        if suffix in (".npz", ".zip", ".parquet"):  # their directory is at the end
             f.seek(max(0, os.fstat(f.fileno()).st_size - 65536))
             tail = f.read(65536)
     first = head.split(b"\n", 1)[0].strip()
@@ -90,6 +91,8 @@ def navcli_wrote(path: Path) -> bool:
         return head[4:8] == b"ftyp"
     if suffix == ".npz":
         return head.startswith(b"PK\x03\x04") and b"meta.npy" in tail
+    if suffix == ".zip":  # a Stable-Baselines3 agent train-rl saved (its archive names its version)
+        return head.startswith(b"PK\x03\x04") and b"_stable_baselines3_version" in tail
     if suffix == ".mcap":
         return head.startswith(b"\x89MCAP") and (b"foxglove-sdk" in head[:256] or b"navcli" in head[:256])
     if suffix == ".parquet":
