@@ -5,6 +5,7 @@ its tests skip where the optional extra ``navcli[rl]`` is not installed)."""
 
 from __future__ import annotations
 
+import hashlib
 import json
 import math
 import zipfile
@@ -91,6 +92,8 @@ def test_the_bundled_temperature_was_chosen_on_training_rooms_by_its_rule():
     best = max(rows, key=lambda r: (r["reward"], -r["temperature"]))
     assert choice["temperature"] == best["temperature"] == SoftmaxParams().temperature
     assert all(r["trials"] == choice["starts_per_room"] * len(choice["rooms"]) for r in rows)
+    # made for the bundled model: a model trained again needs `navcli tune-softmax` again
+    assert choice["model_sha256"] == hashlib.sha256(model_file.BUNDLED.read_bytes()).hexdigest()
 
 
 def test_the_temperature_rule_takes_the_best_mean_reward_and_the_lowest_temperature_on_a_tie(monkeypatch):
@@ -159,6 +162,11 @@ def test_compare_runs_a_sampled_policy_as_trials_of_actions_with_their_reward(tm
         counts = [t[a] for a in ACTIONS]
         assert sum(counts) == t["actions"] <= 6
         assert t["reward"] == sum(c * r for c, r in zip(counts, (-1, -10, -6, -5, -5)))
+    mb = np.zeros((N_STATES, A))
+    mb[:, 0] = 1.0  # a table that draws MB everywhere: its trials take MB alone
+    only_mb = type(soft)("softmax", "sampled", None, "MB", mb.tobytes())
+    for t in run_trials(plan(spec, [only_mb], 1, 2, tmp_path)[0]):
+        assert t["MB"] == t["actions"] > 0 and t["reward"] == -t["actions"]
     other = SoftmaxPolicy.probabilities(SoftmaxParams(temperature=SoftmaxParams().temperature * 2 + 1))
     hotter = type(soft)(soft.label, soft.kind, None, soft.about, other.tobytes())
     assert job_key(spec, hotter, 0, job.starts) != job.key != job_key(spec, rand, 0, job.starts)

@@ -55,6 +55,7 @@ class PPOParams(ParamSet):
 class PPOPolicy(SampledPolicy):
     """The ``ppo`` Navigation policy plugin: the bundled PPO agent (module docstring)."""
 
+    name: ClassVar[str] = "ppo"
     Params: ClassVar[type[ParamSet] | None] = PPOParams
 
     @classmethod

@@ -93,12 +93,11 @@ class SampledPolicy:
             target_key=setup.target_key,
         )
 
-    @property
-    def name(self) -> str:
-        return self.agent.name
+    name: ClassVar[str] = "sampled"  # a subclass's own: the name its bids and the log's /navigation go by
 
     def bid(self, s: Situation) -> list[Bid]:
-        return self.agent.bid(s)
+        """The Learning Agent's bids, under this plugin's name."""
+        return [Bid(self.name, b.resource, b.action, b.value) for b in self.agent.bid(s)]
 
     def info(self) -> dict[str, Any]:
         """The actions taken, of each kind, and their reward (as the Learning Agent's)."""

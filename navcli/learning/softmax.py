@@ -12,7 +12,8 @@ policy over the tried actions.
 The temperature is chosen on training rooms alone, never on a held-out one, by ``navcli
 tune-softmax`` (:mod:`navcli.rl.temperature`): each temperature of a grid runs the same seeded
 starts of the design rooms, and the best mean reward per trial wins. The choice it wrote is
-bundled (:data:`CHOICE`, with the grid's numbers) and is the parameter ``softmax.temperature``'s
+bundled (:data:`CHOICE`, with the grid's numbers and the sha256 of the model it was made for: a
+model trained again needs the command run again) and is the parameter ``softmax.temperature``'s
 default; ``--param softmax.temperature=T`` runs another (``navcli run --navigation softmax``).
 """
 
@@ -109,6 +110,7 @@ class SoftmaxPolicy(SampledPolicy):
     """The ``softmax`` Navigation policy plugin: the bundled model's action values through a
     softmax of temperature ``softmax.temperature`` (module docstring)."""
 
+    name: ClassVar[str] = "softmax"
     Params: ClassVar[type[ParamSet] | None] = SoftmaxParams
 
     @classmethod

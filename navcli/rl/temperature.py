@@ -13,6 +13,7 @@ default).
 
 from __future__ import annotations
 
+import hashlib
 import math
 from dataclasses import dataclass
 from typing import Any, Callable
@@ -73,6 +74,7 @@ def choose(
     """Run the grid (on the executor ``ex``; None: in this process) and return the choice with
     every temperature's numbers (module docstring)."""
     from ..experiments.executor import SerialExecutor, run_each
+    from ..learning import model_file
     from ..learning.softmax import bundled_values
 
     jobs = plan(specs, grid, starts, seed)
@@ -114,5 +116,6 @@ def choose(
         "starts_per_room": starts,
         "seed": seed,
         "model": bundled_values()[1],
+        "model_sha256": hashlib.sha256(model_file.BUNDLED.read_bytes()).hexdigest(),
         "rule": "the highest mean reward per trial over every room's trials; the lowest temperature on a tie",
     }
