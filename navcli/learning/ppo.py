@@ -73,6 +73,6 @@ class PPOPolicy(SampledPolicy):
         p = cls.probabilities(own)
         return (
             f"Stable-Baselines3 {meta.get('agent', '?').upper()}, {meta.get('steps_trained', '?')} steps on "
-            f"{meta.get('scenario', '?')}, seed {meta.get('seed', '?')}; {entropy(p):.2f} bits a choice of "
-            f"{math.log2(len(ACTIONS)):.2f}"
+            f"{meta.get('scenario', '?')}, seed {meta.get('seed', '?')}; {entropy(p):.2f} bits a choice, the mean over the belief states (uniform: "
+            f"{math.log2(len(ACTIONS)):.2f})"
         )

@@ -124,7 +124,7 @@ class SoftmaxPolicy(SampledPolicy):
         p = cls.probabilities(own)
         return (
             f"a softmax of temperature {t:g} over the bundled model's action values ({bundled_values()[1]}); "
-            f"{entropy(p):.2f} bits a choice of {math.log2(len(ACTIONS)):.2f}"
+            f"{entropy(p):.2f} bits a choice, the mean over the belief states (uniform: {math.log2(len(ACTIONS)):.2f})"
         )
 
 
