@@ -59,12 +59,13 @@ JSON_KEYS = (
     {"objective", "params", "value"},
     {"key", "generation", "population"},
     {"key", "policy", "trials"},
+    {"temperature", "grid"},
     {"navcli_version", "configurations"},
     {"navcli_version", "command", "commit"},
 )
 """The keys that mark a JSON file navcli writes: a layout (app, SDK), a model's metadata, tune's
 best values, the GA's checkpoint, a policy comparison's run, reproduce's conditions and its
-report's provenance (``source.json``)."""
+report's provenance (``source.json``), tune-softmax's choice."""
 
 
 def navcli_wrote(path: Path) -> bool:
@@ -79,7 +80,7 @@ def navcli_wrote(path: Path) -> bool:
     suffix = path.suffix.lower()
     with path.open("rb") as f:
         head, tail = f.read(HEAD_BYTES), b""
-        if suffix in (".npz", ".parquet"):  # their directory is at the end
+        if suffix in (".npz", ".zip", ".parquet"):  # their directory is at the end
             f.seek(max(0, os.fstat(f.fileno()).st_size - 65536))
             tail = f.read(65536)
     if suffix == ".json":
@@ -113,6 +114,8 @@ _SIGNATURES: dict[str, Callable[[bytes, bytes], bool]] = {
     ".gif": lambda head, _: head[:6] in (b"GIF87a", b"GIF89a"),
     ".mp4": lambda head, _: head[4:8] == b"ftyp",
     ".npz": lambda head, tail: head.startswith(b"PK\x03\x04") and b"meta.npy" in tail,
+    # a Stable-Baselines3 agent train-rl saved (its archive names its version)
+    ".zip": lambda head, tail: head.startswith(b"PK\x03\x04") and b"_stable_baselines3_version" in tail,
     ".mcap": lambda head, _: (
         head.startswith(b"\x89MCAP") and (b"foxglove-sdk" in head[:256] or b"navcli" in head[:256])
     ),

@@ -137,6 +137,7 @@ EXTRAS = [
     (["tune", ARENA, "--param", "pilot.K=1:2", "--algorithm", "ga"], "deap", "navcli[cluster]"),
     (["tune", ARENA, "--param", "pilot.K=1:2"], "optuna", "navcli[cluster]"),
     (["compare", "pilots", ARENA, "--scheduler", "tcp://127.0.0.1:1"], "distributed", "navcli[cluster]"),
+    (["train-rl", ARENA, "--steps", "1"], "torch", "navcli[rl]"),
 ]
 
 

@@ -67,6 +67,7 @@ SCENARIO_COMMANDS = {
     "params": ["params", "{s}"],
     "tune": ["tune", "{s}", "--param", "pilot.K=1:2", "--trials", "1", "--jobs", "1"],
     "train": ["train", "{s}", "--trials", "1", "--jobs", "1"],
+    "tune-softmax": ["tune-softmax", "{s}", "--starts", "1", "--temperature", "1", "--jobs", "1"],
 }
 
 # numeric options and names out of range, each with the command that takes it ({s} a good scenario,
@@ -159,6 +160,21 @@ OPTION_CASES = {
             ["--param", "pilot.K=nan:1"],
             ["--param", "pilot.K=3"],
             ["--scheduler", "tcp://h:0"],
+        ],
+    ),
+    "train-rl": (
+        ["train-rl", "{s}"],
+        [["--agent", "a2c"], ["--steps", "0"], ["--seed", "-1"], ["--seed", str(2**32)]],
+    ),
+    "tune-softmax": (
+        ["tune-softmax", "{s}", "--starts", "1", "--jobs", "1"],
+        [
+            ["--temperature", "-1"],
+            ["--temperature", "nan"],
+            ["--temperature", "inf"],
+            ["--starts", "0"],
+            ["--seed", "-1"],
+            ["{s}"],  # a room twice
         ],
     ),
     "train": (
@@ -280,6 +296,11 @@ OUT_CASES = {
         ["train", "{s}", "--trials", "1", "--eval-every", "1", "--eval-starts", "1", "--jobs", "1"],
         "--out",
         ["{s}", "{folder}", "{folder}/", "x.txt", _DEVICE, "{file}/m.npz", "notes.npz", "m-notes.npz"],
+    ),
+    "tune-softmax": (
+        ["tune-softmax", "{s}", "--starts", "1", "--temperature", "1", "--jobs", "1"],
+        "--out",
+        ["x.txt", "{folder}", "{s}", "settings.json", "notes.json"],
     ),
     "recover": (["recover", "good.mcap.partial"], "--out", ["x.txt", "{folder}", "{s}"]),
     "reproduce": (["reproduce", "--quick"], "--out", ["{file}", "{file}/x", "mine4"]),

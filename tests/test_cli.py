@@ -102,8 +102,8 @@ def test_help_lists_every_command_with_its_summary():
     r = invoke("--help")
     assert r.exit_code == 0
     commands_part = r.output.split("Commands:", 1)[1]
-    listed = dict(re.findall(r"^  ([a-z]+)\s{2,}(\S.*?)\s*$", commands_part, re.M))
-    commands = {c.callback.__name__: c.callback.__doc__ for c in app.registered_commands}
+    listed = dict(re.findall(r"^  ([a-z][a-z-]*)\s{2,}(\S.*?)\s*$", commands_part, re.M))
+    commands = {c.name or c.callback.__name__: c.callback.__doc__ for c in app.registered_commands}
     groups = {g.name: g.typer_instance.info.help for g in app.registered_groups}
     assert set(listed) == set(commands) | set(groups)
     for name, doc in (commands | groups).items():

@@ -36,9 +36,14 @@ def extra_of(distribution: str) -> str | None:
         return None
     for line in wanted:
         m = re.match(r"\s*([A-Za-z0-9_.\-]+).*;\s*extra\s*==\s*['\"]([^'\"]+)['\"]", line)
-        if m and m.group(1).lower() == distribution.lower() and m.group(2) != "test":
+        if m and _canonical(m.group(1)) == _canonical(distribution) and m.group(2) != "test":
             return m.group(2)
     return None
+
+
+def _canonical(name: str) -> str:
+    """A distribution's name as packaging compares them (``stable_baselines3`` is ``stable-baselines3``)."""
+    return re.sub(r"[-_.]+", "-", name).lower()
 
 
 def install_hint(module: str) -> str:

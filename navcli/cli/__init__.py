@@ -1,7 +1,7 @@
 """The ``navcli`` command line (typer), by command group: :mod:`~navcli.cli.run` (one mission and
 its files), :mod:`~navcli.cli.views` (figures, videos, layouts, tables from logs),
 :mod:`~navcli.cli.experiments` (many runs: compare, sweep, tune), :mod:`~navcli.cli.learning`
-(train) and :mod:`~navcli.cli.plugins` (plugins list, check). :mod:`~navcli.cli.errors` maps whatever ends a command to its exit code and last line;
+(train), :mod:`~navcli.cli.rl` (train-rl, tune-softmax) and :mod:`~navcli.cli.plugins` (plugins list, check). :mod:`~navcli.cli.errors` maps whatever ends a command to its exit code and last line;
 :mod:`~navcli.cli.common` holds the checks every command makes of its inputs and outputs.
 """
 
@@ -14,6 +14,7 @@ from . import run  # noqa: F401, I001
 from . import views  # noqa: F401
 from . import experiments  # noqa: F401
 from . import learning  # noqa: F401
+from . import rl  # noqa: F401
 from . import plugins  # noqa: F401
 from .common import app
 from .errors import guard_all

@@ -54,6 +54,11 @@ _ARRAYS: dict[str, dict[str, tuple[tuple[int, ...], str, float | None, float | N
         "policy": ((N_STATES,), _INT, 0, A - 1),
         "steps": ((), _INT, 0, None),
     },
+    "sb3": {  # a Stable-Baselines3 agent's policy over the belief states (navcli.rl.sb3)
+        "probabilities": ((N_STATES, A), _FLOAT, 0, 1),
+        "policy": ((N_STATES,), _INT, 0, A - 1),
+        "steps": ((), _INT, 0, None),
+    },
 }
 """What each algorithm's file holds (the arrays of its learner's ``to_arrays``)."""
 
@@ -203,6 +208,8 @@ def load(path: Path) -> tuple[dict[str, np.ndarray], dict[str, Any]]:
             raise ModelError(f"{path}: its arrays 'count_index' and 'count_value' differ in length")
         if i.size and (i[0].max() >= N_STATES or i[1].max() >= A):
             raise ModelError(f"{path}: its array 'count_index' names a state or action that does not exist")
+    if meta["algorithm"] == "sb3" and not np.allclose(arrays["probabilities"].sum(axis=1), 1.0, atol=1e-6):
+        raise ModelError(f"{path}: its array 'probabilities' has a state whose probabilities do not sum to 1")
     extra = sorted(set(arrays) - set(rules))
     if extra:
         raise ModelError(f"{path}: holds arrays a {meta['algorithm']} model does not ({', '.join(extra)})")

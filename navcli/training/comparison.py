@@ -13,6 +13,10 @@ learning varies between training seeds (our design: training is a separate comma
   trials are :func:`~.training.run_trial`'s, the evaluations' own (an action lasts ``action_s``;
   a trial ends at the target, after ``max_actions`` actions, at the scenario's time limit, or when
   the Rescuer gives up). A model made by Q-learning is a table like any other.
+- ``random`` and the **sampled** policies (a Navigation policy plugin that draws the Learning
+  Agent's actions from a table of probabilities, :mod:`navcli.learning.sampled`: ``softmax``,
+  ``ppo``) run the same trials, each trial's draws from a generator seeded by its start's seed
+  (the same trial, the same draws); a sampled policy runs with its parameters' defaults.
 - ``agents`` (the hand-tuned bidding agents) choose no actions: their trial is a mission from
   the same start with the same seed, cut ``max_actions`` x ``action_s`` simulated seconds after
   the Rescuer's initial sweep (the most a trial of 500 one-second actions can last; or at the
@@ -51,7 +55,7 @@ from ..learning.actions import ACTIONS
 from .task import Start, random_starts, spec_at
 
 CONSTANT = tuple(f"all-{a}" for a in ACTIONS)  # one action in every state: the baselines all-MB, all-MLL ...
-POLICY_KINDS = ("learned", "hand-coded", "agents", "plugin") + CONSTANT
+POLICY_KINDS = ("learned", "hand-coded", "agents", "plugin", "sampled") + CONSTANT
 DEFAULT_POLICIES = ("learned", "hand-coded", "random", "agents")
 METRICS = ("successes", "reward", "actions") + ACTIONS + ("time_s",)
 """The table's columns: successes out of the starts, then means per trial."""
@@ -79,6 +83,7 @@ class Policy:
     table: bytes | None
     about: str
     value: str = ""  # the --policy value, where it goes by another name (a plugin's NAME=module:Class)
+    probabilities: bytes | None = None  # a sampled policy's (float64, a row of actions per belief state)
 
     @property
     def navigation(self) -> str:
@@ -113,6 +118,10 @@ def parse_policy(text: str) -> Policy:
             f"unknown policy {text!r} (expected learned, learned:FILE, hand-coded, agents, random, one action "
             f"everywhere: {', '.join(CONSTANT)}, or a Navigation policy plugin: {e})"
         ) from None
+    if len(found) == 1 and hasattr(found[0].cls, "probabilities"):  # navcli.learning.sampled: draws actions
+        cls = found[0].cls
+        p = cls.probabilities(None)
+        return Policy(navigation_label(text), "sampled", None, cls.describe(None), text, p.astype(np.float64).tobytes())
     if any(not c.builtin for c in found):
         return Policy(
             navigation_label(text),
@@ -163,12 +172,22 @@ def run_starts(starts: list[Start], run: int) -> tuple[Start, ...]:
 def job_key(spec: RunSpec, policy: Policy, run: int, starts: tuple[Start, ...]) -> str:
     """sha256 (hex) of what decides a job's trials (see the module docstring)."""
     table = hashlib.sha256(policy.table).hexdigest() if policy.table is not None else None
+    if policy.probabilities is not None:  # the draws' table and stream
+        from ..learning.sampled import SAMPLE_STREAM
+
+        table = f"sampled {hashlib.sha256(policy.probabilities).hexdigest()} {SAMPLE_STREAM}"
     if policy.kind == "random":  # the Learning Agent told each action, as a table's, and the draws' stream
         from .trainer import RANDOM_STREAM
 
         nav, table = "learned", f"random {RANDOM_STREAM}"
     else:
-        nav = "learned" if policy.kind in CONSTANT else policy.navigation if policy.kind == "plugin" else policy.kind
+        nav = (
+            "learned"
+            if policy.kind in CONSTANT
+            else policy.navigation
+            if policy.kind in ("plugin", "sampled")
+            else policy.kind
+        )
     # (a constant table is a table like a learned one's, in the key too; a plugin's identity is in the run id)
     blob = json.dumps(
         [spec.replace(navigation=nav).run_id, table, run, [dataclasses.asdict(s) for s in starts]], sort_keys=True
@@ -233,7 +252,10 @@ def run_trials(job: Job) -> list[dict]:
     """The trials of ``job``, one record per start (in this process)."""
     spec, p = job.spec, job.spec.params.learning
     out = []
-    if job.policy.table is None and job.policy.kind != "random":  # the bidding agents, or a plugin's: missions
+    if job.policy.table is None and job.policy.kind not in (
+        "random",
+        "sampled",
+    ):  # the bidding agents, or a plugin's: missions
         from ..mission import Mission
         from ..runner import advance
 
@@ -248,15 +270,28 @@ def run_trials(job: Job) -> list[dict]:
         return out
     from .task import NavigationTask
     from ..learning.learning_agent import table_policy
-    from .trainer import random_policy, run_trial
+    from .trainer import run_trial
 
     task = NavigationTask(spec)
-    table = None if job.policy.kind == "random" else table_policy(job.policy.actions())
+    table = None if job.policy.table is None else table_policy(job.policy.actions())
     for i, st in enumerate(job.starts):
-        r = run_trial(task, st, table or random_policy(st))
+        r = run_trial(task, st, table or _chooser(job.policy, st))
         assert task.mission is not None  # the trial's
         out.append(_record(i, st, r.outcome, task.mission.time, r.actions, r.reward, r.counts))
     return out
+
+
+def _chooser(policy: Policy, start: Start) -> Callable[[int], int]:
+    """The uniform random policy's, or a sampled policy's draws, of the trial from ``start``."""
+    from .trainer import random_policy
+
+    if policy.probabilities is None:
+        return random_policy(start)
+    from ..learning.features import N_STATES
+    from ..learning.sampled import trial_sampler
+
+    p = np.frombuffer(policy.probabilities, dtype=np.float64).reshape(N_STATES, len(ACTIONS))
+    return trial_sampler(p, start.seed)
 
 
 def _past(end: float) -> Callable[[Any], bool]:
