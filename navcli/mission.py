@@ -96,10 +96,19 @@ class Tick:
 class Mission:
     """A scenario being run with one configuration."""
 
-    def __init__(self, spec: RunSpec, policy_agent: LearningAgent | None = None, snapshots: bool = True):
+    def __init__(
+        self,
+        spec: RunSpec,
+        policy_agent: LearningAgent | None = None,
+        snapshots: bool = True,
+        explain: bool = True,
+    ):
         """``policy_agent`` replaces the agent of ``spec.navigation`` (a trainer's Learning Agent).
         ``snapshots=False`` leaves out the visual memory and map snapshots that only a log draws
-        (``Tick.memory``/``Tick.map`` stay None): runs without a log skip the map's triangulations."""
+        (``Tick.memory``/``Tick.map`` stay None): runs without a log skip the map's triangulations.
+        ``explain=False`` leaves out the explanations that only a log or an observer reads: the
+        Pilot's ``/pilot`` fields and force arrows (its ``info`` keeps what decisions read,
+        ``blocked_by``) and the Navigation system's ``info``. Neither changes what the robot does."""
         self.spec = spec
         self.snapshots = snapshots
         self.scenario = spec.scenario
@@ -147,6 +156,7 @@ class Mission:
             plugin_agents=agents,
             own_agents=any(c.name == "agents" for c in policies),
         )
+        self.pilot.explains = self.navigation.explains = explain
         self._reach = t.tolerance  # how near the target's point counts as there (m)
         if t.kind == "landmark":
             lm = next(lm for lm in self.scenario.landmarks if lm.id == t.landmark)
@@ -217,6 +227,16 @@ class Mission:
         """Run one control period: perceive, bid, arbitrate, act, step the world, record. An
         exception raised in a plugin's code (or passing through it) is raised as the plugin's
         :class:`~navcli.plugins.PluginError`, the original as its cause."""
+        tick = self._step(True)
+        assert tick is not None  # recorded
+        return tick
+
+    def step_unrecorded(self) -> None:
+        """:meth:`step` without its :class:`Tick`, for a loop that nobody observes: the same
+        control period, its record (the events, the snapshots) never built."""
+        self._step(False)
+
+    def _step(self, record: bool) -> Tick | None:
         if self.outcome is not None:
             raise RuntimeError(f"the mission has ended ({self.outcome})")
         world = self.world
@@ -236,6 +256,8 @@ class Mission:
         self.ticks += 1
         after = world.pose
         self._check_end(before, after, nav.give_up, nav.believed)
+        if not record:
+            return None
         return self._record(command, bids, nav, winners, pilot_out, bumps, detections, beliefs)
 
     def _record(

@@ -146,6 +146,9 @@ class Pilot:
         window = max(1, round(self.stall_window_s / CONTROL_DT))
         self._commanded: deque[float] = deque(maxlen=window)  # m commanded per tick, over the stall window
         self._moved: deque[float] = deque(maxlen=window)  # m measured per tick, over the stall window
+        # build the explanation (``/pilot``'s fields, the force arrows), which only a log or an observer
+        # reads; without it ``info`` holds only what decisions read (``blocked_by``): Mission sets it
+        self.explains = True
 
     # -- to be provided by the strategies
     def avoid(self, beliefs: Beliefs, obstacles: tuple[KnownObstacle, ...], request: Move | None) -> Avoidance:
@@ -180,7 +183,11 @@ class Pilot:
         self._own = a.move  # what the execution carries out instead of a request that is not safe
         bids = [Bid(BIDDER, "camera", LOOK_AHEAD, look)] if look > 0 else []
         offers = a.move is not None and a.bid > 0.0  # a bid of 0 is not offered: it would drive a silent robot
-        info = {"mode": "avoid" if offers else "idle", "bid": a.bid, "look_bid": look} | a.info
+        info = (
+            {"mode": "avoid" if offers else "idle", "bid": a.bid, "look_bid": look} | a.info
+            if self.explains
+            else a.info
+        )
         if offers and a.move is not None:
             bids.insert(0, Bid(BIDDER, "motion", a.move, a.bid))
         return PilotOutput(
@@ -312,9 +319,7 @@ class Pilot:
         self._phase_ticks += 1
         if not self._reflex:
             events.append("reflex done: recomputing with the obstacle that was hit")
-            return PilotOutput(
-                [], {"mode": "reflex", "phase": "done", "bid": 0.0, "look_bid": look}, [], events, obstacles
-            )
+            return PilotOutput([], self._reflex_info("done", 0.0, look), [], events, obstacles)
         phase = self._reflex[0][0]
         if phase == "stop":
             self._reflex_progress += CONTROL_DT  # this tick is spent standing still
@@ -325,9 +330,11 @@ class Pilot:
             bids.append(Bid(BIDDER, "camera", Look(pan, "obstacles"), p.bid_cap))
         elif look > 0:
             bids.append(Bid(BIDDER, "camera", LOOK_AHEAD, look))
-        return PilotOutput(
-            bids, {"mode": "reflex", "phase": phase, "bid": p.bid_cap, "look_bid": look}, [], events, obstacles
-        )
+        return PilotOutput(bids, self._reflex_info(phase, p.bid_cap, look), [], events, obstacles)
+
+    def _reflex_info(self, phase: str, bid: float, look: float) -> dict[str, Any]:
+        """``/pilot``'s fields in a reflex; none unexplained."""
+        return {"mode": "reflex", "phase": phase, "bid": bid, "look_bid": look} if self.explains else {}
 
     def _phase_limit(self, phase: str) -> float:
         """Seconds after which a reflex phase that cannot finish is given up."""
