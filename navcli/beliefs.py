@@ -8,7 +8,7 @@ agent that imports it pulls in nothing else.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import NamedTuple
+from typing import Final, NamedTuple
 
 from .bidding import Look
 from .fuzzy import FuzzyPoint
@@ -29,21 +29,39 @@ class Bump:
     bearing: float
 
 
-class KnownObstacle(NamedTuple):
+class KnownObstacle:
     """An obstacle as the robot knows it, egocentric (x ahead, y left, metres).
 
     A point obstacle has ``a == b`` (its centre); a linear one runs from ``a`` to ``b``.
     ``radius`` is its physical half-width, ``key`` names it stably across ticks for logs;
-    ``wall`` marks (a known stretch of) one of the room's walls.
+    ``wall`` marks (a known stretch of) one of the room's walls. A value: its fields are not
+    reassigned (mypy holds them ``Final``), and it compares and hashes by them.
 
-    One is made per remembered object every tick (a NamedTuple: docs/design.md, "Values made every tick").
+    One is made per remembered object every tick and read many times over by the Pilot's field
+    and swept-arc checks: a plain class with its own ``__init__``, which the compiled build makes
+    native (built by a C call, its fields read directly; docs/design.md, "Values made every tick").
     """
 
-    key: str
-    a: Point
-    b: Point
-    radius: float
-    wall: bool = False
+    def __init__(self, key: str, a: Point, b: Point, radius: float, wall: bool = False) -> None:
+        self.key: Final = key
+        self.a: Final = a
+        self.b: Final = b
+        self.radius: Final = radius
+        self.wall: Final = wall
+
+    def _values(self) -> tuple[str, Point, Point, float, bool]:
+        return (self.key, self.a, self.b, self.radius, self.wall)
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, KnownObstacle) and self._values() == other._values()
+
+    def __hash__(self) -> int:
+        return hash(self._values())
+
+    def __repr__(self) -> str:
+        return (
+            f"KnownObstacle(key={self.key!r}, a={self.a!r}, b={self.b!r}, radius={self.radius!r}, wall={self.wall!r})"
+        )
 
     @property
     def is_point(self) -> bool:

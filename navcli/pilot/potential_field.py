@@ -43,7 +43,7 @@ loop costs less than numpy's call overhead (see the issue note for the measureme
 from __future__ import annotations
 
 import math
-from typing import Any, NamedTuple, cast
+from typing import Any, Final, NamedTuple, cast
 
 from ..beliefs import Beliefs, KnownObstacle
 from ..bidding import Move
@@ -284,16 +284,30 @@ def pilot_bid(g_max: float, p: PilotParams) -> float:
     return p.bid_cap * min(g_max / f_max, 1.0) if f_max > 0.0 else 0.0
 
 
-class ObstacleForce(NamedTuple):
+class ObstacleForce:
     """One obstacle's force (eq. 4 / section 3.2) and whether it counts (section 5); one per
-    obstacle per tick (a NamedTuple: docs/design.md, "Values made every tick")."""
+    obstacle per tick (a plain class the compiled build makes native, as
+    :class:`~navcli.beliefs.KnownObstacle`: docs/design.md, "Values made every tick")."""
 
-    key: str
-    fx: float
-    fy: float
-    magnitude: float
-    facing: bool
-    in_distress: bool
+    def __init__(self, key: str, fx: float, fy: float, magnitude: float, facing: bool, in_distress: bool) -> None:
+        self.key: Final = key
+        self.fx: Final = fx
+        self.fy: Final = fy
+        self.magnitude: Final = magnitude
+        self.facing: Final = facing
+        self.in_distress: Final = in_distress
+
+    def _values(self) -> tuple[str, float, float, float, bool, bool]:
+        return (self.key, self.fx, self.fy, self.magnitude, self.facing, self.in_distress)
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, ObstacleForce) and self._values() == other._values()
+
+    def __hash__(self) -> int:
+        return hash(self._values())
+
+    def __repr__(self) -> str:
+        return "ObstacleForce" + repr(self._values())
 
 
 class Field(NamedTuple):
