@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Final
 
 import numpy as np
 
@@ -72,25 +72,55 @@ class Event:
     message: str
 
 
-@dataclass(frozen=True)
 class Tick:
-    """The record of one control period, stamped with the simulation time at its end."""
+    """The record of one control period, stamped with the simulation time at its end: its
+    ``index``, ``time_ns``, the true ``pose`` and the robot's belief (``odometry``), the ``command``
+    (v m/s, omega rad/s) sent to the wheels, every bid offered to the arbiter in consultation
+    order (``bids``), the Navigation agents' bids to their Communicator (``agent_bids``), the
+    ``winners``, the ``pilot``'s output, the ``events``, the ``camera`` (pan, rad from the heading;
+    state, idle | panning | processing; purpose), the ``detections`` of an image taken this tick
+    (if one was), the visual ``memory`` (every ``vision.draw_every`` ticks and at the end), what the
+    ``navigation`` system decided and why, and the Map Manager's ``map`` (every
+    ``navigation.map_draw_every`` ticks and at the end). Built only when something reads it, then
+    every tick: a plain class with its own ``__init__``, which the compiled build makes native
+    (docs/design.md, "Values made every tick"); its fields are not reassigned."""
 
-    index: int
-    time_ns: int
-    pose: Pose  # ground truth
-    odometry: Pose  # the robot's belief
-    command: tuple[float, float]  # (v m/s, omega rad/s) sent to the wheels
-    bids: tuple[Bid, ...]  # every bid offered to the arbiter, in consultation order
-    agent_bids: tuple[Bid, ...]  # the Navigation agents' bids to their Communicator
-    winners: dict[Resource, Bid | None]
-    pilot: PilotOutput
-    events: tuple[Event, ...]
-    camera: tuple[float, str, str | None]  # pan (rad, from the heading), state (idle | panning | processing), purpose
-    detections: tuple[Detection, ...] | None  # what the image taken this tick showed, if one was
-    memory: tuple[Remembered, ...] | None = None  # the visual memory, every vision.draw_every ticks and at the end
-    navigation: NavigationOutput | None = None  # what the Navigation system decided, and why
-    map: MapSnapshot | None = None  # the Map Manager's map, every navigation.map_draw_every ticks and at the end
+    def __init__(
+        self,
+        index: int,
+        time_ns: int,
+        pose: Pose,
+        odometry: Pose,
+        command: tuple[float, float],
+        bids: tuple[Bid, ...],
+        agent_bids: tuple[Bid, ...],
+        winners: dict[Resource, Bid | None],
+        pilot: PilotOutput,
+        events: tuple[Event, ...],
+        camera: tuple[float, str, str | None],
+        detections: tuple[Detection, ...] | None,
+        memory: tuple[Remembered, ...] | None = None,
+        navigation: NavigationOutput | None = None,
+        map: MapSnapshot | None = None,
+    ) -> None:
+        self.index: Final = index
+        self.time_ns: Final = time_ns
+        self.pose: Final = pose
+        self.odometry: Final = odometry
+        self.command: Final = command
+        self.bids: Final = bids
+        self.agent_bids: Final = agent_bids
+        self.winners: Final = winners
+        self.pilot: Final = pilot
+        self.events: Final = events
+        self.camera: Final = camera
+        self.detections: Final = detections
+        self.memory: Final = memory
+        self.navigation: Final = navigation
+        self.map: Final = map
+
+    def __repr__(self) -> str:
+        return f"Tick(index={self.index}, time_ns={self.time_ns}, pose={self.pose!r}, command={self.command!r})"
 
 
 class Mission:

@@ -41,8 +41,7 @@ from __future__ import annotations
 
 import math
 from collections import deque
-from dataclasses import dataclass, field
-from typing import Any, ClassVar
+from typing import Any, ClassVar, Final
 
 import numpy as np
 from mypy_extensions import mypyc_attr
@@ -53,31 +52,68 @@ from ..geometry import Pose, distance_to_segment, motion_between, wrap_angle
 from ..params import CONTROL_DT, PILOT, ROBOT, ParamSet, PilotParams, RobotParams
 
 
-@dataclass(frozen=True)
 class Avoidance:
-    """An avoidance strategy's proposal: the move, its bid, and the quantities that explain it."""
+    """An avoidance strategy's proposal: the ``move`` (or None), its ``bid``, and the quantities
+    that explain it (``info``, with ``arrows`` to draw). Made every tick: a plain class with its
+    own ``__init__``, which the compiled build makes native (docs/design.md, "Values made every
+    tick"); it compares by its fields, which are not reassigned."""
 
-    move: Move | None
-    bid: float
-    info: dict[str, Any]
-    arrows: list[tuple[str, float, float]] = field(default_factory=list)
+    def __init__(
+        self,
+        move: Move | None,
+        bid: float,
+        info: dict[str, Any],
+        arrows: list[tuple[str, float, float]] | None = None,
+    ) -> None:
+        self.move: Final = move
+        self.bid: Final = bid
+        self.info: Final = info
+        self.arrows: Final[list[tuple[str, float, float]]] = [] if arrows is None else arrows
+
+    def _values(self) -> tuple[object, ...]:
+        return (self.move, self.bid, self.info, self.arrows)
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, Avoidance) and self._values() == other._values()
+
+    def __repr__(self) -> str:
+        return f"Avoidance(move={self.move!r}, bid={self.bid!r}, info={self.info!r}, arrows={self.arrows!r})"
 
 
-@dataclass(frozen=True)
 class PilotOutput:
     """What the pilot decided this tick, and why.
 
     ``bids`` go to the arbiter; ``info`` is the JSON-ready explanation logged on ``/pilot``
     (forces, turn angle, IN_DISTRESS, mode); ``arrows`` are egocentric force vectors
-    ``(name, fx, fy)`` drawn in ``/robot/scene``; ``events`` are reports to the Navigation system.
+    ``(name, fx, fy)`` drawn in ``/robot/scene``; ``events`` are reports to the Navigation system;
+    ``obstacles`` what the pilot avoided this tick, egocentric; ``blocked_by`` the long obstacle
+    reported to the Navigation system as not easily avoided. A plain class, as :class:`Avoidance`.
     """
 
-    bids: list[Bid]
-    info: dict[str, Any]
-    arrows: list[tuple[str, float, float]] = field(default_factory=list)
-    events: list[str] = field(default_factory=list)
-    obstacles: tuple[KnownObstacle, ...] = ()  # what the pilot avoided this tick, egocentric
-    blocked_by: str | None = None  # the long obstacle reported to the Navigation system as not easily avoided
+    def __init__(
+        self,
+        bids: list[Bid],
+        info: dict[str, Any],
+        arrows: list[tuple[str, float, float]] | None = None,
+        events: list[str] | None = None,
+        obstacles: tuple[KnownObstacle, ...] = (),
+        blocked_by: str | None = None,
+    ) -> None:
+        self.bids: Final = bids
+        self.info: Final = info
+        self.arrows: Final[list[tuple[str, float, float]]] = [] if arrows is None else arrows
+        self.events: Final[list[str]] = [] if events is None else events
+        self.obstacles: Final = obstacles
+        self.blocked_by: Final = blocked_by
+
+    def _values(self) -> tuple[object, ...]:
+        return (self.bids, self.info, self.arrows, self.events, self.obstacles, self.blocked_by)
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, PilotOutput) and self._values() == other._values()
+
+    def __repr__(self) -> str:
+        return "PilotOutput" + repr(self._values())
 
 
 MODES = ("avoid", "idle", "reflex")
