@@ -6,10 +6,16 @@ Runs the mission twice, for ``--short`` and ``--long`` simulated seconds, each u
 between them (start-up, imports and the first ticks cancel out):
 
     python benchmarks/tick_instructions.py                       # this checkout
+    python benchmarks/tick_instructions.py --no-log              # the same mission without its log
+    python benchmarks/tick_instructions.py --env                 # a Gym env step (one action), no log
     (cd /tmp/old && PYTHONPATH=/tmp/old python $PWD/benchmarks/tick_instructions.py)   # another
 
 The child runs ``navcli.runner.run_mission`` on ``scenarios/<room>.yaml`` of the checkout whose
-navcli is imported, with the seed and pilot given, its log to a temporary file.
+navcli is imported, with the seed and pilot given, its log to a temporary file (``--no-log``: none).
+``--env`` counts instead the instructions of one action of the Gymnasium environment
+(:class:`navcli.envs.LandmarkNavigationEnv` in its default room, actions of a random policy drawn
+from ``--seed``, a trial reset when one ends), as the difference between ``--short-actions`` and
+``--long-actions`` actions.
 """
 
 from __future__ import annotations
@@ -25,13 +31,27 @@ from pathlib import Path
 CHILD = """
 import sys, pathlib, navcli
 from navcli import RunSpec, load_scenario, run_mission
-room, pilot, seed, limit, out = sys.argv[1:6]
+room, pilot, seed, limit, record, out = sys.argv[1:7]
 sc = load_scenario(pathlib.Path(navcli.__file__).parent / "data" / "scenarios" / f"{room}.yaml")
-run_mission(RunSpec.build(sc, pilot=pilot, seed=int(seed), time_limit=float(limit)), out=pathlib.Path(out))
+spec = RunSpec.build(sc, pilot=pilot, seed=int(seed), time_limit=float(limit))
+run_mission(spec, out=pathlib.Path(out), record=record == "1")
+"""
+
+ENV_CHILD = """
+import sys, numpy as np
+from navcli.envs import LandmarkNavigationEnv
+seed, actions = int(sys.argv[1]), int(sys.argv[2])
+env = LandmarkNavigationEnv()
+rng = np.random.default_rng(seed)
+env.reset(seed=seed)
+for _ in range(actions):
+    _, _, terminated, truncated, _ = env.step(int(rng.integers(5)))
+    if terminated or truncated:
+        env.reset()
 """
 
 
-def instructions(args: list[str]) -> int:
+def instructions(args: list[str], child: str = CHILD) -> int:
     with tempfile.TemporaryDirectory() as tmp:
         cmd = [
             "valgrind",
@@ -39,7 +59,7 @@ def instructions(args: list[str]) -> int:
             f"--callgrind-out-file={tmp}/cg.out",
             sys.executable,
             "-c",
-            CHILD,
+            child,
             *args,
             str(Path(tmp) / "run.mcap"),
         ]
@@ -57,13 +77,27 @@ def main() -> None:
     ap.add_argument("--seed", default="1")
     ap.add_argument("--short", type=float, default=10.0)
     ap.add_argument("--long", type=float, default=60.0)
+    ap.add_argument("--no-log", action="store_true", help="run the mission without its log")
+    ap.add_argument("--env", action="store_true", help="count a Gym env step (one action) instead")
+    ap.add_argument("--short-actions", type=int, default=20)
+    ap.add_argument("--long-actions", type=int, default=120)
     a = ap.parse_args()
-    short = instructions([a.room, a.pilot, a.seed, str(a.short)])
-    long = instructions([a.room, a.pilot, a.seed, str(a.long)])
+    if a.env:
+        short = instructions([a.seed, str(a.short_actions)], ENV_CHILD)
+        long = instructions([a.seed, str(a.long_actions)], ENV_CHILD)
+        n = a.long_actions - a.short_actions
+        print(
+            f"LandmarkNavigationEnv seed {a.seed}: {(long - short) / n / 1e6:.2f} million instructions an action "
+            f"(actions {a.short_actions}-{a.long_actions}, random policy, no log)"
+        )
+        return
+    record = "0" if a.no_log else "1"
+    short = instructions([a.room, a.pilot, a.seed, str(a.short), record])
+    long = instructions([a.room, a.pilot, a.seed, str(a.long), record])
     ticks = round((a.long - a.short) / 0.1)
     print(
         f"{a.room} {a.pilot} seed {a.seed}: {(long - short) / ticks / 1e3:.0f} thousand instructions a tick "
-        f"(ticks {a.short:g}-{a.long:g} s, with the log)"
+        f"(ticks {a.short:g}-{a.long:g} s, {'without' if a.no_log else 'with'} the log)"
     )
 
 

@@ -8,7 +8,7 @@ agent that imports it pulls in nothing else.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import NamedTuple
+from typing import Final, NamedTuple
 
 from .bidding import Look
 from .fuzzy import FuzzyPoint
@@ -32,7 +32,7 @@ class Bump:
     bearing: float
 
 
-class KnownObstacle(NamedTuple):
+class KnownObstacle:
     """An obstacle as the robot knows it, egocentric: in metres, x ahead and y to the left of the
     robot, as it believes the obstacle lies (its memory's estimate, not the truth).
 
@@ -41,7 +41,10 @@ class KnownObstacle(NamedTuple):
     an obstacle is ``distance_to_segment((0, 0), o.a, o.b) - o.radius``
     (:func:`navcli.geometry.distance_to_segment`), the robot's own radius not taken off.
 
-    One is made per remembered object every tick (a NamedTuple: docs/design.md, "Values made every tick").
+    One is made per remembered object every tick and read many times over by the Pilot's field
+    and swept-arc checks: a plain class with its own ``__init__``, which the compiled build makes
+    native (docs/design.md, "Values made every tick"). A value: its fields are not reassigned
+    (mypy holds them ``Final``), and it compares and hashes by them.
 
     Attributes:
         key: names it, the same every tick (``obstacle-3``; ``LA``: landmark A, which is an
@@ -52,11 +55,26 @@ class KnownObstacle(NamedTuple):
         wall: it is (a known stretch of) one of the room's walls.
     """
 
-    key: str
-    a: Point
-    b: Point
-    radius: float
-    wall: bool = False
+    def __init__(self, key: str, a: Point, b: Point, radius: float, wall: bool = False) -> None:
+        self.key: Final = key
+        self.a: Final = a
+        self.b: Final = b
+        self.radius: Final = radius
+        self.wall: Final = wall
+
+    def _values(self) -> tuple[str, Point, Point, float, bool]:
+        return (self.key, self.a, self.b, self.radius, self.wall)
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, KnownObstacle) and self._values() == other._values()
+
+    def __hash__(self) -> int:
+        return hash(self._values())
+
+    def __repr__(self) -> str:
+        return (
+            f"KnownObstacle(key={self.key!r}, a={self.a!r}, b={self.b!r}, radius={self.radius!r}, wall={self.wall!r})"
+        )
 
     @property
     def is_point(self) -> bool:
@@ -69,8 +87,8 @@ class KnownObstacle(NamedTuple):
 
 
 class KnownLandmark(NamedTuple):
-    """A landmark as the visual memory holds it. A NamedTuple, as :class:`KnownObstacle` (one per
-    remembered landmark every tick).
+    """A landmark as the visual memory holds it (a NamedTuple: one is made per remembered landmark
+    every tick).
 
     Attributes:
         key: the landmark's id (``A``, ``B`` ...).

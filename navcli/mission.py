@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Final
 
 import numpy as np
 
@@ -72,34 +72,73 @@ class Event:
     message: str
 
 
-@dataclass(frozen=True)
 class Tick:
-    """The record of one control period, stamped with the simulation time at its end."""
+    """The record of one control period, stamped with the simulation time at its end: its
+    ``index``, ``time_ns``, the true ``pose`` and the robot's belief (``odometry``), the ``command``
+    (v m/s, omega rad/s) sent to the wheels, every bid offered to the arbiter in consultation
+    order (``bids``), the Navigation agents' bids to their Communicator (``agent_bids``), the
+    ``winners``, the ``pilot``'s output, the ``events``, the ``camera`` (pan, rad from the heading;
+    state, idle | panning | processing; purpose), the ``detections`` of an image taken this tick
+    (if one was), the visual ``memory`` (every ``vision.draw_every`` ticks and at the end), what the
+    ``navigation`` system decided and why, and the Map Manager's ``map`` (every
+    ``navigation.map_draw_every`` ticks and at the end). Built only when something reads it, then
+    every tick: a plain class with its own ``__init__``, which the compiled build makes native
+    (docs/design.md, "Values made every tick"); its fields are not reassigned."""
 
-    index: int
-    time_ns: int
-    pose: Pose  # ground truth
-    odometry: Pose  # the robot's belief
-    command: tuple[float, float]  # (v m/s, omega rad/s) sent to the wheels
-    bids: tuple[Bid, ...]  # every bid offered to the arbiter, in consultation order
-    agent_bids: tuple[Bid, ...]  # the Navigation agents' bids to their Communicator
-    winners: dict[Resource, Bid | None]
-    pilot: PilotOutput
-    events: tuple[Event, ...]
-    camera: tuple[float, str, str | None]  # pan (rad, from the heading), state (idle | panning | processing), purpose
-    detections: tuple[Detection, ...] | None  # what the image taken this tick showed, if one was
-    memory: tuple[Remembered, ...] | None = None  # the visual memory, every vision.draw_every ticks and at the end
-    navigation: NavigationOutput | None = None  # what the Navigation system decided, and why
-    map: MapSnapshot | None = None  # the Map Manager's map, every navigation.map_draw_every ticks and at the end
+    def __init__(  # noqa: PLR0913 (a record: one argument per field, each named where a Tick is made)
+        self,
+        index: int,
+        time_ns: int,
+        pose: Pose,
+        odometry: Pose,
+        command: tuple[float, float],
+        bids: tuple[Bid, ...],
+        agent_bids: tuple[Bid, ...],
+        winners: dict[Resource, Bid | None],
+        pilot: PilotOutput,
+        events: tuple[Event, ...],
+        camera: tuple[float, str, str | None],
+        detections: tuple[Detection, ...] | None,
+        memory: tuple[Remembered, ...] | None = None,
+        navigation: NavigationOutput | None = None,
+        map: MapSnapshot | None = None,
+    ) -> None:
+        self.index: Final = index
+        self.time_ns: Final = time_ns
+        self.pose: Final = pose
+        self.odometry: Final = odometry
+        self.command: Final = command
+        self.bids: Final = bids
+        self.agent_bids: Final = agent_bids
+        self.winners: Final = winners
+        self.pilot: Final = pilot
+        self.events: Final = events
+        self.camera: Final = camera
+        self.detections: Final = detections
+        self.memory: Final = memory
+        self.navigation: Final = navigation
+        self.map: Final = map
+
+    def __repr__(self) -> str:
+        return f"Tick(index={self.index}, time_ns={self.time_ns}, pose={self.pose!r}, command={self.command!r})"
 
 
 class Mission:
     """A scenario being run with one configuration."""
 
-    def __init__(self, spec: RunSpec, policy_agent: LearningAgent | None = None, snapshots: bool = True):
+    def __init__(
+        self,
+        spec: RunSpec,
+        policy_agent: LearningAgent | None = None,
+        snapshots: bool = True,
+        explain: bool = True,
+    ):
         """``policy_agent`` replaces the agent of ``spec.navigation`` (a trainer's Learning Agent).
         ``snapshots=False`` leaves out the visual memory and map snapshots that only a log draws
-        (``Tick.memory``/``Tick.map`` stay None): runs without a log skip the map's triangulations."""
+        (``Tick.memory``/``Tick.map`` stay None): runs without a log skip the map's triangulations.
+        ``explain=False`` leaves out the explanations that only a log or an observer reads: the
+        Pilot's ``/pilot`` fields and force arrows (its ``info`` keeps what decisions read,
+        ``blocked_by``) and the Navigation system's ``info``. Neither changes what the robot does."""
         self.spec = spec
         self.snapshots = snapshots
         self.scenario = spec.scenario
@@ -147,6 +186,7 @@ class Mission:
             plugin_agents=agents,
             own_agents=any(c.name == "agents" for c in policies),
         )
+        self.pilot.explains = self.navigation.explains = explain
         self._reach = t.tolerance  # how near the target's point counts as there (m)
         if t.kind == "landmark":
             lm = next(lm for lm in self.scenario.landmarks if lm.id == t.landmark)
@@ -217,6 +257,16 @@ class Mission:
         """Run one control period: perceive, bid, arbitrate, act, step the world, record. An
         exception raised in a plugin's code (or passing through it) is raised as the plugin's
         :class:`~navcli.plugins.PluginError`, the original as its cause."""
+        tick = self._step(True)
+        assert tick is not None  # recorded
+        return tick
+
+    def step_unrecorded(self) -> None:
+        """:meth:`step` without its :class:`Tick`, for a loop that nobody observes: the same
+        control period, its record (the events, the snapshots) never built."""
+        self._step(False)
+
+    def _step(self, record: bool) -> Tick | None:
         if self.outcome is not None:
             raise RuntimeError(f"the mission has ended ({self.outcome})")
         world = self.world
@@ -236,6 +286,8 @@ class Mission:
         self.ticks += 1
         after = world.pose
         self._check_end(before, after, nav.give_up, nav.believed)
+        if not record:
+            return None
         return self._record(command, bids, nav, winners, pilot_out, bumps, detections, beliefs)
 
     def _record(

@@ -112,9 +112,13 @@ def advance(
 ) -> None:
     """The run loop: step ``mission`` until it ends, or until ``until(mission)`` holds (checked
     before each step), telling every observer of each tick in turn (one that returns ``False``
-    stops it: see :data:`Observer`). ``navcli run``, the benchmark, training trials, the policy
+    stops it: see :data:`Observer`); with none, no tick's record is built
+    (:meth:`Mission.step_unrecorded`). ``navcli run``, the benchmark, training trials, the policy
     comparison and the Gymnasium environment all run missions through here."""
     while mission.outcome is None and not (until is not None and until(mission)):
+        if not observers:  # nobody reads the record: it is not built
+            mission.step_unrecorded()
+            continue
         tick = mission.step()
         for observe in observers:
             if observe(mission, tick) is False and mission.outcome is None:
@@ -197,7 +201,8 @@ def run_mission(
             there without ``overwrite``, before the mission starts.
     """
     path = (out or spec.default_log_path()) if record or live else None
-    mission = Mission(spec, snapshots=path is not None)
+    explain = path is not None or on_tick is not None or bool(observers)  # someone reads the explanations
+    mission = Mission(spec, snapshots=path is not None, explain=explain)
     _tell(observers, "begin", mission)
     recorder = open_log(spec, mission, path, live=live, port=port, overwrite=overwrite) if path is not None else None
     told: list[Observer] = [recording(recorder)] if recorder else []

@@ -54,6 +54,9 @@ __all__ = [
 ]
 
 
+NO_INFO: Mapping[str, object] = MappingProxyType({})  # read-only: one empty explanation serves all
+
+
 class NavigationOutput(NamedTuple):
     """The system's bids to the robot's arbiter, the agents' bids they were chosen from, the
     current target for the Pilot (egocentric point, or a line to cross), and what explains it.
@@ -66,7 +69,7 @@ class NavigationOutput(NamedTuple):
     diverting: bool = False
     events: tuple[tuple[str, str, str], ...] = ()  # (agent, level, message)
     give_up: str | None = None
-    info: Mapping[str, object] = MappingProxyType({})  # read-only: one default serves all
+    info: Mapping[str, object] = NO_INFO  # the scalar fields of ``/navigation``; none when nothing records them
     forwarded_by: Mapping[Resource, str] = MappingProxyType({})  # resource -> the agent whose bid was forwarded
     believed: FuzzyPoint | None = None  # the original target as the system believes it (egocentric), if at all
 
@@ -112,6 +115,7 @@ class NavigationSystem:
             self.agents = (policy_agent,)
         self.communicator = Communicator(self.name, params.communicator_window_s)
         self._ahead_lim = math.radians(params.ahead_deg)  # rad
+        self.explains = True  # build the output's ``info``, which only a log or an observer reads (Mission sets it)
 
     @property
     def sweeping(self) -> bool:
@@ -170,19 +174,7 @@ class NavigationSystem:
             offered += agent.bid(s)
         agent_bids = tuple(offered)
         bids = tuple(self.communicator.forward(agent_bids, beliefs.time))
-        info = {
-            "I_a": s.I_a,
-            "risk": self.risk.risk(s),
-            "quality_ahead": s.quality_ahead,
-            "quality_around": s.quality_around,
-            "landmarks_known": len(s.landmarks),
-            "landmarks_ahead": len(s.ahead),
-            "target_source": s.target_source,
-            "rescuer": self.rescuer.state,
-            "diverting_targets": self.rescuer.diverting_targets,
-            "failures": self.rescuer.failures,
-            "beta_units": len(self.map.network),
-        }
+        info = self._explanation(s) if self.explains else NO_INFO
         events = tuple([(self.rescuer.name, level, msg) for level, msg in rescue.events]) if rescue.events else ()
         return NavigationOutput(
             bids,
@@ -196,6 +188,22 @@ class NavigationSystem:
             self.communicator.forwarded_by,
             original.target,
         )
+
+    def _explanation(self, s: Situation) -> Mapping[str, object]:
+        """The scalar fields of ``/navigation`` for the situation ``s`` the agents bid on."""
+        return {
+            "I_a": s.I_a,
+            "risk": self.risk.risk(s),
+            "quality_ahead": s.quality_ahead,
+            "quality_around": s.quality_around,
+            "landmarks_known": len(s.landmarks),
+            "landmarks_ahead": len(s.ahead),
+            "target_source": s.target_source,
+            "rescuer": self.rescuer.state,
+            "diverting_targets": self.rescuer.diverting_targets,
+            "failures": self.rescuer.failures,
+            "beta_units": len(self.map.network),
+        }
 
     def _ask(self, beliefs: Beliefs, original: Situation, failed):
         """The Rescuer's word to the Map Manager: the edge of a diverting target that failed (its

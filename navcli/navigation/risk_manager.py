@@ -24,8 +24,12 @@ def sector_of(x: float, y: float) -> int:
     (0, 5, 1)
     """
     h = math.atan2(y, x)
-    off = [abs(math.remainder(h - c, TWO_PI)) for c in SECTORS]
-    return off.index(min(off))  # min and index both take the first of equals
+    best, nearest = math.inf, 0
+    for i, c in enumerate(SECTORS):
+        off = abs(math.remainder(h - c, TWO_PI))
+        if off < best:  # strictly: the first of equals
+            best, nearest = off, i
+    return nearest
 
 
 @dataclass(frozen=True)

@@ -41,8 +41,7 @@ from __future__ import annotations
 
 import math
 from collections import deque
-from dataclasses import dataclass, field
-from typing import Any, ClassVar
+from typing import Any, ClassVar, Final
 
 import numpy as np
 from mypy_extensions import mypyc_attr
@@ -53,10 +52,11 @@ from ..geometry import Pose, distance_to_segment, motion_between, wrap_angle
 from ..params import CONTROL_DT, PILOT, ROBOT, ParamSet, PilotParams, RobotParams
 
 
-@dataclass(frozen=True)
 class Avoidance:
     """An avoidance strategy's proposal: the move, its bid, and the quantities that explain it
-    (what :meth:`Pilot.avoid` returns).
+    (what :meth:`Pilot.avoid` returns). Made every tick: a plain class with its own ``__init__``,
+    which the compiled build makes native (docs/design.md, "Values made every tick"); it compares
+    by its fields, which are not reassigned.
 
     Attributes:
         move: the move it proposes (heading in rad, speed in m/s, at most the pilot's
@@ -68,27 +68,62 @@ class Avoidance:
         arrows: force vectors drawn in ``/robot/scene``, egocentric: ``(name, fx, fy)``.
     """
 
-    move: Move | None
-    bid: float
-    info: dict[str, Any]
-    arrows: list[tuple[str, float, float]] = field(default_factory=list)
+    def __init__(
+        self,
+        move: Move | None,
+        bid: float,
+        info: dict[str, Any],
+        arrows: list[tuple[str, float, float]] | None = None,
+    ) -> None:
+        self.move: Final = move
+        self.bid: Final = bid
+        self.info: Final = info
+        self.arrows: Final[list[tuple[str, float, float]]] = [] if arrows is None else arrows
+
+    def _values(self) -> tuple[object, ...]:
+        return (self.move, self.bid, self.info, self.arrows)
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, Avoidance) and self._values() == other._values()
+
+    def __repr__(self) -> str:
+        return f"Avoidance(move={self.move!r}, bid={self.bid!r}, info={self.info!r}, arrows={self.arrows!r})"
 
 
-@dataclass(frozen=True)
 class PilotOutput:
     """What the pilot decided this tick, and why.
 
     ``bids`` go to the arbiter; ``info`` is the JSON-ready explanation logged on ``/pilot``
     (forces, turn angle, IN_DISTRESS, mode); ``arrows`` are egocentric force vectors
-    ``(name, fx, fy)`` drawn in ``/robot/scene``; ``events`` are reports to the Navigation system.
+    ``(name, fx, fy)`` drawn in ``/robot/scene``; ``events`` are reports to the Navigation system;
+    ``obstacles`` what the pilot avoided this tick, egocentric; ``blocked_by`` the long obstacle
+    reported to the Navigation system as not easily avoided. A plain class, as :class:`Avoidance`.
     """
 
-    bids: list[Bid]
-    info: dict[str, Any]
-    arrows: list[tuple[str, float, float]] = field(default_factory=list)
-    events: list[str] = field(default_factory=list)
-    obstacles: tuple[KnownObstacle, ...] = ()  # what the pilot avoided this tick, egocentric
-    blocked_by: str | None = None  # the long obstacle reported to the Navigation system as not easily avoided
+    def __init__(
+        self,
+        bids: list[Bid],
+        info: dict[str, Any],
+        arrows: list[tuple[str, float, float]] | None = None,
+        events: list[str] | None = None,
+        obstacles: tuple[KnownObstacle, ...] = (),
+        blocked_by: str | None = None,
+    ) -> None:
+        self.bids: Final = bids
+        self.info: Final = info
+        self.arrows: Final[list[tuple[str, float, float]]] = [] if arrows is None else arrows
+        self.events: Final[list[str]] = [] if events is None else events
+        self.obstacles: Final = obstacles
+        self.blocked_by: Final = blocked_by
+
+    def _values(self) -> tuple[object, ...]:
+        return (self.bids, self.info, self.arrows, self.events, self.obstacles, self.blocked_by)
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, PilotOutput) and self._values() == other._values()
+
+    def __repr__(self) -> str:
+        return "PilotOutput" + repr(self._values())
 
 
 MODES = ("avoid", "idle", "reflex")
@@ -175,6 +210,9 @@ class Pilot:
         window = max(1, round(self.stall_window_s / CONTROL_DT))
         self._commanded: deque[float] = deque(maxlen=window)  # m commanded per tick, over the stall window
         self._moved: deque[float] = deque(maxlen=window)  # m measured per tick, over the stall window
+        # build the explanation (``/pilot``'s fields, the force arrows), which only a log or an observer
+        # reads; without it ``info`` holds only what decisions read (``blocked_by``): Mission sets it
+        self.explains = True
 
     # -- to be provided by the strategies
     def avoid(self, beliefs: Beliefs, obstacles: tuple[KnownObstacle, ...], request: Move | None) -> Avoidance:
@@ -216,7 +254,11 @@ class Pilot:
         self._own = a.move  # what the execution carries out instead of a request that is not safe
         bids = [Bid(BIDDER, "camera", LOOK_AHEAD, look)] if look > 0 else []
         offers = a.move is not None and a.bid > 0.0  # a bid of 0 is not offered: it would drive a silent robot
-        info = {"mode": "avoid" if offers else "idle", "bid": a.bid, "look_bid": look} | a.info
+        info = (
+            {"mode": "avoid" if offers else "idle", "bid": a.bid, "look_bid": look} | a.info
+            if self.explains
+            else a.info
+        )
         if offers and a.move is not None:
             bids.insert(0, Bid(BIDDER, "motion", a.move, a.bid))
         return PilotOutput(
@@ -352,9 +394,7 @@ class Pilot:
         self._phase_ticks += 1
         if not self._reflex:
             events.append("reflex done: recomputing with the obstacle that was hit")
-            return PilotOutput(
-                [], {"mode": "reflex", "phase": "done", "bid": 0.0, "look_bid": look}, [], events, obstacles
-            )
+            return PilotOutput([], self._reflex_info("done", 0.0, look), [], events, obstacles)
         phase = self._reflex[0][0]
         if phase == "stop":
             self._reflex_progress += CONTROL_DT  # this tick is spent standing still
@@ -365,9 +405,11 @@ class Pilot:
             bids.append(Bid(BIDDER, "camera", Look(pan, "obstacles"), p.bid_cap))
         elif look > 0:
             bids.append(Bid(BIDDER, "camera", LOOK_AHEAD, look))
-        return PilotOutput(
-            bids, {"mode": "reflex", "phase": phase, "bid": p.bid_cap, "look_bid": look}, [], events, obstacles
-        )
+        return PilotOutput(bids, self._reflex_info(phase, p.bid_cap, look), [], events, obstacles)
+
+    def _reflex_info(self, phase: str, bid: float, look: float) -> dict[str, Any]:
+        """``/pilot``'s fields in a reflex; none unexplained."""
+        return {"mode": "reflex", "phase": phase, "bid": bid, "look_bid": look} if self.explains else {}
 
     def _phase_limit(self, phase: str) -> float:
         """Seconds after which a reflex phase that cannot finish is given up."""

@@ -43,7 +43,7 @@ loop costs less than numpy's call overhead.
 from __future__ import annotations
 
 import math
-from typing import NamedTuple, cast
+from typing import Any, Final, NamedTuple, cast
 
 from ..beliefs import Beliefs, KnownObstacle
 from ..bidding import Move
@@ -284,16 +284,30 @@ def pilot_bid(g_max: float, p: PilotParams) -> float:
     return p.bid_cap * min(g_max / f_max, 1.0) if f_max > 0.0 else 0.0
 
 
-class ObstacleForce(NamedTuple):
+class ObstacleForce:
     """One obstacle's force (eq. 4 / section 3.2) and whether it counts (section 5); one per
-    obstacle per tick (a NamedTuple: docs/design.md, "Values made every tick")."""
+    obstacle per tick (a plain class the compiled build makes native, as
+    :class:`~navcli.beliefs.KnownObstacle`: docs/design.md, "Values made every tick")."""
 
-    key: str
-    fx: float
-    fy: float
-    magnitude: float
-    facing: bool
-    in_distress: bool
+    def __init__(self, key: str, fx: float, fy: float, magnitude: float, facing: bool, in_distress: bool) -> None:
+        self.key: Final = key
+        self.fx: Final = fx
+        self.fy: Final = fy
+        self.magnitude: Final = magnitude
+        self.facing: Final = facing
+        self.in_distress: Final = in_distress
+
+    def _values(self) -> tuple[str, float, float, float, bool, bool]:
+        return (self.key, self.fx, self.fy, self.magnitude, self.facing, self.in_distress)
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, ObstacleForce) and self._values() == other._values()
+
+    def __hash__(self) -> int:
+        return hash(self._values())
+
+    def __repr__(self) -> str:
+        return "ObstacleForce" + repr(self._values())
 
 
 class Field(NamedTuple):
@@ -389,31 +403,45 @@ class PotentialFieldPilot(Pilot):
             prev = wrap_angle(self._prev_heading - theta)
             turn = wrap_angle(prev + wrap_angle(turn - prev) / 2)  # section 5: the mean with the previous
         self._prev_heading = theta + f.turn
-        per_obstacle = {}
-        arrows = [("net", *f.net), ("target", *f.target)]
-        for key, fx, fy, mag, facing_it, _ in f.forces:
-            # explained to 1e-4 force units (the drawn arrows start at 2): written with all 17 digits, these
-            # per-obstacle forces would be 38 % of a log's bytes, 2.2 kB a tick on paper-8x8 (benchmarks/log_size.py)
-            per_obstacle[key] = {"x": round(fx, 4), "y": round(fy, 4), "mag": round(mag, 4), "facing": facing_it}
-            if facing_it:
-                arrows.append((key, fx, fy))
-        info = {
-            "turn_deg": math.degrees(turn),
-            "raw_turn_deg": math.degrees(f.turn),
-            "in_distress": f.in_distress,
-            "passed": f.passed,
-            "g_max": f.g_max,
-            "net": {"x": f.net[0], "y": f.net[1]},
-            "target": {"x": f.target[0], "y": f.target[1]},
-            "repulsive": {"x": f.repulsion[0], "y": f.repulsion[1]},
-            "obstacles": per_obstacle,
-        }
-        if f.in_corridor is not None:
-            info["in_corridor"] = f.in_corridor
-        blocked = blocking(f, obstacles)
-        if blocked is not None:
-            info["blocked_by"] = blocked
+        blocked = blocking(f, obstacles)  # read by decisions (Pilot._report): found whether explained or not
+        if not self.explains:
+            return Avoidance(Move(turn, self.max_speed), f.bid, {} if blocked is None else {"blocked_by": blocked})
+        info, arrows = explanation(f, turn, blocked)
         return Avoidance(Move(turn, self.max_speed), f.bid, info, arrows)
+
+
+def explanation(f: Field, turn: float, blocked: str | None) -> tuple[dict[str, Any], list[tuple[str, float, float]]]:
+    """What ``/pilot`` says of the field ``f`` (``turn``: the turn angle after the averaging, rad;
+    ``blocked``: :func:`blocking`'s answer) and the force arrows drawn in ``/robot/scene``."""
+    per_obstacle = {}
+    arrows = [("net", *f.net), ("target", *f.target)]
+    for of in f.forces:
+        # explained to 1e-4 force units (the drawn arrows start at 2): written with all 17 digits, these
+        # per-obstacle forces were 38 % of a log's bytes, 2.2 kB a tick on paper-8x8 (benchmarks/log_size.py)
+        per_obstacle[of.key] = {
+            "x": round(of.fx, 4),
+            "y": round(of.fy, 4),
+            "mag": round(of.magnitude, 4),
+            "facing": of.facing,
+        }
+        if of.facing:
+            arrows.append((of.key, of.fx, of.fy))
+    info: dict[str, Any] = {
+        "turn_deg": math.degrees(turn),
+        "raw_turn_deg": math.degrees(f.turn),
+        "in_distress": f.in_distress,
+        "passed": f.passed,
+        "g_max": f.g_max,
+        "net": {"x": f.net[0], "y": f.net[1]},
+        "target": {"x": f.target[0], "y": f.target[1]},
+        "repulsive": {"x": f.repulsion[0], "y": f.repulsion[1]},
+        "obstacles": per_obstacle,
+    }
+    if f.in_corridor is not None:
+        info["in_corridor"] = f.in_corridor
+    if blocked is not None:
+        info["blocked_by"] = blocked
+    return info, arrows
 
 
 def blocking(f: Field, obstacles: tuple[KnownObstacle, ...]) -> str | None:

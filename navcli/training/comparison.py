@@ -262,7 +262,7 @@ def run_trials(job: Job) -> list[dict]:
         nav = job.policy.navigation if job.policy.kind == "plugin" else "agents"
         base = spec.replace(navigation=nav)  # the same task as the policies' (task.py)
         for i, st in enumerate(job.starts):
-            m = Mission(spec_at(base, st), snapshots=False)
+            m = Mission(spec_at(base, st), snapshots=False, explain=False)
             advance(m, until=lambda m: m.ticks > 0 and not m.navigation.sweeping)  # as NavigationTask.reset
             end = m.time + p.max_actions * p.action_s  # the learned policies' time after their sweep, at most
             advance(m, until=_past(end))

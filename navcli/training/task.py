@@ -181,7 +181,9 @@ class NavigationTask:
             pan_limit=spec.scenario.camera.pan_limit,
             target_key=spec.scenario.target.landmark,
         )
-        m = Mission(spec, policy_agent=agent, snapshots=log is not None)
+        m = Mission(
+            spec, policy_agent=agent, snapshots=log is not None, explain=log is not None or bool(self.observers)
+        )
         if p.learning.first_sighting and p.learning.paper_task:
             m.perception.glimpse_target(m.world.pose)
         self.mission, self.agent, self.actions, self.outcome = m, agent, 0, None
