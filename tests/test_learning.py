@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import copy
 import math
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -265,6 +266,38 @@ def test_actions_move_and_look_as_section_5_3_says():
     assert action_bids(MVL, s, **kw)[1].action.pan == pytest.approx(0.0)  # A and B blurred, C sharp
     lost = action_bids(MB, situation(target=None), **kw)
     assert abs(lost[0].action.heading) == pytest.approx(math.pi)  # the paper's pacing
+
+
+def lost_at(theta):
+    """A situation with the target lost, the robot's odometry heading ``theta``."""
+    return situation(target=None)._replace(beliefs=Beliefs(0.0, Pose(0.0, 0.0, theta), None, None, ()))
+
+
+def paced_moves(pace, headings, ticks=2):
+    """The moves a LearningAgent bids, MB in every action, the robot's odometry heading
+    ``headings[k]`` through action k (``ticks`` ticks an action)."""
+    from navcli.learning.learning_agent import LearningAgent
+    from navcli.params import LEARNING
+
+    params = replace(LEARNING, pace=pace, action_s=ticks * 0.1)
+    agent = LearningAgent(lambda state: MB, params, max_speed=0.3)
+    return [[agent.bid(lost_at(h))[0].action for _ in range(ticks)] for h in headings]
+
+
+def test_a_lost_target_is_paced_at_pi_fixed_in_the_odometry_frame():
+    """Section 5.3's pacing: the first lost action aims at pi from the robot's heading and is driven
+    backwards (the body keeps its heading); the next aims pi from that aim, forwards, whatever the
+    robot's heading became; within an action the aim stays where it was set."""
+    (a1, a1b), (a2, a2b), (a3, _) = paced_moves(True, [0.0, 0.0, 0.0])
+    assert a1.speed == -0.3 and a1.heading == pytest.approx(0.0, abs=1e-9)  # back along the line
+    assert a2.speed == 0.3 and a2.heading == pytest.approx(0.0, abs=1e-9)  # forward again
+    assert a3.speed == -0.3  # and back: pacing
+    # the robot turned 0.4 rad during the second action: its aim stays the first action's opposite
+    (_, _), (b2, _) = paced_moves(True, [0.0, 0.4])
+    assert b2.heading == pytest.approx(-0.4) and b2.speed == 0.3
+    # off: pi in the robot's own frame at every tick, driven forward (the Pilot turns it)
+    (c1, c1b), (c2, _) = paced_moves(False, [0.0, 0.4])
+    assert abs(c1.heading) == pytest.approx(math.pi) and c1.speed == 0.3 and abs(c2.heading) == pytest.approx(math.pi)
 
 
 @pytest.mark.parametrize(

@@ -47,7 +47,11 @@ def test_the_paper_task_is_a_preset_under_the_users_word(write_scenario):
     flat = task.params.flat()
     assert all(flat[k] == v for k, v in PAPER_TASK.items())
     assert RunSpec.build(sc).params.vision.told_target  # a plain run: no preset
-    for name, default in (("vision.told_target", True), ("navigation.reach_confident", False), ("pilot.looks", True)):
+    for name, default in (
+        ("vision.told_target", True),
+        ("navigation.reach_confident", False),
+        ("navigation.blocked_no_progress", True),
+    ):
         mine = task_spec(sc, {name: default})  # the user's value, navcli's default: heard
         assert mine.params.flat()[name] == default
         assert all(mine.params.flat()[k] == v for k, v in PAPER_TASK.items() if k != name)  # the others still set

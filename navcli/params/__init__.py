@@ -389,6 +389,13 @@ class NavigationParams(ParamSet):
     blocked_ends: bool = param(
         False, "", "the first blocked situation ends the mission blocked (the learning paper's trials)"
     )
+    blocked_no_progress: bool = param(
+        True,
+        "",
+        """no progress toward a known target within the blocked window is a blocked situation; off:
+        it is not, and only bumps and the Pilot's report block the robot (the learning paper's task: "blocked
+        by the landmarks or by the wall"; its trials go on, bounded by their 500 actions)""",
+    )
     reach_confident: bool = param(
         False,
         "",
@@ -612,6 +619,13 @@ class LearningParams(ParamSet):
         "",
         "the paper's task: the robot starts with the image of the target a look "
         "from its start would give; off: it knows nothing (section 5.1)",
+    )
+    pace: bool = param(
+        True,
+        "",
+        "a lost target: each action aims at pi fixed in the odometry frame when it starts, 180 degrees "
+        "from the last, driven as a reversal (section 5.3's pacing; learning_agent.py); off: re-aimed "
+        "at pi in the robot's frame every tick",
     )
     blocked_terminal: bool = param(
         False,
