@@ -532,3 +532,26 @@ def test_training_records_each_trial_and_resumes_where_the_model_was_saved(tmp_p
 
     with pytest.raises(ModelError, match="already holds 5 trials"):  # --trials is a total, and it has them
         train(spec, trials=5, eval_every=2, eval_starts=2, out=out, resume=out, workers=1)
+
+
+def test_too_few_tries_lock_the_learner_into_the_cheapest_loop():
+    """A state left only by one action (cost 10), one try in ten, every other action looping back
+    (MB's cost 1, the rest 5): the undiscounted model that has seen no way out sinks, and the
+    cheapest loop wins for good. An action is judged on too few tries when all its ``explore``
+    tries loop, chance 0.9 ** explore: 0.81 at 2, 0.047 at 29 (LearningParams.explore)."""
+
+    def locked(explore: int, seed: int) -> bool:
+        ps = PrioritizedSweeping(
+            1, 5, gamma=1.0, backups=5, threshold=1e-3, explore=explore, rng=np.random.default_rng(seed)
+        )
+        world = np.random.default_rng([seed, 9])
+        for _ in range(500):
+            a = ps.act(0)
+            out = a == 1 and world.random() < 0.1
+            ps.observe(0, a, (-1.0, -10.0, -5.0, -5.0, -5.0)[a], 0, terminal=out)
+            if out:
+                return False
+        return True
+
+    assert sum(locked(2, seed) for seed in range(40)) >= 24  # 0.81 of 40: 32 expected
+    assert sum(locked(29, seed) for seed in range(40)) <= 6  # 0.047 of 40: 2 expected
