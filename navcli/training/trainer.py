@@ -42,80 +42,18 @@ import numpy as np
 from ..config import RunSpec
 from ..outputs import atomic
 from ..signals import deferred
-from ..learning.actions import ACTIONS, reward_of
+from ..learning.actions import ACTIONS
 from ..learning.features import N_STATES, check_bounds
-from ..learning.hand_coded import hand_coded_action
-from ..learning.learning_agent import table_policy
 from ..learning.model_file import curve_paths, trials_paths
 from .task import NavigationTask, Start, random_starts
+from .trials import RANDOM_STREAM as RANDOM_STREAM, TrialResult as TrialResult, eval_job
+from .trials import evaluate as evaluate, hand_coded_table as hand_coded_table
+from .trials import random_policy as random_policy, run_trial as run_trial
 
 ALGORITHMS = ("prioritized-sweeping", "q-learning")
 EVAL_SEED = 99
 """The test starts come from this seed, the same for every training run (the paper: "the same set
 of 99 starting locations was employed in each testing period")."""
-
-
-@dataclass(frozen=True)
-class TrialResult:
-    """One trial: how it ended, its actions, its reward and the count of each action."""
-
-    outcome: str
-    actions: int
-    counts: tuple[int, ...]
-    visited: tuple[int, ...] = field(default=(), compare=False)  # the belief states it chose an action in, sorted
-
-    @property
-    def success(self) -> bool:
-        return self.outcome == "reached"
-
-    @property
-    def reward(self) -> float:
-        return reward_of(self.counts)
-
-
-def run_trial(
-    task: NavigationTask,
-    start: Start,
-    choose: Callable[[int], int],
-    learn: Callable[[int, int, float, int, bool], None] | None = None,
-    log: Path | None = None,
-) -> TrialResult:
-    """One trial from ``start``, actions chosen by ``choose(state)``; ``learn(s, a, r, s', terminal)``
-    hears every step (terminal: the target reached, or blocked in the paper's task); with ``log``
-    every tick is recorded there (MCAP)."""
-    s = task.reset(start, log)
-    m = task.mission
-    assert m is not None  # reset made it
-    counts = [0] * len(ACTIONS)
-    visited = set()
-    while task.outcome is None and m.outcome is None:
-        a = choose(s)
-        visited.add(s)
-        s2, r, _, _ = task.step(a)
-        counts[a] += 1
-        if learn is not None:
-            learn(s, a, r, s2, task.terminal)
-        s = s2
-    return TrialResult(task.outcome or m.outcome or "interrupted", task.actions, tuple(counts), tuple(sorted(visited)))
-
-
-RANDOM_STREAM = 7  # the random policy's generator of a trial: [the start's seed, this]
-
-
-def random_policy(start: Start) -> Callable[[int], int]:
-    """The uniform random policy of a trial from ``start``: an action drawn uniformly at each
-    choice, from a generator seeded by the start's seed (the same trial, the same draws)."""
-    rng = np.random.default_rng([start.seed, RANDOM_STREAM])
-    return lambda state: int(rng.integers(len(ACTIONS)))
-
-
-def evaluate(spec: RunSpec, policy: np.ndarray | None, starts: list[Start]) -> list[TrialResult]:
-    """The policy (an action per state; None: the uniform random policy) from each start, in this process."""
-    task = NavigationTask(spec)
-    if policy is None:
-        return [run_trial(task, st, random_policy(st)) for st in starts]
-    choose = table_policy(policy)
-    return [run_trial(task, st, choose) for st in starts]
 
 
 def make_learner(algorithm: str, spec: RunSpec, seed: int):
@@ -138,10 +76,6 @@ def make_learner(algorithm: str, spec: RunSpec, seed: int):
     if algorithm == "q-learning":
         return QLearning(N_STATES, len(ACTIONS), alpha=p.q_alpha, gamma=p.gamma, epsilon=p.q_epsilon, rng=rng)
     raise ValueError(f"unknown algorithm {algorithm!r} (expected one of: {', '.join(ALGORITHMS)})")
-
-
-def hand_coded_table() -> np.ndarray:
-    return np.array([hand_coded_action(s) for s in range(N_STATES)], dtype=np.int8)
 
 
 @dataclass
@@ -219,11 +153,6 @@ class _Batch:
 
     def done(self) -> bool:
         return self.future is None or self.future.done()
-
-
-def _eval_job(spec: RunSpec, policy: np.ndarray | None, starts: list[Start]) -> tuple[list[TrialResult], float]:
-    t0 = time.perf_counter()
-    return evaluate(spec, policy, starts), time.perf_counter() - t0
 
 
 LOGS = ("summary", "full")
@@ -412,7 +341,7 @@ class _Evaluations:
         for k in range(self.chunks):
             if todo[k :: self.chunks]:
                 starts = todo[k :: self.chunks]
-                job = pool.submit(_eval_job, self.spec, policy, [self.test[i] for i in starts])
+                job = pool.submit(eval_job, self.spec, policy, [self.test[i] for i in starts])
                 batches.append(_Batch(starts, job))
         return batches
 
