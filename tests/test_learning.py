@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import copy
 import math
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -267,6 +268,38 @@ def test_actions_move_and_look_as_section_5_3_says():
     assert abs(lost[0].action.heading) == pytest.approx(math.pi)  # the paper's pacing
 
 
+def lost_at(theta):
+    """A situation with the target lost, the robot's odometry heading ``theta``."""
+    return situation(target=None)._replace(beliefs=Beliefs(0.0, Pose(0.0, 0.0, theta), None, None, ()))
+
+
+def paced_moves(pace, headings, ticks=2):
+    """The moves a LearningAgent bids, MB in every action, the robot's odometry heading
+    ``headings[k]`` through action k (``ticks`` ticks an action)."""
+    from navcli.learning.learning_agent import LearningAgent
+    from navcli.params import LEARNING
+
+    params = replace(LEARNING, pace=pace, action_s=ticks * 0.1)
+    agent = LearningAgent(lambda state: MB, params, max_speed=0.3)
+    return [[agent.bid(lost_at(h))[0].action for _ in range(ticks)] for h in headings]
+
+
+def test_a_lost_target_is_paced_at_pi_fixed_in_the_odometry_frame():
+    """Section 5.3's pacing: the first lost action aims at pi from the robot's heading and is driven
+    backwards (the body keeps its heading); the next aims pi from that aim, forwards, whatever the
+    robot's heading became; within an action the aim stays where it was set."""
+    (a1, a1b), (a2, a2b), (a3, _) = paced_moves(True, [0.0, 0.0, 0.0])
+    assert a1.speed == -0.3 and a1.heading == pytest.approx(0.0, abs=1e-9)  # back along the line
+    assert a2.speed == 0.3 and a2.heading == pytest.approx(0.0, abs=1e-9)  # forward again
+    assert a3.speed == -0.3  # and back: pacing
+    # the robot turned 0.4 rad during the second action: its aim stays the first action's opposite
+    (_, _), (b2, _) = paced_moves(True, [0.0, 0.4])
+    assert b2.heading == pytest.approx(-0.4) and b2.speed == 0.3
+    # off: pi in the robot's own frame at every tick, driven forward (the Pilot turns it)
+    (c1, c1b), (c2, _) = paced_moves(False, [0.0, 0.4])
+    assert abs(c1.heading) == pytest.approx(math.pi) and c1.speed == 0.3 and abs(c2.heading) == pytest.approx(math.pi)
+
+
 @pytest.mark.parametrize(
     "intervals, action",
     [
@@ -499,3 +532,26 @@ def test_training_records_each_trial_and_resumes_where_the_model_was_saved(tmp_p
 
     with pytest.raises(ModelError, match="already holds 5 trials"):  # --trials is a total, and it has them
         train(spec, trials=5, eval_every=2, eval_starts=2, out=out, resume=out, workers=1)
+
+
+def test_too_few_tries_lock_the_learner_into_the_cheapest_loop():
+    """A state left only by one action (cost 10), one try in ten, every other action looping back
+    (MB's cost 1, the rest 5): the undiscounted model that has seen no way out sinks, and the
+    cheapest loop wins for good. An action is judged on too few tries when all its ``explore``
+    tries loop, chance 0.9 ** explore: 0.81 at 2, 0.047 at 29 (LearningParams.explore)."""
+
+    def locked(explore: int, seed: int) -> bool:
+        ps = PrioritizedSweeping(
+            1, 5, gamma=1.0, backups=5, threshold=1e-3, explore=explore, rng=np.random.default_rng(seed)
+        )
+        world = np.random.default_rng([seed, 9])
+        for _ in range(500):
+            a = ps.act(0)
+            out = a == 1 and world.random() < 0.1
+            ps.observe(0, a, (-1.0, -10.0, -5.0, -5.0, -5.0)[a], 0, terminal=out)
+            if out:
+                return False
+        return True
+
+    assert sum(locked(2, seed) for seed in range(40)) >= 24  # 0.81 of 40: 32 expected
+    assert sum(locked(29, seed) for seed in range(40)) <= 6  # 0.047 of 40: 2 expected

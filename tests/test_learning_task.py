@@ -47,7 +47,12 @@ def test_the_paper_task_is_a_preset_under_the_users_word(write_scenario):
     flat = task.params.flat()
     assert all(flat[k] == v for k, v in PAPER_TASK.items())
     assert RunSpec.build(sc).params.vision.told_target  # a plain run: no preset
-    for name, default in (("vision.told_target", True), ("navigation.reach_confident", False), ("pilot.looks", True)):
+    assert task.params.pilot.looks and not task.params.navigation.blocked_no_progress  # the Pilot looks; bumps block
+    for name, default in (
+        ("vision.told_target", True),
+        ("navigation.reach_confident", False),
+        ("navigation.blocked_no_progress", True),
+    ):
         mine = task_spec(sc, {name: default})  # the user's value, navcli's default: heard
         assert mine.params.flat()[name] == default
         assert all(mine.params.flat()[k] == v for k, v in PAPER_TASK.items() if k != name)  # the others still set
@@ -134,6 +139,26 @@ def test_with_blocked_ends_the_first_blocked_situation_ends_the_mission():
     assert out.give_up == "no progress toward the target" and not asked
     out, asked = blocked(replace(NAVIGATION, initial_sweep=0))
     assert out.give_up is None and asked == [None]
+
+
+def test_in_the_paper_task_no_progress_is_not_blocked():
+    """The paper's robot is "blocked by the landmarks or by the wall": with blocked_no_progress off
+    (the task's preset) a robot that comes no closer for twice the blocked window, nothing hitting
+    it and no report, is not ended; the control (on) ends it at the window."""
+
+    def ended(params):
+        r = Rescuer(params, np.random.default_rng(0))
+        t = 0.0
+        while t < 2 * r.window_s + 5.0:
+            t += 0.1
+            out = r.decide(situation(t), lambda f: None)
+            if out.give_up:
+                return out.give_up
+        return None
+
+    paper = replace(NAVIGATION, initial_sweep=0, rescuer_looks=0, blocked_ends=1)
+    assert ended(replace(paper, blocked_no_progress=0)) is None
+    assert ended(paper) == "no progress toward the target"
 
 
 def test_in_the_paper_task_bumps_end_a_trial_even_while_the_target_is_lost():

@@ -123,14 +123,10 @@ def test_another_look_that_wins_turns_the_camera_and_sets_the_routine(make_scena
     assert images and images[0] == (Look(0.0, "target"), ["T"])
 
 
-@pytest.mark.parametrize("params", [VISION, OLD], ids=["routines", "control: a pan in flight delivers"])
-def test_move_blind_gets_no_image_in_the_learning_task(params):
-    """MVL and MB in turn (the paper's task: the camera is the Learning Agent's alone): an MB
-    action takes no image, even when MVL's pan is still in flight as it begins."""
-    base = task_spec(
-        load_scenario(SCENARIOS / "landmarks-12.yaml"),
-        {f"vision.{f}": getattr(params, f) for f in ("routines", "line_objects")},
-    )
+def blind_images(overrides):
+    """MVL and MB in turn in the paper's task (with ``overrides``): the images taken during the MB
+    actions, and the actions run."""
+    base = task_spec(load_scenario(SCENARIOS / "landmarks-12.yaml"), overrides)
     task = NavigationTask(base)
     task.reset(Start(2.0, 2.0, 0.3, 5))
     blind = 0
@@ -141,8 +137,24 @@ def test_move_blind_gets_no_image_in_the_learning_task(params):
             blind += task.mission.camera_looks - before
         if task.outcome is not None:
             break
+    return blind, k
+
+
+@pytest.mark.parametrize("params", [VISION, OLD], ids=["routines", "control: a pan in flight delivers"])
+def test_move_blind_gets_no_image_in_the_learning_task(params):
+    """MVL and MB in turn, the camera the Learning Agent's alone (``pilot.looks`` off): an MB
+    action takes no image, even when MVL's pan is still in flight as it begins."""
+    over = {f"vision.{f}": getattr(params, f) for f in ("routines", "line_objects")}
+    blind, k = blind_images(over | {"pilot.looks": False})
     assert k > 10
     assert (blind == 0) if params.routines else (blind > 0)
+
+
+def test_move_blind_frees_the_camera_for_the_pilot_in_the_learning_task():
+    """The paper's task leaves the Pilot its looks: an MB action leaves the camera free, and the
+    Pilot's look-ahead (eq. 1) takes images then."""
+    blind, k = blind_images({})
+    assert k > 10 and blind > 0
 
 
 # -- a linear obstacle is one object -------------------------------------------------------------

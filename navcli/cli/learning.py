@@ -59,9 +59,10 @@ def train(
     """Train the Learning Agent (learning-agent paper, section 6): trials from seeded random starts,
     the greedy policy evaluated on fixed starts, the model saved (resumable) with its learning curve.
 
-    Trials run the paper's task: the robot is not told where the target is, the camera is the
-    Learning Agent's alone, a trial succeeds only when the robot is also confident it is at the
-    target, and ends when it is blocked (--param learning.paper_task=0: a simpler task)."""
+    Trials run the paper's task: the robot is not told where the target is and paces while it has
+    lost it, the camera is the Learning Agent's and the Pilot's, a trial succeeds only when the
+    robot is also confident it is at the target, and ends when a landmark or the wall blocks it
+    (--param learning.paper_task=0: a simpler task)."""
     from ..training.trainer import ALGORITHMS, LOGS
 
     if algorithm not in ALGORITHMS:

@@ -28,6 +28,11 @@ SENSITIVITY_ROWS: tuple[Row, ...] = (
     Row("navcli's defaults", {}),
     Row("no wheel slip (the command driven exactly)", {"robot.slip_noise": 0.0}),
     Row("no stall rule (only the long blocked window)", {"navigation.stall_rule": False}),
+    Row(
+        "no progress is not blocked (only bumps and the Pilot's report)",
+        {"navigation.blocked_no_progress": False},
+        VISION,
+    ),
     Row("gives up when the map shows no way out", {"navigation.gives_up": True}, VISION),
     Row("ways seen closed block for good", {"navigation.seen_closed_cost": 0.0}, VISION),
     Row("dead ends matched by their ends only", {"navigation.dead_end_radius": 0.0}, VISION),

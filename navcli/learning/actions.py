@@ -19,7 +19,9 @@ MVT   toward the target                            at the target                
 
 Reaching the target gives 0 (it ends the trial). "Toward the target" is the centre of the target's
 fuzzy heading; when the target is lost the paper takes the centre of [0, 2 pi], pi: the robot
-turns back ("paces"). Each look runs the routine its purpose names (section 5.3: "The vision system can either search
+"pace[s] back and forth, turning 180 degrees (pi radians) each time an action is executed". How
+an action aims then is :class:`~navcli.learning.learning_agent.LearningAgent`'s (``learning.pace``):
+pi fixed in the odometry frame when the action starts, driven as a reversal (``reverse``). Each look runs the routine its purpose names (section 5.3: "The vision system can either search
 for new landmarks or re-acquire already-detected landmarks, but it is not able to do both things
 at the same time"; :mod:`navcli.vision.routines`): MLL a search (new landmarks only), MVL a
 re-acquisition of the known landmarks (not the target), MVT and MOT a re-acquisition of the
@@ -104,10 +106,15 @@ def action_bids(
     pan_limit: float,
     target_key: str | None = None,
     side: float = 1.0,
+    bearing: float | None = None,
+    reverse: bool = False,
 ) -> list[Bid]:
     """The bids that carry out ``action`` in situation ``s``: a move at ``speed`` (m/s) and a look,
-    each bid at ``value``. ``side`` (+1 left, -1 right) is MOT's side of the target."""
-    bearing = target_bearing(s)
+    each bid at ``value``. ``side`` (+1 left, -1 right) is MOT's side of the target; ``bearing``
+    (egocentric, rad) the heading the action aims at, by default :func:`target_bearing`'s; with
+    ``reverse`` a move toward a heading behind the robot (more than 90 degrees off) is driven
+    backwards, the body keeping its heading (the pacing of a lost target)."""
+    bearing = target_bearing(s) if bearing is None else bearing
     heading = bearing
     look: float | None = None
     purpose: LookPurpose = "target"
@@ -122,7 +129,10 @@ def action_bids(
         look, purpose = most_imprecise_sector(s, pan_limit, target_key), "landmarks"
     elif action != MB:
         raise ValueError(f"unknown action {action}")
-    bids = [Bid(bidder, "motion", Move(heading, speed), value)]
+    move = Move(heading, speed)
+    if reverse and abs(heading) > math.pi / 2:
+        move = Move(math.remainder(heading - math.pi, 2 * math.pi), -speed)
+    bids = [Bid(bidder, "motion", move, value)]
     if look is not None:
         bids.append(Bid(bidder, "camera", Look(max(-pan_limit, min(pan_limit, look)), purpose), value))
     return bids

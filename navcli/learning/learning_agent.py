@@ -7,6 +7,20 @@ An action lasts ``action_s`` simulated seconds (:class:`~navcli.params.LearningP
 design, its reason there): every tick the agent re-aims the action at the current target (the
 Rescuer may have set a diverting one) and bids for it; at the end of an action it reads the state
 and chooses again. It counts the actions it took and the reward they cost.
+
+**A lost target: pacing** (``learning.pace`` on, the default). Section 5.3: "If the heading is
+completely unknown, the center of this interval will be pi. This causes the robot 'pace' back and
+forth, turning 180 degrees (pi radians) each time an action is executed." So an action that starts
+with the target's heading unknown aims at a heading fixed in the odometry frame for the whole
+action: pi from the robot's heading when it starts, and, after an action that paced, pi from that
+action's aim (so a run of lost actions paces along one line, back and forth, whatever the drive
+made of the last turn). The turn of 180 degrees is driven as a reversal: the robot backs along the
+line, its body keeping its heading (the pilot paper's own way with a turn above 160 degrees,
+section 3.5, here without its limit on the distance driven backwards: pacing comes back over the
+same line), and the next lost action drives forward again. MOT aims 90 degrees off the paced
+heading. A target found during the action is aimed at from the next tick. Off: the action re-aims
+at pi in the robot's own frame every tick, which a Pilot executes as a reversal while its backward
+budget lasts and then as a circle of the turning radius, the camera sweeping with it.
 """
 
 from __future__ import annotations
@@ -58,6 +72,7 @@ class LearningAgent:
         self.counts = [0] * len(ACTIONS)  # the actions taken, of each kind
         self._left = 0  # ticks left of the current action
         self._side = 1.0
+        self._aim: float | None = None  # the current action's paced heading (odometry frame), None when not pacing
 
     def take(self, action: int) -> None:
         """The trainer's choice (an agent without a policy): ``action`` begins at the next tick,
@@ -94,9 +109,11 @@ class LearningAgent:
             self.next_action = None  # the trainer's choice is taken once
             self.action, self._left = a, self.ticks_per_action
             self._side = orthogonal_side(s)
+            self._aim = self._paced_aim(s)
             self.counts[a] += 1
         self._left -= 1
         assert self.action is not None  # chosen above, or running on
+        aim = self._aim if s.bearing is None else None  # pacing: the aim in the robot's frame now
         return action_bids(
             self.action,
             s,
@@ -106,7 +123,18 @@ class LearningAgent:
             pan_limit=self.pan_limit,
             target_key=self.target_key,
             side=self._side,
+            bearing=None if aim is None else math.remainder(aim - s.beliefs.odometry.theta, 2 * math.pi),
+            reverse=aim is not None,
         )
+
+    def _paced_aim(self, s: Situation) -> float | None:
+        """The heading (odometry frame) an action starting now paces at (module docstring): pi
+        from the last paced aim, or from the robot's heading; None with the target's heading known
+        or ``pace`` off."""
+        if not self.params.pace or s.bearing is not None:
+            return None
+        last = self._aim if self._aim is not None else s.beliefs.odometry.theta
+        return math.remainder(last + math.pi, 2 * math.pi)
 
     def info(self) -> dict[str, Any]:
         """For the mission summary: the actions taken, of each kind, and their reward."""

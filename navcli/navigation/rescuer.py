@@ -52,8 +52,12 @@ What the thesis says, and how we do it:
 - **The learning paper's task** (``rescuer_looks`` 0, ``blocked_ends`` 1): no looks at all (no
   sweep, no scans: the camera is the Learning Agent's; a lost target is left to it), and the
   first blocked situation ends the mission ``blocked`` (its trials "terminate ... if the robot
-  is blocked"), by the blocked window and the bumps: the stall rule, a rescue of the potential
-  field, is not applied to its trials.
+  is blocked"). "The robot can be blocked by the landmarks or by the wall": ``blocked_bumps``
+  bumps within the blocked window, or the Pilot's report of an obstacle it cannot easily avoid,
+  end it. No progress toward the target within the window is no blocked situation there
+  (``blocked_no_progress`` off in that task's preset): nothing stops the robot, and such a trial
+  runs on, to the target, a blocked situation or its 500 actions; on, it ends it ``blocked``
+  too. The stall rule, a rescue of the potential field, is not applied to its trials.
 - **Never giving up** (``gives_up`` off, the default): only a diverting target tried and failed
   is a failure, and nothing ends the mission before its time limit. Where the map shows no way
   out of the robot's regions (every edge out closed by known obstacles) again after the robot
@@ -542,7 +546,7 @@ class Rescuer(Scanning):
             return held  # (the Pilot's report first, then the windows, then the bumps)
         if self._crossing is not None and s.time - self._crossing_since > self.timeout_s:
             return "the diverting target was not crossed in time"
-        if self.progress.window_over(s):
+        if p.blocked_no_progress and self.progress.window_over(s):
             return "no progress toward the target"
         if held is None and p.stall_rule and not p.blocked_ends:
             return self.progress.stalled(s, aim)

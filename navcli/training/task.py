@@ -18,9 +18,15 @@ as the paper states them:
   (``vision.told_target`` off), nor is a first image of it (``learning.first_sighting`` off; on,
   the robot starts with the sighting a look from its start would give); it knows the target once
   a look finds it (a search, or a look for the target: :mod:`navcli.vision.routines`);
-- the camera is the Learning Agent's: the Pilot still avoids what the memory holds, but bids for
-  no look (``pilot.looks`` off: neither eq. 1's look-ahead nor a reflex's looks), and the Rescuer
-  neither sweeps nor scans (``navigation.rescuer_looks`` off);
+- the camera is shared as the papers share it: the Learning Agent bids for it with every action
+  but MB, and the Pilot bids for it as the pilot paper's Pilot does (``pilot.looks`` on, as
+  everywhere: eq. 1's look-ahead, a reflex's looks around), so an action that leaves the camera
+  free lets the Pilot look (the learning paper's aim: a policy "that freed the camera for use by
+  the low-level obstacle avoidance routines"); the Rescuer neither sweeps nor scans
+  (``navigation.rescuer_looks`` off: a lost target is the Learning Agent's). ``--param
+  pilot.looks=0`` keeps the camera the Learning Agent's alone;
+- with the target's heading unknown, the robot paces (``learning.pace``,
+  :mod:`navcli.learning.learning_agent`);
 - a trial succeeds when the robot "reaches the target (and is confident that it has reached the
   target)": the body within reach of the landmark (as a mission's), and the robot sure of it,
   every place its belief of the target allows at the papers' 70 % cut within that reach
@@ -29,9 +35,11 @@ as the paper states them:
 - it terminates "if the robot is blocked" (``navigation.blocked_ends`` on: the Rescuer's first
   blocked situation ends it): "the robot can be blocked by the landmarks or by the wall", so
   ``navigation.blocked_bumps`` bumps within the blocked window, or the Pilot's report of an
-  obstacle it cannot easily avoid, end it whether or not the target is known, and no progress
-  toward a known target within the window does too (:class:`~navcli.navigation.rescuer.Rescuer`);
-  after 500 actions (``max_actions``) it is cut;
+  obstacle it cannot easily avoid, end it whether or not the target is known
+  (:class:`~navcli.navigation.rescuer.Rescuer`). No progress toward a known target within the
+  window is not "blocked" here (``navigation.blocked_no_progress`` off): nothing stopped the
+  robot, so the trial goes on; after 500 actions (``max_actions``) it is cut, its outcome
+  ``timeout``, counted apart from ``blocked``;
 - the objective is the total reward of the actions taken, undiscounted (``learning.gamma`` 1),
   "to minimize the total cost of the actions taken to reach the target". **What a blocked ending
   is worth to the learner** (the paper does not say; ours): not 0. Reaching the target is the
@@ -69,9 +77,9 @@ from ..learning.actions import REWARDS
 
 PAPER_TASK = {
     "vision.told_target": False,
-    "pilot.looks": False,
     "navigation.rescuer_looks": False,
     "navigation.blocked_ends": True,
+    "navigation.blocked_no_progress": False,
     "navigation.reach_confident": True,
 }
 """The conditions of the paper's task (module docstring), by parameter: a preset, under the

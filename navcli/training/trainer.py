@@ -42,80 +42,18 @@ import numpy as np
 from ..config import RunSpec
 from ..outputs import atomic
 from ..signals import deferred
-from ..learning.actions import ACTIONS, reward_of
+from ..learning.actions import ACTIONS
 from ..learning.features import N_STATES, check_bounds
-from ..learning.hand_coded import hand_coded_action
-from ..learning.learning_agent import table_policy
 from ..learning.model_file import curve_paths, trials_paths
 from .task import NavigationTask, Start, random_starts
+from .trials import RANDOM_STREAM as RANDOM_STREAM, TrialResult as TrialResult, eval_job
+from .trials import evaluate as evaluate, hand_coded_table as hand_coded_table
+from .trials import random_policy as random_policy, run_trial as run_trial
 
 ALGORITHMS = ("prioritized-sweeping", "q-learning")
 EVAL_SEED = 99
 """The test starts come from this seed, the same for every training run (the paper: "the same set
 of 99 starting locations was employed in each testing period")."""
-
-
-@dataclass(frozen=True)
-class TrialResult:
-    """One trial: how it ended, its actions, its reward and the count of each action."""
-
-    outcome: str
-    actions: int
-    counts: tuple[int, ...]
-    visited: tuple[int, ...] = field(default=(), compare=False)  # the belief states it chose an action in, sorted
-
-    @property
-    def success(self) -> bool:
-        return self.outcome == "reached"
-
-    @property
-    def reward(self) -> float:
-        return reward_of(self.counts)
-
-
-def run_trial(
-    task: NavigationTask,
-    start: Start,
-    choose: Callable[[int], int],
-    learn: Callable[[int, int, float, int, bool], None] | None = None,
-    log: Path | None = None,
-) -> TrialResult:
-    """One trial from ``start``, actions chosen by ``choose(state)``; ``learn(s, a, r, s', terminal)``
-    hears every step (terminal: the target reached, or blocked in the paper's task); with ``log``
-    every tick is recorded there (MCAP)."""
-    s = task.reset(start, log)
-    m = task.mission
-    assert m is not None  # reset made it
-    counts = [0] * len(ACTIONS)
-    visited = set()
-    while task.outcome is None and m.outcome is None:
-        a = choose(s)
-        visited.add(s)
-        s2, r, _, _ = task.step(a)
-        counts[a] += 1
-        if learn is not None:
-            learn(s, a, r, s2, task.terminal)
-        s = s2
-    return TrialResult(task.outcome or m.outcome or "interrupted", task.actions, tuple(counts), tuple(sorted(visited)))
-
-
-RANDOM_STREAM = 7  # the random policy's generator of a trial: [the start's seed, this]
-
-
-def random_policy(start: Start) -> Callable[[int], int]:
-    """The uniform random policy of a trial from ``start``: an action drawn uniformly at each
-    choice, from a generator seeded by the start's seed (the same trial, the same draws)."""
-    rng = np.random.default_rng([start.seed, RANDOM_STREAM])
-    return lambda state: int(rng.integers(len(ACTIONS)))
-
-
-def evaluate(spec: RunSpec, policy: np.ndarray | None, starts: list[Start]) -> list[TrialResult]:
-    """The policy (an action per state; None: the uniform random policy) from each start, in this process."""
-    task = NavigationTask(spec)
-    if policy is None:
-        return [run_trial(task, st, random_policy(st)) for st in starts]
-    choose = table_policy(policy)
-    return [run_trial(task, st, choose) for st in starts]
 
 
 def make_learner(algorithm: str, spec: RunSpec, seed: int):
@@ -138,10 +76,6 @@ def make_learner(algorithm: str, spec: RunSpec, seed: int):
     if algorithm == "q-learning":
         return QLearning(N_STATES, len(ACTIONS), alpha=p.q_alpha, gamma=p.gamma, epsilon=p.q_epsilon, rng=rng)
     raise ValueError(f"unknown algorithm {algorithm!r} (expected one of: {', '.join(ALGORITHMS)})")
-
-
-def hand_coded_table() -> np.ndarray:
-    return np.array([hand_coded_action(s) for s in range(N_STATES)], dtype=np.int8)
 
 
 @dataclass
@@ -221,11 +155,6 @@ class _Batch:
         return self.future is None or self.future.done()
 
 
-def _eval_job(spec: RunSpec, policy: np.ndarray | None, starts: list[Start]) -> tuple[list[TrialResult], float]:
-    t0 = time.perf_counter()
-    return evaluate(spec, policy, starts), time.perf_counter() - t0
-
-
 LOGS = ("summary", "full")
 """What training records of its trials: a row each (``summary``), or also every tick (``full``)."""
 TRIAL_COLUMNS = ("trial", "x", "y", "heading_deg", "seed", "outcome", "actions", "reward", *ACTIONS)
@@ -266,7 +195,7 @@ def _resumed_policy(resume: Path, p) -> tuple[int, np.ndarray]:
     return n, policy.astype(np.int8)
 
 
-def train(
+def train(  # noqa: PLR0913 (the train command's options, each keyword-only)
     spec: RunSpec,
     *,
     trials: int = 2000,
@@ -285,8 +214,6 @@ def train(
     and the same command completes an interrupted training). Writes ``out`` (.npz + .json),
     ``out``-curve.csv and -curve.png, ``out``-trials.csv, and with ``log="full"`` the folder
     ``out``-trials/ of trial logs."""
-    from ..learning import model_file
-
     if log not in LOGS:
         raise ValueError(f"unknown log {log!r} (expected one of: {', '.join(LOGS)})")
     check_bounds(spec.params.learning)
@@ -294,125 +221,246 @@ def train(
     result = Training(algorithm, seed, 0)
     resumed: list[tuple[int, np.ndarray]] = []  # the evaluations the file resumed had not finished
     if resume is not None:
-        arrays, meta = model_file.load(resume)
-        if "seed" not in meta or "trials" not in meta:
-            raise model_file.ModelError(f"{resume}: not saved by a training (no seed or trials); cannot resume it")
-        if meta.get("algorithm") != algorithm or meta.get("scenario_sha256") != spec.scenario.sha256:
-            raise model_file.ModelError(
-                f"{resume}: made by {meta.get('algorithm')} on another scenario or "
-                f"with another algorithm; cannot resume it here"
-            )
-        differ = [
-            f"--{k.replace('_', '-')} {meta[k]}"
-            for k, v in (("eval_every", eval_every), ("eval_starts", eval_starts))
-            if k in meta and meta[k] != v
-        ]
-        if differ:  # its curve would mix evaluations of two kinds
-            raise model_file.ModelError(f"{resume}: was trained with {' and '.join(differ)}; resume it with the same")
-        if int(meta["trials"]) >= trials:
-            raise model_file.ModelError(
-                f"{resume}: already holds {meta['trials']} trials; --trials is the total to "
-                f"reach: give more than {meta['trials']}"
-            )
-        learner.load_arrays(arrays)
-        seed = result.seed = int(meta["seed"])
-        result.trials = result.saved = result.saved_at_start = int(meta["trials"])
-        result.saved_in = resume
-        if "learner_rng" in meta:  # the generator goes on where it was at the save
-            try:
-                learner.rng.bit_generator.state = meta["learner_rng"]
-            except (TypeError, KeyError, ValueError) as e:
-                raise model_file.ModelError(f"{resume}: its learner's random state is not usable ({e})") from None
-        else:  # a file of an older navcli: resumed, but not as its training would have gone on
-            learner.rng = np.random.default_rng([seed, 1, result.trials])
-        resumed = [_resumed_policy(resume, p) for p in meta.get("pending_evaluations", [])]
-        result.curve = [Point(**p) for p in meta.get("curve", [])]
-        result.hand_coded = meta.get("hand_coded")
-        result.hand_coded_reward = meta.get("hand_coded_reward")
-        result.random, result.random_reward = meta.get("random"), meta.get("random_reward")
-        result.outcomes = dict(meta.get("outcomes", {}))
-    test = random_starts(spec, eval_starts, EVAL_SEED)
-    task = NavigationTask(spec.replace(navigation="learned"))  # what a trial log's summary says drove it
+        resumed = _resume(resume, learner, result, spec, trials, eval_every, eval_starts)
+    run = _Run(spec, learner, result, out, eval_every, eval_starts, workers)
     t_start = time.perf_counter()
-
     from ..experiments.executor import executor, interruptible
 
-    chunks = max(1, workers)
-    pending: list[tuple[int, np.ndarray, list[_Batch]]] = []  # evaluations running: trials, policy, batches
-    hand: list[_Batch] = []
-    rand: list[_Batch] = []
-    memo = EvaluationMemo()  # the greedy policy's last trial from each test start
+    result.end = trials  # what a stop says the training goes to, wherever it comes
+    try:
+        with interruptible():  # Ctrl-C and SIGTERM alike, from the first trial to the last file written
+            with executor(workers) as pool:  # stopped cleanly on Ctrl-C or SIGTERM, like compare's
+                run.evals.begin(pool, learner.greedy_policy(), resumed)
+                run.trials(pool, trials, resume, log, on_trial)
+                run.evals.harvest(True)
+            result.curve.sort(key=lambda p: p.trials)
+            result.wall_s = time.perf_counter() - t_start
+            run.save()
+            write_curve(result, out)
+    except KeyboardInterrupt as e:  # Ctrl-C, or SIGTERM (Terminated): the caller can say how far it got
+        e.training = result  # type: ignore[attr-defined]  # what the CLI says of how far it got
+        raise
+    return result
 
-    def submit(pool, policy: np.ndarray | None, reuse: bool = False) -> list[_Batch]:
+
+def _resume(
+    resume: Path,
+    learner,
+    result: Training,
+    spec: RunSpec,
+    trials: int,
+    eval_every: int,
+    eval_starts: int,
+) -> list[tuple[int, np.ndarray]]:
+    """Load the training saved in ``resume`` into ``learner`` and ``result``, refusing a file this
+    training cannot go on from; returns the evaluations it had not finished."""
+    from ..learning import model_file
+
+    arrays, meta = model_file.load(resume)
+    _check_resumable(resume, meta, result.algorithm, spec, trials, eval_every, eval_starts)
+    learner.load_arrays(arrays)
+    result.seed = int(meta["seed"])
+    result.trials = result.saved = result.saved_at_start = int(meta["trials"])
+    result.saved_in = resume
+    if "learner_rng" in meta:  # the generator goes on where it was at the save
+        try:
+            learner.rng.bit_generator.state = meta["learner_rng"]
+        except (TypeError, KeyError, ValueError) as e:
+            raise model_file.ModelError(f"{resume}: its learner's random state is not usable ({e})") from None
+    else:  # a file of an older navcli: resumed, but not as its training would have gone on
+        learner.rng = np.random.default_rng([result.seed, 1, result.trials])
+    result.curve = [Point(**p) for p in meta.get("curve", [])]
+    result.hand_coded = meta.get("hand_coded")
+    result.hand_coded_reward = meta.get("hand_coded_reward")
+    result.random, result.random_reward = meta.get("random"), meta.get("random_reward")
+    result.outcomes = dict(meta.get("outcomes", {}))
+    return [_resumed_policy(resume, p) for p in meta.get("pending_evaluations", [])]
+
+
+def _check_resumable(
+    resume: Path, meta: dict, algorithm: str, spec: RunSpec, trials: int, eval_every: int, eval_starts: int
+) -> None:
+    """Refuse (ModelError) a model file this training cannot go on from."""
+    from ..learning.model_file import ModelError
+
+    if "seed" not in meta or "trials" not in meta:
+        raise ModelError(f"{resume}: not saved by a training (no seed or trials); cannot resume it")
+    if meta.get("algorithm") != algorithm or meta.get("scenario_sha256") != spec.scenario.sha256:
+        raise ModelError(
+            f"{resume}: made by {meta.get('algorithm')} on another scenario or "
+            f"with another algorithm; cannot resume it here"
+        )
+    differ = [
+        f"--{k.replace('_', '-')} {meta[k]}"
+        for k, v in (("eval_every", eval_every), ("eval_starts", eval_starts))
+        if k in meta and meta[k] != v
+    ]
+    if differ:  # its curve would mix evaluations of two kinds
+        raise ModelError(f"{resume}: was trained with {' and '.join(differ)}; resume it with the same")
+    if int(meta["trials"]) >= trials:
+        raise ModelError(
+            f"{resume}: already holds {meta['trials']} trials; --trials is the total to "
+            f"reach: give more than {meta['trials']}"
+        )
+
+
+class _Evaluations:
+    """The evaluations of a training on its fixed test starts: the greedy policy's, in ``chunks``
+    jobs each, running beside the training, and the hand-coded and random policies' levels once."""
+
+    def __init__(self, spec: RunSpec, result: Training, eval_starts: int, chunks: int):
+        self.spec, self.result, self.chunks = spec, result, chunks
+        self.test = random_starts(spec, eval_starts, EVAL_SEED)
+        self.pending: list[tuple[int, np.ndarray, list[_Batch]]] = []  # evaluations running: trials, policy, batches
+        self.hand: list[_Batch] = []
+        self.rand: list[_Batch] = []
+        self.memo = EvaluationMemo()  # the greedy policy's last trial from each test start
+
+    def begin(self, pool, untrained: np.ndarray, resumed: list[tuple[int, np.ndarray]]) -> None:
+        """The levels not yet known, the ``untrained`` greedy policy (a new training) and the
+        evaluations a resumed file had not finished, submitted in the order of an uninterrupted run."""
+        if self.result.hand_coded is None:
+            self.hand = self.submit(pool, hand_coded_table())
+        if self.result.random is None:
+            self.rand = self.submit(pool, None)
+        if self.result.trials == 0:  # the untrained policy: the curve's first point
+            self.later(pool, 0, untrained)
+        for n, policy in resumed:  # before anything new: the curve in the order of an uninterrupted run
+            self.later(pool, n, policy)
+
+    def submit(self, pool, policy: np.ndarray | None, reuse: bool = False) -> list[_Batch]:
         """``policy`` from the test starts, in ``chunks`` jobs; with ``reuse``, a start whose last
         greedy trial the policy would repeat (:class:`EvaluationMemo`) is not run again."""
         again: dict[int, TrialResult] = {}
         if reuse and policy is not None:
-            for i in range(len(test)):
-                if (r := memo.reusable(i, policy)) is not None:
+            for i in range(len(self.test)):
+                if (r := self.memo.reusable(i, policy)) is not None:
                     again[i] = r
-        todo = [i for i in range(len(test)) if i not in again]
+        todo = [i for i in range(len(self.test)) if i not in again]
         batches = [_Batch(list(again), reused=list(again.values()))] if again else []
-        for k in range(chunks):
-            if todo[k::chunks]:
-                starts = todo[k::chunks]
-                batches.append(_Batch(starts, pool.submit(_eval_job, spec, policy, [test[i] for i in starts])))
+        for k in range(self.chunks):
+            if todo[k :: self.chunks]:
+                starts = todo[k :: self.chunks]
+                job = pool.submit(eval_job, self.spec, policy, [self.test[i] for i in starts])
+                batches.append(_Batch(starts, job))
         return batches
 
-    def collect(batches: list[_Batch], policy: np.ndarray | None = None) -> list[TrialResult]:
+    def collect(self, batches: list[_Batch], policy: np.ndarray | None = None) -> list[TrialResult]:
         """The results of ``batches`` in the test starts' order; a greedy ``policy``'s are remembered."""
         got: dict[int, TrialResult] = {}
         for b in batches:
             if b.future is None:
                 rs = b.reused or []
-                result.eval_reused += len(rs)
+                self.result.eval_reused += len(rs)
             else:
                 rs, dt = b.future.result()
-                result.eval_s += dt
-                result.eval_trials += len(rs)
+                self.result.eval_s += dt
+                self.result.eval_trials += len(rs)
                 if policy is not None:
                     for i, r in zip(b.starts, rs):
-                        memo.remember(i, policy, r)
+                        self.memo.remember(i, policy, r)
             got.update(zip(b.starts, rs))
         return [got[i] for i in sorted(got)]
 
-    def harvest(block: bool) -> None:
-        while pending and (block or all(b.done() for b in pending[0][2])):
-            n, policy, batches = pending.pop(0)
-            rs = collect(batches, policy)
-            result.curve.append(
-                Point(
-                    n,
-                    sum(r.success for r in rs),
-                    float(np.mean([r.reward for r in rs])),
-                    float(np.mean([r.actions for r in rs])),
-                )
-            )
-        if hand and (block or all(b.done() for b in hand)):
-            hs = collect(hand)
-            result.hand_coded = sum(r.success for r in hs)
-            result.hand_coded_reward = float(np.mean([r.reward for r in hs]))
-            hand.clear()
-        if rand and (block or all(b.done() for b in rand)):
-            rs = collect(rand)
-            result.random = sum(r.success for r in rs)
-            result.random_reward = float(np.mean([r.reward for r in rs]))
-            rand.clear()
+    def harvest(self, block: bool) -> None:
+        """The evaluations finished (all, waiting for them, with ``block``) into the result."""
+        result = self.result
+        while self.pending and (block or all(b.done() for b in self.pending[0][2])):
+            n, policy, batches = self.pending.pop(0)
+            rs = self.collect(batches, policy)
+            result.curve.append(Point(n, _successes(rs), _mean_reward(rs), float(np.mean([r.actions for r in rs]))))
+        if self.hand and (block or all(b.done() for b in self.hand)):
+            hs = self.collect(self.hand)
+            result.hand_coded, result.hand_coded_reward = _successes(hs), _mean_reward(hs)
+            self.hand.clear()
+        if self.rand and (block or all(b.done() for b in self.rand)):
+            rs = self.collect(self.rand)
+            result.random, result.random_reward = _successes(rs), _mean_reward(rs)
+            self.rand.clear()
 
-    def evaluate_later(pool, n: int, policy: np.ndarray) -> None:
-        harvest(False)  # the evaluations done so far, first: what they ran may be reused
-        pending.append((n, policy, submit(pool, policy, reuse=True)))
+    def later(self, pool, n: int, policy: np.ndarray) -> None:
+        """The greedy ``policy`` after ``n`` trials, submitted to run beside the training."""
+        self.harvest(False)  # the evaluations done so far, first: what they ran may be reused
+        self.pending.append((n, policy, self.submit(pool, policy, reuse=True)))
 
-    def save() -> None:
+
+def _successes(rs: list[TrialResult]) -> int:
+    return sum(r.success for r in rs)
+
+
+def _mean_reward(rs: list[TrialResult]) -> float:
+    return float(np.mean([r.reward for r in rs]))
+
+
+class _Run:
+    """One training under way: its learner, its result, its evaluations and its model file."""
+
+    def __init__(
+        self, spec: RunSpec, learner, result: Training, out: Path, eval_every: int, eval_starts: int, workers: int
+    ):
+        self.spec, self.learner, self.result, self.out = spec, learner, result, out
+        self.eval_every, self.eval_starts = eval_every, eval_starts
+        self.evals = _Evaluations(spec, result, eval_starts, max(1, workers))
+        self.task = NavigationTask(spec.replace(navigation="learned"))  # what a trial log's summary says drove it
+
+    def trials(
+        self,
+        pool,
+        end: int,
+        resume: Path | None,
+        log: str,
+        on_trial: Callable[[int, TrialResult, Training], None] | None,
+    ) -> None:
+        """The training trials up to ``end``, each a row of the trials CSV; the greedy policy
+        evaluated every ``eval_every`` trials and the model saved then."""
+        result = self.result
+        result.end = end
+        csv_path, log_dir = trials_paths(self.out)
+        self.out.parent.mkdir(parents=True, exist_ok=True)
+        if log == "full":
+            log_dir.mkdir(parents=True, exist_ok=True)
+        kept = trials_paths(resume)[0] if resume is not None else None  # the rows before its save
+        rows, writer = _trials_csv(csv_path, result.trials, kept)
+        with rows:
+            while result.trials < end:
+                i = result.trials
+                start, r = self.trial(i, log_dir / f"trial-{i:05d}.mcap" if log == "full" else None)
+                writer.writerow(_trial_row(i, start, r))
+                rows.flush()
+                if result.trials % self.eval_every == 0 or result.trials == end:
+                    self.evals.later(pool, result.trials, self.learner.greedy_policy())
+                    if result.trials < end:  # the last save waits for the last evaluations (train)
+                        self.save()
+                if on_trial:
+                    on_trial(i, r, result)
+
+    def trial(self, i: int, log: Path | None) -> tuple[Start, TrialResult]:
+        """Training trial ``i`` (its start from the seed and ``i`` alone), learnt from and counted."""
+        result = self.result
+        start = random_starts(self.spec, 1, np.random.SeedSequence([result.seed, i]).generate_state(1)[0])[0]
+        t0 = time.perf_counter()
+        try:
+            r = run_trial(self.task, start, self.learner.act, self.learner.observe, log=log)
+        finally:
+            self.task.close("interrupted", "training stopped")  # a trial's log is never left half-written
+        result.train_s += time.perf_counter() - t0
+        result.trials += 1
+        result.outcomes[r.outcome] = result.outcomes.get(r.outcome, 0) + 1
+        return start, r
+
+    def save(self) -> None:
         """The model as it is between trials, with what a resume needs to go on as if never stopped."""
+        from ..learning import model_file
+
+        result, spec = self.result, self.spec
         meta = {
-            "algorithm": algorithm,
+            "algorithm": result.algorithm,
             "scenario": spec.scenario.name,
             "scenario_sha256": spec.scenario.sha256,
-            "seed": seed,
+            "seed": result.seed,
             "trials": result.trials,
-            "eval_every": eval_every,
-            "eval_starts": eval_starts,
+            "eval_every": self.eval_every,
+            "eval_starts": self.eval_starts,
             "eval_seed": EVAL_SEED,
             "params": spec.params.to_json(),
             "curve": [asdict(p) for p in result.curve],
@@ -421,79 +469,27 @@ def train(
             "random": result.random,
             "random_reward": result.random_reward,
             "outcomes": result.outcomes,
-            "learner_rng": learner.rng.bit_generator.state,
-            "pending_evaluations": [{"trials": n, "policy": p.tolist()} for n, p, _ in pending],
+            "learner_rng": self.learner.rng.bit_generator.state,
+            "pending_evaluations": [{"trials": n, "policy": p.tolist()} for n, p, _ in self.evals.pending],
         }
         with deferred():
-            model_file.save(out, learner, meta)
-            result.saved, result.saved_in = result.trials, out
+            model_file.save(self.out, self.learner, meta)
+            result.saved, result.saved_in = result.trials, self.out
 
-    result.end = trials  # what a stop says the training goes to, wherever it comes
-    try:
-        with interruptible():  # Ctrl-C and SIGTERM alike, from the first trial to the last file written
-            with executor(workers) as pool:  # stopped cleanly on Ctrl-C or SIGTERM, like compare's
-                if result.hand_coded is None:
-                    hand = submit(pool, hand_coded_table())
-                if result.random is None:
-                    rand = submit(pool, None)
-                if result.trials == 0:  # the untrained policy: the curve's first point
-                    evaluate_later(pool, 0, learner.greedy_policy())
-                for n, policy in resumed:  # before anything new: the curve in the order of an uninterrupted run
-                    evaluate_later(pool, n, policy)
-                end = result.end = trials
-                csv_path, log_dir = trials_paths(out)
-                out.parent.mkdir(parents=True, exist_ok=True)
-                if log == "full":
-                    log_dir.mkdir(parents=True, exist_ok=True)
-                kept = trials_paths(resume)[0] if resume is not None else None  # the rows before its save
-                rows, writer = _trials_csv(csv_path, result.trials, kept)
-                with rows:
-                    while result.trials < end:
-                        i = result.trials
-                        start = random_starts(spec, 1, np.random.SeedSequence([seed, i]).generate_state(1)[0])[0]
-                        t0 = time.perf_counter()
-                        try:
-                            r = run_trial(
-                                task,
-                                start,
-                                learner.act,
-                                learner.observe,
-                                log=log_dir / f"trial-{i:05d}.mcap" if log == "full" else None,
-                            )
-                        finally:
-                            task.close("interrupted", "training stopped")  # a trial's log is never left half-written
-                        result.train_s += time.perf_counter() - t0
-                        result.trials += 1
-                        result.outcomes[r.outcome] = result.outcomes.get(r.outcome, 0) + 1
-                        writer.writerow(
-                            [
-                                i,
-                                f"{start.x:.3f}",
-                                f"{start.y:.3f}",
-                                f"{math.degrees(start.heading):.1f}",
-                                start.seed,
-                                r.outcome,
-                                r.actions,
-                                f"{r.reward:g}",
-                                *r.counts,
-                            ]
-                        )
-                        rows.flush()
-                        if result.trials % eval_every == 0 or result.trials == end:
-                            evaluate_later(pool, result.trials, learner.greedy_policy())
-                            if result.trials < end:  # the last save waits for the last evaluations (below)
-                                save()
-                        if on_trial:
-                            on_trial(i, r, result)
-                harvest(True)
-            result.curve.sort(key=lambda p: p.trials)
-            result.wall_s = time.perf_counter() - t_start
-            save()
-            write_curve(result, out)
-    except KeyboardInterrupt as e:  # Ctrl-C, or SIGTERM (Terminated): the caller can say how far it got
-        e.training = result  # type: ignore[attr-defined]  # what the CLI says of how far it got
-        raise
-    return result
+
+def _trial_row(i: int, start: Start, r: TrialResult) -> list:
+    """Trial ``i``'s row of the trials CSV (:data:`TRIAL_COLUMNS`)."""
+    return [
+        i,
+        f"{start.x:.3f}",
+        f"{start.y:.3f}",
+        f"{math.degrees(start.heading):.1f}",
+        start.seed,
+        r.outcome,
+        r.actions,
+        f"{r.reward:g}",
+        *r.counts,
+    ]
 
 
 def write_curve(result: Training, out: Path) -> None:
