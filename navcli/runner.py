@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING, Callable, Sequence
 
 from .checks.arguments import COMMON, checked, flag, function, instance, optional, whole
 from .config import RunSpec
+from .log.compression import DEFAULT as DEFAULT_COMPRESSION, refusal as compression_refusal
 from .signals import Terminated, deferred
 from .mission import Event, Mission, Tick
 
@@ -34,7 +35,14 @@ class RunResult:
 
 
 def open_log(
-    spec: RunSpec, mission: Mission, path: Path, *, live: bool = False, port: int = 8765, overwrite: bool = False
+    spec: RunSpec,
+    mission: Mission,
+    path: Path,
+    *,
+    live: bool = False,
+    port: int = 8765,
+    overwrite: bool = False,
+    compression: str = DEFAULT_COMPRESSION,
 ):
     """The log of ``mission`` at ``path``, begun: the configuration, the first pose and the events of
     the start. The scenario's own file is protected from being overwritten by it. (foxglove is
@@ -50,6 +58,7 @@ def open_log(
         protect=(spec.scenario.source,),
         pilot_message=pilot(spec.pilot).pilot_message(),
         overwrite=overwrite,
+        compression=compression,
     )
     try:
         w = mission.world
@@ -149,6 +158,7 @@ ARGUMENTS = COMMON | {
     "port": whole(0, 65535, "a port"),
     "on_tick": optional(function),
     "on_open": optional(function),
+    "log_compression": compression_refusal,
 }
 """The arguments of :func:`run_mission`, checked at each call (:mod:`navcli.checks.arguments`)."""
 
@@ -166,6 +176,7 @@ def run_mission(
     keep_serving: bool = False,
     observers: Sequence[Observer] = (),
     overwrite: bool = False,
+    log_compression: str = DEFAULT_COMPRESSION,
 ) -> RunResult:
     """Run the configuration ``spec`` to its end and return its summary.
 
@@ -181,12 +192,17 @@ def run_mission(
     SIGTERM) and is re-raised after the log is closed; any other exception ends it as ``error``
     and is re-raised likewise. A log path that cannot be written raises
     :class:`~navcli.log.writer.LogPathError` before the mission starts, and so does an existing
-    log there unless ``overwrite``.
+    log there unless ``overwrite``. ``log_compression``: how the log's chunks are compressed
+    (:data:`navcli.log.compression.COMPRESSIONS`; the same messages whichever).
     """
     path = (out or spec.default_log_path()) if record or live else None
     mission = Mission(spec, snapshots=path is not None)
     _tell(observers, "begin", mission)
-    recorder = open_log(spec, mission, path, live=live, port=port, overwrite=overwrite) if path is not None else None
+    recorder = (
+        open_log(spec, mission, path, live=live, port=port, overwrite=overwrite, compression=log_compression)
+        if path is not None
+        else None
+    )
     told: list[Observer] = [recording(recorder)] if recorder else []
     told += ([on_tick] if on_tick else []) + list(observers)
     t0 = time.perf_counter()

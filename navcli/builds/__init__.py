@@ -122,7 +122,8 @@ def choose() -> str:
     if os.path.isfile(os.path.join(os.path.dirname(here), "pyproject.toml")):
         built = os.path.getmtime(lib)
         stale = [m for m in MODULES if os.path.getmtime(os.path.join(here, *m.split(".")) + ".py") > built]
-        stale += [SERVO] if os.path.getmtime(os.path.join(here, f"{SERVO}.c")) > built else []
+        servo = os.path.join(here, f"{SERVO}.c")
+        stale += [SERVO] if os.path.isfile(servo) and os.path.getmtime(servo) > built else []
         if stale:
             named = f"{', '.join(stale[:3])}{' ...' if len(stale) > 3 else ''}"
             print(
