@@ -17,7 +17,7 @@ import os
 import runpy
 import sys
 
-from setuptools import setup
+from setuptools import Extension, setup
 from setuptools.command.build_ext import build_ext
 
 # navcli/builds/__init__.py holds the list of the compiled modules (read here without importing navcli)
@@ -55,6 +55,14 @@ class OptionalBuildExt(build_ext):
             pure(f"the C build failed ({type(e).__name__}: {first})")
 
 
+def servo() -> Extension:
+    """The wheels' velocity servo in C (navcli/servo.c), part of the compiled build. sin and cos
+    stay the C library's own functions, as Python's math calls them: never fused into one sincos
+    call, which need not round alike on every C library."""
+    flags = [] if os.name == "nt" else ["-fno-builtin-sin", "-fno-builtin-cos"]
+    return Extension(f"navcli.{BUILD['SERVO']}", ["navcli/servo.c"], extra_compile_args=flags)
+
+
 def extensions() -> list:
     if not BUILDING:
         return []  # metadata, requirements: no compiling, and nothing said
@@ -71,11 +79,14 @@ def extensions() -> list:
         # (GCC contracts a*b+c by default where the CPU has FMA, and the runs would differ in the last bits)
         os.environ["CFLAGS"] = (os.environ.get("CFLAGS", "") + " -ffp-contract=off").strip()
         # mypy's notes (an unchecked untyped function elsewhere) would stop mypyc: they are not errors
-        return mypycify(
-            ["--disable-error-code=annotation-unchecked", *COMPILED],
-            opt_level="3",
-            group_name=f"navcli.{BUILD['GROUP']}",
-        )
+        return [
+            *mypycify(
+                ["--disable-error-code=annotation-unchecked", *COMPILED],
+                opt_level="3",
+                group_name=f"navcli.{BUILD['GROUP']}",
+            ),
+            servo(),
+        ]
     except (Exception, SystemExit) as e:  # mypyc refused the code (it exits): still an install
         pure(f"mypyc could not compile ({type(e).__name__}: {e})")
         return []

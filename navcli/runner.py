@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING, Callable, Sequence
 
 from .checks.arguments import COMMON, checked, flag, function, instance, optional, whole
 from .config import RunSpec
+from .log.compression import DEFAULT as DEFAULT_COMPRESSION, refusal as compression_refusal
 from .signals import Terminated, deferred
 from .mission import Event, Mission, Tick
 
@@ -34,7 +35,14 @@ class RunResult:
 
 
 def open_log(
-    spec: RunSpec, mission: Mission, path: Path, *, live: bool = False, port: int = 8765, overwrite: bool = False
+    spec: RunSpec,
+    mission: Mission,
+    path: Path,
+    *,
+    live: bool = False,
+    port: int = 8765,
+    overwrite: bool = False,
+    compression: str = DEFAULT_COMPRESSION,
 ):
     """The log of ``mission`` at ``path``, begun: the configuration, the first pose and the events of
     the start. The scenario's own file is protected from being overwritten by it. (foxglove is
@@ -50,6 +58,7 @@ def open_log(
         protect=(spec.scenario.source,),
         pilot_message=plugin_pilot_message(pilot(spec.pilot)),
         overwrite=overwrite,
+        compression=compression,
     )
     try:
         w = mission.world
@@ -153,12 +162,13 @@ ARGUMENTS = COMMON | {
     "port": whole(0, 65535, "a port"),
     "on_tick": optional(function),
     "on_open": optional(function),
+    "log_compression": compression_refusal,
 }
 """The arguments of :func:`run_mission`, checked at each call (:mod:`navcli.checks.arguments`)."""
 
 
 @checked(ARGUMENTS)
-def run_mission(
+def run_mission(  # noqa: PLR0913 (keyword-only: each a choice of how the run is watched or logged)
     spec: RunSpec,
     *,
     out: Path | None = None,
@@ -170,6 +180,7 @@ def run_mission(
     keep_serving: bool = False,
     observers: Sequence[Observer] = (),
     overwrite: bool = False,
+    log_compression: str = DEFAULT_COMPRESSION,
 ) -> RunResult:
     """Run the configuration ``spec`` to its end and return its summary.
 
@@ -192,6 +203,8 @@ def run_mission(
             the first step and those with an ``end(mission)`` after the last, whatever ended it;
             any may stop the run (:data:`Observer`).
         overwrite: replace an existing log at ``out`` (else it is refused before the mission).
+        log_compression: how the log's chunks are compressed
+            (:data:`navcli.log.compression.COMPRESSIONS`; the same messages whichever).
 
     Returns:
         The run's summary (``/mission/summary``'s fields), its log's path and its wall time.
@@ -204,7 +217,11 @@ def run_mission(
     explain = path is not None or on_tick is not None or bool(observers)  # someone reads the explanations
     mission = Mission(spec, snapshots=path is not None, explain=explain)
     _tell(observers, "begin", mission)
-    recorder = open_log(spec, mission, path, live=live, port=port, overwrite=overwrite) if path is not None else None
+    recorder = (
+        open_log(spec, mission, path, live=live, port=port, overwrite=overwrite, compression=log_compression)
+        if path is not None
+        else None
+    )
     told: list[Observer] = [recording(recorder)] if recorder else []
     told += ([on_tick] if on_tick else []) + list(observers)
     t0 = time.perf_counter()

@@ -23,8 +23,10 @@ follows it, independently of the dead reckoning's own error.
 
 Cost (our design): a control tick is PHYSICS_SUBSTEPS pymunk steps, and pymunk's own work is a
 small part of it (Chipmunk's solver is under 1 % of a mission's time); what costs is Python called
-per step. So per step Python runs only the servo (one callback) and reads the position once;
-contacts are followed by a collision handler (``begin``/``separate``), which runs Python only when
+per step. So no Python runs inside Chipmunk's step where the build has the servo in C
+(``navcli/servo.c``, built with the compiled modules: :func:`c_servo`), and only the servo (one
+callback, :meth:`World._drive`, the reference the C servo repeats call for call) where it has not.
+Contacts are followed by a collision handler (``begin``/``separate``), which runs Python only when
 a contact starts or ends, instead of polling the robot's arbiters every step (the robot often
 slides along a wall for seconds). The step, the servo and the position read call Chipmunk's
 functions through pymunk's cffi library (``pymunk._chipmunk.lib``) on the space's and the body's
@@ -38,9 +40,11 @@ any difference.
 from __future__ import annotations
 
 import math
+from typing import Callable
 
 import numpy as np
 import pymunk
+from pymunk._chipmunk import ffi
 from pymunk._chipmunk import lib as chipmunk
 
 from .beliefs import Bump
@@ -63,6 +67,40 @@ def check_handles(space: pymunk.Space, body: pymunk.Body) -> tuple[object, objec
     if cp_space is None or cp_body is None or chipmunk.cpBodyGetSpace(cp_body) != cp_space:
         raise RuntimeError(f"pymunk {pymunk.version} keeps its Chipmunk handles elsewhere than navcli.world expects")
     return cp_space, cp_body
+
+
+ServoStep = Callable[[int, int, float, float, float], None]
+"""The C servo's step: ``(space, body, v, w, dt)``, the cpSpace's and the cpBody's addresses."""
+
+
+def c_servo() -> tuple[int, ServoStep] | None:
+    """The wheels' servo in C (``navcli/servo.c``): the address of its velocity function, bound to
+    the Chipmunk functions of pymunk's library that the Python servo calls, and the step that runs
+    it; None where this build has none (pure Python) or this pymunk's Chipmunk types are not the
+    ones the C code declares (then the Python servo runs: the same numbers, slower)."""
+    try:
+        from . import servo
+    except ImportError:
+        return None
+    if (
+        ffi.typeof("cpBodyVelocityFunc").cname != "void(*)(struct cpBody *, struct cpVect, double, double)"
+        or ffi.sizeof("cpVect") != 16
+        or ffi.offsetof("cpVect", "y") != 8
+    ):
+        return None
+    calls = ("cpBodyGetAngle", "cpBodySetVelocity", "cpBodySetAngularVelocity", "cpSpaceStep")
+    velocity = servo.bind(*(address(ffi.addressof(chipmunk, name)) for name in calls))
+    return velocity, servo.step
+
+
+def address(handle: object) -> int:
+    """The address a cffi pointer holds."""
+    return int(ffi.cast("uintptr_t", handle))
+
+
+C_SERVO = c_servo()
+"""The C servo that :class:`World` drives its robot with, where there is one (see :func:`c_servo`);
+None: the Python servo (:meth:`World._drive`), the reference."""
 
 
 class Odometry:
@@ -191,7 +229,6 @@ class World:
         body = pymunk.Body(ROBOT_MASS, pymunk.moment_for_circle(ROBOT_MASS, 0, r))
         body.position = scenario.robot.start
         body.angle = scenario.robot.heading
-        body.velocity_func = self._drive
         robot_shape = pymunk.Circle(body, r)
         robot_shape.friction = 0.3
         robot_shape.collision_type = ROBOT
@@ -199,6 +236,7 @@ class World:
         space.on_collision(ROBOT, None, begin=self._begin, separate=self._separate)
         self.body = body
         self._cp_space, self._cp_body = check_handles(space, body)
+        self._servo = self._choose_servo(C_SERVO)
         self._trail = (0.0, body.position.x, body.position.y)  # metres travelled, and where that was summed to
         self.odometry = Odometry(self.pose, scenario.noise.odometry, rng, scenario.noise.heading_drift)
 
@@ -214,8 +252,19 @@ class World:
         self.space.add(shape)
         self._names[shape] = name
 
+    def _choose_servo(self, servo: tuple[int, ServoStep] | None) -> tuple[int, int, ServoStep] | None:
+        """Hand the body's velocity function to Chipmunk: the C servo's, if given (then return the
+        space's and the body's addresses and its step), or else :meth:`_drive`."""
+        if servo is None:
+            self.body.velocity_func = self._drive
+            return None
+        velocity, step = servo
+        chipmunk.cpBodySetVelocityUpdateFunc(self._cp_body, ffi.cast("cpBodyVelocityFunc", velocity))
+        return address(self._cp_space), address(self._cp_body), step
+
     def _drive(self, body: pymunk.Body, gravity: pymunk.Vec2d, damping: float, dt: float) -> None:
-        """The wheels' velocity servo, called by pymunk before it solves the contacts."""
+        """The wheels' velocity servo, called by pymunk before it solves the contacts (the C servo,
+        ``navcli/servo.c``, makes the same calls)."""
         cp = self._cp_body
         a = chipmunk.cpBodyGetAngle(cp)  # body.angle, .velocity, .angular_velocity without pymunk's wrappers
         chipmunk.cpBodySetVelocity(cp, (self._ve * math.cos(a), self._ve * math.sin(a)))
@@ -274,7 +323,7 @@ class World:
         bumps: list[Bump] = []
         self._bumps = bumps
         touching = False
-        slip = self.slip
+        slip, servo = self.slip, self._servo
         factors = slip.factors() if slip.noise > 0 else None
         for i in range(PHYSICS_SUBSTEPS):
             self._v += min(max(v - self._v, -dv), dv)
@@ -283,8 +332,11 @@ class World:
                 self._ve, self._we = self._v, self._w
             else:
                 self._ve, self._we = slip.executed(self._v, self._w, factors[2 * i], factors[2 * i + 1])
-            # Space.step's call: runs _drive, and _begin/_separate when a contact starts or ends
-            chipmunk.cpSpaceStep(cp_space, dt)
+            # Space.step's call: runs the servo, and _begin/_separate when a contact starts or ends
+            if servo is None:
+                chipmunk.cpSpaceStep(cp_space, dt)
+            else:
+                servo[2](servo[0], servo[1], self._ve, self._we, dt)
             self._substeps += 1
             if contacts:
                 touching = True

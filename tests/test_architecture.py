@@ -73,6 +73,14 @@ def test_only_the_world_imports_pymunk():
     assert _who_imports("pymunk") == {"navcli.world"}
 
 
+def test_only_the_world_imports_the_servo_in_c():
+    """navcli/servo.c drives Chipmunk through the addresses the world hands it: glue of the world's."""
+    from navcli.builds import SERVO
+
+    assert (ROOT / "navcli" / f"{SERVO}.c").is_file()
+    assert _who_imports(f"navcli.{SERVO}") == {"navcli.world"}
+
+
 def test_only_the_log_package_writes_logs():
     writers = {
         m

@@ -70,6 +70,7 @@ def test_navcli_pure_runs_every_module_from_its_source_and_the_default_the_compi
     for m in builds.MODULES:
         assert not files[f"navcli.{m}"].endswith(".py"), m
     assert files["navcli.runner"].endswith(".py")  # a module not compiled is its source in both
+    assert f"navcli.{builds.SERVO}" in files  # the servo in C, which the pure build leaves out (above)
 
 
 @compiled_only

@@ -271,3 +271,16 @@ def test_params_shows_each_range_as_the_overrides_enforce_it():
             checked += 1
     assert switches >= 15
     assert checked > 50
+
+
+def test_run_writes_its_log_with_the_compression_asked_for_and_refuses_an_unknown_one(tmp_path):
+    from mcap.reader import make_reader
+
+    out = tmp_path / "run.mcap"
+    r = invoke("run", SCENARIOS / "open-arena.yaml", "--time-limit", 1, "--out", out, "--log-compression", "lz4")
+    assert r.exit_code == 3 and "timeout" in r.output, r.output  # a mission out of time: the log is whole
+    with out.open("rb") as f:
+        assert {c.compression for c in make_reader(f).get_summary().chunk_indexes} == {"lz4"}
+    r = invoke("run", SCENARIOS / "open-arena.yaml", "--out", tmp_path / "t.mcap", "--log-compression", "gzip")
+    assert r.exit_code == 2 and "'gzip' is not one of 'zstd-1', 'zstd-3', 'lz4', 'none'" in r.output, r.output
+    assert not (tmp_path / "t.mcap").exists()

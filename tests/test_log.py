@@ -360,3 +360,41 @@ def test_the_log_format_document_names_every_topic_metadata_field_and_summary_fi
     named = set(re.findall(r"`([a-z_0-9]+)`", doc))
     assert set(log.metadata["run"]) <= named
     assert set(MissionSummary.__struct_fields__) <= named
+
+
+# --- how the chunks are compressed (navcli.log.compression) ---
+
+
+def test_every_compression_writes_the_same_messages_in_chunks_compressed_as_named(tmp_path):
+    """The choice reaches the writer (the chunks say their compression, and the two zstd levels
+    make files of different bytes), changes no message, and navcli.analysis reads every one."""
+    from mcap.reader import make_reader
+
+    from navcli.log.compression import COMPRESSIONS, DEFAULT
+
+    spec = RunSpec.build(load_scenario(SCENARIOS / "open-arena.yaml"), seed=3, time_limit=5.0)
+    messages, chunks, files = {}, {}, {}
+    for name in COMPRESSIONS:
+        out = tmp_path / f"{name}.mcap"
+        run_mission(spec, out=out, log_compression=name)
+        with out.open("rb") as f:
+            reader = make_reader(f)
+            chunks[name] = {c.compression for c in reader.get_summary().chunk_indexes}
+            messages[name] = [(ch.topic, m.log_time, m.data) for _, ch, m in reader.iter_messages(log_time_order=True)]
+        files[name] = out.read_bytes()
+        log = read_log(out)
+        assert log.summary["ticks"] == 50 and len(log["/robot/pose"]) == 51, name
+    assert chunks == {name: {kind or ""} for name, (kind, _) in COMPRESSIONS.items()}
+    assert all(m == messages[DEFAULT] for m in messages.values())
+    assert len(messages[DEFAULT]) > 300  # some topics every tick, for 50 ticks
+    assert files["zstd-1"] != files["zstd-3"]
+    assert len(files["none"]) > 2 * len(files[DEFAULT])
+
+
+def test_an_unknown_compression_is_refused_before_the_run_with_the_choices(tmp_path):
+    from navcli.checks.arguments import ArgumentError
+
+    spec = RunSpec.build(load_scenario(SCENARIOS / "open-arena.yaml"), seed=3, time_limit=1.0)
+    with pytest.raises(ArgumentError, match="log_compression='gzip': expected one of 'zstd-1', .*'none'"):
+        run_mission(spec, out=tmp_path / "run.mcap", log_compression="gzip")
+    assert not list(tmp_path.iterdir())

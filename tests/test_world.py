@@ -7,9 +7,21 @@ import math
 import numpy as np
 import pytest
 
+import navcli
 from navcli.params import CONTROL_DT, ROBOT
 import navcli.world as world_module
 from navcli.world import World
+
+c_servo_only = pytest.mark.skipif(world_module.C_SERVO is None, reason="this build has no servo in C")
+SERVOS = ["python", pytest.param("c", marks=c_servo_only)]
+
+
+@pytest.fixture
+def servo(request, monkeypatch) -> str:
+    """The servo the worlds made in the test drive their robot with (``python``: the reference)."""
+    if request.param == "python":
+        monkeypatch.setattr(world_module, "C_SERVO", None)
+    return request.param
 
 
 def world_for(make_scenario, speed=0.3, noise=0.0, slip=0.0, **over) -> World:
@@ -155,28 +167,109 @@ def test_odometry_heading_drifts_along_a_straight_run_by_the_scenario_spread(mak
     assert abs(float(np.mean(turned))) < 0.4  # unbiased: sd 1 / sqrt(60) = 0.13
 
 
-def test_a_tick_stopped_between_physics_steps_keeps_path_and_pose_together(make_scenario, monkeypatch):
-    w = world_for(make_scenario)
-    drive(w, 0.3, 0.0, 2.0)  # straight ahead, at speed
-    x0, y0, before = w.pose.x, w.pose.y, w.path_length
-    real, steps = world_module.chipmunk, []
+@pytest.mark.parametrize("servo", SERVOS, indirect=True)
+def test_a_tick_stopped_between_physics_steps_keeps_path_and_pose_together(make_scenario, monkeypatch, servo):
+    steps: list[float] = []  # the physics steps of the interrupted tick
+    armed = False
 
-    class Interrupting:  # Chipmunk's library, but Ctrl-C arrives after the second of the tick's physics steps
+    def interrupt(dt: float) -> None:  # Ctrl-C arrives after the second of the tick's physics steps
+        if armed:
+            steps.append(dt)
+            if len(steps) == 2:
+                raise KeyboardInterrupt
+
+    if servo == "c":  # the C servo's step
+        velocity, c_step = world_module.C_SERVO
+
+        def interrupting(space, body, v, w, dt):
+            c_step(space, body, v, w, dt)
+            interrupt(dt)
+
+        monkeypatch.setattr(world_module, "C_SERVO", (velocity, interrupting))
+    real = world_module.chipmunk
+
+    class Interrupting:  # Chipmunk's library, whose step the Python servo's world calls
         def __getattr__(self, name):
             return getattr(real, name)
 
         def cpSpaceStep(self, space, dt):
             real.cpSpaceStep(space, dt)
-            steps.append(dt)
-            if len(steps) == 2:
-                raise KeyboardInterrupt
+            interrupt(dt)
 
     monkeypatch.setattr(world_module, "chipmunk", Interrupting())
+    w = world_for(make_scenario)
+    drive(w, 0.3, 0.0, 2.0)  # straight ahead, at speed
+    x0, y0, before = w.pose.x, w.pose.y, w.path_length
+    armed = True
     with pytest.raises(KeyboardInterrupt):
         w.step(0.3, 0.0)
     moved = math.hypot(w.pose.x - x0, w.pose.y - y0)
     assert moved > 0.005  # two steps at about 0.3 m/s: a run's log ends at this pose
     assert w.path_length - before == pytest.approx(moved, rel=1e-9)  # and its path length agrees with it
+    assert len(steps) == 2
+
+
+# --- the servo in C (navcli/servo.c) and in Python (World._drive, the reference) ---
+
+
+def test_the_compiled_build_drives_with_the_servo_in_c_and_the_pure_builds_in_python():
+    assert (world_module.C_SERVO is not None) == (navcli.BUILD == "compiled")
+
+
+def servo_run(make_scenario, seed: int) -> tuple[list, list, int]:
+    """Random commands for 60 s in a cluttered room, with slip: every pose and bump, and how many."""
+    w = world_for(
+        make_scenario,
+        speed=1.0,
+        slip=0.1,
+        obstacles=[
+            {"circle": {"center": [3.0, 2.0], "radius": 0.3}},
+            {"segment": {"from": [1.0, 3.0], "to": [5.0, 3.2], "thickness": 0.02}},
+        ],
+    )
+    commands = np.random.default_rng(seed).uniform([-0.2, -1.5], [1.0, 1.5], (600, 2))
+    poses, bumps = [], []
+    for v, omega in commands:
+        bumps += w.step(float(v), float(omega))
+        poses.append(w.pose)
+    return poses, bumps, w.bumps
+
+
+@c_servo_only
+@pytest.mark.parametrize("seed", [1, 2])
+def test_the_c_servo_drives_the_robot_exactly_as_the_python_servo(make_scenario, monkeypatch, seed):
+    """To the last bit: the same Chipmunk calls with the same numbers, every physics step, in
+    contact (sliding along walls and obstacles) as in the open, the wheels slipping."""
+    c = servo_run(make_scenario, seed)
+    monkeypatch.setattr(world_module, "C_SERVO", None)
+    python = servo_run(make_scenario, seed)
+    assert c[2] >= 2  # the robot did meet things
+    assert len({(round(p.x, 1), round(p.y, 1)) for p in c[0]}) > 30  # and went places
+    assert c == python
+
+
+@c_servo_only
+@pytest.mark.parametrize("room", ["paper-8x8", "trap-box"])
+def test_a_mission_on_the_c_servo_logs_every_message_as_on_the_python_servo(monkeypatch, tmp_path, room):
+    from conftest import SCENARIOS
+    from navcli.config import RunSpec
+    from mcap.reader import make_reader
+
+    from navcli.runner import run_mission
+    from navcli.scenario import load_scenario
+
+    spec = RunSpec.build(load_scenario(SCENARIOS / f"{room}.yaml"), pilot="potential-field", seed=3, time_limit=60.0)
+    run_mission(spec, out=tmp_path / "c.mcap")
+    monkeypatch.setattr(world_module, "C_SERVO", None)
+    run_mission(spec, out=tmp_path / "python.mcap")
+
+    def messages(name: str) -> list[tuple[str, int, bytes]]:
+        with (tmp_path / f"{name}.mcap").open("rb") as f:
+            return [(ch.topic, m.log_time, m.data) for _, ch, m in make_reader(f).iter_messages(log_time_order=True)]
+
+    c, python = messages("c"), messages("python")
+    assert len(c) > 1000
+    assert c == python
 
 
 # --- the wheels' slip (robot.slip_noise, Webots' DifferentialWheels slipNoise) ---

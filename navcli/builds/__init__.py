@@ -47,17 +47,23 @@ MODULES = (
     "mission",
 )
 GROUP = "_compiled"  # the shared library of them all: navcli/_compiled__mypyc.<suffix>
+SERVO = "servo"
+"""The wheels' velocity servo in C (``navcli/servo.c``, built beside the compiled modules and
+imported by ``navcli.world`` alone): a module with no Python source, so the pure builds run
+without it, on the Python servo it reproduces."""
 
 
 class PureFinder:
     """Finds every ``navcli.*`` module in its ``.py`` file, never in a compiled extension beside it
     (the import system's own finders take the extension first). All modules or none: a compiled
     module calls the compiled functions of its group directly, so half of each would hold two
-    versions of one class."""
+    versions of one class. The C servo, which has no source, is not found at all."""
 
     def find_spec(self, name: str, path: Sequence[str] | None, target: object = None) -> ModuleSpec | None:
         if not name.startswith("navcli.") or not path:
             return None
+        if name == f"navcli.{SERVO}":
+            raise ModuleNotFoundError(f"{name} is C alone: not run in a pure build", name=name)
         leaf = name.rpartition(".")[2]
         for entry in path:
             base = os.path.join(entry, leaf)
@@ -116,6 +122,8 @@ def choose() -> str:
     if os.path.isfile(os.path.join(os.path.dirname(here), "pyproject.toml")):
         built = os.path.getmtime(lib)
         stale = [m for m in MODULES if os.path.getmtime(os.path.join(here, *m.split(".")) + ".py") > built]
+        servo = os.path.join(here, f"{SERVO}.c")
+        stale += [SERVO] if os.path.isfile(servo) and os.path.getmtime(servo) > built else []
         if stale:
             named = f"{', '.join(stale[:3])}{' ...' if len(stale) > 3 else ''}"
             print(

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from enum import Enum
 from pathlib import Path
 from typing import Annotated, Any, Optional
 
@@ -22,7 +23,11 @@ from .common import (
     choice,
     finite,
 )
+from ..log import compression
 from .errors import EXIT_BAD_INPUT, EXIT_FAILED_MISSION, about, refuse, say
+
+
+CompressionName = Enum("CompressionName", {n: n for n in compression.COMPRESSIONS}, type=str)  # type: ignore[misc]
 
 
 @app.command()
@@ -70,6 +75,9 @@ def run(
         str, typer.Option(metavar="POLICY", help=NAVIGATION_HELP[0].upper() + NAVIGATION_HELP[1:] + ".")
     ] = "agents",
     force: ForceOption = False,
+    log_compression: Annotated[
+        CompressionName, typer.Option(help=compression.HELP, show_default=False)
+    ] = CompressionName(compression.DEFAULT),
 ) -> None:
     """Run one mission, record it to an MCAP log and print how it ended."""
     spec = build_spec(
@@ -122,6 +130,7 @@ def run(
             on_open=opened,
             keep_serving=live,
             overwrite=force,
+            log_compression=log_compression.value,
         )
     except KeyboardInterrupt as e:  # Ctrl-C or SIGTERM: the log was closed by run_mission
         progress.close()

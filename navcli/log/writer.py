@@ -58,6 +58,7 @@ from foxglove.messages import (
 
 from ..params import DRAW_PERIOD, SCENE_REFRESH
 from . import format as fmt
+from .compression import COMPRESSIONS, DEFAULT as DEFAULT_COMPRESSION
 from .files import Lock, LogPathError, aside_name, check_log_path
 from .format import Bids, MissionSummary, Navigation, Pilot, Vision, encode, json_schema, pilot_message
 from .records import bids_record, navigation_record, vision_record
@@ -96,10 +97,16 @@ beyond the compression its bytes need anyway (message indexes, chunk record, wri
 tick at one a second, under 3 % of logging. Flushing every 5 s would save 11 k a tick and risk 5 s;
 never flushing (a chunk then closes at 1 MiB, some 20 simulated seconds here) would save 13 k and
 risk those 20 s. Kept at a second: the rest of logging is far larger (about 0.45 M a tick)."""
-WRITE_OPTIONS = MCAPWriteOptions(compression=MCAPCompression.Zstd, compression_level=1, compression_threads=0)
-"""zstd at level 1, in this thread (our design, measured in docs/log-format.md, "How large a log is"):
-a quarter to a third fewer bytes than LZ4 for some 0.3 ms more CPU a simulated second (3 % of a
-logged run); levels 3 and 6 save 0-3 % more at 30-40 % more time. Every MCAP reader reads it."""
+
+
+def write_options(compression: str = DEFAULT_COMPRESSION) -> MCAPWriteOptions:
+    """The MCAP writer's options for a compression of :data:`~navcli.log.compression.COMPRESSIONS`
+    (the default chosen by measure in docs/howto/speed.md), compressed in this thread."""
+    kind, level = COMPRESSIONS[compression]
+    codec = {"zstd": MCAPCompression.Zstd, "lz4": MCAPCompression.Lz4, None: None}[kind]
+    return MCAPWriteOptions(compression=codec, compression_level=level, compression_threads=0)
+
+
 SCENE_NS = round(SCENE_REFRESH * 1e9)  # the state topics are republished at least this often
 DRAW_NS = round(DRAW_PERIOD * 1e9)  # the Pilot's decorations in /robot/scene are drawn at most this often
 _LEVEL = {"info": LogLevel.Info, "warning": LogLevel.Warning, "error": LogLevel.Error}
@@ -151,7 +158,8 @@ class Recorder:
     control tick, then :meth:`finish` exactly once, also after an interruption. ``pilot_message``
     is the run's ``/pilot`` message type (a plugin pilot's adds the fields its ``Info`` declares:
     :func:`~navcli.log.format.pilot_message_type`). An existing log at ``path`` is refused unless
-    ``overwrite``."""
+    ``overwrite``. ``compression``: how the chunks are compressed, a name of
+    :data:`~navcli.log.compression.COMPRESSIONS`."""
 
     def __init__(
         self,
@@ -162,6 +170,7 @@ class Recorder:
         protect: tuple[str, ...] = (),
         pilot_message: type = Pilot,
         overwrite: bool = False,
+        compression: str = DEFAULT_COMPRESSION,
     ):
         self.path = check_log_path(Path(path), protect, overwrite=overwrite, ask="overwrite=True")
         self.partial = self.path.with_name(self.path.name + ".partial")
@@ -173,7 +182,7 @@ class Recorder:
                 os.replace(self.partial, self.kept_aside)
             ctx = foxglove.Context()
             self.ctx = ctx  # held for the run: the channels stop logging once their context is collected
-            self.writer = foxglove.open_mcap(self.partial, context=ctx, writer_options=WRITE_OPTIONS)
+            self.writer = foxglove.open_mcap(self.partial, context=ctx, writer_options=write_options(compression))
             try:
                 self.server = (
                     foxglove.start_server(name="navcli", port=port, context=ctx, capabilities=[Capability.Time])
