@@ -148,6 +148,7 @@ def _run_page(page: str, tmp_path: Path, monkeypatch) -> None:
     for name in LINKED:
         os.symlink(ROOT / name, tmp_path / name)
     monkeypatch.chdir(tmp_path)
+    monkeypatch.setattr(sys, "path", list(sys.path))  # the registry adds the current folder: this page's only
     env = dict(os.environ, PATH=f"{Path(sys.executable).parent}{os.pathsep}{os.environ['PATH']}")
     namespace: dict = {"__name__": "__docs__"}
     for i, (lang, body, _) in enumerate(_blocks(ROOT / page)):
@@ -173,6 +174,9 @@ def _run_page(page: str, tmp_path: Path, monkeypatch) -> None:
                 f.write(body[m.end() :] + "\n\n")
     for name in LINKED:  # nothing written into the repository through the links
         assert (tmp_path / name).is_symlink()
+    for name, module in list(sys.modules.items()):  # a page's modules (swerve.py) forgotten: other tests use those names
+        if Path(getattr(module, "__file__", None) or "/").resolve().is_relative_to(tmp_path.resolve()):
+            del sys.modules[name]
 
 
 @pytest.mark.parametrize(

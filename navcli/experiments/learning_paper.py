@@ -45,7 +45,7 @@ ROOMS: dict[str, str] = {
 }
 """Table 1's rooms, with what each is."""
 POLICY_ROOMS = tuple(ROOMS)
-POLICIES = ("learned", "hand-coded", "random")
+POLICIES = ("learned", "hand-coded", "random", "softmax", "ppo")
 """The policies Table 1 runs on every room (``compare policies`` names); more rows: more names."""
 OPTIONAL_POLICIES: tuple[OptionalRow, ...] = (OptionalRow("sb3-ppo", "navcli[rl] (Stable-Baselines3 and torch)"),)
 """Rows of Table 1 run by their own command where what they need is installed (:mod:`.optional_rows`)."""
