@@ -174,7 +174,8 @@ def _run_page(page: str, tmp_path: Path, monkeypatch) -> None:
                 f.write(body[m.end() :] + "\n\n")
     for name in LINKED:  # nothing written into the repository through the links
         assert (tmp_path / name).is_symlink()
-    for name, module in list(sys.modules.items()):  # a page's modules (swerve.py) forgotten: other tests use those names
+    # a page's modules (swerve.py) forgotten: other tests use those names
+    for name, module in list(sys.modules.items()):
         if Path(getattr(module, "__file__", None) or "/").resolve().is_relative_to(tmp_path.resolve()):
             del sys.modules[name]
 
