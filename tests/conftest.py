@@ -67,6 +67,19 @@ def make_scenario(write_scenario):
     return make
 
 
+@pytest.fixture
+def make_results():
+    """``docs/make_results.py`` (the results page's maker), imported from the docs folder."""
+    import sys
+
+    sys.path.insert(0, str(ROOT / "docs"))
+    try:
+        import make_results as module
+    finally:
+        sys.path.remove(str(ROOT / "docs"))
+    return module
+
+
 def module_in_folder(folder: Path, monkeypatch, name: str, source: str):
     """A generator for a fixture (``yield from``): the plugin module ``name.py`` holding ``source``
     in ``folder``, made the current folder, found fresh by the registry; yields ``folder``, then

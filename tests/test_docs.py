@@ -215,19 +215,14 @@ def test_the_readme_is_a_five_minute_read():
     assert (ROOT / picture).stat().st_size < 150_000
 
 
-def test_the_readmes_results_and_the_results_page_are_made_from_the_checked_in_report():
-    sys.path.insert(0, str(DOCS))
-    try:
-        import make_results
-    finally:
-        sys.path.remove(str(DOCS))
+def test_the_readmes_results_and_the_results_page_are_made_from_the_checked_in_report(make_results):
     page, table = make_results.render()
     assert (DOCS / "results" / "index.md").read_text(encoding="utf-8") == page
     readme = (ROOT / "README.md").read_text(encoding="utf-8")
     assert make_results.between_markers(readme) == table
 
 
-def test_the_results_page_is_not_older_than_the_code_it_reports():
+def test_the_results_page_is_not_older_than_the_code_it_reports(make_results):
     """The page's report must be of a commit no later commit changes ``navcli/`` after (but its
     documentation files), made from committed sources; `python docs/make_results.py --check` says
     why not and the command that remakes it."""
@@ -235,21 +230,11 @@ def test_the_results_page_is_not_older_than_the_code_it_reports():
 
     if not checkout(ROOT):
         pytest.skip("not a git checkout: the report's commit cannot be checked")
-    sys.path.insert(0, str(DOCS))
-    try:
-        import make_results
-    finally:
-        sys.path.remove(str(DOCS))
     problems = make_results.check()
     assert not problems, "docs/results is stale:\n" + "\n".join(problems)
 
 
-def test_the_page_names_the_recorded_command_with_its_folder_as_dir(tmp_path, monkeypatch):
-    sys.path.insert(0, str(DOCS))
-    try:
-        import make_results
-    finally:
-        sys.path.remove(str(DOCS))
+def test_the_page_names_the_recorded_command_with_its_folder_as_dir(make_results, tmp_path, monkeypatch):
     import json
 
     run = tmp_path / "run dir"  # a space: the command is quoted as a shell would need it

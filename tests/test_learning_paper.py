@@ -5,13 +5,11 @@ the paper's rows beside navcli's; optional rows read from a ``compare policies``
 from __future__ import annotations
 
 import json
-import sys
 from pathlib import Path
 
 import pandas as pd
 import pytest
 
-from conftest import ROOT
 from navcli.analysis.stats import wilson_interval
 from navcli.experiments import learning_paper as lp
 from navcli.learning.actions import ACTIONS
@@ -149,12 +147,7 @@ def test_each_training_of_figure_3_is_a_row_with_its_targets():
     assert rows == [["4", "35", "never", "35 (at 400)", "not met", "not met (35 at 400 below 36)"]]
 
 
-def test_the_results_pages_summary_counts_the_verdicts_against_random():
-    sys.path.insert(0, str(ROOT / "docs"))
-    try:
-        import make_results
-    finally:
-        sys.path.remove(str(ROOT / "docs"))
+def test_the_results_pages_summary_counts_the_verdicts_against_random(make_results):
     report = (
         "## Table 1 on a\n\n| policy | successes against random | reward against random |\n| --- | --- | --- |\n"
         "| learned | beats random | random does as well |\n| agents | random does better | n/a |\n"

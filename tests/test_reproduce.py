@@ -505,14 +505,7 @@ def test_a_sensitivity_row_sets_scenario_fields_as_a_file_would():
         scenario_with("paper-8x8", {"noise.no_such_field": 1})
 
 
-def test_the_results_pages_summary_counts_the_targets_beside_the_verdicts():
-    import sys
-
-    sys.path.insert(0, str(ROOT / "docs"))
-    try:
-        import make_results
-    finally:
-        sys.path.remove(str(ROOT / "docs"))
+def test_the_results_pages_summary_counts_the_targets_beside_the_verdicts(make_results):
     report = (
         "## Rooms\n\n| room | ratio | target (at most 1.3) | stalls | target (none) |\n| --- | --- | --- | --- | --- |\n"
         "| a | 1.0 | met | 1/2 | not met |\n| b | - | no verdict: 1 run ended in error | 0/2 | not met: x |\n\n"
